@@ -1,0 +1,39 @@
+// The scene's features: what it contains that later stages must build. RDBs and engines build, compile and run
+// only the parts a scene's features call for (DESIGN.md, "Leave out what a scene does not need").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sdb/scene.h"
+
+namespace fly::sdb {
+
+struct SceneFeatures {
+  bool sun = false;                  // the sun lights the scene (sky settings with sun on)
+  bool sky = false;                  // a sky model lights the scene
+  bool punctualLights = false;       // point, spot or directional lights
+  bool goniometricLights = false;    // IES lights
+  bool emissiveSurfaces = false;     // meshes with emissive materials
+  bool twoSidedSurfaces = false;     // meshes baked and shaded on both faces
+  bool lightTexturedMeshes = false;  // meshes that ask for light textures
+  bool measuredBrdfs = false;        // materials with a measured BRDF table
+  bool transmissiveMaterials = false;  // glass and other materials that transmit light
+  bool anisotropicMaterials = false;
+  bool texturedMaterials = false;    // any material reads a texture
+  bool bumpMaps = false;
+  bool vertexColors = false;
+  bool planarReflectors = false;     // mirror-like materials on flat meshes
+  bool curvedReflectors = false;     // mirror-like materials on curved meshes
+
+  // The names of the features present, in the order above: "sun", "sky", "punctual-lights",
+  // "goniometric-lights", "emissive-surfaces", "two-sided-surfaces", "light-textured-meshes", "measured-brdfs",
+  // "transmissive-materials", "anisotropic-materials", "textured-materials", "bump-maps", "vertex-colors",
+  // "planar-reflectors", "curved-reflectors".
+  std::vector<std::string> names() const;
+};
+
+// Only meshes reachable from the node hierarchy count.
+SceneFeatures computeFeatures(const Scene& scene);
+
+}  // namespace fly::sdb

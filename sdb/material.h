@@ -1,0 +1,121 @@
+// The physical "realistic material" (reference 002, HOOPS Luminate's realistic material): Lambertian diffuse,
+// reflection and transmission colours with an energy rule that keeps their sum ≤ 1, Fresnel or uniform
+// reflection, glossy and anisotropic lobes, absorption inside transmissive media, reflection fog, a bump map,
+// emission in cd/m² and an optional measured-BRDF table.
+#pragma once
+
+#include <limits>
+#include <string>
+
+#include "base/color.h"
+#include "sdb/texture.h"
+
+namespace fly::sdb {
+
+// How the reflection amount varies with the angle of incidence (reference 002, "Reflection").
+enum class ReflectionModel {
+  kFresnel,  // Schlick's approximation, F0 from `ior`, multiplied by the reflection colour
+  kUniform,  // the reflection colour at every angle
+};
+
+// The three reflectances after the energy rule; each channel in [0,1] and d + r + t ≤ 1 per channel.
+struct EffectiveComponents {
+  Rgb diffuse{0.0f};
+  Rgb reflection{0.0f};
+  Rgb transmission{0.0f};
+};
+
+// The energy rule of reference 002, applied per channel after clamping each input to [0,1]:
+//   reflect' = reflect;  transmission' = (1 − reflect')·transmission;  diffuse' = (1 − reflect' − transmission')·diffuse.
+// Textured materials apply it per texel with the same function.
+EffectiveComponents applyEnergyRule(const Rgb& diffuse, const Rgb& reflection, const Rgb& transmission);
+
+struct Material {
+  std::string name;
+
+  // Which preset it came from ("" = none, e.g. converted from glTF). See material_presets.h.
+  std::string preset;
+
+  // Diffuse (Lambertian) reflectance, linear Rec.709, each channel in [0,1]. Default 0.8 (a light grey paint).
+  Rgb diffuseColor{0.8f};
+  TextureRef diffuseTexture;  // sRGB-encoded; multiplies diffuseColor
+
+  // Reflection colour, linear, [0,1]; takes precedence over transmission and diffuse in the energy rule.
+  Rgb reflectionColor{0.0f};
+  TextureRef reflectionTexture;  // linear; multiplies reflectionColor
+  ReflectionModel reflectionModel = ReflectionModel::kFresnel;
+
+  // Index of refraction, [1, 4]. Default 1.5 (glass, most plastics and paints; glTF's default). Sets the Fresnel
+  // F0 = ((ior − 1)/(ior + 1))² and bends transmitted rays.
+  float ior = 1.5f;
+
+  // Reflection glossiness, [0,1]: 0 = a perfect mirror, 1 = the widest lobe. Equal to glTF's perceptual
+  // roughness; the microfacet (GGX) width is α = glossiness². Default 0.5.
+  float reflectionGlossiness = 0.5f;
+  TextureRef reflectionGlossinessTexture;  // linear, red channel; multiplies reflectionGlossiness
+
+  // Anisotropy in U and V (tangent and bitangent directions), each in [0,1]: the larger, the wider the
+  // reflection along that direction (reference 002). Equal values (the default 0,0) = isotropic.
+  float anisotropyU = 0.0f;
+  float anisotropyV = 0.0f;
+  float anisotropyRotationRad = 0.0f;        // rotation of the anisotropy basis about the normal, radians
+  TextureRef anisotropyTexture;              // linear; red = U, green = V (per pixel, replaces the values)
+  TextureRef anisotropyRotationTexture;      // linear; red × 2π = rotation in radians (replaces the value)
+
+  // Transmission colour, linear, [0,1]: fraction of light passing through (after the energy rule).
+  Rgb transmissionColor{0.0f};
+  TextureRef transmissionTexture;  // linear; multiplies transmissionColor
+  // Transmission glossiness, [0,1]: 0 = clear (sharp refraction), 1 = the widest cone (frosted). Default 0.
+  float transmissionGlossiness = 0.0f;
+
+  // Absorption inside a transmissive medium (Beer–Lambert, as glTF KHR_materials_volume): white light that has
+  // travelled `scatteringDistanceM` metres inside has the colour `scatteringColor`. Distance in metres, (0, ∞];
+  // ∞ (default) = no absorption. Colour linear, (0,1].
+  Rgb scatteringColor{1.0f};
+  float scatteringDistanceM = std::numeric_limits<float>::infinity();
+
+  // Reflection fog: reflected objects fade to `reflectionFogColor` (linear radiance factor, [0,1]) as their
+  // distance approaches `reflectionFogDistanceM` metres, (0, ∞]; ∞ (default) = no fog.
+  float reflectionFogDistanceM = std::numeric_limits<float>::infinity();
+  Rgb reflectionFogColor{0.0f};
+
+  // Bump map: a tangent-space normal map (glTF normalTexture convention, linear) and its strength, [0, ∞),
+  // default 1 (the map as authored).
+  TextureRef bumpTexture;
+  float bumpScale = 1.0f;
+
+  // Both faces are shaded and, for emitters, emit (glTF doubleSided). Every surface blocks light from both
+  // sides regardless.
+  bool doubleSided = false;
+
+  // Emitted luminance, cd/m², linear Rec.709 (glTF emissiveFactor × KHR_materials_emissive_strength),
+  // each channel in [0, ∞). Default 0.
+  Rgb emissionLuminance{0.0f};
+  TextureRef emissionTexture;  // sRGB-encoded; multiplies emissionLuminance
+
+  // Path of a measured BRDF table (MERL binary, e.g. a car paint) that replaces the analytic reflection model
+  // where the engines support it; "" = none.
+  std::string measuredBrdfPath;
+
+  // The energy rule applied to the constant colours.
+  EffectiveComponents effective() const {
+    return applyEnergyRule(diffuseColor, reflectionColor, transmissionColor);
+  }
+  bool isEmissive() const { return maxComponent(emissionLuminance) > 0.0f; }
+  bool isTransmissive() const { return maxComponent(effective().transmission) > 0.0f || bool(transmissionTexture); }
+  bool isAnisotropic() const { return anisotropyU != anisotropyV || bool(anisotropyTexture); }
+  bool isMeasured() const { return !measuredBrdfPath.empty(); }
+  // A mirror-like reflector: strong reflection (luminance of the effective reflection ≥ 0.5) and a narrow lobe
+  // (glossiness ≤ 0.2), the kind that needs a reflection pass rather than a light-map term.
+  bool isMirrorLike() const;
+};
+
+// Coarse class of a material for summaries (`fly info`): the preset's class if it has one, otherwise derived
+// from its parameters: "emitter", "measured", "glass", "metal", "glossy", "matte".
+std::string materialClass(const Material& m);
+
+// Checks each parameter's range; returns "" when valid, otherwise a sentence naming the first bad parameter,
+// its value and its allowed range.
+std::string validate(const Material& m);
+
+}  // namespace fly::sdb

@@ -1,0 +1,43 @@
+// What glTF lacks for daylight: the site on Earth, the local date and time, the sky. Interpreted by sunsky/.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace fly::sdb {
+
+struct Site {
+  double latitudeDeg = 0.0;   // geodetic (WGS84), [−90, 90], north positive
+  double longitudeDeg = 0.0;  // [−180, 180], east positive
+  double elevationM = 0.0;    // above mean sea level, metres, [−500, 9000]
+  // IANA time-zone name ("Europe/Helsinki") or a fixed UTC offset ("+03:00", "-07:00", "Z").
+  std::string timeZone = "Z";
+  // Angle in degrees from the scene's −Z axis to true north, clockwise seen from above (+Y), [−360, 360].
+  // 0 = the model is drawn with true north along −Z (glTF's "forward").
+  double northAngleDeg = 0.0;
+};
+
+enum class SkyModel {
+  kNone,    // no sky light
+  kCie,     // CIE standard general sky (ISO 15469), type `cieType`
+  kPerez,   // Perez all-weather sky (from weather data or given irradiances)
+  kClear,   // clear sky with colour following the sun
+};
+
+const char* skyModelName(SkyModel m);  // "none", "cie", "perez", "clear"
+
+struct SkySettings {
+  SkyModel model = SkyModel::kNone;
+  int cieType = 12;          // CIE standard sky type, 1..15 (12 = CIE standard clear sky, low turbidity)
+  double turbidity = 3.0;    // Linke turbidity, [1.7, 10]
+  std::string weatherFile;   // EnergyPlus EPW file driving the Perez sky; "" = none
+  bool sun = false;          // the sun as a light source (disc of 0.533°)
+};
+
+// Local civil date and time at the site, ISO 8601 without zone ("2026-06-21T12:00" or with seconds);
+// the zone is Site::timeZone.
+struct SiteTime {
+  std::string localDateTime;
+};
+
+}  // namespace fly::sdb

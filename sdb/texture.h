@@ -1,0 +1,41 @@
+// Image textures referenced by materials, decoded to 8- or 16-bit channels.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "base/math.h"
+#include "sdb/ids.h"
+
+namespace fly::sdb {
+
+struct Texture {
+  std::string name;
+  std::string sourcePath;  // file it was read from, or "<embedded>" for glTF buffer views and data URIs
+  int width = 0;           // pixels
+  int height = 0;          // pixels
+  int channels = 0;        // 1..4
+  int bitsPerChannel = 8;  // 8 or 16
+  std::vector<uint8_t> pixels;  // row-major from the top row, channels interleaved (16-bit: native-endian pairs)
+};
+
+// KHR_texture_transform: uv' = T(offset) · R(rotation) · S(scale) · uv, as the extension defines it.
+struct UvTransform {
+  vec2 offset{0.0f};
+  float rotationRad = 0.0f;  // counter-clockwise in UV space
+  vec2 scale{1.0f};
+
+  bool isIdentity() const { return offset == vec2(0.0f) && rotationRad == 0.0f && scale == vec2(1.0f); }
+};
+
+// A material's use of a texture. Invalid (no texture) when `texture` is 0.
+struct TextureRef {
+  TextureId texture;
+  int texCoord = 0;  // which UV set: 0 = UV0 (TEXCOORD_0), 1 = UV1 (TEXCOORD_1)
+  UvTransform transform;
+
+  explicit operator bool() const { return static_cast<bool>(texture); }
+};
+
+}  // namespace fly::sdb
