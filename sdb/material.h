@@ -30,6 +30,11 @@ struct EffectiveComponents {
 // Textured materials apply it per texel with the same function.
 EffectiveComponents applyEnergyRule(const Rgb& diffuse, const Rgb& reflection, const Rgb& transmission);
 
+// Fresnel reflectance at normal incidence from the index of refraction (against air): F0 = ((n − 1)/(n + 1))².
+float fresnelF0(float ior);
+// Schlick's approximation (Schlick 1994, eq. 24): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵, cos θ clamped to [0,1].
+float schlickFresnel(float cosTheta, float f0);
+
 struct Material {
   std::string name;
 
@@ -97,15 +102,22 @@ struct Material {
   // where the engines support it; "" = none.
   std::string measuredBrdfPath;
 
-  // The energy rule applied to the constant colours.
-  EffectiveComponents effective() const {
-    return applyEnergyRule(diffuseColor, reflectionColor, transmissionColor);
+  // The reflect input of the energy rule for light arriving at angle θ from the normal: with Fresnel
+  // reflection the amount is reflectionColor × F(θ) (reference 002: "the reflection amount is still
+  // post-multiplied by the user-given reflection color"), with uniform reflection reflectionColor. So a white
+  // Fresnel reflection (glass, plastic, paint) takes F0 ≈ 4 % at normal incidence, not all of the energy.
+  Rgb reflectionAt(float cosTheta) const;
+  // The energy rule applied to the constant colours at angle θ, and at normal incidence (cos θ = 1), the value
+  // summaries and the engines' diffuse albedo use.
+  EffectiveComponents effectiveAt(float cosTheta) const {
+    return applyEnergyRule(diffuseColor, reflectionAt(cosTheta), transmissionColor);
   }
+  EffectiveComponents effective() const { return effectiveAt(1.0f); }
   bool isEmissive() const { return maxComponent(emissionLuminance) > 0.0f; }
   bool isTransmissive() const { return maxComponent(effective().transmission) > 0.0f || bool(transmissionTexture); }
   bool isAnisotropic() const { return anisotropyU != anisotropyV || bool(anisotropyTexture); }
   bool isMeasured() const { return !measuredBrdfPath.empty(); }
-  // A mirror-like reflector: strong reflection (luminance of the effective reflection ≥ 0.5) and a narrow lobe
+  // A mirror-like reflector: strong reflection at normal incidence (luminance ≥ 0.5) and a narrow lobe
   // (glossiness ≤ 0.2), the kind that needs a reflection pass rather than a light-map term.
   bool isMirrorLike() const;
 };

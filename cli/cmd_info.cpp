@@ -1,0 +1,135 @@
+// `fly info SCENE [--json]`: what a scene contains, its site and the features later stages will build.
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/command.h"
+#include "sdb/features.h"
+#include "sdb/scene_load.h"
+#include "sdb/scene_stats.h"
+
+namespace fly::cli {
+
+namespace {
+
+struct InfoOptions {
+  std::string scene;
+  bool json = false;
+};
+
+nlohmann::json vecJson(const vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+std::string fixed(double v, int decimals) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(decimals) << v;
+  return s.str();
+}
+
+std::string vecText(const vec3& v, int decimals) {
+  return "(" + fixed(v.x, decimals) + ", " + fixed(v.y, decimals) + ", " + fixed(v.z, decimals) + ")";
+}
+
+std::string countsText(const std::map<std::string, size_t>& counts) {
+  std::string s;
+  for (const auto& [name, n] : counts) s += (s.empty() ? "" : ", ") + name + " " + std::to_string(n);
+  return s.empty() ? "" : " (" + s + ")";
+}
+
+nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f) {
+  nlohmann::json j;
+  j["file"] = scene.sourcePath.string();
+  j["nodes"] = st.nodes;
+  j["meshes"] = st.meshes;
+  j["mesh_instances"] = st.meshInstances;
+  j["triangles"] = st.triangles;
+  j["vertices"] = st.vertices;
+  j["textures"] = st.textures;
+  j["materials"] = {{"total", st.materials}, {"by_class", st.materialsByClass}};
+  j["lights"] = {{"total", st.lights}, {"by_type", st.lightsByType}};
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const auto& [id, c] : scene.cameras()) cameras.push_back(c.name);
+  j["cameras"] = cameras;
+  if (st.boundsWorldM.empty()) {
+    j["bounds_m"] = nullptr;
+  } else {
+    j["bounds_m"] = {{"min", vecJson(st.boundsWorldM.min)},
+                     {"max", vecJson(st.boundsWorldM.max)},
+                     {"size", vecJson(st.boundsWorldM.size())}};
+  }
+  if (scene.hasSite()) {
+    const sdb::Site& s = scene.site();
+    j["site"] = {{"latitude_deg", s.latitudeDeg},   {"longitude_deg", s.longitudeDeg},
+                 {"elevation_m", s.elevationM},     {"time_zone", s.timeZone},
+                 {"north_angle_deg", s.northAngleDeg}};
+  } else {
+    j["site"] = nullptr;
+  }
+  j["time"] = scene.time().localDateTime.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.time().localDateTime);
+  j["sky"] = {{"model", sdb::skyModelName(scene.sky().model)}, {"sun", scene.sky().sun}};
+  if (scene.sky().model == sdb::SkyModel::kCie) j["sky"]["cie_type"] = scene.sky().cieType;
+  j["features"] = f.names();
+  return j;
+}
+
+void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f) {
+  std::ostringstream o;
+  o << "scene      " << scene.sourcePath.string() << "\n";
+  o << "nodes      " << st.nodes << "\n";
+  o << "meshes     " << st.meshes << " (" << st.meshInstances << " placed)\n";
+  o << "triangles  " << st.triangles << " (" << st.vertices << " vertices)\n";
+  o << "materials  " << st.materials << countsText(st.materialsByClass) << "\n";
+  o << "textures   " << st.textures << "\n";
+  o << "lights     " << st.lights << countsText(st.lightsByType) << "\n";
+  o << "cameras    " << st.cameras;
+  std::string names;
+  for (const auto& [id, c] : scene.cameras()) names += (names.empty() ? "" : ", ") + c.name;
+  o << (names.empty() ? "" : " (" + names + ")") << "\n";
+  if (st.boundsWorldM.empty()) {
+    o << "bounds     empty\n";
+  } else {
+    o << "bounds     " << vecText(st.boundsWorldM.min, 3) << " to " << vecText(st.boundsWorldM.max, 3)
+      << " m, size " << vecText(st.boundsWorldM.size(), 3) << " m\n";
+  }
+  if (scene.hasSite()) {
+    const sdb::Site& s = scene.site();
+    o << "site       " << fixed(std::abs(s.latitudeDeg), 4) << "° " << (s.latitudeDeg >= 0 ? "N" : "S") << ", "
+      << fixed(std::abs(s.longitudeDeg), 4) << "° " << (s.longitudeDeg >= 0 ? "E" : "W") << ", "
+      << fixed(s.elevationM, 1) << " m, time zone " << s.timeZone << ", north " << fixed(s.northAngleDeg, 1)
+      << "° from -Z\n";
+  } else {
+    o << "site       none\n";
+  }
+  o << "time       " << (scene.time().localDateTime.empty() ? "none" : scene.time().localDateTime) << "\n";
+  o << "sky        " << sdb::skyModelName(scene.sky().model);
+  if (scene.sky().model == sdb::SkyModel::kCie) o << " type " << scene.sky().cieType;
+  o << ", sun " << (scene.sky().sun ? "on" : "off") << "\n";
+  std::string feats;
+  for (const std::string& n : f.names()) feats += (feats.empty() ? "" : " ") + n;
+  o << "features   " << (feats.empty() ? "none" : feats) << "\n";
+  std::cout << o.str();
+}
+
+}  // namespace
+
+Command addInfoCommand(CLI::App& app) {
+  auto opts = std::make_shared<InfoOptions>();
+  CLI::App* sub = app.add_subcommand("info", "Print what a scene contains: counts, bounds (m), site, features");
+  sub->add_option("SCENE", opts->scene, "scene file (.json) or glTF model (.gltf, .glb)")->required();
+  sub->add_flag("--json", opts->json, "print one JSON object instead of text (default: text)");
+  return {sub, [opts]() {
+            const sdb::Scene scene = sdb::loadScene(opts->scene);
+            const sdb::SceneStats stats = sdb::computeStats(scene);
+            const sdb::SceneFeatures features = sdb::computeFeatures(scene);
+            if (opts->json) {
+              std::cout << infoJson(scene, stats, features).dump(2) << "\n";
+            } else {
+              printText(scene, stats, features);
+            }
+            return 0;
+          }};
+}
+
+}  // namespace fly::cli

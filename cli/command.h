@@ -1,0 +1,18 @@
+// How sub-commands plug into the fly program: each adds its CLI11 sub-command and returns what runs it.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace fly::cli {
+
+// Runs a parsed sub-command; returns the process exit code (base/error.h). May throw InputError (exit 3),
+// UsageError (exit 2) or any other exception (exit 1); main() reports them.
+struct Command {
+  CLI::App* sub = nullptr;
+  std::function<int()> run;
+};
+
+Command addInfoCommand(CLI::App& app);
+
+}  // namespace fly::cli
