@@ -1,6 +1,6 @@
-// Goniometric light distributions from IES LM-63 files (LM-63-1995 and LM-63-2002; photometry types C, B and
-// A; TILT=NONE only). Candela values are interpolated between measured angles; the total flux in lumens is
-// integrated from the table.
+// Goniometric light distributions from IES LM-63 files (LM-63-1986, -1991, -1995 and -2002; photometry
+// types C, B and A; TILT=NONE only). Candela values are interpolated between measured angles; the total flux
+// in lumens is integrated from the table.
 #pragma once
 
 #include <filesystem>
@@ -16,10 +16,13 @@ enum class PhotometryType { kC = 1, kB = 2, kA = 3 };
 struct IesProfile {
   IesFormat format = IesFormat::kLm63_2002;
   PhotometryType type = PhotometryType::kC;
-  std::vector<std::string> keywords;  // "[KEY] value" header lines as they appear
+  // "[KEY] value" header lines as they appear, [MORE] lines included; LM-63-1986 files have free-text label
+  // lines instead, kept the same way. Blank lines are left out.
+  std::vector<std::string> keywords;
 
   // Measured angles in degrees, ascending, as in the file: vertical (type C: γ from nadir, 0..180;
-  // types A/B: elevation −90..90) and horizontal (type C: C-plane 0..360; types A/B: −90..90).
+  // types A/B: V, −90..90) and horizontal (type C: C-plane 0..360; types A/B: H, −90..90); see
+  // candelaTowards.
   std::vector<double> verticalDeg;
   std::vector<double> horizontalDeg;
   // candela[h][v], luminous intensity in cd with the file's candela multiplier, ballast factor and
@@ -28,7 +31,9 @@ struct IesProfile {
 
   double lampLumens = 0.0;   // rated lumens per lamp × number of lamps; −1 in the file (absolute photometry) → 0
   double inputWatts = 0.0;   // input power, W
-  double widthM = 0.0;       // luminous opening, metres (converted from feet when the file says so)
+  // Luminous opening, metres (converted from feet when the file says so). Signs are kept: LM-63-2002 uses
+  // negative values for round and spherical openings.
+  double widthM = 0.0;
   double lengthM = 0.0;
   double heightM = 0.0;
 
@@ -37,9 +42,18 @@ struct IesProfile {
   // 0–90°, 0–180° ...) are unfolded as LM-63 specifies. Directions outside the measured range give 0.
   double candelaAt(double verticalDeg, double horizontalDeg) const;
 
-  // Luminous intensity in cd towards a unit direction in the light's frame: for type C, z = photometric axis
-  // pointing to nadir (γ = 0), x in the C = 0° plane, y in C = 90°. For types A and B the axis convention of
-  // LM-63 (x = lateral, z = forward) is used.
+  // Luminous intensity in cd towards a direction in the light's frame (normalised here; zero length gives 0).
+  // Type C: z = photometric axis pointing to nadir (γ = 0), x in the C = 0° plane, y in C = 90°;
+  //   γ = acos z, C = atan2(y, x) in [0°, 360°).
+  // Types A and B: z = forward (H = V = 0°), x = lateral (H = +90°, V = 0°), y = z × x = the
+  //   direction V = −90°. With V = +90° pointing up, +x is then to the right of the beam, as LM-63-2002
+  //   measures horizontal angles of types A and B clockwise seen from above.
+  //   Type A (planes share the vertical axis y, as for automotive lamps): V = elevation = asin(−y),
+  //     H = atan2(x, z); direction = (cos V sin H, −sin V, cos V cos H); dω = cos V dV dH.
+  //   Type B (planes share the lateral axis x, as for floodlights): V = tilt of the plane
+  //     = atan2(−y, z), H = angle within the plane = asin x;
+  //     direction = (sin H, −cos H sin V, cos H cos V); dω = cos H dH dV.
+  //   Both cover the hemisphere z ≥ 0; behind it (|H| or |V| > 90°) the intensity is 0.
   double candelaTowards(double x, double y, double z) const;
 
   // Total luminous flux in lumens: ∫ I(ω) dω over the sphere of the interpolated distribution.
