@@ -1011,17 +1011,24 @@ class SceneFileReader {
         static_cast<uint32_t>(r.integer("maxBounces", 0, 1000, "indirect bounces").value_or(bake.maxBounces));
     bake.texelsPerMetre =
         r.number("texelsPerMetre", leftOpen(0, 1000), "texels/m").value_or(bake.texelsPerMetre);
-    // Patterns are expanded here, so that the bake settings hold the names themselves.
+    // Patterns are expanded here, so that the bake settings hold the names themselves, and the meshes they name
+    // (or that lie below the nodes they name) ask for a light texture at the bake's density.
+    std::set<MeshId> lightTextured;
     for (const JsonValue& n : arrayOf(src_, r.find("lightTextures"), "mesh or node names")) {
       const std::string& pattern = src_.string(n, "a mesh or node name");
       std::set<std::string> matched;
-      const auto collect = [&](const auto& map) {
-        for (const auto& [id, entity] : map) {
-          if (matchesPattern(pattern, entity.name)) matched.insert(entity.name);
+      for (const auto& [id, mesh] : scene_.meshes()) {
+        if (matchesPattern(pattern, mesh.name)) {
+          matched.insert(mesh.name);
+          lightTextured.insert(id);
         }
-      };
-      collect(scene_.meshes());
-      collect(scene_.nodes());
+      }
+      for (const auto& [id, node] : scene_.nodes()) {
+        if (matchesPattern(pattern, node.name)) {
+          matched.insert(node.name);
+          collectMeshes(id, lightTextured);
+        }
+      }
       if (matched.empty()) {
         std::set<std::string> all;
         for (const std::string& name : namesOf(scene_.meshes())) all.insert(name);
@@ -1032,6 +1039,11 @@ class SceneFileReader {
       for (const std::string& name : matched) {
         if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
       }
+    }
+    for (MeshId mesh : lightTextured) {
+      // A density an override gave the mesh wins; 0 means the bake's texelsPerMetre.
+      const float density = scene_.mesh(mesh).lightTexture.texelsPerMetre;
+      scene_.setMeshLightTexture(mesh, {true, density});
     }
     scene_.setBakeSettings(bake);
   }

@@ -97,6 +97,9 @@ TEST(SceneFile, CompleteExampleParses) {
   const Mesh& body = s.mesh(s.findMesh("Body"));
   EXPECT_EQ(body.material, s.findMaterial("Paint"));
   EXPECT_FALSE(body.twoSided);
+  // Named in bake.lightTextures: a light texture at the bake's density (0 = bake.texelsPerMetre).
+  EXPECT_TRUE(body.lightTexture.enabled);
+  EXPECT_EQ(body.lightTexture.texelsPerMetre, 0.0f);
 
   ASSERT_EQ(s.lights().size(), 4u);
   const Node& bulbNode = nodeNamed(s, "bulb");
