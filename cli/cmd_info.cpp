@@ -1,4 +1,5 @@
 // `fly info SCENE [--json]`: what a scene contains, its site and the features later stages will build.
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -20,7 +21,11 @@ struct InfoOptions {
   bool json = false;
 };
 
-nlohmann::json vecJson(const vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+// Rounded to the micrometre, so that 0.556f prints as 0.556 and not as its binary expansion.
+nlohmann::json vecJson(const vec3& v) {
+  const auto um = [](float x) { return std::round(double(x) * 1e6) / 1e6; };
+  return nlohmann::json::array({um(v.x), um(v.y), um(v.z)});
+}
 
 std::string fixed(double v, int decimals) {
   std::ostringstream s;
@@ -48,7 +53,7 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   j["vertices"] = st.vertices;
   j["textures"] = st.textures;
   j["materials"] = {{"total", st.materials}, {"by_class", st.materialsByClass}};
-  j["lights"] = {{"total", st.lights}, {"by_type", st.lightsByType}};
+  j["lights"] = {{"total", st.lights}, {"by_type", st.lightsByType}, {"emissive_meshes", st.emissiveMeshes}};
   nlohmann::json cameras = nlohmann::json::array();
   for (const auto& [id, c] : scene.cameras()) cameras.push_back(c.name);
   j["cameras"] = cameras;
@@ -82,7 +87,9 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   o << "triangles  " << st.triangles << " (" << st.vertices << " vertices)\n";
   o << "materials  " << st.materials << countsText(st.materialsByClass) << "\n";
   o << "textures   " << st.textures << "\n";
-  o << "lights     " << st.lights << countsText(st.lightsByType) << "\n";
+  o << "lights     " << st.lights << countsText(st.lightsByType);
+  if (st.emissiveMeshes > 0) o << ", and " << st.emissiveMeshes << " emissive mesh" << (st.emissiveMeshes > 1 ? "es" : "");
+  o << "\n";
   o << "cameras    " << st.cameras;
   std::string names;
   for (const auto& [id, c] : scene.cameras()) names += (names.empty() ? "" : ", ") + c.name;

@@ -16,6 +16,7 @@ SceneStats computeStats(const Scene& scene) {
     for (MeshId meshId : scene.node(id).meshes) {
       const Mesh& mesh = scene.mesh(meshId);
       ++s.meshInstances;
+      if (scene.material(mesh.material).isEmissive()) ++s.emissiveMeshes;
       s.triangles += mesh.triangleCount();
       s.vertices += mesh.vertexCount();
       for (const vec3& p : mesh.positions) s.boundsWorldM.extend(vec3(worldFromLocal * vec4(p, 1.0f)));

@@ -21,6 +21,7 @@ struct SceneStats {
   size_t lights = 0;
   std::map<std::string, size_t> materialsByClass;  // materialClass() → count
   std::map<std::string, size_t> lightsByType;      // lightTypeName() → count
+  size_t emissiveMeshes = 0;                       // placed meshes with an emissive material (area lights)
   Bounds3 boundsWorldM;                            // of all instanced positions, world frame, metres
 };
 

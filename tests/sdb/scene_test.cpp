@@ -114,14 +114,20 @@ TEST(SceneStats, CountsInstancesAndWorldBounds) {
   s.addNode({.name = "b", .parentFromLocal = glm::translate(mat4(1), vec3(5, 2, 0)), .meshes = {floor}});
   const LightId lamp = s.addLight({.name = "lamp", .intensity = 100.0f}).id;
   s.addNode({.name = "lamp", .light = lamp});
+  Material glow;
+  glow.emissionLuminance = Rgb(1000.0f);
+  const MeshId panel = s.addMesh(quad("panel", s.addMaterial(glow).id)).id;
+  s.addNode({.name = "panel", .parentFromLocal = glm::translate(mat4(1), vec3(0, 1, 0)), .meshes = {panel}});
   const SceneStats st = computeStats(s);
-  EXPECT_EQ(st.nodes, 3u);
-  EXPECT_EQ(st.meshes, 2u);
-  EXPECT_EQ(st.meshInstances, 3u);
-  EXPECT_EQ(st.triangles, 6u);
+  EXPECT_EQ(st.nodes, 4u);
+  EXPECT_EQ(st.meshes, 3u);
+  EXPECT_EQ(st.meshInstances, 4u);
+  EXPECT_EQ(st.triangles, 8u);
+  EXPECT_EQ(st.materialsByClass.at("emitter"), 1u);
   EXPECT_EQ(st.materialsByClass.at("glass"), 1u);
   EXPECT_EQ(st.materialsByClass.at("stone"), 1u);
   EXPECT_EQ(st.lightsByType.at("point"), 1u);
+  EXPECT_EQ(st.emissiveMeshes, 1u);
   EXPECT_EQ(st.boundsWorldM.min, vec3(0, 0, -1));
   EXPECT_EQ(st.boundsWorldM.max, vec3(6, 2, 0));
 }
