@@ -1,0 +1,1754 @@
+// glTF 2.0 import (what is converted: gltf_import.h).
+//
+// Material approximation: glTF metallic-roughness → the realistic material
+// ------------------------------------------------------------------------
+// glTF's material is a mix of two BRDFs (glTF 2.0 specification, Appendix B "BRDF Implementation"):
+//   material        = mix(dielectric_brdf, metal_brdf, metallic)
+//   dielectric_brdf = fresnel_mix(ior, base = diffuse_brdf(baseColor), layer = specular_brdf(α = roughness²))
+//   metal_brdf      = conductor_fresnel(f0 = baseColor, bsdf = specular_brdf(α = roughness²))
+// The realistic material (material.h) has one Lambertian diffuse term and one reflection lobe whose amount is
+// either Fresnel (reflectionColor × Schlick(F0(ior))) or uniform (reflectionColor); its energy rule takes
+// reflection first, then transmission, then diffuse. The conversion:
+//  - reflectionGlossiness = roughness: both are the perceptual parameter whose square is the GGX width α. The
+//    green (roughness) channel of metallicRoughnessTexture becomes reflectionGlossinessTexture. Its blue
+//    channel (per-texel metalness) cannot be represented: a material is metal or dielectric as a whole.
+//  - metallic < 0.5 (dielectric): reflectionModel = Fresnel with ior from KHR_materials_ior (default 1.5);
+//    reflectionColor = min(specularColorFactor, 1) × specularFactor (KHR_materials_specular: the dielectric
+//    F0 is min(F0(ior) × specularColor, 1) × specular, so at normal incidence fly's reflectionColor × F0(ior)
+//    is the same); diffuseColor = (1 − metallic) × baseColor, the dielectric lobe's weight in the mix. The
+//    metal share of the reflection (metallic × baseColor) is lost.
+//  - metallic ≥ 0.5 (metal): reflectionModel = uniform; reflectionColor = mix(F0_dielectric, baseColor,
+//    metallic), the mix's reflectance at normal incidence (F0_dielectric as above); diffuseColor =
+//    (1 − metallic) × baseColor. For metallic = 1 this is glTF's conductor at normal incidence (reflection =
+//    baseColor, no diffuse); the Schlick rise towards white at grazing angles is lost.
+//  - baseColorTexture → diffuseTexture (sRGB). It does not tint a metal's reflection: reflectionTexture is
+//    linear, so a metal's reflection comes from baseColorFactor alone.
+//  - KHR_materials_transmission: transmissionColor = baseColor × transmissionFactor × (1 − metallic) (the
+//  BTDF
+//    replaces the diffuse lobe of the dielectric part only); the red channel of transmissionTexture becomes
+//    transmissionTexture; transmissionGlossiness = roughness (the same microfacets reflect and refract).
+//  - KHR_materials_volume: attenuationColor and attenuationDistance are Beer–Lambert parameters with the same
+//    meaning as scatteringColor and scatteringDistanceM. thicknessFactor is not needed: fly traces the
+//    geometry.
+//  - alphaMode BLEND with a baseColorFactor alpha below 1 and no KHR_materials_transmission: a fraction
+//    1 − alpha of the light passes straight through, which is what alpha blending shows. So
+//    transmissionColor = 1 − alpha, clear (glossiness 0), ior 1 (not bent, no Fresnel reflection). The alpha
+//    of baseColorTexture is not used. alphaMode MASK is treated as opaque, with a warning.
+//  - emissionLuminance = emissiveFactor × KHR_materials_emissive_strength, in cd/m² (DESIGN.md, "Units and
+//    frames"); emissiveTexture → emissionTexture (sRGB).
+//  - normalTexture → bumpTexture with bumpScale = normalTexture.scale.
+//  - occlusionTexture is ignored: the baker computes occlusion from the geometry.
+//  - doubleSided → Material::doubleSided and Mesh::twoSided.
+//  - A primitive without a material gets fly's default material (Material{}, a light grey paint, named
+//    "default") rather than glTF's default (§3.9.6: a white rough metal), which would act as a blurred mirror
+//    in a bake.
+// Sources: glTF 2.0 specification §3.9 "Materials" and Appendix B
+// (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html); the Khronos extension specifications
+// KHR_materials_transmission, KHR_materials_volume, KHR_materials_ior, KHR_materials_specular,
+// KHR_materials_emissive_strength, KHR_texture_transform and KHR_lights_punctual
+// (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Khronos).
+//
+// Textures (PNG or JPEG, glTF 2.0 §3.8.2) are decoded by tinygltf's stb_image loader into RGBA with 8 or 16
+// bits per channel. A single channel that a material parameter reads (roughness = green, transmission = red)
+// is copied into a one-channel (grey) texture of its own.
+//
+// The import is all or nothing: everything is converted and checked first, then added to the Scene, so an
+// InputError leaves the scene as it was.
+#include "sdb/gltf_import.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "base/error.h"
+#include "base/file_io.h"
+#include "base/log.h"
+
+namespace fly::sdb {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+static_assert(std::endian::native == std::endian::little,
+              "glTF buffers are little-endian (glTF 2.0 §3.6.2.2)");
+
+// Extensions whose content the importer converts (see the comment block above and gltf_import.h).
+// KHR_mesh_quantization only widens the component types allowed for attributes, which readAccessor handles.
+constexpr std::array<std::string_view, 8> kSupportedExtensions = {
+    "KHR_lights_punctual",        "KHR_materials_emissive_strength",
+    "KHR_materials_ior",          "KHR_materials_specular",
+    "KHR_materials_transmission", "KHR_materials_volume",
+    "KHR_mesh_quantization",      "KHR_texture_transform"};
+
+bool isSupportedExtension(const std::string& name) {
+  return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), name) !=
+         kSupportedExtensions.end();
+}
+
+const char* const kHintInvalid =
+    "the file does not follow the glTF 2.0 specification; check it with the Khronos glTF Validator "
+    "(https://github.khronos.org/glTF-Validator) or export it again";
+const char* const kHintTruncated =
+    "the file or its binary data was cut off or does not belong to it; copy or export it again";
+
+std::string str(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// "'Wall'" for a named element, "" for an unnamed one.
+std::string quotedName(const std::string& name) {
+  return name.empty() ? std::string() : " '" + name + "'";
+}
+
+// Saturating a + b × c on sizes from the file, so that range checks cannot overflow.
+size_t satMulAdd(size_t a, size_t b, size_t c) {
+  size_t product = 0;
+  size_t sum = 0;
+  if (__builtin_mul_overflow(b, c, &product) || __builtin_add_overflow(a, product, &sum)) return SIZE_MAX;
+  return sum;
+}
+
+// RFC 3986 percent-decoding of a relative URI (glTF 2.0, "URIs"), e.g. "my%20wall.png" → "my wall.png".
+std::string percentDecode(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+uint32_t readU32(const std::string& bytes, size_t offset) {
+  uint32_t v = 0;
+  std::memcpy(&v, bytes.data() + offset, 4);
+  return v;
+}
+
+// --- File access for tinygltf. tinygltf looks for a relative URI in the glTF file's folder and then in the
+// current directory; glTF resolves URIs against the file's own location only (glTF 2.0, "URIs"), so files
+// outside that folder's tree are reported as missing rather than silently taken from wherever the program
+// runs.
+struct FsContext {
+  std::string baseDir;  // absolute folder of the glTF file, ending in '/'
+};
+
+bool fsFileExists(const std::string& path, void* user) {
+  const auto* ctx = static_cast<const FsContext*>(user);
+  std::error_code ec;
+  return path.rfind(ctx->baseDir, 0) == 0 && fs::is_regular_file(path, ec);
+}
+
+std::string fsExpandFilePath(const std::string& path, void*) {
+  return path;
+}
+
+bool fsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    *err = std::strerror(errno);
+    return false;
+  }
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) {
+    *err = "read error";
+    return false;
+  }
+  return true;
+}
+
+// Keeps an image's encoded bytes instead of decoding them while tinygltf parses. Images are decoded later,
+// only when a material uses them, after their buffer view has been checked against its buffer: tinygltf hands
+// an embedded image's loader a pointer into the buffer without checking the view's range, so those bytes are
+// not touched here.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+  if (image->bufferView < 0 && size > 0) image->image.assign(bytes, bytes + size);
+  image->as_is = true;
+  return true;
+}
+
+// The parts of a texture reference (glTF textureInfo), wherever it appears.
+struct TexInfo {
+  int index = -1;
+  int texCoord = 0;
+  const tinygltf::Value* transform = nullptr;  // KHR_texture_transform object, if any
+};
+
+TexInfo texInfo(int index, int texCoord, const tinygltf::ExtensionMap& extensions) {
+  TexInfo t{index, texCoord, nullptr};
+  auto it = extensions.find("KHR_texture_transform");
+  if (it != extensions.end()) t.transform = &it->second;
+  return t;
+}
+
+// Which channels of an image a material parameter reads.
+enum class Channels { kAll, kRed, kGreen };
+
+// Placeholder ids used while converting: the entity's index in the importer's pending list + 1. commit()
+// replaces them with the ids the Scene gives.
+template <class IdT>
+IdT pendingId(size_t index) {
+  return IdT{static_cast<uint32_t>(index + 1)};
+}
+
+class Importer {
+ public:
+  Importer(Scene& scene, const fs::path& file, const GltfImportOptions& options)
+      : scene_(scene), options_(options), file_(file), fileStr_(file.string()) {}
+
+  GltfImportResult run() {
+    if (options_.parent && !scene_.nodes().count(options_.parent)) {
+      throw std::invalid_argument("importGltf: parent node " + std::to_string(options_.parent.value) +
+                                  " does not exist");
+    }
+    load();
+    checkExtensions();
+    warnUnsupportedContent();
+    convertNodes();
+    commit();
+    return std::move(result_);
+  }
+
+ private:
+  // --- Reporting.
+  [[noreturn]] void fail(const std::string& jsonPath, const std::string& message,
+                         const std::string& hint = kHintInvalid) const {
+    throw InputError(SourceLocation{fileStr_, 0, 0, jsonPath}, message, hint);
+  }
+
+  void warn(const std::string& message) {
+    const std::string text = fileStr_ + ": " + message;
+    log::warn(text);
+    result_.warnings.push_back(text);
+  }
+
+  std::string name(const std::string& gltfName, const char* kind, size_t index) const {
+    return options_.namePrefix + (gltfName.empty() ? kind + std::to_string(index) : gltfName);
+  }
+
+  // --- Loading.
+  void load() {
+    const std::string bytes = readInputFile(file_, "glTF file");  // missing, directory, 0 bytes → InputError
+    if (bytes.size() > UINT_MAX) fail("", "the file is larger than 4 GiB, which tinygltf cannot read");
+    std::error_code ec;
+    baseDir_ = fs::absolute(file_, ec).parent_path();
+    FsContext fsContext{baseDir_.string() + "/"};
+    tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, nullptr, &fsContext});
+    loader.SetImageLoader(&keepEncodedImage, nullptr);
+
+    std::string err;
+    // tinygltf's warnings only report image files it could not read; decodedImage() reports those with the
+    // material that uses them.
+    std::string tinyWarn;
+    const auto size = static_cast<unsigned int>(bytes.size());
+    const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    bool ok = false;
+    if (binary) {
+      checkGlbLayout(bytes);
+      ok = loader.LoadBinaryFromMemory(&model_, &err, &tinyWarn,
+                                       reinterpret_cast<const unsigned char*>(bytes.data()), size,
+                                       baseDir_.string());
+    } else {
+      std::string ext = file_.extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char c) { return char(std::tolower(c)); });
+      if (ext == ".glb") {
+        fail("", "the file is not a binary glTF: it does not start with the GLB magic 'glTF'",
+             "the file is damaged or not a .glb; export it again");
+      }
+      ok = loader.LoadASCIIFromString(&model_, &err, &tinyWarn, bytes.data(), size, baseDir_.string());
+    }
+    if (!ok) failLoad(err, binary);
+    // tinygltf reports some problems in `err` and carries on, e.g. a textureInfo without "index".
+    std::istringstream lines(err);
+    for (std::string line; std::getline(lines, line);) {
+      if (!line.empty()) warn(line);
+    }
+  }
+
+  // The GLB container (glTF 2.0 §4 "GLB File Format Specification"): a 12-byte header (magic, version,
+  // length), a JSON chunk and an optional BIN chunk, each with an 8-byte header (length, type). Checked here
+  // so that a truncated file is reported as such.
+  void checkGlbLayout(const std::string& bytes) const {
+    const size_t size = bytes.size();
+    const std::string have = " but the file has " + std::to_string(size) + " bytes";
+    if (size < 12) fail("", "the GLB file is truncated: its 12-byte header is incomplete", kHintTruncated);
+    const uint32_t version = readU32(bytes, 4);
+    if (version != 2) {
+      fail("",
+           "GLB version " + std::to_string(version) + " is not supported; fly reads glTF 2.0 (GLB version 2)",
+           "convert the file to glTF 2.0");
+    }
+    const uint32_t length = readU32(bytes, 8);
+    if (length > size) {
+      fail("", "the GLB file is truncated: its header says " + std::to_string(length) + " bytes" + have,
+           kHintTruncated);
+    }
+    if (length < 20) fail("", "the GLB file is truncated: it has no JSON chunk", kHintTruncated);
+    const uint32_t jsonLength = readU32(bytes, 12);
+    if (readU32(bytes, 16) != 0x4E4F534Au) fail("", "the first GLB chunk is not JSON (type 'JSON')");
+    const size_t jsonEnd = satMulAdd(20, jsonLength, 1);
+    if (jsonEnd > length) {
+      fail("",
+           "the GLB file is truncated: its JSON chunk needs bytes 20.." + std::to_string(jsonEnd) +
+               " but the file is " + std::to_string(length) + " bytes long",
+           kHintTruncated);
+    }
+    const size_t binStart = jsonEnd + (4 - jsonEnd % 4) % 4;  // chunks start on 4-byte boundaries
+    if (binStart >= length) return;
+    if (binStart + 8 > length) {
+      fail("", "the GLB file is truncated inside the BIN chunk's header", kHintTruncated);
+    }
+    const size_t binEnd = satMulAdd(binStart + 8, readU32(bytes, binStart), 1);
+    if (binEnd > length) {
+      fail("",
+           "the GLB file is truncated: its BIN chunk needs bytes " + std::to_string(binStart + 8) + ".." +
+               std::to_string(binEnd) + " but the file is " + std::to_string(length) + " bytes long",
+           kHintTruncated);
+    }
+  }
+
+  // Turns tinygltf's error text into an InputError with a location and a hint.
+  [[noreturn]] void failLoad(const std::string& err, bool binary) const {
+    // nlohmann::json, which tinygltf parses with: "[json.exception.parse_error.101] parse error at line 3,
+    // column 5: syntax error while parsing object - unexpected '}'; expected string literal".
+    static const std::regex kJsonError(R"(at line (\d+), column (\d+): ([^\n]*))");
+    std::smatch m;
+    if (std::regex_search(err, m, kJsonError)) {
+      SourceLocation loc{fileStr_, std::stoi(m[1].str()), std::stoi(m[2].str())};
+      throw InputError(
+          loc, std::string(binary ? "invalid JSON in the GLB's JSON chunk: " : "invalid JSON: ") + m[3].str(),
+          "the file is not valid JSON; it may be truncated or damaged by hand editing: look near the "
+          "line and column given");
+    }
+    // The buffer being parsed when loading stopped: tinygltf adds buffers one by one.
+    const size_t buffer = model_.buffers.size();
+    const std::string bufferLabel = "buffer " + std::to_string(buffer);
+    const std::string bufferPath = "/buffers/" + std::to_string(buffer);
+    static const std::regex kNotFound(R"(File not found : ([^\n]*))");
+    if (std::regex_search(err, m, kNotFound)) {
+      fail(bufferPath + "/uri",
+           bufferLabel + " refers to '" + m[1].str() + "', which does not exist in " + baseDir_.string(),
+           "copy the .bin file next to the glTF file (relative URIs are resolved against the glTF file's "
+           "folder), or export a single .glb");
+    }
+    static const std::regex kSizeMismatch(
+        R"(File size mismatch : ([^,]*), requestedBytes (\d+), but got (\d+))");
+    if (std::regex_search(err, m, kSizeMismatch)) {
+      fail(bufferPath + "/byteLength",
+           bufferLabel + " ('" + m[1].str() + "') has " + m[3].str() + " bytes but the glTF file says " +
+               m[2].str() + " (byteLength)",
+           kHintTruncated);
+    }
+    if (err.find("File is empty") != std::string::npos || err.find("File read error") != std::string::npos) {
+      std::string what = err.substr(0, err.find('\n'));
+      fail(bufferPath + "/uri", bufferLabel + ": " + what, kHintTruncated);
+    }
+    std::string what = err;
+    while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    if (what.empty()) what = "tinygltf could not read the file";
+    fail("", "cannot read the glTF file: " + what);
+  }
+
+  // glTF 2.0 §3.12: a required extension the importer does not implement makes the file unusable; one that is
+  // only used can be ignored.
+  void checkExtensions() {
+    for (const std::string& ext : model_.extensionsRequired) {
+      if (!isSupportedExtension(ext)) {
+        fail("/extensionsRequired",
+             "the file requires the glTF extension '" + ext + "', which fly does not support",
+             "export the file without " + ext +
+                 " (for example without mesh compression and with PNG or JPEG textures)");
+      }
+    }
+    for (const std::string& ext : model_.extensionsUsed) {
+      const bool required = std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(),
+                                      ext) != model_.extensionsRequired.end();
+      if (!required && !isSupportedExtension(ext)) {
+        warn("the glTF extension '" + ext + "' is not supported; what it adds is ignored");
+      }
+    }
+  }
+
+  void warnUnsupportedContent() {
+    if (!model_.animations.empty()) warn("animations are not imported; the scene is taken in its rest pose");
+    if (!model_.skins.empty()) warn("skins are not imported; skinned meshes are taken in their bind pose");
+    for (const tinygltf::Mesh& mesh : model_.meshes) {
+      for (const tinygltf::Primitive& p : mesh.primitives) {
+        if (!p.targets.empty()) {
+          warn("morph targets are not imported; meshes keep their base shape");
+          return;
+        }
+      }
+    }
+  }
+
+  // --- Nodes (glTF 2.0 §3.5).
+  struct PendingNode {
+    Node node;        // meshes, camera and light hold placeholder ids
+    int parent = -1;  // index in nodes_, -1 = one of the imported roots
+  };
+
+  void convertNodes() {
+    const size_t count = model_.nodes.size();
+    // Each node has at most one parent: "the node hierarchy MUST be a set of disjoint strict trees" (§3.5.2).
+    // With that checked, walking down from parentless roots visits every node once and cannot loop.
+    std::vector<int> parentOf(count, -1);
+    for (size_t i = 0; i < count; ++i) {
+      for (int c : model_.nodes[i].children) {
+        const std::string path = "/nodes/" + std::to_string(i) + "/children";
+        if (c < 0 || size_t(c) >= count) {
+          fail(path, "node " + std::to_string(i) + " has child " + std::to_string(c) + ", but the file has " +
+                         std::to_string(count) + " nodes");
+        }
+        if (size_t(c) == i || parentOf[size_t(c)] >= 0) {
+          fail(path, "node " + std::to_string(c) + " is a child of more than one node (or of itself)",
+               "a glTF node hierarchy must be a set of disjoint trees (glTF 2.0 §3.5.2); " +
+                   std::string(kHintInvalid));
+        }
+        parentOf[size_t(c)] = int(i);
+      }
+    }
+    // Nodes that are each other's ancestors have one parent each but no root; walk up from every node.
+    std::vector<uint8_t> state(count, 0);  // 0 = not seen, 1 = on the current walk, 2 = leads to a root
+    for (size_t i = 0; i < count; ++i) {
+      size_t n = i;
+      while (state[n] == 0) {
+        state[n] = 1;
+        if (parentOf[n] < 0) break;
+        n = size_t(parentOf[n]);
+      }
+      if (state[n] == 1 && parentOf[n] >= 0) {
+        fail("/nodes/" + std::to_string(n) + "/children",
+             "node " + std::to_string(n) + " is its own ancestor: the node hierarchy has a cycle",
+             "a glTF node hierarchy must be a set of disjoint trees (glTF 2.0 §3.5.2); " +
+                 std::string(kHintInvalid));
+      }
+      for (n = i; state[n] == 1; n = parentOf[n] < 0 ? n : size_t(parentOf[n])) state[n] = 2;
+    }
+
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+      const size_t s = model_.defaultScene >= 0 ? size_t(model_.defaultScene) : 0;
+      if (s >= model_.scenes.size()) {
+        fail("/scene", "the default scene is " + std::to_string(s) + ", but the file has " +
+                           std::to_string(model_.scenes.size()) + " scenes");
+      }
+      if (model_.scenes.size() > 1) {
+        warn("the file has " + std::to_string(model_.scenes.size()) + " scenes; scene " + std::to_string(s) +
+             quotedName(model_.scenes[s].name) + " is imported and the others are ignored");
+      }
+      roots = model_.scenes[s].nodes;
+      std::vector<bool> listed(count, false);
+      for (int r : roots) {
+        const std::string path = "/scenes/" + std::to_string(s) + "/nodes";
+        if (r < 0 || size_t(r) >= count) {
+          fail(path, "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
+                         ", but the file has " + std::to_string(count) + " nodes");
+        }
+        if (parentOf[size_t(r)] >= 0 || listed[size_t(r)]) {
+          fail(path, "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
+                         " as a root, but it is another node's child or listed twice");
+        }
+        listed[size_t(r)] = true;
+      }
+    } else {
+      // Without scenes nothing says what to show (§3.5.1); take every parentless node so that a file of loose
+      // nodes still imports.
+      for (size_t i = 0; i < count; ++i) {
+        if (parentOf[i] < 0) roots.push_back(int(i));
+      }
+    }
+
+    struct Visit {
+      int gltfNode;
+      int parent;  // index in nodes_
+      mat4 worldFromParent;
+    };
+    const mat4 worldFromImport = options_.parent ? scene_.worldFromLocal(options_.parent) : mat4(1.0f);
+    std::vector<Visit> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, -1, worldFromImport});
+    while (!stack.empty()) {
+      const Visit v = stack.back();
+      stack.pop_back();
+      const auto i = size_t(v.gltfNode);
+      const tinygltf::Node& gn = model_.nodes[i];
+      const std::string path = "/nodes/" + std::to_string(i);
+      PendingNode pn;
+      pn.parent = v.parent;
+      pn.node.name = name(gn.name, "node", i);
+      pn.node.parentFromLocal = nodeTransform(i);
+      const mat4 worldFromLocal = v.worldFromParent * pn.node.parentFromLocal;
+      if (gn.mesh >= 0) {
+        if (size_t(gn.mesh) >= model_.meshes.size()) {
+          fail(path + "/mesh", "node " + std::to_string(i) + " refers to mesh " + std::to_string(gn.mesh) +
+                                   ", but the file has " + std::to_string(model_.meshes.size()) + " meshes");
+        }
+        // glTF 2.0 §3.7.4: a negative determinant of the world transform makes clockwise the front face.
+        const bool mirrored = glm::determinant(mat3(worldFromLocal)) < 0.0f;
+        pn.node.meshes = meshesFor(size_t(gn.mesh), mirrored);
+      } else if (gn.mesh < -1) {
+        fail(path + "/mesh", "node " + std::to_string(i) + " refers to mesh " + std::to_string(gn.mesh));
+      }
+      if (gn.camera != -1) pn.node.camera = camera(gn.camera, path + "/camera");
+      auto light = gn.extensions.find("KHR_lights_punctual");
+      if (light != gn.extensions.end()) pn.node.light = nodeLight(light->second, path);
+      nodes_.push_back(std::move(pn));
+      const int self = int(nodes_.size() - 1);
+      for (auto c = gn.children.rbegin(); c != gn.children.rend(); ++c) {
+        stack.push_back({*c, self, worldFromLocal});
+      }
+    }
+  }
+
+  // parentFromLocal from "matrix" (column-major, as glm) or from T · R · S (glTF 2.0 §3.5.3).
+  mat4 nodeTransform(size_t i) const {
+    const tinygltf::Node& n = model_.nodes[i];
+    const std::string path = "/nodes/" + std::to_string(i);
+    const std::string label = "node " + std::to_string(i) + quotedName(n.name);
+    auto finite = [&](const std::vector<double>& v, const char* key, size_t size) {
+      if (v.size() != size) {
+        fail(path + "/" + key, label + " has " + std::to_string(v.size()) + " numbers in '" + key +
+                                   "'; glTF needs " + std::to_string(size));
+      }
+      for (double x : v) {
+        if (!std::isfinite(x)) {
+          fail(path + "/" + key, label + " has a NaN or infinite number in '" + key + "'");
+        }
+      }
+    };
+    if (!n.matrix.empty()) {
+      finite(n.matrix, "matrix", 16);
+      mat4 m(1.0f);
+      for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = float(n.matrix[size_t(k)]);
+      return m;
+    }
+    vec3 t(0.0f);
+    quat r(1.0f, 0.0f, 0.0f, 0.0f);
+    vec3 s(1.0f);
+    if (!n.translation.empty()) {
+      finite(n.translation, "translation", 3);
+      t = vec3(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]));
+    }
+    if (!n.rotation.empty()) {
+      finite(n.rotation, "rotation", 4);
+      // glTF stores (x, y, z, w). Exporters round unit quaternions to a few digits; normalising keeps the
+      // rotation from also scaling.
+      r = quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));
+      const float len = glm::length(r);
+      if (!(len > 1e-6f)) fail(path + "/rotation", label + " has a zero rotation quaternion");
+      r = r / len;
+    }
+    if (!n.scale.empty()) {
+      finite(n.scale, "scale", 3);
+      s = vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2]));
+    }
+    return glm::translate(mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(mat4(1.0f), s);
+  }
+
+  // --- Cameras (glTF 2.0 §3.10).
+  CameraId camera(int index, const std::string& refPath) {
+    if (index < 0 || size_t(index) >= model_.cameras.size()) {
+      fail(refPath, "camera " + std::to_string(index) + " does not exist; the file has " +
+                        std::to_string(model_.cameras.size()) + " cameras");
+    }
+    const auto i = size_t(index);
+    auto cached = cameraIds_.find(i);
+    if (cached != cameraIds_.end()) return cached->second;
+    const tinygltf::Camera& c = model_.cameras[i];
+    const std::string path = "/cameras/" + std::to_string(i);
+    const std::string label = "camera " + std::to_string(i) + quotedName(c.name);
+    Camera out;
+    out.name = name(c.name, "camera", i);
+    if (c.type == "perspective") {
+      const tinygltf::PerspectiveCamera& p = c.perspective;
+      out.projection = Projection::kPerspective;
+      if (!(p.yfov > 0.0 && p.yfov < kPi)) {
+        fail(path + "/perspective/yfov", label + " has yfov " + str(p.yfov) + " rad; it must be in (0, π)");
+      }
+      if (!(p.znear > 0.0 && std::isfinite(p.znear))) {
+        fail(path + "/perspective/znear", label + " has znear " + str(p.znear) + " m; it must be > 0");
+      }
+      if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {
+        fail(path + "/perspective/aspectRatio",
+             label + " has aspectRatio " + str(p.aspectRatio) + "; it must be > 0");
+      }
+      // tinygltf gives 0 for an absent zfar: an infinite projection (§3.10).
+      if (p.zfar != 0.0 && !(p.zfar > p.znear)) {
+        fail(path + "/perspective/zfar", label + " has zfar " + str(p.zfar) + " m; it must be > znear");
+      }
+      out.yfovRad = float(p.yfov);
+      out.aspectRatio = float(p.aspectRatio);
+      out.znearM = float(p.znear);
+      out.zfarM = p.zfar == 0.0 ? std::numeric_limits<float>::infinity() : float(p.zfar);
+    } else {  // tinygltf accepts only "perspective" and "orthographic"
+      const tinygltf::OrthographicCamera& o = c.orthographic;
+      out.projection = Projection::kOrthographic;
+      if (!(o.xmag != 0.0 && o.ymag != 0.0 && std::isfinite(o.xmag) && std::isfinite(o.ymag))) {
+        fail(path + "/orthographic", label + " has xmag " + str(o.xmag) + " and ymag " + str(o.ymag) +
+                                         "; both must be finite and non-zero");
+      }
+      if (!(o.znear >= 0.0 && o.zfar > o.znear && std::isfinite(o.zfar))) {
+        fail(path + "/orthographic", label + " has znear " + str(o.znear) + " m and zfar " + str(o.zfar) +
+                                         " m; they must satisfy 0 ≤ znear < zfar < ∞");
+      }
+      if (o.xmag < 0.0 || o.ymag < 0.0) {
+        warn(label + " has a negative xmag or ymag (a mirrored view); their absolute values are used");
+      }
+      out.xmagM = float(std::abs(o.xmag));
+      out.ymagM = float(std::abs(o.ymag));
+      out.znearM = float(o.znear);
+      out.zfarM = float(o.zfar);
+    }
+    cameras_.push_back(std::move(out));
+    return cameraIds_[i] = pendingId<CameraId>(cameras_.size() - 1);
+  }
+
+  // --- Lights (KHR_lights_punctual).
+  LightId nodeLight(const tinygltf::Value& ext, const std::string& nodePath) {
+    const std::string path = nodePath + "/extensions/KHR_lights_punctual/light";
+    if (!ext.IsObject() || !ext.Get("light").IsNumber()) {
+      fail(path, "the node's KHR_lights_punctual extension has no light index");
+    }
+    const int index = ext.Get("light").GetNumberAsInt();
+    if (index < 0 || size_t(index) >= model_.lights.size()) {
+      fail(path, "light " + std::to_string(index) + " does not exist; the file has " +
+                     std::to_string(model_.lights.size()) + " lights");
+    }
+    const auto i = size_t(index);
+    auto cached = lightIds_.find(i);
+    if (cached != lightIds_.end()) return cached->second;
+    const tinygltf::Light& l = model_.lights[i];
+    const std::string lpath = "/extensions/KHR_lights_punctual/lights/" + std::to_string(i);
+    const std::string label = "light " + std::to_string(i) + quotedName(l.name);
+    Light out;
+    out.name = name(l.name, "light", i);
+    if (l.type == "point") {
+      out.type = LightType::kPoint;
+    } else if (l.type == "spot") {
+      out.type = LightType::kSpot;
+    } else if (l.type == "directional") {
+      out.type = LightType::kDirectional;
+    } else {
+      fail(lpath + "/type", label + " has type '" + l.type +
+                                "'; KHR_lights_punctual defines 'point', 'spot' and 'directional'");
+    }
+    if (!l.color.empty()) {
+      if (l.color.size() != 3) {
+        fail(lpath + "/color",
+             label + " has a color with " + std::to_string(l.color.size()) + " numbers; it needs 3");
+      }
+      out.color = Rgb(float(l.color[0]), float(l.color[1]), float(l.color[2]));
+    }
+    out.intensity = float(l.intensity);  // cd for point and spot, lux for directional, as in fly
+    // tinygltf gives 0 for an absent range: no cut-off. A directional light has no range.
+    if (l.range != 0.0 && out.type != LightType::kDirectional) out.rangeM = float(l.range);
+    if (out.type == LightType::kSpot) {
+      out.innerConeRad = float(l.spot.innerConeAngle);
+      out.outerConeRad = float(l.spot.outerConeAngle);
+    }
+    const std::string problem = validate(out);
+    if (!problem.empty()) fail(lpath, label + ": " + problem);
+    lights_.push_back(std::move(out));
+    return lightIds_[i] = pendingId<LightId>(lights_.size() - 1);
+  }
+
+  // --- Meshes (glTF 2.0 §3.7.2).
+  struct MeshEntry {
+    bool converted = false;
+    std::vector<MeshId> ids;                      // one per kept primitive, placeholders
+    std::optional<std::vector<MeshId>> mirrored;  // the same with reversed winding, made on first use
+  };
+
+  std::vector<MeshId> meshesFor(size_t meshIndex, bool mirrored) {
+    if (meshEntries_.empty()) meshEntries_.resize(model_.meshes.size());
+    MeshEntry& e = meshEntries_[meshIndex];
+    if (!e.converted) {
+      const tinygltf::Mesh& gm = model_.meshes[meshIndex];
+      for (size_t p = 0; p < gm.primitives.size(); ++p) {
+        if (std::optional<Mesh> m = convertPrimitive(meshIndex, p)) {
+          meshes_.push_back(std::move(*m));
+          e.ids.push_back(pendingId<MeshId>(meshes_.size() - 1));
+        }
+      }
+      e.converted = true;
+    }
+    if (!mirrored) return e.ids;
+    if (!e.mirrored) {
+      // A copy whose triangles run the other way round, so that counter-clockwise is the front face in world
+      // space under this node's mirroring transform. Normals stay: the inverse transpose of the node's
+      // transform already turns them to the front side.
+      std::vector<MeshId> ids;
+      for (MeshId id : e.ids) {
+        Mesh copy = meshes_[id.value - 1];
+        copy.name += " (mirrored)";
+        for (size_t t = 0; t + 2 < copy.indices.size(); t += 3) {
+          std::swap(copy.indices[t + 1], copy.indices[t + 2]);
+        }
+        meshes_.push_back(std::move(copy));
+        ids.push_back(pendingId<MeshId>(meshes_.size() - 1));
+      }
+      e.mirrored = std::move(ids);
+    }
+    return *e.mirrored;
+  }
+
+  // An accessor read as doubles, `components` per element (double holds every 32-bit index exactly).
+  struct AccessorData {
+    std::vector<double> values;
+    int components = 0;
+    size_t count() const { return components ? values.size() / size_t(components) : 0; }
+  };
+
+  // A buffer view after checking that it lies inside its buffer (glTF 2.0 §3.6.1).
+  const unsigned char* bufferViewData(int view, const std::string& referrer, const std::string& refPath,
+                                      size_t* byteLength) const {
+    if (view < 0 || size_t(view) >= model_.bufferViews.size()) {
+      fail(refPath, referrer + " refers to buffer view " + std::to_string(view) + ", but the file has " +
+                        std::to_string(model_.bufferViews.size()) + " buffer views");
+    }
+    const tinygltf::BufferView& bv = model_.bufferViews[size_t(view)];
+    const std::string path = "/bufferViews/" + std::to_string(view);
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size()) {
+      fail(path + "/buffer", "buffer view " + std::to_string(view) + " refers to buffer " +
+                                 std::to_string(bv.buffer) + ", but the file has " +
+                                 std::to_string(model_.buffers.size()) + " buffers");
+    }
+    const std::vector<unsigned char>& data = model_.buffers[size_t(bv.buffer)].data;
+    const size_t end = satMulAdd(bv.byteOffset, bv.byteLength, 1);
+    if (end > data.size()) {
+      fail(path,
+           "buffer view " + std::to_string(view) + " covers bytes " + std::to_string(bv.byteOffset) + ".." +
+               std::to_string(end) + " but buffer " + std::to_string(bv.buffer) + " has " +
+               std::to_string(data.size()) + " bytes",
+           kHintTruncated);
+    }
+    *byteLength = bv.byteLength;
+    return data.data() + bv.byteOffset;
+  }
+
+  static size_t componentSize(int componentType) {
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
+      case TINYGLTF_COMPONENT_TYPE_SHORT:
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+      default:
+        return 0;  // INT and DOUBLE are not glTF 2.0 accessor types (§3.6.2.2)
+    }
+  }
+
+  // One component as a number. Normalised integers follow the glTF conversion (glTF 2.0 §3.11, repeated in
+  // KHR_mesh_quantization): BYTE f = max(c / 127, −1), UNSIGNED_BYTE f = c / 255, SHORT f = max(c / 32767,
+  // −1), UNSIGNED_SHORT f = c / 65535.
+  static double component(const unsigned char* p, int componentType, bool normalized) {
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        int8_t c;
+        std::memcpy(&c, p, 1);
+        return normalized ? std::max(c / 127.0, -1.0) : c;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        uint8_t c;
+        std::memcpy(&c, p, 1);
+        return normalized ? c / 255.0 : c;
+      }
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t c;
+        std::memcpy(&c, p, 2);
+        return normalized ? std::max(c / 32767.0, -1.0) : c;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t c;
+        std::memcpy(&c, p, 2);
+        return normalized ? c / 65535.0 : c;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t c;
+        std::memcpy(&c, p, 4);
+        return normalized ? c / 4294967295.0 : c;
+      }
+      default: {  // FLOAT; componentSize() rejected the rest
+        float c;
+        std::memcpy(&c, p, 4);
+        return c;
+      }
+    }
+  }
+
+  static const char* typeName(int type) {
+    switch (type) {
+      case TINYGLTF_TYPE_SCALAR:
+        return "SCALAR";
+      case TINYGLTF_TYPE_VEC2:
+        return "VEC2";
+      case TINYGLTF_TYPE_VEC3:
+        return "VEC3";
+      case TINYGLTF_TYPE_VEC4:
+        return "VEC4";
+      default:
+        return "a matrix type";
+    }
+  }
+
+  // Reads accessor `index` (glTF 2.0 §3.6.2), including byteStride and sparse substitution (§3.6.2.3), after
+  // checking every byte range it touches. `role` says what it is for ("POSITION of mesh 'Wall' primitive 0");
+  // `types` lists the glTF types the role allows.
+  AccessorData readAccessor(int index, const std::string& role, const std::string& refPath,
+                            std::initializer_list<int> types) const {
+    if (index < 0 || size_t(index) >= model_.accessors.size()) {
+      fail(refPath, role + " refers to accessor " + std::to_string(index) + ", but the file has " +
+                        std::to_string(model_.accessors.size()) + " accessors");
+    }
+    const tinygltf::Accessor& a = model_.accessors[size_t(index)];
+    const std::string path = "/accessors/" + std::to_string(index);
+    const std::string label = "accessor " + std::to_string(index) + " (" + role + ")";
+    if (std::find(types.begin(), types.end(), a.type) == types.end()) {
+      std::string allowed;
+      for (int t : types) allowed += std::string(allowed.empty() ? "" : " or ") + typeName(t);
+      fail(path + "/type", label + " has type " + typeName(a.type) + "; it must be " + allowed);
+    }
+    const size_t compSize = componentSize(a.componentType);
+    if (compSize == 0) {
+      fail(path + "/componentType", label + " has componentType " + std::to_string(a.componentType) +
+                                        ", which glTF 2.0 does not allow");
+    }
+    AccessorData out;
+    out.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    const auto components = size_t(out.components);
+    const size_t elementSize = compSize * components;
+    // An accessor without a buffer view is all zeros (plus its sparse values); cap its size, since nothing in
+    // the file bounds it.
+    if (a.bufferView < 0 && a.count > (size_t(1) << 28)) {
+      fail(path + "/count", label + " has " + std::to_string(a.count) + " elements and no data");
+    }
+    if (a.bufferView >= 0) {
+      size_t viewLength = 0;
+      const unsigned char* view = bufferViewData(a.bufferView, label, path + "/bufferView", &viewLength);
+      const size_t viewStride = model_.bufferViews[size_t(a.bufferView)].byteStride;
+      if (viewStride != 0 && viewStride < elementSize) {
+        fail(path, label + " has elements of " + std::to_string(elementSize) + " bytes but buffer view " +
+                       std::to_string(a.bufferView) + " has a byteStride of " + std::to_string(viewStride));
+      }
+      const size_t stride = viewStride ? viewStride : elementSize;
+      const size_t end = a.count == 0
+                             ? a.byteOffset
+                             : satMulAdd(satMulAdd(a.byteOffset, stride, a.count - 1), elementSize, 1);
+      if (end > viewLength) {
+        fail(path,
+             label + " reads bytes " + std::to_string(a.byteOffset) + ".." +
+                 (end == SIZE_MAX ? std::string("∞") : std::to_string(end)) + " but buffer view " +
+                 std::to_string(a.bufferView) + " has " + std::to_string(viewLength) + " bytes",
+             kHintTruncated);
+      }
+      out.values.resize(a.count * components);
+      for (size_t e = 0; e < a.count; ++e) {
+        const unsigned char* p = view + a.byteOffset + e * stride;
+        for (size_t c = 0; c < components; ++c) {
+          out.values[e * components + c] = component(p + c * compSize, a.componentType, a.normalized);
+        }
+      }
+    } else {
+      out.values.assign(a.count * components, 0.0);
+    }
+    if (a.sparse.isSparse) readSparse(a, label, path, compSize, &out);
+    return out;
+  }
+
+  // Sparse substitution (glTF 2.0 §3.6.2.3): `count` element indices and tightly packed values replace
+  // elements.
+  void readSparse(const tinygltf::Accessor& a, const std::string& label, const std::string& path,
+                  size_t compSize, AccessorData* out) const {
+    const auto& sp = a.sparse;
+    const std::string spath = path + "/sparse";
+    if (sp.count < 0 || size_t(sp.count) > a.count) {
+      fail(spath + "/count", label + " has " + std::to_string(sp.count) + " sparse values but " +
+                                 std::to_string(a.count) + " elements");
+    }
+    const auto count = size_t(sp.count);
+    const size_t indexSize = sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                             : sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                             : sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                                  : 0;
+    if (indexSize == 0) {
+      fail(spath + "/indices/componentType",
+           label + " has sparse indices of componentType " + std::to_string(sp.indices.componentType) +
+               "; glTF allows UNSIGNED_BYTE, UNSIGNED_SHORT and UNSIGNED_INT");
+    }
+    if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) {
+      fail(spath, label + " has a negative sparse byteOffset");
+    }
+    const auto components = size_t(out->components);
+    const size_t elementSize = compSize * components;
+    auto range = [&](int view, size_t offset, size_t bytes, const char* what) {
+      size_t viewLength = 0;
+      const unsigned char* data =
+          bufferViewData(view, label, spath + "/" + what + "/bufferView", &viewLength);
+      if (offset + bytes > viewLength) {
+        fail(spath + "/" + what,
+             label + " reads sparse " + what + " at bytes " + std::to_string(offset) + ".." +
+                 std::to_string(offset + bytes) + " but buffer view " + std::to_string(view) + " has " +
+                 std::to_string(viewLength) + " bytes",
+             kHintTruncated);
+      }
+      return data + offset;
+    };
+    // count ≤ a.count, which a buffer view or the cap in readAccessor bounds, so these products do not
+    // overflow.
+    const unsigned char* indices =
+        range(sp.indices.bufferView, size_t(sp.indices.byteOffset), count * indexSize, "indices");
+    const unsigned char* values =
+        range(sp.values.bufferView, size_t(sp.values.byteOffset), count * elementSize, "values");
+    for (size_t k = 0; k < count; ++k) {
+      const auto target = size_t(component(indices + k * indexSize, sp.indices.componentType, false));
+      if (target >= a.count) {
+        fail(spath + "/indices", label + " has sparse index " + std::to_string(target) + ", past its " +
+                                     std::to_string(a.count) + " elements");
+      }
+      for (size_t c = 0; c < components; ++c) {
+        out->values[target * components + c] =
+            component(values + k * elementSize + c * compSize, a.componentType, a.normalized);
+      }
+    }
+  }
+
+  // Triangle list from a primitive's vertex sequence (glTF 2.0 §3.7.2.1, "Topology types"):
+  // strips p_i = {v_i, v_(i+(1+i%2)), v_(i+(2−i%2))}, fans p_i = {v_(i+1), v_(i+2), v_0}.
+  std::vector<uint32_t> triangleList(const std::vector<uint32_t>& v, int mode, const std::string& where) {
+    std::vector<uint32_t> out;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      const size_t whole = v.size() / 3 * 3;
+      if (whole != v.size()) {
+        warn(where + " has " + std::to_string(v.size()) + " vertex indices, not a multiple of 3; the last " +
+             std::to_string(v.size() - whole) + " are ignored");
+      }
+      out.assign(v.begin(), v.begin() + std::ptrdiff_t(whole));
+      return out;
+    }
+    if (v.size() < 3) return out;
+    out.reserve((v.size() - 2) * 3);
+    for (size_t i = 0; i + 2 < v.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        out.insert(out.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+      } else {
+        out.insert(out.end(), {v[i + 1], v[i + 2], v[0]});
+      }
+    }
+    return out;
+  }
+
+  std::optional<Mesh> convertPrimitive(size_t meshIndex, size_t primIndex) {
+    const tinygltf::Mesh& gm = model_.meshes[meshIndex];
+    const tinygltf::Primitive& prim = gm.primitives[primIndex];
+    const std::string where = "mesh" +
+                              (gm.name.empty() ? " " + std::to_string(meshIndex) : quotedName(gm.name)) +
+                              " primitive " + std::to_string(primIndex);
+    const std::string path =
+        "/meshes/" + std::to_string(meshIndex) + "/primitives/" + std::to_string(primIndex);
+    Mesh m;
+    m.name = name(gm.name, "mesh", meshIndex);
+    if (gm.primitives.size() > 1) m.name += "#" + std::to_string(primIndex);
+
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode == TINYGLTF_MODE_POINTS || mode == TINYGLTF_MODE_LINE || mode == TINYGLTF_MODE_LINE_LOOP ||
+        mode == TINYGLTF_MODE_LINE_STRIP) {
+      warn("skipped " + where + ": it draws " + (mode == TINYGLTF_MODE_POINTS ? "points" : "lines") +
+           ", and fly imports triangles only");
+      return std::nullopt;
+    }
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      fail(path + "/mode", where + " has mode " + std::to_string(mode) + ", which glTF does not define");
+    }
+    auto attribute = [&](const char* semantic) {
+      auto it = prim.attributes.find(semantic);
+      return it == prim.attributes.end() ? -1 : it->second;
+    };
+    const int positionAccessor = attribute("POSITION");
+    if (positionAccessor < 0) {
+      warn("skipped " + where + ": it has no POSITION attribute");
+      return std::nullopt;
+    }
+
+    // Vertex attributes (glTF 2.0 §3.7.2.1). Integer types other than those the core allows come from
+    // KHR_mesh_quantization and are converted the same way.
+    const std::string apath = path + "/attributes/";
+    const AccessorData pos =
+        readAccessor(positionAccessor, "POSITION of " + where, apath + "POSITION", {TINYGLTF_TYPE_VEC3});
+    const size_t n = pos.count();
+    auto read = [&](const char* semantic, std::initializer_list<int> types) -> AccessorData {
+      const int a = attribute(semantic);
+      if (a < 0) return {};
+      AccessorData d = readAccessor(a, std::string(semantic) + " of " + where, apath + semantic, types);
+      if (d.count() != n) {
+        fail("/accessors/" + std::to_string(a), "accessor " + std::to_string(a) + " (" + semantic + " of " +
+                                                    where + ") has " + std::to_string(d.count()) +
+                                                    " elements but POSITION has " + std::to_string(n));
+      }
+      return d;
+    };
+    const AccessorData normals = read("NORMAL", {TINYGLTF_TYPE_VEC3});
+    const AccessorData tangents = read("TANGENT", {TINYGLTF_TYPE_VEC4});
+    const AccessorData uv0 = read("TEXCOORD_0", {TINYGLTF_TYPE_VEC2});
+    const AccessorData uv1 = read("TEXCOORD_1", {TINYGLTF_TYPE_VEC2});
+    const AccessorData colors = read("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
+
+    auto f = [](double v) { return static_cast<float>(v); };
+    m.positions.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      m.positions[i] = vec3(f(pos.values[3 * i]), f(pos.values[3 * i + 1]), f(pos.values[3 * i + 2]));
+    }
+    if (!normals.values.empty()) {
+      m.normals.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        m.normals[i] =
+            vec3(f(normals.values[3 * i]), f(normals.values[3 * i + 1]), f(normals.values[3 * i + 2]));
+      }
+    }
+    if (!tangents.values.empty()) {
+      m.tangents.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        const double* t = &tangents.values[4 * i];
+        m.tangents[i] = vec4(f(t[0]), f(t[1]), f(t[2]), f(t[3]));
+      }
+    }
+    auto uvs = [&](const AccessorData& d, std::vector<vec2>* out) {
+      out->resize(d.count());
+      for (size_t i = 0; i < d.count(); ++i) (*out)[i] = vec2(f(d.values[2 * i]), f(d.values[2 * i + 1]));
+    };
+    uvs(uv0, &m.uv0);
+    uvs(uv1, &m.uv1);
+    if (!colors.values.empty()) {
+      m.colors.resize(n);
+      const auto c = size_t(colors.components);
+      for (size_t i = 0; i < n; ++i) {
+        const double* v = &colors.values[c * i];
+        m.colors[i] = vec4(f(v[0]), f(v[1]), f(v[2]), c == 4 ? f(v[3]) : 1.0f);  // VEC3 colours are opaque
+      }
+    }
+
+    // Vertex sequence: the indices, or 0..n−1 for a non-indexed primitive.
+    std::vector<uint32_t> sequence;
+    if (prim.indices >= 0) {
+      const std::string role = "indices of " + where;
+      const AccessorData idx = readAccessor(prim.indices, role, path + "/indices", {TINYGLTF_TYPE_SCALAR});
+      const tinygltf::Accessor& ia = model_.accessors[size_t(prim.indices)];
+      const int ct = ia.componentType;
+      if ((ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+           ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) ||
+          ia.normalized) {
+        fail("/accessors/" + std::to_string(prim.indices) + "/componentType",
+             "accessor " + std::to_string(prim.indices) + " (" + role +
+                 ") must have componentType UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT and not be "
+                 "normalized");
+      }
+      sequence.resize(idx.values.size());
+      for (size_t k = 0; k < idx.values.size(); ++k) {
+        const double v = idx.values[k];
+        if (v >= double(n)) {
+          fail("/accessors/" + std::to_string(prim.indices),
+               "accessor " + std::to_string(prim.indices) + " (" + role + ") has index " + str(v) +
+                   " at position " + std::to_string(k) + ", past the vertex count " + std::to_string(n));
+        }
+        sequence[k] = static_cast<uint32_t>(v);
+      }
+    } else {
+      sequence.resize(n);
+      std::iota(sequence.begin(), sequence.end(), 0u);
+    }
+    m.indices = triangleList(sequence, mode, where);
+
+    dropBadTriangles(&m);
+    if (m.indices.empty()) {
+      warn("mesh '" + m.name + "' has no triangles left and is dropped");
+      return std::nullopt;
+    }
+    compactVertices(&m);
+    if (m.normals.empty()) {
+      flatNormals(&m);
+    } else {
+      repairNormals(&m);
+    }
+    repairTangents(&m);
+    repairAttributes(&m);
+
+    if (prim.material >= 0) {
+      if (size_t(prim.material) >= model_.materials.size()) {
+        fail(path + "/material", where + " refers to material " + std::to_string(prim.material) +
+                                     ", but the file has " + std::to_string(model_.materials.size()) +
+                                     " materials");
+      }
+      m.material = material(size_t(prim.material));
+      m.twoSided = model_.materials[size_t(prim.material)].doubleSided;
+    } else {
+      m.material = defaultMaterial();
+    }
+    const std::string problem = validate(m);
+    if (!problem.empty()) fail(path, where + ": " + problem);
+    return m;
+  }
+
+  // Drops triangles with a NaN or infinite position, then degenerate ones: repeated vertices, or three points
+  // on a line. "On a line" is relative to size: twice the area, |e1 × e2|, at most 1e-6 × the longest edge²,
+  // i.e. a height below a millionth of the base, which float positions cannot resolve reliably.
+  void dropBadTriangles(Mesh* m) {
+    std::vector<uint32_t> kept;
+    kept.reserve(m->indices.size());
+    size_t nonFinite = 0;
+    size_t degenerate = 0;
+    for (size_t t = 0; t < m->indices.size(); t += 3) {
+      const uint32_t i0 = m->indices[t], i1 = m->indices[t + 1], i2 = m->indices[t + 2];
+      const vec3 &a = m->positions[i0], &b = m->positions[i1], &c = m->positions[i2];
+      if (!isFinite(a) || !isFinite(b) || !isFinite(c)) {
+        ++nonFinite;
+        continue;
+      }
+      const dvec3 e1 = dvec3(b) - dvec3(a), e2 = dvec3(c) - dvec3(a), e3 = dvec3(c) - dvec3(b);
+      const double longest2 = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
+      if (i0 == i1 || i1 == i2 || i0 == i2 || glm::length(glm::cross(e1, e2)) <= 1e-6 * longest2) {
+        ++degenerate;
+        continue;
+      }
+      kept.insert(kept.end(), {i0, i1, i2});
+    }
+    if (nonFinite) {
+      warn("dropped " + std::to_string(nonFinite) + " triangles with NaN or Inf positions in mesh '" +
+           m->name + "'");
+    }
+    if (degenerate) {
+      warn("dropped " + std::to_string(degenerate) + " degenerate triangles in mesh '" + m->name + "'");
+    }
+    m->indices = std::move(kept);
+  }
+
+  // Keeps only the vertices the triangles use, in their original order: primitives may share one large vertex
+  // buffer, and dropped triangles leave vertices (possibly with NaN positions) behind.
+  static void compactVertices(Mesh* m) {
+    std::vector<uint32_t> remap(m->positions.size(), UINT32_MAX);
+    for (uint32_t i : m->indices) remap[i] = 0;
+    uint32_t next = 0;
+    for (uint32_t& r : remap) {
+      if (r == 0) r = next++;
+    }
+    if (next == m->positions.size()) return;
+    auto compact = [&](auto& attr) {
+      if (attr.empty()) return;
+      size_t out = 0;
+      for (size_t i = 0; i < attr.size(); ++i) {
+        if (remap[i] != UINT32_MAX) attr[out++] = attr[i];
+      }
+      attr.resize(out);
+    };
+    compact(m->positions);
+    compact(m->normals);
+    compact(m->tangents);
+    compact(m->uv0);
+    compact(m->uv1);
+    compact(m->colors);
+    for (uint32_t& i : m->indices) i = remap[i];
+  }
+
+  static dvec3 faceNormal(const Mesh& m, size_t t) {  // |n| = twice the area; counter-clockwise = front
+    const dvec3 a(m.positions[m.indices[t]]), b(m.positions[m.indices[t + 1]]),
+        c(m.positions[m.indices[t + 2]]);
+    return glm::cross(b - a, c - a);
+  }
+
+  // glTF 2.0 §3.7.2.1: "When normals are not specified, client implementations MUST calculate flat normals
+  // and the provided tangents (if present) MUST be ignored." Each triangle gets vertices of its own.
+  static void flatNormals(Mesh* m) {
+    Mesh flat;
+    const size_t corners = m->indices.size();
+    flat.positions.reserve(corners);
+    flat.normals.reserve(corners);
+    for (size_t t = 0; t < corners; t += 3) {
+      const vec3 n = vec3(glm::normalize(faceNormal(*m, t)));
+      for (size_t k = 0; k < 3; ++k) {
+        const uint32_t i = m->indices[t + k];
+        flat.positions.push_back(m->positions[i]);
+        flat.normals.push_back(n);
+        if (!m->uv0.empty()) flat.uv0.push_back(m->uv0[i]);
+        if (!m->uv1.empty()) flat.uv1.push_back(m->uv1[i]);
+        if (!m->colors.empty()) flat.colors.push_back(m->colors[i]);
+        flat.indices.push_back(static_cast<uint32_t>(t + k));
+      }
+    }
+    m->positions = std::move(flat.positions);
+    m->normals = std::move(flat.normals);
+    m->uv0 = std::move(flat.uv0);
+    m->uv1 = std::move(flat.uv1);
+    m->colors = std::move(flat.colors);
+    m->indices = std::move(flat.indices);
+    m->tangents.clear();
+  }
+
+  // Normals must be unit length (§3.7.2.1). Zero-length or NaN ones are replaced by the area-weighted normal
+  // of the triangles around the vertex; others that are off by more than 0.1 % are renormalised with a
+  // warning (smaller errors are exporter rounding and are renormalised silently).
+  void repairNormals(Mesh* m) {
+    std::vector<size_t> bad;
+    size_t renormalised = 0;
+    for (size_t i = 0; i < m->normals.size(); ++i) {
+      vec3& n = m->normals[i];
+      const float len = glm::length(n);
+      if (!std::isfinite(len) || len < 1e-12f) {
+        bad.push_back(i);
+        continue;
+      }
+      if (std::abs(len - 1.0f) > 1e-3f) ++renormalised;
+      n /= len;
+    }
+    if (!bad.empty()) {
+      std::vector<dvec3> sum(m->normals.size(), dvec3(0.0));
+      for (size_t t = 0; t < m->indices.size(); t += 3) {
+        const dvec3 fn = faceNormal(*m, t);
+        for (size_t k = 0; k < 3; ++k) sum[m->indices[t + k]] += fn;
+      }
+      for (size_t i : bad) {
+        const double len = glm::length(sum[i]);
+        // Every vertex belongs to a triangle (compactVertices), but opposite faces can cancel.
+        m->normals[i] = len > 0.0 ? vec3(sum[i] / len) : vec3(0.0f, 1.0f, 0.0f);
+      }
+      warn("replaced " + std::to_string(bad.size()) + " zero-length or NaN normals in mesh '" + m->name +
+           "' with the normals of the triangles around them");
+    }
+    if (renormalised) {
+      warn("renormalised " + std::to_string(renormalised) + " normals in mesh '" + m->name +
+           "' that were not unit length");
+    }
+  }
+
+  // Tangents: xyz unit length, w = ±1 (§3.7.2.1). One that cannot be repaired voids the whole set, since a
+  // tangent frame needs all of them.
+  void repairTangents(Mesh* m) {
+    size_t bad = 0;
+    for (vec4& t : m->tangents) {
+      const float len = glm::length(vec3(t));
+      if (!isFinite(t) || len < 1e-12f) {
+        ++bad;
+        continue;
+      }
+      t = vec4(vec3(t) / len, t.w < 0.0f ? -1.0f : 1.0f);
+    }
+    if (bad) {
+      m->tangents.clear();
+      warn("dropped the tangents of mesh '" + m->name + "': " + std::to_string(bad) +
+           " of them are zero-length, NaN or Inf");
+    }
+  }
+
+  // NaN or infinite texture coordinates and colours are replaced (0 and opaque white), so they cannot poison
+  // light-map packing or shading.
+  void repairAttributes(Mesh* m) {
+    size_t bad = 0;
+    for (auto* uv : {&m->uv0, &m->uv1}) {
+      for (vec2& v : *uv) {
+        if (!isFinite(v)) {
+          v = vec2(0.0f);
+          ++bad;
+        }
+      }
+    }
+    if (bad) {
+      warn("replaced " + std::to_string(bad) + " NaN or Inf texture coordinates in mesh '" + m->name +
+           "' with 0");
+    }
+    bad = 0;
+    for (vec4& c : m->colors) {
+      if (!isFinite(c)) {
+        c = vec4(1.0f);
+        ++bad;
+      }
+    }
+    if (bad) {
+      warn("replaced " + std::to_string(bad) + " NaN or Inf vertex colours in mesh '" + m->name +
+           "' with white");
+    }
+  }
+
+  // --- Materials (see the comment block at the top).
+  MaterialId defaultMaterial() {
+    if (!defaultMaterial_) {
+      Material m;
+      m.name = options_.namePrefix + "default";
+      materials_.push_back(std::move(m));
+      defaultMaterial_ = pendingId<MaterialId>(materials_.size() - 1);
+    }
+    return defaultMaterial_;
+  }
+
+  // A number from an extension object, `fallback` when absent.
+  double extNumber(const tinygltf::Value& ext, const char* key, double fallback,
+                   const std::string& path) const {
+    const tinygltf::Value& v = ext.Get(key);
+    if (v.Type() == tinygltf::NULL_TYPE) return fallback;
+    if (!v.IsNumber()) fail(path + "/" + key, std::string("'") + key + "' must be a number");
+    return v.GetNumberAsDouble();
+  }
+
+  std::vector<double> extNumbers(const tinygltf::Value& ext, const char* key, std::vector<double> fallback,
+                                 const std::string& path) const {
+    const tinygltf::Value& v = ext.Get(key);
+    if (v.Type() == tinygltf::NULL_TYPE) return fallback;
+    if (!v.IsArray() || v.ArrayLen() != fallback.size()) {
+      fail(path + "/" + key,
+           std::string("'") + key + "' must be an array of " + std::to_string(fallback.size()) + " numbers");
+    }
+    std::vector<double> out;
+    for (size_t k = 0; k < v.ArrayLen(); ++k) {
+      const tinygltf::Value& e = v.Get(int(k));
+      if (!e.IsNumber()) fail(path + "/" + key, std::string("'") + key + "' must contain numbers only");
+      out.push_back(e.GetNumberAsDouble());
+    }
+    return out;
+  }
+
+  // A factor that glTF restricts to [0, 1].
+  float unitFactor(double v, const std::string& path, const std::string& what) const {
+    if (!(v >= 0.0 && v <= 1.0)) fail(path, what + " is " + str(v) + "; glTF requires a value in [0, 1]");
+    return float(v);
+  }
+
+  Rgb unitColor(const std::vector<double>& c, const std::string& path, const std::string& what) const {
+    return Rgb(unitFactor(c[0], path, what), unitFactor(c[1], path, what), unitFactor(c[2], path, what));
+  }
+
+  // A material extension's object, or null when the material does not use it (tinygltf keeps only extensions
+  // that are JSON objects).
+  static const tinygltf::Value* extension(const tinygltf::Material& gm, const char* key) {
+    auto it = gm.extensions.find(key);
+    return it == gm.extensions.end() ? nullptr : &it->second;
+  }
+
+  // A textureInfo given as a JSON object inside a material extension (tinygltf leaves those as JSON values).
+  TexInfo extensionTexInfo(const tinygltf::Value& ext, const char* key, const std::string& path) const {
+    const tinygltf::Value& v = ext.Get(key);
+    if (v.Type() == tinygltf::NULL_TYPE) return {};
+    if (!v.IsObject() || !v.Get("index").IsNumber()) {
+      fail(path + "/" + key, std::string("'") + key + "' needs an 'index'");
+    }
+    TexInfo t;
+    t.index = v.Get("index").GetNumberAsInt();
+    if (v.Get("texCoord").IsNumber()) t.texCoord = v.Get("texCoord").GetNumberAsInt();
+    const tinygltf::Value& extensions = v.Get("extensions");
+    if (extensions.Has("KHR_texture_transform")) t.transform = &extensions.Get("KHR_texture_transform");
+    return t;
+  }
+
+  MaterialId material(size_t i) {
+    auto cached = materialIds_.find(i);
+    if (cached != materialIds_.end()) return cached->second;
+    const tinygltf::Material& gm = model_.materials[i];
+    const std::string path = "/materials/" + std::to_string(i);
+    const std::string label = "material " + std::to_string(i) + quotedName(gm.name);
+    const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
+    const std::string ppath = path + "/pbrMetallicRoughness";
+    Material m;
+    m.name = name(gm.name, "material", i);
+
+    const std::vector<double>& bc = pbr.baseColorFactor;  // tinygltf checks it has 4 numbers
+    const Rgb base = unitColor(bc, ppath + "/baseColorFactor", label + " baseColorFactor");
+    const float alpha = unitFactor(bc[3], ppath + "/baseColorFactor", label + " baseColorFactor alpha");
+    const float metallic =
+        unitFactor(pbr.metallicFactor, ppath + "/metallicFactor", label + " metallicFactor");
+    const float roughness =
+        unitFactor(pbr.roughnessFactor, ppath + "/roughnessFactor", label + " roughnessFactor");
+
+    float ior = 1.5f;  // glTF's dielectric without KHR_materials_ior
+    if (const tinygltf::Value* e = extension(gm, "KHR_materials_ior")) {
+      const double v = extNumber(*e, "ior", 1.5, path + "/extensions/KHR_materials_ior");
+      const double clamped = std::clamp(v, 1.0, 4.0);
+      if (clamped != v) {
+        warn(label + ": ior " + str(v) + " is outside fly's range [1, 4]; " + str(clamped) + " is used");
+      }
+      ior = float(clamped);
+    }
+    Rgb specularColor(1.0f);
+    float specular = 1.0f;
+    if (const tinygltf::Value* e = extension(gm, "KHR_materials_specular")) {
+      const std::string epath = path + "/extensions/KHR_materials_specular";
+      specular = unitFactor(extNumber(*e, "specularFactor", 1.0, epath), epath + "/specularFactor",
+                            label + " specularFactor");
+      const std::vector<double> c = extNumbers(*e, "specularColorFactor", {1.0, 1.0, 1.0}, epath);
+      for (double x : c) {
+        if (!(x >= 0.0 && std::isfinite(x))) {
+          fail(epath + "/specularColorFactor", label + " specularColorFactor must be ≥ 0");
+        }
+      }
+      // KHR_materials_specular lets specularColorFactor exceed 1 to raise F0 above F0(ior); reflectionColor
+      // is at most 1, so that extra reflectance is lost.
+      specularColor = glm::min(Rgb(float(c[0]), float(c[1]), float(c[2])), Rgb(1.0f));
+      if (*std::max_element(c.begin(), c.end()) > 1.0) {
+        warn(label + ": specularColorFactor above 1 is clamped to 1 (fly's reflection colour is at most 1)");
+      }
+      if (e->Has("specularTexture") || e->Has("specularColorTexture")) {
+        warn(label + ": the textures of KHR_materials_specular are not imported; its factors are");
+      }
+    }
+    m.ior = ior;
+    m.reflectionGlossiness = roughness;
+    m.diffuseColor = base * (1.0f - metallic);
+    if (metallic >= 0.5f) {
+      const Rgb dielectricF0 = glm::min(fresnelF0(ior) * specularColor, Rgb(1.0f)) * specular;
+      m.reflectionModel = ReflectionModel::kUniform;
+      m.reflectionColor = glm::mix(dielectricF0, base, metallic);
+    } else {
+      m.reflectionModel = ReflectionModel::kFresnel;
+      m.reflectionColor = specularColor * specular;
+    }
+    if (pbr.baseColorTexture.index >= 0) {
+      m.diffuseTexture = textureRef(
+          texInfo(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions),
+          ppath + "/baseColorTexture", label + " baseColorTexture", Channels::kAll);
+    }
+    if (pbr.metallicRoughnessTexture.index >= 0) {
+      const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
+      m.reflectionGlossinessTexture =
+          textureRef(texInfo(t.index, t.texCoord, t.extensions), ppath + "/metallicRoughnessTexture",
+                     label + " metallicRoughnessTexture", Channels::kGreen);
+    }
+
+    if (const tinygltf::Value* e = extension(gm, "KHR_materials_transmission")) {
+      const std::string epath = path + "/extensions/KHR_materials_transmission";
+      const float t = unitFactor(extNumber(*e, "transmissionFactor", 0.0, epath),
+                                 epath + "/transmissionFactor", label + " transmissionFactor");
+      m.transmissionColor = base * t * (1.0f - metallic);
+      m.transmissionGlossiness = roughness;
+      m.transmissionTexture =
+          textureRef(extensionTexInfo(*e, "transmissionTexture", epath), epath + "/transmissionTexture",
+                     label + " transmissionTexture", Channels::kRed);
+      if (const tinygltf::Value* v = extension(gm, "KHR_materials_volume")) {
+        const std::string vpath = path + "/extensions/KHR_materials_volume";
+        const double distance =
+            extNumber(*v, "attenuationDistance", std::numeric_limits<double>::infinity(), vpath);
+        if (!(distance > 0.0)) {
+          fail(vpath + "/attenuationDistance", label + " attenuationDistance must be > 0 m");
+        }
+        Rgb color = unitColor(extNumbers(*v, "attenuationColor", {1.0, 1.0, 1.0}, vpath),
+                              vpath + "/attenuationColor", label + " attenuationColor");
+        if (glm::any(glm::lessThan(color, Rgb(1e-4f)))) {
+          // Beer–Lambert with colour 0 is an infinite absorption coefficient; 1e-4 is black for any thickness
+          // that matters.
+          color = glm::max(color, Rgb(1e-4f));
+          warn(label + ": attenuationColor channels below 1e-4 are raised to 1e-4 (fully absorbing)");
+        }
+        m.scatteringColor = color;
+        m.scatteringDistanceM = float(distance);
+      }
+    } else if (gm.alphaMode == "BLEND" && alpha < 1.0f) {
+      m.transmissionColor = Rgb(1.0f - alpha);
+      m.transmissionGlossiness = 0.0f;
+      m.ior = 1.0f;
+    }
+    if (gm.alphaMode == "MASK") {
+      warn(label +
+           " uses alphaMode MASK (cut-outs), which fly does not support; the surface is treated as opaque");
+    } else if (gm.alphaMode != "OPAQUE" && gm.alphaMode != "BLEND") {
+      fail(path + "/alphaMode",
+           label + " has alphaMode '" + gm.alphaMode + "'; glTF defines OPAQUE, MASK and BLEND");
+    }
+
+    // tinygltf checks that emissiveFactor has 3 numbers.
+    const Rgb emissive = unitColor(gm.emissiveFactor, path + "/emissiveFactor", label + " emissiveFactor");
+    float strength = 1.0f;
+    if (const tinygltf::Value* e = extension(gm, "KHR_materials_emissive_strength")) {
+      const std::string epath = path + "/extensions/KHR_materials_emissive_strength";
+      const double s = extNumber(*e, "emissiveStrength", 1.0, epath);
+      if (!(s >= 0.0 && std::isfinite(s))) {
+        fail(epath + "/emissiveStrength", label + " emissiveStrength must be ≥ 0");
+      }
+      strength = float(s);
+    }
+    m.emissionLuminance = emissive * strength;
+    if (gm.emissiveTexture.index >= 0) {
+      m.emissionTexture = textureRef(
+          texInfo(gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions),
+          path + "/emissiveTexture", label + " emissiveTexture", Channels::kAll);
+    }
+    if (gm.normalTexture.index >= 0) {
+      const tinygltf::NormalTextureInfo& t = gm.normalTexture;
+      m.bumpTexture = textureRef(texInfo(t.index, t.texCoord, t.extensions), path + "/normalTexture",
+                                 label + " normalTexture", Channels::kAll);
+      if (!std::isfinite(t.scale)) {
+        fail(path + "/normalTexture/scale", label + " normalTexture scale is not finite");
+      }
+      if (t.scale < 0.0) {
+        warn(label + ": the negative normalTexture scale " + str(t.scale) + " is used as its absolute value");
+      }
+      m.bumpScale = float(std::abs(t.scale));
+    }
+    m.doubleSided = gm.doubleSided;
+
+    const std::string problem = validate(m);
+    if (!problem.empty()) fail(path, label + ": " + problem);
+    materials_.push_back(std::move(m));
+    return materialIds_[i] = pendingId<MaterialId>(materials_.size() - 1);
+  }
+
+  // --- Textures (glTF 2.0 §3.8; KHR_texture_transform).
+  TextureRef textureRef(const TexInfo& info, const std::string& path, const std::string& what,
+                        Channels channels) {
+    TextureRef ref;
+    if (info.index < 0) return ref;
+    if (size_t(info.index) >= model_.textures.size()) {
+      fail(path + "/index", what + " refers to texture " + std::to_string(info.index) +
+                                ", but the file has " + std::to_string(model_.textures.size()) + " textures");
+    }
+    int texCoord = info.texCoord;
+    if (info.transform) {
+      const std::string tpath = path + "/extensions/KHR_texture_transform";
+      if (!info.transform->IsObject()) fail(tpath, what + ": KHR_texture_transform must be a JSON object");
+      const std::vector<double> offset = extNumbers(*info.transform, "offset", {0.0, 0.0}, tpath);
+      const std::vector<double> scale = extNumbers(*info.transform, "scale", {1.0, 1.0}, tpath);
+      const double rotation = extNumber(*info.transform, "rotation", 0.0, tpath);
+      for (double v : {offset[0], offset[1], scale[0], scale[1], rotation}) {
+        if (!std::isfinite(v)) fail(tpath, what + " has a NaN or infinite KHR_texture_transform value");
+      }
+      ref.transform.offset = vec2(float(offset[0]), float(offset[1]));
+      ref.transform.scale = vec2(float(scale[0]), float(scale[1]));
+      ref.transform.rotationRad = float(rotation);
+      texCoord = int(extNumber(*info.transform, "texCoord", texCoord, tpath));  // overrides the textureInfo's
+    }
+    if (texCoord < 0) fail(path + "/texCoord", what + " has texCoord " + std::to_string(texCoord));
+    if (texCoord > 1) {
+      warn(what + " uses TEXCOORD_" + std::to_string(texCoord) +
+           ", which fly does not import; TEXCOORD_0 is used instead");
+      texCoord = 0;
+    }
+    ref.texCoord = texCoord;
+    const tinygltf::Texture& t = model_.textures[size_t(info.index)];
+    if (t.source < 0) {
+      warn(what + ": texture " + std::to_string(info.index) +
+           " has no image fly can read (it may come from an unsupported extension); the material has no "
+           "texture "
+           "there");
+      return {};
+    }
+    if (size_t(t.source) >= model_.images.size()) {
+      fail("/textures/" + std::to_string(info.index) + "/source",
+           "texture " + std::to_string(info.index) + " refers to image " + std::to_string(t.source) +
+               ", but the file has " + std::to_string(model_.images.size()) + " images");
+    }
+    ref.texture = imageTexture(size_t(t.source), channels, what);
+    return ref;
+  }
+
+  // `usedBy` names the first material slot that uses the image, for messages.
+  TextureId imageTexture(size_t image, Channels channels, const std::string& usedBy) {
+    const auto key = std::make_pair(image, channels);
+    auto cached = textureIds_.find(key);
+    if (cached != textureIds_.end()) return cached->second;
+    const Texture& decoded = decodedImage(image, usedBy);
+    if (channels == Channels::kAll) {
+      textures_.push_back(decoded);
+    } else {
+      // One channel of the RGBA image, as a grey texture of its own.
+      Texture grey;
+      grey.name = decoded.name + (channels == Channels::kRed ? " (red)" : " (green)");
+      grey.sourcePath = decoded.sourcePath;
+      grey.width = decoded.width;
+      grey.height = decoded.height;
+      grey.channels = 1;
+      grey.bitsPerChannel = decoded.bitsPerChannel;
+      const size_t bytes = size_t(decoded.bitsPerChannel / 8);
+      const size_t pixelBytes = bytes * size_t(decoded.channels);
+      const size_t offset = (channels == Channels::kRed ? 0 : 1) * bytes;
+      const size_t pixels = size_t(decoded.width) * size_t(decoded.height);
+      grey.pixels.resize(pixels * bytes);
+      for (size_t p = 0; p < pixels; ++p) {
+        std::memcpy(&grey.pixels[p * bytes], &decoded.pixels[p * pixelBytes + offset], bytes);
+      }
+      textures_.push_back(std::move(grey));
+    }
+    return textureIds_[key] = pendingId<TextureId>(textures_.size() - 1);
+  }
+
+  const Texture& decodedImage(size_t i, const std::string& usedBy) {
+    auto cached = decoded_.find(i);
+    if (cached != decoded_.end()) return cached->second;
+    const tinygltf::Image& img = model_.images[i];
+    const std::string path = "/images/" + std::to_string(i);
+    const std::string label = "image " + std::to_string(i) + quotedName(img.name) + " (" + usedBy + ")";
+    const unsigned char* bytes = nullptr;
+    size_t size = 0;
+    std::string source = "<embedded>";
+    if (img.bufferView >= 0) {
+      bytes = bufferViewData(img.bufferView, label, path + "/bufferView", &size);
+    } else if (!img.uri.empty()) {  // tinygltf keeps `uri` only for external files
+      const fs::path file = baseDir_ / percentDecode(img.uri);
+      source = file.string();
+      if (img.image.empty()) {
+        std::error_code ec;
+        if (!fs::is_regular_file(file, ec)) {
+          fail(path + "/uri",
+               label + " refers to '" + img.uri + "', which does not exist (looked for " + source + ")",
+               "copy the texture next to the glTF file, keeping its relative path, or export a .glb with "
+               "embedded "
+               "textures");
+        }
+        fail(path + "/uri", label + ": '" + source + "' is empty or cannot be read",
+             "check the file and its permissions, or export the model again");
+      }
+      bytes = img.image.data();
+      size = img.image.size();
+    } else {
+      bytes = img.image.data();  // decoded from a data: URI
+      size = img.image.size();
+    }
+    if (size == 0) fail(path, label + " has no data", kHintTruncated);
+    const std::string data = img.uri.empty() ? "its embedded data" : "'" + source + "'";
+    if (size > size_t(INT_MAX)) fail(path, label + " is larger than 2 GiB");
+    // glTF 2.0 §3.8.2 allows PNG and JPEG only. Checking the signature keeps other formats away from
+    // stb_image, whose 16-bit PNM path in the version tinygltf uses writes fewer bytes than tinygltf copies.
+    static constexpr unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    static constexpr unsigned char kJpeg[3] = {0xff, 0xd8, 0xff};
+    const bool png = size >= 8 && std::memcmp(bytes, kPng, 8) == 0;
+    const bool jpeg = size >= 3 && std::memcmp(bytes, kJpeg, 3) == 0;
+    if (!png && !jpeg) {
+      fail(path, label + ": " + data + " is neither PNG nor JPEG, the image formats glTF 2.0 allows",
+           "convert the texture to PNG or JPEG");
+    }
+    tinygltf::Image out;
+    out.name = img.name;
+    std::string err;
+    std::string unused;
+    // With no options stb_image expands every image to RGBA; 16-bit PNGs keep 16 bits.
+    if (!tinygltf::LoadImageData(&out, int(i), &err, &unused, 0, 0, bytes, int(size), nullptr)) {
+      while (!err.empty() && (err.back() == '\n' || err.back() == '.')) err.pop_back();
+      fail(path, label + ": " + data + " cannot be decoded: " + err,
+           "the image is damaged or uses a PNG or JPEG variant stb_image does not read (e.g. 12-bit or "
+           "arithmetic-coded JPEG); save it again as an ordinary PNG or JPEG");
+    }
+    Texture t;
+    t.name = options_.namePrefix;
+    if (!img.name.empty()) {
+      t.name += img.name;
+    } else if (!img.uri.empty()) {
+      t.name += fs::path(percentDecode(img.uri)).stem().string();
+    } else {
+      t.name += "image" + std::to_string(i);
+    }
+    t.sourcePath = source;
+    t.width = out.width;
+    t.height = out.height;
+    t.channels = out.component;
+    t.bitsPerChannel = out.bits;
+    t.pixels = std::move(out.image);
+    return decoded_[i] = std::move(t);
+  }
+
+  // --- Adding everything to the Scene, placeholders replaced by the ids it gives.
+  template <class IdT>
+  IdT add(Added<IdT> added) {
+    result_.changes.merge(added.changes);
+    return added.id;
+  }
+
+  void commit() {
+    std::vector<TextureId> textureIds;
+    for (Texture& t : textures_) textureIds.push_back(add(scene_.addTexture(std::move(t))));
+    std::vector<MaterialId> materialIds;
+    for (Material& m : materials_) {
+      for (TextureRef* r :
+           {&m.diffuseTexture, &m.reflectionTexture, &m.reflectionGlossinessTexture, &m.anisotropyTexture,
+            &m.anisotropyRotationTexture, &m.transmissionTexture, &m.bumpTexture, &m.emissionTexture}) {
+        if (*r) r->texture = textureIds[r->texture.value - 1];
+      }
+      materialIds.push_back(add(scene_.addMaterial(std::move(m))));
+    }
+    // A mesh that only mirrored nodes use was converted just to make its mirrored copy; it is not added.
+    std::vector<bool> used(meshes_.size(), false);
+    for (const PendingNode& pn : nodes_) {
+      for (MeshId id : pn.node.meshes) used[id.value - 1] = true;
+    }
+    std::vector<MeshId> meshIds(meshes_.size());
+    for (size_t i = 0; i < meshes_.size(); ++i) {
+      if (!used[i]) continue;
+      Mesh& m = meshes_[i];
+      m.material = materialIds[m.material.value - 1];
+      meshIds[i] = add(scene_.addMesh(std::move(m)));
+    }
+    std::vector<CameraId> cameraIds;
+    for (Camera& c : cameras_) cameraIds.push_back(add(scene_.addCamera(std::move(c))));
+    std::vector<LightId> lightIds;
+    for (Light& l : lights_) lightIds.push_back(add(scene_.addLight(std::move(l))));
+    std::vector<NodeId> nodeIds;
+    for (PendingNode& pn : nodes_) {  // parents come before their children
+      Node& n = pn.node;
+      n.parent = pn.parent < 0 ? options_.parent : nodeIds[size_t(pn.parent)];
+      for (MeshId& id : n.meshes) id = meshIds[id.value - 1];
+      if (n.camera) n.camera = cameraIds[n.camera.value - 1];
+      if (n.light) n.light = lightIds[n.light.value - 1];
+      nodeIds.push_back(add(scene_.addNode(std::move(n))));
+      if (pn.parent < 0) result_.roots.push_back(nodeIds.back());
+    }
+  }
+
+  Scene& scene_;
+  const GltfImportOptions& options_;
+  fs::path file_;
+  std::string fileStr_;
+  fs::path baseDir_;
+  tinygltf::Model model_;
+  GltfImportResult result_;
+
+  // Converted entities waiting for commit(); placeholder ids index them.
+  std::vector<Texture> textures_;
+  std::vector<Material> materials_;
+  std::vector<Mesh> meshes_;
+  std::vector<Camera> cameras_;
+  std::vector<Light> lights_;
+  std::vector<PendingNode> nodes_;
+
+  // From glTF indices to placeholders, so that shared entities are converted once.
+  std::map<size_t, Texture> decoded_;
+  std::map<std::pair<size_t, Channels>, TextureId> textureIds_;
+  std::map<size_t, MaterialId> materialIds_;
+  std::map<size_t, CameraId> cameraIds_;
+  std::map<size_t, LightId> lightIds_;
+  std::vector<MeshEntry> meshEntries_;
+  MaterialId defaultMaterial_;
+};
+
+}  // namespace
+
+GltfImportResult importGltf(Scene& scene, const std::filesystem::path& file,
+                            const GltfImportOptions& options) {
+  return Importer(scene, file, options).run();
+}
+
+}  // namespace fly::sdb
