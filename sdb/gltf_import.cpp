@@ -1146,11 +1146,12 @@ class Importer {
       kept.insert(kept.end(), {i0, i1, i2});
     }
     if (nonFinite) {
-      warn("dropped " + std::to_string(nonFinite) + " triangles with NaN or Inf positions in mesh '" +
-           m->name + "'");
+      warn("dropped " + std::to_string(nonFinite) + (nonFinite == 1 ? " triangle" : " triangles") +
+           " with NaN or Inf positions in mesh '" + m->name + "'");
     }
     if (degenerate) {
-      warn("dropped " + std::to_string(degenerate) + " degenerate triangles in mesh '" + m->name + "'");
+      warn("dropped " + std::to_string(degenerate) + " degenerate " +
+           (degenerate == 1 ? "triangle" : "triangles") + " in mesh '" + m->name + "'");
     }
     m->indices = std::move(kept);
   }
