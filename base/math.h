@@ -30,6 +30,12 @@ inline bool isFinite(const vec3& v) { return std::isfinite(v.x) && std::isfinite
 inline bool isFinite(const vec4& v) { return isFinite(vec3(v)) && std::isfinite(v.w); }
 bool isFinite(const mat4& m);
 
+// The transform parentFromLocal of a frame whose local axes are x, y, z (unit, orthogonal, expressed in the
+// parent frame) with its origin at `origin`.
+inline mat4 frameTransform(const vec3& x, const vec3& y, const vec3& z, const vec3& origin) {
+  return mat4(vec4(x, 0.0f), vec4(y, 0.0f), vec4(z, 0.0f), vec4(origin, 1.0f));
+}
+
 // Axis-aligned bounds in metres; empty until a point is added.
 struct Bounds3 {
   vec3 min{std::numeric_limits<float>::infinity()};

@@ -18,13 +18,7 @@ mat4 lookAtTransform(const vec3& eyeM, const vec3& targetM, const vec3& up) {
     throw std::invalid_argument("camera up vector is parallel to the view direction (or zero)");
   }
   const vec3 x = side / sideLength;
-  const vec3 y = glm::cross(back, x);
-  mat4 m(1.0f);
-  m[0] = vec4(x, 0.0f);
-  m[1] = vec4(y, 0.0f);
-  m[2] = vec4(back, 0.0f);
-  m[3] = vec4(eyeM, 1.0f);
-  return m;
+  return frameTransform(x, glm::cross(back, x), back, eyeM);
 }
 
 }  // namespace fly::sdb

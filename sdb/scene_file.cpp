@@ -489,13 +489,7 @@ constexpr float kMinPerpendicular = 1e-3f;
 mat4 lightFrame(const vec3& positionM, const vec3& dir, const vec3& xHint) {
   const vec3 z = -dir;
   const vec3 x = glm::normalize(xHint - glm::dot(xHint, z) * z);
-  const vec3 y = glm::cross(z, x);
-  mat4 m(1.0f);
-  m[0] = vec4(x, 0.0f);
-  m[1] = vec4(y, 0.0f);
-  m[2] = vec4(z, 0.0f);
-  m[3] = vec4(positionM, 1.0f);
-  return m;
+  return frameTransform(x, glm::cross(z, x), z, positionM);
 }
 
 float perpendicularLength(const vec3& v, const vec3& unitDir) {
