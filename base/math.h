@@ -10,6 +10,7 @@
 namespace fly {
 
 using glm::dmat4;
+using glm::dvec2;
 using glm::dvec3;
 using glm::mat3;
 using glm::mat4;

@@ -14,5 +14,7 @@ struct Command {
 };
 
 Command addInfoCommand(CLI::App& app);
+Command addSunCommand(CLI::App& app);
+Command addSkyCommand(CLI::App& app);
 
 }  // namespace fly::cli

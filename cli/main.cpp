@@ -29,6 +29,8 @@ int run(int argc, char** argv) {
 
   const std::vector<fly::cli::Command> commands = {
       fly::cli::addInfoCommand(app),
+      fly::cli::addSunCommand(app),
+      fly::cli::addSkyCommand(app),
   };
 
   try {
