@@ -68,7 +68,7 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
     const sdb::Site& s = scene.site();
     j["site"] = {{"latitude_deg", s.latitudeDeg},   {"longitude_deg", s.longitudeDeg},
                  {"elevation_m", s.elevationM},     {"time_zone", s.timeZone},
-                 {"north_angle_deg", s.northAngleDeg}};
+                 {"north_angle_deg", s.northAngleDeg}, {"grid", sdb::gridName(s)}};
   } else {
     j["site"] = nullptr;
   }
@@ -105,7 +105,7 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
     o << "site       " << fixed(std::abs(s.latitudeDeg), 4) << "° " << (s.latitudeDeg >= 0 ? "N" : "S") << ", "
       << fixed(std::abs(s.longitudeDeg), 4) << "° " << (s.longitudeDeg >= 0 ? "E" : "W") << ", "
       << fixed(s.elevationM, 1) << " m, time zone " << s.timeZone << ", north " << fixed(s.northAngleDeg, 1)
-      << "° from -Z\n";
+      << "° from -Z" << (s.grid == sdb::Site::Grid::kNone ? "" : ", grid " + sdb::gridName(s)) << "\n";
   } else {
     o << "site       none\n";
   }

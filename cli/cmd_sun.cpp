@@ -1,6 +1,7 @@
 // `fly sun`: the sun's position, sunrise/transit/sunset and daylight illuminance for a site and time, and the
 // sun-path diagram of the site.
 #include <cmath>
+#include <optional>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -43,6 +44,13 @@ int runSun(const SunOptions& o) {
   const sunsky::SunPosition sun = sunsky::sunPosition(st.spa);
   const sunsky::SunTimes times = sunsky::sunTimes(st.spa, st.utcOffsetHours);
   const ClearDaylight light = clearDaylight(st, sun, o.turbidity);
+  // With a scene: where the sun is in the model's world frame (north angle and map grid applied).
+  std::optional<sunsky::SiteFrame> frame;
+  std::optional<dvec3> sunWorld;
+  if (st.north) {
+    frame = sunsky::makeSiteFrame(st.spa.latitudeDeg, st.spa.longitudeDeg, *st.north);
+    sunWorld = frame->worldFromEnu(sunsky::directionFromAzimuthElevation(sun.azimuthDeg, sun.apparentElevationDeg()));
+  }
 
   if (o.path) {
     drawSunPath({.spa = st.spa, .timeZone = st.timeZone, .sizePx = o.sizePx}, o.out);
@@ -77,6 +85,11 @@ int runSun(const SunOptions& o) {
     j["diffuse_horizontal_illuminance_lux"] = light.diffuseHorizontalLux;
     j["global_horizontal_illuminance_lux"] = light.directHorizontalLux + light.diffuseHorizontalLux;
     if (o.path) j["sun_path_png"] = o.out;
+    if (sunWorld) {
+      j["sun_direction_world"] = {sunWorld->x, sunWorld->y, sunWorld->z};
+      j["meridian_convergence_deg"] = frame->meridianConvergenceDeg();
+      j["true_north_from_minus_z_deg"] = frame->trueNorthFromWorldMinusZDeg();
+    }
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -104,6 +117,11 @@ int runSun(const SunOptions& o) {
     << fixed(light.directNormalLux, 0) << " lx, direct horizontal " << fixed(light.directHorizontalLux, 0)
     << " lx, diffuse horizontal " << fixed(light.diffuseHorizontalLux, 0) << " lx, global horizontal "
     << fixed(light.directHorizontalLux + light.diffuseHorizontalLux, 0) << " lx\n";
+  if (sunWorld) {
+    t << "in the model toward the sun (" << fixed(sunWorld->x, 4) << ", " << fixed(sunWorld->y, 4) << ", "
+      << fixed(sunWorld->z, 4) << ") world; true north " << fixed(frame->trueNorthFromWorldMinusZDeg(), 3)
+      << "° clockwise from -Z (meridian convergence " << fixed(frame->meridianConvergenceDeg(), 3) << "°)\n";
+  }
   if (o.path) t << "sun path     " << o.out << "\n";
   std::cout << t.str();
   return 0;

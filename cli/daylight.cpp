@@ -48,7 +48,8 @@ sunsky::EpwSample weatherAt(const sunsky::EpwFile& epw, const sunsky::UtcTime& u
 
 ClearDaylight clearDaylight(const SiteTime& st, const sunsky::SunPosition& sun, double turbidity) {
   const sunsky::SunDisc disc = sunsky::clearSkySunDisc(sunDiscInput(st, sun, turbidity));
-  const sunsky::ClearSky sky = sunsky::makeClearSky(turbidity, sun.apparentZenithDeg, sun.azimuthDeg);
+  const sunsky::ClearSky sky = sunsky::makeClearSky(turbidity, sun.apparentZenithDeg, sun.azimuthDeg, std::nullopt,
+                                                    sunsky::ClearSkyLevel::kIesHandbook);
   ClearDaylight d;
   d.directNormalLux = luminance(disc.normalIlluminanceLux);
   d.directHorizontalLux = directHorizontal(disc);
@@ -60,9 +61,11 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
   Daylight d;
   const sunsky::SunDiscInput discIn = sunDiscInput(st, sun, r.turbidity);
   if (r.model == "clear") {
-    d.description = "clear sky (Preetham et al. 1999), turbidity " + std::to_string(r.turbidity).substr(0, 4);
+    d.description = "clear sky (Preetham et al. 1999 distribution and colour, IES Lighting Handbook level), turbidity " +
+                    std::to_string(r.turbidity).substr(0, 4);
     d.sky = std::make_unique<sunsky::ClearSky>(
-        sunsky::makeClearSky(r.turbidity, sun.apparentZenithDeg, sun.azimuthDeg, r.diffuseHorizontalLux));
+        sunsky::makeClearSky(r.turbidity, sun.apparentZenithDeg, sun.azimuthDeg, r.diffuseHorizontalLux,
+                             sunsky::ClearSkyLevel::kIesHandbook));
     d.sun = r.directNormalLux ? sunsky::sunDiscWithIlluminance(discIn, *r.directNormalLux)
                               : sunsky::clearSkySunDisc(discIn);
     return d;

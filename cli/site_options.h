@@ -5,7 +5,9 @@
 #include <optional>
 #include <string>
 
+#include "sdb/site.h"
 #include "sunsky/civil_time.h"
+#include "sunsky/site_frame.h"
 #include "sunsky/sun_position.h"
 
 namespace fly::cli {
@@ -32,7 +34,12 @@ struct SiteTime {
   std::string timeZone;    // --tz, the scene's zone, or the zone the time carries ("Z", "+03:00")
   double utcOffsetHours;   // at the instant, DST included
   std::string localIso;    // local civil time, "2026-06-21T12:00:00"
+  // How the scene's model is oriented, when the site came from a scene (--scene).
+  std::optional<sunsky::NorthReference> north;
 };
+
+// The orientation a scene's site gives its model: north angle and map grid.
+sunsky::NorthReference northReference(const sdb::Site& site);
 
 // Resolves the options (flags override the scene's values). UsageError for a missing latitude, longitude or time; InputError for invalid values.
 SiteTime resolveSiteTime(const SiteTimeOptions& o);

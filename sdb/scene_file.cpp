@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <map>
@@ -572,12 +573,35 @@ class SceneFileReader {
 
   // --- site, time, sky
 
+  // "grid": "utm:35" (a UTM zone, 1..60) or "tm:27" (a transverse-Mercator grid by its central meridian in
+  // degrees east, [-180, 180]).
+  void readGrid(const JsonValue& g, Site& site) {
+    const std::string& text = src_.string(g, "a map grid, \"utm:ZONE\" or \"tm:CENTRAL_MERIDIAN_DEG\"");
+    const std::string hint = "write e.g. \"utm:35\" (UTM zone 35) or \"tm:27\" (ETRS-TM35FIN, central meridian 27° E)";
+    const size_t colon = text.find(':');
+    const std::string kind = text.substr(0, colon);
+    const std::string value = colon == std::string::npos ? "" : text.substr(colon + 1);
+    char* end = nullptr;
+    const double number = std::strtod(value.c_str(), &end);
+    const bool numeric = !value.empty() && end == value.c_str() + value.size() && std::isfinite(number);
+    if (kind == "utm" && numeric && number == std::floor(number) && number >= 1 && number <= 60) {
+      site.grid = Site::Grid::kUtm;
+      site.utmZone = int(number);
+    } else if (kind == "tm" && numeric && number >= -180 && number <= 180) {
+      site.grid = Site::Grid::kTransverseMercator;
+      site.gridCentralMeridianDeg = number;
+    } else {
+      src_.fail(g, "expected \"utm:ZONE\" (zone 1..60) or \"tm:DEGREES\" (central meridian, [-180, 180]); got " +
+                       inQuotes(text), hint);
+    }
+  }
+
   void readSiteTimeAndSky(const ObjectReader& top) {
     const JsonValue* siteValue = top.find("site");
     bool hasTimeZone = false;
     if (siteValue) {
       const ObjectReader r(src_, *siteValue,
-                           {"latitude", "longitude", "elevation", "timeZone", "northAngle"});
+                           {"latitude", "longitude", "elevation", "timeZone", "northAngle", "grid"});
       Site site;
       site.latitudeDeg =
           src_.number(r.require("latitude", "degrees north, [-90, 90]"), closed(-90, 90), "degrees");
@@ -596,6 +620,7 @@ class SceneFileReader {
         hasTimeZone = true;
       }
       site.northAngleDeg = r.number("northAngle", closed(-360, 360), "degrees").value_or(site.northAngleDeg);
+      if (const JsonValue* g = r.find("grid")) readGrid(*g, site);
       scene_.setSite(site);
     }
 

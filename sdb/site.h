@@ -12,9 +12,17 @@ struct Site {
   double elevationM = 0.0;    // above mean sea level, metres, [−500, 9000]
   // IANA time-zone name ("Europe/Helsinki") or a fixed UTC offset ("+03:00", "-07:00", "Z").
   std::string timeZone = "Z";
-  // Angle in degrees from the scene's −Z axis to true north, clockwise seen from above (+Y), [−360, 360].
-  // 0 = the model is drawn with true north along −Z (glTF's "forward").
+  // Angle in degrees from the scene's −Z axis to the model's north, clockwise seen from above (+Y),
+  // [−360, 360]. The model's north is true north, or grid north when the model is drawn on a map grid (below).
+  // 0 = the model's north along −Z (glTF's "forward").
   double northAngleDeg = 0.0;
+  // The map grid a model is drawn on, whose grid north differs from true north by the meridian convergence
+  // (applied by sunsky's site frame): none, a UTM zone, or a transverse-Mercator grid by its central meridian
+  // (e.g. ETRS-TM35FIN: 27° E).
+  enum class Grid { kNone, kUtm, kTransverseMercator };
+  Grid grid = Grid::kNone;
+  int utmZone = 0;                      // 1..60, with Grid::kUtm
+  double gridCentralMeridianDeg = 0.0;  // [−180, 180], with Grid::kTransverseMercator
 };
 
 enum class SkyModel {
@@ -24,7 +32,9 @@ enum class SkyModel {
   kClear,   // clear sky with colour following the sun
 };
 
-const char* skyModelName(SkyModel m);  // "none", "cie", "perez", "clear"
+const char* skyModelName(SkyModel m);
+// "none", "utm:35", "tm:27" — as the scene file writes it.
+std::string gridName(const Site& site);  // "none", "cie", "perez", "clear"
 
 struct SkySettings {
   SkyModel model = SkyModel::kNone;

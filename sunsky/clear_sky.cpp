@@ -115,8 +115,13 @@ Rgb ClearSky::radianceCdM2(const dvec3& dirEnu) const {
          nightRadiance_ * float(nightScale_);
 }
 
+double iesClearSkyDiffuseLux(double sunElevationDeg) {
+  const double alpha = degToRad(std::clamp(sunElevationDeg, 0.0, 90.0));
+  return 800.0 + 15500.0 * std::sqrt(std::sin(alpha));
+}
+
 ClearSky makeClearSky(double turbidity, double sunZenithDeg, double sunAzimuthDeg,
-                      std::optional<double> diffuseHorizontalLux) {
+                      std::optional<double> diffuseHorizontalLux, ClearSkyLevel level) {
   checkInputRange("turbidity", turbidity, kMinTurbidity, kMaxTurbidity, "",
                   "Preetham's turbidity: 2 = very clear, 3 = clear, 6 = hazy, 10 = very hazy");
   if (diffuseHorizontalLux) {
@@ -133,7 +138,11 @@ ClearSky makeClearSky(double turbidity, double sunZenithDeg, double sunAzimuthDe
           return valueOf(sky.luminance_, dir.z, std::acos(cosGamma), cosGamma);
         },
         sky.modelSunDir_);
-    sky.daylightScale_ = twilightFactor(sunsetLux, sunZenithDeg - 90.0);
+    // The IES level starts twilight from its own sunset value instead of Preetham's.
+    const double startLux = level == ClearSkyLevel::kIesHandbook ? iesClearSkyDiffuseLux(0.0) : sunsetLux;
+    sky.daylightScale_ = startLux / sunsetLux * twilightFactor(startLux, sunZenithDeg - 90.0);
+  } else if (level == ClearSkyLevel::kIesHandbook && !diffuseHorizontalLux) {
+    diffuseHorizontalLux = iesClearSkyDiffuseLux(90.0 - sunZenithDeg);
   }
   if (diffuseHorizontalLux) {
     // > 0: the night sky alone gives π·kNightSkyLuminanceCdM2.

@@ -32,6 +32,21 @@ namespace fly::sunsky {
 // Luminance of the natural moonless night sky, cd/m² (see above).
 inline constexpr double kNightSkyLuminanceCdM2 = 1.7e-4;
 
+// Where the absolute level of a clear sky comes from when no diffuse horizontal illuminance is given.
+enum class ClearSkyLevel {
+  // Preetham et al.'s zenith luminance Yz(T, θs). It overestimates measured clear skies about twofold (sky
+  // alone ≈ 32 klx at T = 3, sun zenith 22°; ≈ 8.8 klx at sunset, where 0.4–0.6 klx are measured).
+  kPreetham,
+  // The clear-sky diffuse horizontal illuminance of the IES Lighting Handbook (9th ed., ch. 8 "Daylighting",
+  // daylight availability): Dv = 0.8 + 15.5·√(sin α) klx for solar elevation α ≥ 0, so 0.8 klx at sunset.
+  // Preetham's distribution keeps the shape and colour; below the horizon twilight fades from 0.8 klx.
+  kIesHandbook,
+};
+
+// The IES Lighting Handbook's clear-sky diffuse horizontal illuminance (above), lux, for a solar elevation
+// in degrees (clamped to [0, 90]).
+double iesClearSkyDiffuseLux(double sunElevationDeg);
+
 class ClearSky final : public Sky {
  public:
   Rgb radianceCdM2(const dvec3& dirEnu) const override;
@@ -48,7 +63,7 @@ class ClearSky final : public Sky {
   };
 
  private:
-  friend ClearSky makeClearSky(double, double, double, std::optional<double>);
+  friend ClearSky makeClearSky(double, double, double, std::optional<double>, ClearSkyLevel);
   ClearSky(double turbidity, double sunZenithDeg, double sunAzimuthDeg);
 
   double turbidity_;
@@ -62,9 +77,10 @@ class ClearSky final : public Sky {
 // A clear sky of turbidity `turbidity` ([1.7, 10]) for the sun at apparent zenith angle sunZenithDeg
 // ([0, 180]; beyond 90° the twilight and night sky described above) and azimuth sunAzimuthDeg (degrees
 // clockwise from north). With diffuseHorizontalLux (finite, ≥ 0) the whole sky is scaled so that
-// ∫ L cos θ dω equals it; without, luminance is Preetham's (and the twilight model's) in cd/m².
+// ∫ L cos θ dω equals it; without, the level is `level`'s, in cd/m².
 // InputError for an input out of range.
 ClearSky makeClearSky(double turbidity, double sunZenithDeg, double sunAzimuthDeg,
-                      std::optional<double> diffuseHorizontalLux = std::nullopt);
+                      std::optional<double> diffuseHorizontalLux = std::nullopt,
+                      ClearSkyLevel level = ClearSkyLevel::kPreetham);
 
 }  // namespace fly::sunsky

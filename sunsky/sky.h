@@ -21,8 +21,8 @@ class Sky {
   // (dirEnu.z < 0). Never negative, never NaN. Allocation-free.
   virtual Rgb radianceCdM2(const dvec3& dirEnu) const = 0;
 
-  // The sun direction the distribution is computed for (unit, ENU). Models that place a set sun at the
-  // horizon say so; the quadrature below refines around this direction, where skies peak.
+  // The sun direction the distribution is computed for (unit, ENU); models that move a sun below the horizon
+  // onto it say so. The quadrature below refines around this direction, where skies peak.
   virtual dvec3 sunDirEnu() const = 0;
 };
 
@@ -42,23 +42,23 @@ inline constexpr int kDefaultThetaSteps = 32;
 
 // ∫ f(ω) cos θ dω over the upper hemisphere (θ from the zenith), for an f that peaks around `peakDirEnu`.
 // Quadrature: μ = cos θ is split into panels [0, μpeak] and [μpeak, 1] with `thetaSteps` Gauss–Legendre nodes
-// each, so the kink of a circumsolar peak lies on a panel boundary; azimuth uses the trapezoidal rule (exact
-// to spectral order for smooth periodic integrands) on 4·thetaSteps nodes, mapped by
+// each, so the kink of a circumsolar peak lies on a panel boundary; azimuth uses the trapezoidal rule
+// (spectrally accurate for smooth periodic integrands) on 4·thetaSteps nodes, mapped by
 // φ(t) = φpeak + 2πt − α·sin 2πt (α = 0.8) so that nodes are 9× denser at the peak's azimuth than opposite
 // it, with one node line through the peak. Used to normalise skies and to measure them.
 double integrateHemisphere(const std::function<double(const dvec3&)>& f, const dvec3& peakDirEnu,
                            int thetaSteps = kDefaultThetaSteps);
 
-// Illuminance on an unobstructed horizontal surface from the whole sky (the sun's disc excluded unless the
-// model includes it): ∫ L cos θ dω, lux, L = luminance(radianceCdM2).
+// Illuminance on an unobstructed horizontal surface from the whole sky, the sun's disc excluded:
+// ∫ L cos θ dω, lux, L = luminance(radianceCdM2).
 double horizontalIlluminanceLux(const Sky& sky, int thetaSteps = kDefaultThetaSteps);
 
 // Luminance of the sky at the zenith, cd/m².
 double zenithLuminanceCdM2(const Sky& sky);
 
 // Linear Rec.709 RGB of a colour given by CIE 1931 chromaticity (x, y), y > 0, and luminance Y ≥ 0, through
-// the XYZ → linear sRGB matrix of IEC 61966-2-1:1999 (D65 white). A chromaticity outside the Rec.709 gamut
-// has its negative components set to 0 and is rescaled so that luminance() still equals Y.
+// the XYZ → linear sRGB matrix of IEC 61966-2-1:1999 (D65 white), rescaled so that luminance() equals Y
+// exactly. Outside the Rec.709 gamut the negative components are first set to 0.
 Rgb rec709FromChromaticity(double x, double y, double luminanceY);
 
 }  // namespace fly::sunsky

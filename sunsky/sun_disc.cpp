@@ -3,10 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <string>
 
-#include "base/error.h"
 #include "sunsky/sky.h"
 
 namespace fly::sunsky {

@@ -54,3 +54,29 @@ TEST(SkyImage, ImageOfClearSkyAndSunReproducesGlobalHorizontalIlluminance) {
 
 }  // namespace
 }  // namespace fly::cli
+
+#include "cli/daylight.h"
+
+namespace fly::cli {
+namespace {
+
+TEST(Daylight, ClearSummerNoonAtMidLatitudeIsEightyToHundredTwentyKilolux) {
+  // What `fly sun` reports: 45° N on the June solstice at solar noon, turbidity 3.
+  SiteTime st;
+  st.spa.latitudeDeg = 45.0;
+  st.spa.utc = sunsky::parseTime("2026-06-21T12:00:00Z", "");
+  st.timeZone = "Z";
+  st.utcOffsetHours = 0.0;
+  const sunsky::SunPosition sun = sunsky::sunPosition(st.spa);
+  const ClearDaylight d = clearDaylight(st, sun, 3.0);
+  const double global = d.directHorizontalLux + d.diffuseHorizontalLux;
+  EXPECT_GT(global, 80000.0);
+  EXPECT_LT(global, 120000.0);
+  // The sky alone follows the IES Lighting Handbook's clear-sky level, 0.8 + 15.5·√(sin α) klx.
+  EXPECT_NEAR(d.diffuseHorizontalLux, 800.0 + 15500.0 * std::sqrt(std::sin(degToRad(sun.apparentElevationDeg()))),
+              d.diffuseHorizontalLux * 0.005);
+  EXPECT_NEAR(d.directHorizontalLux, d.directNormalLux * std::cos(degToRad(sun.apparentZenithDeg)), 1e-6 * global);
+}
+
+}  // namespace
+}  // namespace fly::cli

@@ -391,3 +391,33 @@ TEST(SceneFile, TruncationsGiveInputErrors) {
 
 }  // namespace
 }  // namespace fly::sdb
+
+namespace fly::sdb {
+namespace {
+
+TEST(SceneFile, MapGridOfTheModel) {
+  const Scene utm = parseSceneFile(
+      R"({"fly": 1, "site": {"latitude": 60.17, "longitude": 24.94, "northAngle": 2, "grid": "utm:35"}})", "s.json",
+      ".");
+  EXPECT_EQ(utm.site().grid, Site::Grid::kUtm);
+  EXPECT_EQ(utm.site().utmZone, 35);
+  EXPECT_EQ(utm.site().northAngleDeg, 2.0);
+  const Scene tm = parseSceneFile(R"({"fly": 1, "site": {"latitude": 60.17, "longitude": 24.94, "grid": "tm:27"}})",
+                                  "s.json", ".");
+  EXPECT_EQ(tm.site().grid, Site::Grid::kTransverseMercator);
+  EXPECT_EQ(tm.site().gridCentralMeridianDeg, 27.0);
+  for (const char* bad : {"utm:61", "utm:3.5", "tm:200", "gauss:27", "utm:"}) {
+    const std::string text = std::string(R"({"fly": 1, "site": {"latitude": 60, "longitude": 24, "grid": ")") + bad +
+                             "\"}}";
+    try {
+      parseSceneFile(text, "s.json", ".");
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("s.json:1:62 (at /site/grid): expected \"utm:ZONE\""), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fly::sdb

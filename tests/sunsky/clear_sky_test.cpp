@@ -132,3 +132,35 @@ TEST(ClearSky, RejectsInvalidInput) {
 
 }  // namespace
 }  // namespace fly::sunsky
+
+namespace fly::sunsky {
+namespace {
+
+TEST(ClearSky, IesHandbookLevelAboveAndBelowTheHorizon) {
+  // IES Lighting Handbook clear sky: Dv = 0.8 + 15.5·√(sin α) klx. At α = 68°: 0.8 + 15.5·√0.92718 = 15.725 klx.
+  EXPECT_NEAR(iesClearSkyDiffuseLux(68.0), 800.0 + 15500.0 * std::sqrt(std::sin(degToRad(68.0))), 1e-9);
+  EXPECT_NEAR(iesClearSkyDiffuseLux(68.0), 15725.1, 0.5);
+  EXPECT_EQ(iesClearSkyDiffuseLux(-3.0), 800.0);
+  const ClearSky noon = makeClearSky(3.0, 22.0, 180.0, std::nullopt, ClearSkyLevel::kIesHandbook);
+  EXPECT_NEAR(horizontalIlluminanceLux(noon), iesClearSkyDiffuseLux(68.0), iesClearSkyDiffuseLux(68.0) * 0.005);
+  // The same shape as Preetham's: only the level differs.
+  const ClearSky preetham = makeClearSky(3.0, 22.0, 180.0);
+  const double ratio = zenithLuminanceCdM2(noon) / zenithLuminanceCdM2(preetham);
+  const dvec3 east(1.0, 0.0, 0.2);
+  EXPECT_NEAR(luminance(noon.radianceCdM2(glm::normalize(east))) /
+                  luminance(preetham.radianceCdM2(glm::normalize(east))),
+              ratio, ratio * 1e-4);
+  // Continuous across the horizon: twilight starts from the IES sunset value, 0.8 klx.
+  const double above = horizontalIlluminanceLux(makeClearSky(3.0, 90.0 - 1e-4, 0.0, std::nullopt, ClearSkyLevel::kIesHandbook));
+  const double below = horizontalIlluminanceLux(makeClearSky(3.0, 90.0 + 1e-4, 0.0, std::nullopt, ClearSkyLevel::kIesHandbook));
+  // (√(sin α) rises steeply: 10⁻⁴° above the horizon the formula already gives 820 lx.)
+  EXPECT_NEAR(above, iesClearSkyDiffuseLux(1e-4), 800.0 * 0.005);
+  EXPECT_NEAR(below, 800.0, 800.0 * 0.005);
+  EXPECT_LT(above / below, 1.03);
+  // End of civil twilight (sun 6° below the horizon): 3 lx (AMS Glossary), plus the night sky.
+  const double civil = horizontalIlluminanceLux(makeClearSky(3.0, 96.0, 0.0, std::nullopt, ClearSkyLevel::kIesHandbook));
+  EXPECT_NEAR(civil, 3.0 + kPi * kNightSkyLuminanceCdM2, 0.03);
+}
+
+}  // namespace
+}  // namespace fly::sunsky
