@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace fly {
 
@@ -45,5 +46,9 @@ class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// Text from an input file as it may appear in a message: at most `maxChars` characters ("..." after a cut),
+// bytes outside printable ASCII written as \xNN, so that a binary file does not garble the terminal.
+std::string printableExcerpt(std::string_view text, size_t maxChars = 40);
 
 }  // namespace fly

@@ -49,26 +49,8 @@ bool startsWithNoCase(std::string_view s, std::string_view prefix) {
   return true;
 }
 
-// Text from the file as it may appear in a message: at most 40 characters, bytes outside printable ASCII as
-// \xNN, so that a binary file does not garble the terminal.
-std::string printable(std::string_view s) {
-  std::string out;
-  for (size_t i = 0; i < s.size() && i < 40; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(c));
-      out += buf;
-    }
-  }
-  if (s.size() > 40) out += "...";
-  return out;
-}
-
 std::string quoted(std::string_view s) {
-  return "'" + printable(s) + "'";
+  return "'" + printableExcerpt(s) + "'";
 }
 
 // Whole numbers in full (a count of 2000000000, not 2e+09), others with 6 significant digits.
@@ -204,7 +186,7 @@ class Parser {
            kTiltHint);
     }
     fail(line_,
-         "TILT=" + printable(value) + " (tilt data in another file) is not supported; fly reads " +
+         "TILT=" + printableExcerpt(value) + " (tilt data in another file) is not supported; fly reads " +
              "lamp-tilt-independent photometry only",
          kTiltHint);
   }

@@ -146,23 +146,7 @@ bool equalsNoCase(std::string_view a, std::string_view b) {
   return true;
 }
 
-// Text from the file as it may appear in a message: at most 40 characters, other bytes than printable ASCII
-// as \xNN.
-std::string quoted(std::string_view s) {
-  std::string out = "'";
-  for (std::size_t i = 0; i < s.size() && i < 40; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(c));
-      out += buf;
-    }
-  }
-  if (s.size() > 40) out += "...";
-  return out + "'";
-}
+std::string quoted(std::string_view s) { return "'" + printableExcerpt(s) + "'"; }
 
 std::string fmt(double v) {
   char buf[32];
