@@ -26,6 +26,8 @@ struct SkyOptions {
   int sizePx = 512;
   std::optional<double> exposureEv100;
   bool json = false;
+  bool skyGiven = false;        // --sky on the command line (else a scene's sky is the default)
+  bool turbidityGiven = false;  // --turbidity on the command line
 };
 
 std::string lowerExtension(const std::string& path) {
@@ -57,7 +59,19 @@ int runSky(SkyOptions o) {
     if (o.site.timeZone.empty() && o.site.scene.empty()) o.site.timeZone = offsetZone(epw->location.timeZoneHours);
     o.request.weather = &*epw;
   }
-  const SiteTime st = resolveSiteTime(o.site);
+  SiteTime st = resolveSiteTime(o.site);
+  // A scene's sky is the default: its model, CIE type, turbidity and weather file.
+  if (st.sceneSky && !o.skyGiven && st.sceneSky->model != sdb::SkyModel::kNone) {
+    const sdb::SkySettings& sky = *st.sceneSky;
+    o.request.model = sky.model == sdb::SkyModel::kCie     ? "cie:" + std::to_string(sky.cieType)
+                      : sky.model == sdb::SkyModel::kPerez ? "perez"
+                                                           : "clear";
+    if (!sky.weatherFile.empty() && !epw) {
+      epw = sunsky::loadEpw(sky.weatherFile);
+      o.request.weather = &*epw;
+    }
+  }
+  if (st.sceneSky && !o.turbidityGiven) o.request.turbidity = st.sceneSky->turbidity;
   const sunsky::SunPosition sun = sunsky::sunPosition(st.spa);
   const Daylight day = makeDaylight(o.request, st, sun);
   const ImageRgbF image = renderSkyFisheye(*day.sky, day.sun, o.sizePx);
@@ -132,7 +146,8 @@ int runSky(SkyOptions o) {
 Command addSkyCommand(CLI::App& app) {
   auto o = std::make_shared<SkyOptions>();
   CLI::App* sub = app.add_subcommand(
-      "sky", "Render the sky dome of a site and time as a fisheye image (EXR in cd/m², or tone-mapped PNG)");
+      "sky", "Render the sky dome of a site and time as a fisheye image (EXR in cd/m², or tone-mapped PNG); with "
+             "--scene, the scene's site, time and sky are the defaults");
   o->site.add(*sub);
   sub->add_option("--sky", o->request.model,
                   "sky model: clear (Preetham, colour follows the sun), perez (all-weather; needs --weather or "
@@ -154,7 +169,11 @@ Command addSkyCommand(CLI::App& app) {
       ->check(CLI::Range(16, 8192));
   sub->add_option("--exposure", o->exposureEv100, "PNG exposure, EV100 (default: automatic from the image)");
   sub->add_flag("--json", o->json, "print one JSON object instead of text");
-  return {sub, [o] { return runSky(*o); }};
+  return {sub, [o, sub] {
+            o->skyGiven = sub->count("--sky") > 0;
+            o->turbidityGiven = sub->count("--turbidity") > 0;
+            return runSky(*o);
+          }};
 }
 
 }  // namespace fly::cli

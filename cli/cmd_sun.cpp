@@ -24,6 +24,7 @@ struct SunOptions {
   bool path = false;
   std::string out;
   int sizePx = 1200;
+  bool turbidityGiven = false;  // --turbidity on the command line (else a scene's is the default)
 };
 
 std::string fixed(double v, int decimals) {
@@ -39,11 +40,12 @@ std::string clock(const sunsky::UtcTime& utc, double offsetHours) { return local
 
 int runSun(const SunOptions& o) {
   const SiteTime st = resolveSiteTime(o.site);
+  const double turbidity = st.sceneSky && !o.turbidityGiven ? st.sceneSky->turbidity : o.turbidity;
   if (o.path && o.out.empty()) throw UsageError("--path needs --out FILE.png");
   if (!o.path && !o.out.empty()) throw UsageError("--out is for the sun-path diagram; add --path");
   const sunsky::SunPosition sun = sunsky::sunPosition(st.spa);
   const sunsky::SunTimes times = sunsky::sunTimes(st.spa, st.utcOffsetHours);
-  const ClearDaylight light = clearDaylight(st, sun, o.turbidity);
+  const ClearDaylight light = clearDaylight(st, sun, turbidity);
   // With a scene: where the sun is in the model's world frame (north angle and map grid applied).
   std::optional<sunsky::SiteFrame> frame;
   std::optional<dvec3> sunWorld;
@@ -79,7 +81,7 @@ int runSun(const SunOptions& o) {
     j["sunrise_local"] = polar ? nlohmann::json(nullptr) : nlohmann::json(localIso(times.sunrise, st.utcOffsetHours));
     j["sunset_local"] = polar ? nlohmann::json(nullptr) : nlohmann::json(localIso(times.sunset, st.utcOffsetHours));
     j["polar"] = polar ? nlohmann::json(polar) : nlohmann::json(nullptr);
-    j["turbidity"] = o.turbidity;
+    j["turbidity"] = turbidity;
     j["direct_normal_illuminance_lux"] = light.directNormalLux;
     j["direct_horizontal_illuminance_lux"] = light.directHorizontalLux;
     j["diffuse_horizontal_illuminance_lux"] = light.diffuseHorizontalLux;
@@ -113,7 +115,7 @@ int runSun(const SunOptions& o) {
       << clock(times.transit, st.utcOffsetHours) << ", sunset " << clock(times.sunset, st.utcOffsetHours)
       << " (local)\n";
   }
-  t << "daylight     clear sky, turbidity " << fixed(o.turbidity, 1) << ": direct normal "
+  t << "daylight     clear sky, turbidity " << fixed(turbidity, 1) << ": direct normal "
     << fixed(light.directNormalLux, 0) << " lx, direct horizontal " << fixed(light.directHorizontalLux, 0)
     << " lx, diffuse horizontal " << fixed(light.diffuseHorizontalLux, 0) << " lx, global horizontal "
     << fixed(light.directHorizontalLux + light.diffuseHorizontalLux, 0) << " lx\n";
@@ -141,7 +143,10 @@ Command addSunCommand(CLI::App& app) {
   sub->add_option("--size", o->sizePx, "sun-path diagram size, pixels, [300, 8000]")
       ->capture_default_str()
       ->check(CLI::Range(300, 8000));
-  return {sub, [o] { return runSun(*o); }};
+  return {sub, [o, sub] {
+            o->turbidityGiven = sub->count("--turbidity") > 0;
+            return runSun(*o);
+          }};
 }
 
 }  // namespace fly::cli

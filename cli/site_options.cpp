@@ -65,6 +65,7 @@ SiteTime resolveSiteTime(const SiteTimeOptions& o) {
       throw UsageError("scene " + o.scene + " has no site; give --lat and --lon");
     }
     if (time.empty()) time = scene.time().localDateTime;
+    st.sceneSky = scene.sky();
   } else if (!o.latitudeDeg || !o.longitudeDeg) {
     throw UsageError("give --lat and --lon (or --scene with a site)");
   }

@@ -34,8 +34,9 @@ struct SiteTime {
   std::string timeZone;    // --tz, the scene's zone, or the zone the time carries ("Z", "+03:00")
   double utcOffsetHours;   // at the instant, DST included
   std::string localIso;    // local civil time, "2026-06-21T12:00:00"
-  // How the scene's model is oriented, when the site came from a scene (--scene).
+  // How the scene's model is oriented and its sky, when the site came from a scene (--scene).
   std::optional<sunsky::NorthReference> north;
+  std::optional<sdb::SkySettings> sceneSky;
 };
 
 // The orientation a scene's site gives its model: north angle and map grid.
