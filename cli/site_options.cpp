@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "base/error.h"
+#include "rdb/site_lowering.h"
 #include "sdb/scene_load.h"
 
 namespace fly::cli {
@@ -32,23 +33,6 @@ std::string localIso(const sunsky::UtcTime& utc, double utcOffsetHours) {
   return buf;
 }
 
-sunsky::NorthReference northReference(const sdb::Site& site) {
-  sunsky::NorthReference n;
-  n.angleDeg = site.northAngleDeg;
-  switch (site.grid) {
-    case sdb::Site::Grid::kNone: n.kind = sunsky::NorthReference::Kind::kTrueNorth; break;
-    case sdb::Site::Grid::kUtm:
-      n.kind = sunsky::NorthReference::Kind::kUtmGridNorth;
-      n.utmZone = site.utmZone;
-      break;
-    case sdb::Site::Grid::kTransverseMercator:
-      n.kind = sunsky::NorthReference::Kind::kTransverseMercatorGridNorth;
-      n.centralMeridianDeg = site.gridCentralMeridianDeg;
-      break;
-  }
-  return n;
-}
-
 SiteTime resolveSiteTime(const SiteTimeOptions& o) {
   SiteTime st;
   std::string time = o.time;
@@ -60,7 +44,7 @@ SiteTime resolveSiteTime(const SiteTimeOptions& o) {
       st.spa.longitudeDeg = scene.site().longitudeDeg;
       st.spa.elevationM = scene.site().elevationM;
       if (st.timeZone.empty()) st.timeZone = scene.site().timeZone;
-      st.north = northReference(scene.site());
+      st.north = rdb::northReference(scene.site());
     } else if (!o.latitudeDeg || !o.longitudeDeg) {
       throw UsageError("scene " + o.scene + " has no site; give --lat and --lon");
     }

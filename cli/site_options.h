@@ -39,9 +39,6 @@ struct SiteTime {
   std::optional<sdb::SkySettings> sceneSky;
 };
 
-// The orientation a scene's site gives its model: north angle and map grid.
-sunsky::NorthReference northReference(const sdb::Site& site);
-
 // Resolves the options (flags override the scene's values). UsageError for a missing latitude, longitude or time; InputError for invalid values.
 SiteTime resolveSiteTime(const SiteTimeOptions& o);
 

@@ -1,0 +1,229 @@
+#include "rdb/trace_rdb_build.h"
+
+#include <cmath>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+#include "rdb/site_lowering.h"
+
+namespace fly::rdb {
+
+TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
+  TraceMaterial t;
+  t.diffuse = m.effective().diffuse;
+  t.reflection = m.reflectionColor;
+  t.transmission = m.transmissionColor;
+  t.fresnel = m.reflectionModel == sdb::ReflectionModel::kFresnel;
+  t.ior = m.ior;
+  t.reflectionGlossiness = m.reflectionGlossiness;
+  t.transmissionGlossiness = m.transmissionGlossiness;
+  t.emissionCdM2 = m.emissionLuminance;
+  t.doubleSided = m.doubleSided;
+  t.sdbMaterialId = sdbMaterialId;
+  return t;
+}
+
+TraceGoniometricTable tabulateGoniometric(const sdb::IesProfile& profile, uint32_t gammaSteps, uint32_t cSteps) {
+  if (gammaSteps < 2 || cSteps < 1) {
+    throw std::invalid_argument("tabulateGoniometric: need at least 2 gamma steps and 1 C step");
+  }
+  TraceGoniometricTable t;
+  t.gammaSteps = gammaSteps;
+  t.cSteps = cSteps;
+  t.candelaCd.resize(size_t(gammaSteps) * cSteps);
+  for (uint32_t c = 0; c < cSteps; ++c) {
+    const double cRad = 2.0 * kPi * c / cSteps;
+    for (uint32_t g = 0; g < gammaSteps; ++g) {
+      const double gammaRad = kPi * g / (gammaSteps - 1);
+      const double s = std::sin(gammaRad);
+      t.candelaCd[size_t(c) * gammaSteps + g] =
+          float(profile.candelaTowards(s * std::cos(cRad), s * std::sin(cRad), std::cos(gammaRad)));
+    }
+  }
+  return t;
+}
+
+TraceSky tabulateSky(const sunsky::Sky& sky, const sunsky::SiteFrame& frame, uint32_t resolution,
+                     uint32_t cellSamples) {
+  if (resolution < 1 || resolution > 1024 || cellSamples < 1 || cellSamples > 64) {
+    throw std::invalid_argument("tabulateSky: resolution must be in [1, 1024] and cell samples in [1, 64]");
+  }
+  TraceSky t;
+  t.resolution = resolution;
+  t.radianceCdM2.resize(size_t(resolution) * resolution);
+  const double n = cellSamples;
+  for (uint32_t j = 0; j < resolution; ++j) {
+    for (uint32_t i = 0; i < resolution; ++i) {
+      dvec3 sum(0.0);
+      for (uint32_t b = 0; b < cellSamples; ++b) {
+        const double mu = 1.0 - (j + (b + 0.5) / n) / resolution;
+        const double sinTheta = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+        for (uint32_t a = 0; a < cellSamples; ++a) {
+          const double phi = 2.0 * kPi * (i + (a + 0.5) / n) / resolution;
+          const dvec3 world(sinTheta * std::cos(phi), mu, sinTheta * std::sin(phi));  // φ = atan2(z, x)
+          sum += dvec3(sky.radianceCdM2(frame.enuFromWorld(world)));
+        }
+      }
+      t.radianceCdM2[size_t(j) * resolution + i] = Rgb(sum / (n * n));
+    }
+  }
+  return t;
+}
+
+namespace {
+
+// Unit vector along `v`, or nullopt when it has no direction (zero, denormal or not finite).
+std::optional<vec3> unit(const dvec3& v) {
+  const double len = glm::length(v);
+  if (!(len > 1e-30) || !std::isfinite(len)) return std::nullopt;
+  return vec3(v / len);
+}
+
+class Builder {
+ public:
+  Builder(const sdb::Scene& scene, const TraceBuildOptions& options) : scene_(scene), options_(options) {
+    rdb_.materials.push_back(lowerMaterial(scene.material(sdb::MaterialId{}), 0));
+    materialIndex_[0] = 0;
+  }
+
+  TraceRdb build() {
+    scene_.forEachNode([&](sdb::NodeId id, const mat4& worldFromLocal) {
+      const sdb::Node& node = scene_.node(id);
+      for (sdb::MeshId mesh : node.meshes) addMesh(id, mesh, worldFromLocal);
+      if (node.light) addLight(node, worldFromLocal);
+    });
+    addDaylight();
+    return std::move(rdb_);
+  }
+
+ private:
+  uint32_t materialIndex(sdb::MaterialId id) {
+    const auto [it, added] = materialIndex_.try_emplace(id.value, uint32_t(rdb_.materials.size()));
+    if (added) rdb_.materials.push_back(lowerMaterial(scene_.material(id), id.value));
+    return it->second;
+  }
+
+  void addMesh(sdb::NodeId nodeId, sdb::MeshId meshId, const mat4& worldFromLocal) {
+    const sdb::Mesh& mesh = scene_.mesh(meshId);
+    const uint32_t material = materialIndex(mesh.material);
+    const bool emissive = scene_.material(mesh.material).isEmissive();
+    TraceMesh tm;
+    tm.sdbMeshId = meshId.value;
+    tm.sdbNodeId = nodeId.value;
+    tm.firstVertex = uint32_t(rdb_.positionsM.size());
+    tm.vertexCount = uint32_t(mesh.vertexCount());
+    tm.firstTriangle = uint32_t(rdb_.triangleCount());
+    tm.twoSided = mesh.twoSided;
+
+    for (const vec3& p : mesh.positions) {
+      const vec3 world(worldFromLocal * vec4(p, 1.0f));
+      rdb_.positionsM.push_back(world);
+      rdb_.boundsM.extend(world);
+    }
+    const vec3* world = rdb_.positionsM.data() + tm.firstVertex;
+
+    // Per-vertex sum of the adjacent faces' area-weighted normals, for vertices without a usable normal.
+    std::vector<dvec3> faceNormalSum(mesh.vertexCount(), dvec3(0.0));
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+      const uint32_t* v = &mesh.indices[3 * t];
+      const dvec3 e1 = dvec3(world[v[1]]) - dvec3(world[v[0]]);
+      const dvec3 e2 = dvec3(world[v[2]]) - dvec3(world[v[0]]);
+      const dvec3 n = glm::cross(e1, e2);  // length = twice the area
+      // Zero area, up to the rounding of float positions: the edges are parallel within ~float epsilon.
+      if (!(glm::length(n) > 1e-7 * glm::length(e1) * glm::length(e2))) {
+        ++rdb_.skippedTriangles;
+        continue;
+      }
+      if (emissive) rdb_.emissiveTriangles.push_back(uint32_t(rdb_.triangleCount()));
+      for (int k = 0; k < 3; ++k) {
+        rdb_.indices.push_back(tm.firstVertex + v[k]);
+        faceNormalSum[v[k]] += n;
+      }
+      rdb_.triangleMaterial.push_back(material);
+    }
+    tm.triangleCount = uint32_t(rdb_.triangleCount()) - tm.firstTriangle;
+
+    // Normals transform by the inverse transpose (a singular transform leaves only the face normals).
+    const glm::dmat3 linear(worldFromLocal);
+    const double det = glm::determinant(linear);
+    const glm::dmat3 normalFromLocal = det != 0.0 ? glm::transpose(glm::inverse(linear)) : glm::dmat3(0.0);
+    for (size_t i = 0; i < mesh.vertexCount(); ++i) {
+      std::optional<vec3> n;
+      if (!mesh.normals.empty()) n = unit(normalFromLocal * dvec3(mesh.normals[i]));
+      if (!n) n = unit(faceNormalSum[i]);
+      // A vertex of no triangle with area has no surface to face; +Y (up) keeps the array unit-length.
+      rdb_.normals.push_back(n.value_or(vec3(0.0f, 1.0f, 0.0f)));
+    }
+    rdb_.meshes.push_back(tm);
+  }
+
+  void addLight(const sdb::Node& node, const mat4& worldFromLocal) {
+    const sdb::Light& light = scene_.light(node.light);
+    TracePunctualLight t;
+    t.sdbLightId = node.light.value;
+    t.positionM = vec3(worldFromLocal[3]);
+    const std::optional<vec3> dir = unit(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
+    const std::optional<vec3> cAxis = dir ? unit(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
+    if (!cAxis) {
+      throw InputError({scene_.sourcePath.string()},
+                       "node \"" + node.name + "\" places light \"" + light.name + "\" with a singular transform",
+                       "give the node and its parents a non-zero scale");
+    }
+    t.directionWorld = *dir;
+    t.cAxisWorld = *cAxis;
+    t.intensity = light.color * light.intensity;
+    t.rangeM = light.rangeM;
+    switch (light.type) {
+      case sdb::LightType::kPoint: t.type = PunctualType::kPoint; break;
+      case sdb::LightType::kDirectional: t.type = PunctualType::kDirectional; break;
+      case sdb::LightType::kSpot:
+        t.type = PunctualType::kSpot;
+        t.cosInner = std::cos(light.innerConeRad);
+        t.cosOuter = std::cos(light.outerConeRad);
+        break;
+      case sdb::LightType::kGoniometric:
+        t.type = PunctualType::kGoniometric;
+        t.goniometricTable = uint32_t(rdb_.goniometricTables.size());
+        rdb_.goniometricTables.push_back(
+            tabulateGoniometric(*light.ies, options_.goniometricGammaSteps, options_.goniometricCSteps));
+        break;
+    }
+    rdb_.punctualLights.push_back(t);
+  }
+
+  void addDaylight() {
+    const std::optional<SceneDaylight> daylight = lowerDaylight(scene_);
+    if (!daylight) return;
+    if (daylight->sun) {
+      rdb_.hasSun = true;
+      rdb_.sun.directionWorld = vec3(daylight->sunDirWorld);
+      rdb_.sun.normalIlluminanceLux = daylight->sun->normalIlluminanceLux;
+      rdb_.sun.halfAngleRad = float(degToRad(sunsky::kSunAngularDiameterDeg / 2.0));
+    }
+    if (daylight->sky) {
+      rdb_.sky = tabulateSky(*daylight->sky, daylight->frame, options_.skyResolution, options_.skyCellSamples);
+    }
+  }
+
+  const sdb::Scene& scene_;
+  const TraceBuildOptions& options_;
+  TraceRdb rdb_;
+  std::map<uint32_t, uint32_t> materialIndex_;  // SDB material id → index into rdb_.materials
+};
+
+}  // namespace
+
+TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options) {
+  if (options.skyResolution < 1 || options.skyResolution > 1024 || options.skyCellSamples < 1 ||
+      options.skyCellSamples > 64 || options.goniometricGammaSteps < 2 || options.goniometricCSteps < 1) {
+    throw std::invalid_argument("buildTraceRdb: an option is out of range (see TraceBuildOptions)");
+  }
+  return Builder(scene, options).build();
+}
+
+}  // namespace fly::rdb

@@ -1,0 +1,52 @@
+// Lowering an SDB scene into the TraceRdb (rdb/trace_rdb.h): geometry flattened into world space, materials with
+// the energy rule applied, punctual and goniometric lights in world space, and the sun and tabulated sky of the
+// scene's site and time (rdb/site_lowering.h). Only what the scene needs is built: no sky table without a sky,
+// no goniometric tables without goniometric lights.
+#pragma once
+
+#include <cstdint>
+
+#include "rdb/trace_rdb.h"
+#include "sdb/ies.h"
+#include "sdb/scene.h"
+#include "sunsky/site_frame.h"
+#include "sunsky/sky.h"
+
+namespace fly::rdb {
+
+struct TraceBuildOptions {
+  // Cells per side of the equal-area sky table (TraceSky): resolution² cells of 2π/resolution² sr each.
+  // [1, 1024]; default 64 (4096 cells of 1.5·10⁻³ sr, about 2.2° across).
+  uint32_t skyResolution = 64;
+  // Each sky cell holds the mean radiance of n × n stratified directions (cell-centred in φ and μ = cos θ, so
+  // equally spaced in solid angle). [1, 64]; default 4.
+  uint32_t skyCellSamples = 4;
+  // Goniometric tables: γ steps over [0°, 180°] (≥ 2) and C steps over [0°, 360°) (≥ 1). Defaults 181 × 72:
+  // 1° in γ, 5° in C (LM-63 files commonly measure in 5° to 22.5° C-planes and 1° to 5° in γ).
+  uint32_t goniometricGammaSteps = 181;
+  uint32_t goniometricCSteps = 72;
+};
+
+// Builds the TraceRdb of `scene`. Materials: index 0 is the default material (SDB id 0), then every material
+// the placed meshes use, in the order first met. Every placed (node, mesh) pair adds all of its vertices (so
+// the vertex light maps index SDB vertices as firstVertex + i) and its triangles of non-zero area; the others
+// are left out and counted in TraceRdb::skippedTriangles. Errors: InputError from sunsky and the weather file
+// (see lowerDaylight), InputError for a light placed by a singular transform; std::invalid_argument for options
+// out of range.
+TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options = {});
+
+// The TraceMaterial of an SDB material (its energy rule evaluated at normal incidence).
+TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId);
+
+// The profile's luminous intensity on TraceGoniometricTable's grid. The light's frame (sdb/light.h) maps to the
+// profile's (sdb/ies.h, candelaTowards): its −Z is the photometric axis z (γ = 0), its +X the C = 0° plane x,
+// its +Y the C = 90° plane y, so C runs from +X towards +Y (counter-clockwise seen from above a downlight, as
+// LM-63 measures type C).
+TraceGoniometricTable tabulateGoniometric(const sdb::IesProfile& profile, uint32_t gammaSteps, uint32_t cSteps);
+
+// The sky's radiance tabulated on TraceSky's equal-area map of world directions: each cell's mean over
+// cellSamples² stratified directions, converted to the sky's ENU frame with frame.enuFromWorld.
+TraceSky tabulateSky(const sunsky::Sky& sky, const sunsky::SiteFrame& frame, uint32_t resolution,
+                     uint32_t cellSamples);
+
+}  // namespace fly::rdb
