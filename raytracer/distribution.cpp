@@ -1,0 +1,88 @@
+#include "raytracer/distribution.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fly::raytracer {
+
+Distribution1D::Distribution1D(std::span<const float> weights) : func_(weights.begin(), weights.end()) {
+  if (func_.empty()) throw std::invalid_argument("Distribution1D: no weights");
+  double sum = 0.0;
+  for (size_t i = 0; i < func_.size(); ++i) {
+    if (!std::isfinite(func_[i]) || func_[i] < 0.0f) {
+      throw std::invalid_argument("Distribution1D: weight " + std::to_string(i) + " is " +
+                                  std::to_string(func_[i]) + "; weights must be finite and >= 0");
+    }
+    sum += func_[i];
+  }
+  const auto n = static_cast<double>(func_.size());
+  integral_ = sum / n;
+  if (sum == 0.0) {
+    std::fill(func_.begin(), func_.end(), 1.0f);
+    sum = n;
+  }
+  pdfScale_ = static_cast<float>(n / sum);
+  cdf_.resize(func_.size() + 1);
+  double running = 0.0;
+  for (size_t i = 0; i < func_.size(); ++i) {
+    cdf_[i] = static_cast<float>(running / sum);
+    running += func_[i];
+  }
+  cdf_.back() = 1.0f;
+}
+
+Distribution1D::Sample Distribution1D::sampleContinuous(float u) const {
+  const uint32_t i = findBin(u);
+  float x = std::min((static_cast<float>(i) + remap(u, i)) / static_cast<float>(size()), kOneMinusEpsilon);
+  // Rounding can carry x across an edge of bin i; keep it inside, as binOf() sees it, so that its density is
+  // that of bin i (a neighbour's may be 0).
+  while (binOf(x) > i) x = std::nextafter(x, 0.0f);
+  while (binOf(x) < i) x = std::nextafter(x, 1.0f);
+  return {x, func_[i] * pdfScale_, i};
+}
+
+Distribution1D::DiscreteSample Distribution1D::sampleDiscrete(float u) const {
+  const uint32_t i = findBin(u);
+  return {i, func_[i] * pdfScale_ / static_cast<float>(size()), remap(u, i)};
+}
+
+uint32_t Distribution1D::findBin(float u) const {
+  // The largest i < n with cdf[i] ≤ u (cdf[0] = 0 ≤ u), by a binary search whose step is a conditional move
+  // rather than a branch (Khuong & Morin, "Array layouts for comparison-based searching", JEA 22, 2017):
+  // about twice as fast on random u. Then cdf[i+1] > u, so bin i has a probability above 0.
+  const float* first = cdf_.data();
+  for (uint32_t length = size(); length > 1;) {
+    const uint32_t half = length / 2;
+    first = first[half] <= u ? first + half : first;
+    length -= half;
+  }
+  return static_cast<uint32_t>(first - cdf_.data());
+}
+
+namespace {
+
+std::vector<Distribution1D> rows(std::span<const float> values, uint32_t nu, uint32_t nv) {
+  if (nu == 0 || nv == 0 || values.size() != static_cast<size_t>(nu) * nv) {
+    throw std::invalid_argument("Distribution2D: " + std::to_string(values.size()) + " values for " +
+                                std::to_string(nu) + " x " + std::to_string(nv) + " cells");
+  }
+  std::vector<Distribution1D> result;
+  result.reserve(nv);
+  for (uint32_t j = 0; j < nv; ++j) result.emplace_back(values.subspan(static_cast<size_t>(j) * nu, nu));
+  return result;
+}
+
+std::vector<float> integrals(const std::vector<Distribution1D>& rowDistributions) {
+  std::vector<float> result;
+  result.reserve(rowDistributions.size());
+  for (const Distribution1D& row : rowDistributions) result.push_back(static_cast<float>(row.integral()));
+  return result;
+}
+
+}  // namespace
+
+Distribution2D::Distribution2D(std::span<const float> values, uint32_t nu, uint32_t nv)
+    : conditional_(rows(values, nu, nv)), marginal_(integrals(conditional_)) {}
+
+}  // namespace fly::raytracer
