@@ -16,5 +16,6 @@ struct Command {
 Command addInfoCommand(CLI::App& app);
 Command addSunCommand(CLI::App& app);
 Command addSkyCommand(CLI::App& app);
+Command addIlluminanceCommand(CLI::App& app);
 
 }  // namespace fly::cli

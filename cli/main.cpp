@@ -31,6 +31,7 @@ int run(int argc, char** argv) {
       fly::cli::addInfoCommand(app),
       fly::cli::addSunCommand(app),
       fly::cli::addSkyCommand(app),
+      fly::cli::addIlluminanceCommand(app),
   };
 
   try {

@@ -1,0 +1,234 @@
+// `fly illuminance SCENE --points IN.csv --out OUT.csv`: illuminance at sensor points with its standard error,
+// from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as Radiance's
+// rtrace -I).
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "base/error.h"
+#include "base/file_io.h"
+#include "cli/command.h"
+#include "raytracer/embree_scene.h"
+#include "raytracer/integrator.h"
+#include "rdb/trace_rdb_build.h"
+#include "sdb/scene_load.h"
+
+namespace fly::cli {
+
+namespace {
+
+struct IlluminanceOptions {
+  std::string scene;
+  std::string points;
+  std::string out;
+  std::string targetError;  // "1%" or 0.01
+  std::string time;         // seconds, "90s", "5m"
+  std::optional<uint32_t> samples;
+  std::string sampler = "sobol";
+  uint32_t threads = 0;
+  std::optional<uint32_t> maxBounces;
+};
+
+// The sensors of a CSV file and its lines, so that the output repeats them.
+struct SensorTable {
+  std::string header;
+  std::vector<std::string> lines;
+  std::vector<vec3> positionsM;
+  std::vector<vec3> normals;
+};
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream s(line);
+  while (std::getline(s, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  const size_t b = s.find_last_not_of(" \t\r");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+SensorTable readSensors(const std::string& path) {
+  const std::string text = readInputFile(path, "sensor file");
+  SensorTable t;
+  std::istringstream in(text);
+  std::string line;
+  int lineNo = 0;
+  int col[6] = {-1, -1, -1, -1, -1, -1};
+  static const char* kNames[6] = {"x", "y", "z", "nx", "ny", "nz"};
+  size_t columns = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (trim(line).empty()) continue;
+    if (line.find('"') != std::string::npos) {
+      throw InputError({path, lineNo}, "quoted fields are not supported", "write plain comma-separated numbers");
+    }
+    const std::vector<std::string> fields = splitCsv(line);
+    if (t.header.empty()) {
+      t.header = line;
+      columns = fields.size();
+      for (size_t i = 0; i < fields.size(); ++i) {
+        for (int k = 0; k < 6; ++k) {
+          if (trim(fields[i]) == kNames[k]) col[k] = int(i);
+        }
+      }
+      for (int k = 0; k < 6; ++k) {
+        if (col[k] < 0) {
+          throw InputError({path, lineNo}, std::string("the header has no column \"") + kNames[k] + "\"",
+                           "the first line must name the columns, e.g. x,y,z,nx,ny,nz (metres, world space; the "
+                           "sensor's normal)");
+        }
+      }
+      continue;
+    }
+    if (fields.size() != columns) {
+      throw InputError({path, lineNo}, "has " + std::to_string(fields.size()) + " fields, the header " +
+                                           std::to_string(columns),
+                       "give every row the header's columns");
+    }
+    float v[6];
+    for (int k = 0; k < 6; ++k) {
+      const std::string f = trim(fields[size_t(col[k])]);
+      const char* end = f.data() + f.size();
+      const auto [ptr, ec] = std::from_chars(f.data(), end, v[k]);
+      if (ec != std::errc() || ptr != end || !std::isfinite(v[k])) {
+        throw InputError({path, lineNo}, std::string("column \"") + kNames[k] + "\": '" + printableExcerpt(f) +
+                                             "' is not a finite number",
+                         "write decimal numbers such as 1.25 or -3e2");
+      }
+    }
+    const vec3 n(v[3], v[4], v[5]);
+    if (!(glm::length(n) > 0.0f)) {
+      throw InputError({path, lineNo}, "the sensor's normal (nx, ny, nz) is zero",
+                       "give the direction the sensor faces, e.g. 0,1,0 for a horizontal sensor facing up");
+    }
+    t.lines.push_back(line);
+    t.positionsM.emplace_back(v[0], v[1], v[2]);
+    t.normals.push_back(glm::normalize(n));
+  }
+  if (t.header.empty()) throw InputError({path}, "the sensor file has no header line", "start with x,y,z,nx,ny,nz");
+  if (t.lines.empty()) throw InputError({path}, "the sensor file has no sensors", "add one row per sensor");
+  return t;
+}
+
+// "1%" → 0.01, "0.02" → 0.02; must lie in (0, 1).
+double parseRelativeError(const std::string& s) {
+  std::string v = trim(s);
+  double scale = 1.0;
+  if (!v.empty() && v.back() == '%') {
+    v.pop_back();
+    scale = 0.01;
+  }
+  double x = 0.0;
+  const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+  if (ec != std::errc() || ptr != v.data() + v.size() || !(x * scale > 0.0 && x * scale < 1.0)) {
+    throw UsageError("--target-error " + s + ": expected a relative error in (0, 1) such as 0.01 or 1%");
+  }
+  return x * scale;
+}
+
+// "90", "90s", "5m", "1.5h" → seconds > 0.
+double parseDuration(const std::string& s) {
+  std::string v = trim(s);
+  double unit = 1.0;
+  if (!v.empty() && (v.back() == 's' || v.back() == 'm' || v.back() == 'h')) {
+    unit = v.back() == 'h' ? 3600.0 : v.back() == 'm' ? 60.0 : 1.0;
+    v.pop_back();
+  }
+  double x = 0.0;
+  const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+  if (ec != std::errc() || ptr != v.data() + v.size() || !(x > 0.0) || !std::isfinite(x)) {
+    throw UsageError("--time " + s + ": expected a duration such as 60, 90s, 5m or 1.5h");
+  }
+  return x * unit;
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+int runIlluminance(const IlluminanceOptions& o) {
+  raytracer::EstimateSettings settings;
+  if (o.sampler != "sobol" && o.sampler != "random") throw UsageError("--sampler: expected sobol or random");
+  if (o.samples && (*o.samples == 0 || (*o.samples & (*o.samples - 1)) != 0)) {
+    throw UsageError("--samples " + std::to_string(*o.samples) + ": expected a power of two (e.g. 256)");
+  }
+  const sdb::Scene scene = sdb::loadScene(o.scene);
+  const SensorTable sensors = readSensors(o.points);
+  const sdb::BakeSettings& bake = scene.bakeSettings();
+
+  // Stopping rules: the flags, else the scene's bake settings; at most 2^16 samples per sensor.
+  settings.maxSamples = o.samples ? *o.samples : bake.samples > 0 ? bake.samples : 65536u;
+  settings.firstPassSamples = std::min(settings.maxSamples, 16u);
+  settings.replicates = std::min(settings.firstPassSamples, settings.replicates);
+  settings.targetRelativeError = float(!o.targetError.empty() ? parseRelativeError(o.targetError)
+                                       : o.samples              ? 0.0
+                                                                : bake.targetErrorRel);
+  const double timeLimit = !o.time.empty() ? parseDuration(o.time) : bake.timeLimitS;
+  if (timeLimit > 0.0) settings.timeLimitS = timeLimit;
+  settings.threads = o.threads;
+  settings.sampler = o.sampler == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
+
+  const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
+  const raytracer::EmbreeScene embree(rdb);
+  raytracer::IntegratorSettings integratorSettings;
+  integratorSettings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces;
+  const raytracer::Integrator integrator(rdb, embree, integratorSettings);
+  const raytracer::EstimateResult result =
+      raytracer::estimateIrradiance(integrator, sensors.positionsM, sensors.normals, settings);
+
+  std::string csv = sensors.header + ",illuminance_lux,std_error_lux\n";
+  for (size_t i = 0; i < sensors.lines.size(); ++i) {
+    const raytracer::IrradianceEstimate& e = result.points[i];
+    // The luminance of the per-channel standard errors: exact when the channels' errors are fully correlated
+    // (as they are for white light), otherwise a slight overestimate.
+    csv += sensors.lines[i] + "," + number(luminance(e.meanLux)) + "," + number(luminance(e.stdErrorLux)) + "\n";
+  }
+  writeFileAtomic(o.out, csv);
+  std::fprintf(stderr,
+               "illuminance: %zu sensors, %u samples each, 95th percentile of relative standard error %.3g %%, "
+               "%.1f s, %.3g Mrays/s -> %s\n",
+               sensors.lines.size(), result.samplesPerPoint, 100.0 * result.relativeErrorP95, result.seconds,
+               result.seconds > 0.0 ? double(result.rays) / result.seconds * 1e-6 : 0.0, o.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command addIlluminanceCommand(CLI::App& app) {
+  auto o = std::make_shared<IlluminanceOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "illuminance",
+      "Illuminance (lux) at sensor points with its standard error, from sun, sky, lights and interreflections");
+  sub->add_option("SCENE", o->scene, "scene file (.json) or glTF model (.gltf, .glb)")->required();
+  sub->add_option("--points", o->points,
+                  "sensor file (.csv): a header naming the columns x,y,z,nx,ny,nz (metres, world space; the "
+                  "sensor's unit normal), one row per sensor; other columns are kept")
+      ->required();
+  sub->add_option("--out", o->out, "output .csv: the input rows with illuminance_lux and std_error_lux added")
+      ->required();
+  sub->add_option("--target-error", o->targetError,
+                  "stop when the 95th percentile of the relative standard error reaches this, e.g. 1% (default: "
+                  "the scene's bake.targetError, 1%)");
+  sub->add_option("--time", o->time, "stop after this run time, e.g. 60s or 5m (default: the scene's bake.time)");
+  sub->add_option("--samples", o->samples,
+                  "samples per sensor, a power of two (default: the scene's bake.samples, else up to 65536)");
+  sub->add_option("--sampler", o->sampler, "sobol (Owen-scrambled, quasi-Monte Carlo) or random (plain Monte Carlo)")
+      ->capture_default_str();
+  sub->add_option("--max-bounces", o->maxBounces,
+                  "interreflections before the path ends (default: the scene's bake.maxBounces, 8)");
+  sub->add_option("--threads", o->threads, "worker threads (default 0: all cores)")->capture_default_str();
+  return {sub, [o] { return runIlluminance(*o); }};
+}
+
+}  // namespace fly::cli

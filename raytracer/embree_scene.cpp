@@ -1,0 +1,142 @@
+#include "raytracer/embree_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "base/log.h"
+
+namespace fly::raytracer {
+namespace {
+
+void logEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
+  log::error("Embree error " + std::to_string(static_cast<int>(code)) + ": " +
+             (message ? message : "(no message)"));
+}
+
+RTCRay makeRay(const vec3& origin, const vec3& dir, float tMaxM) {
+  RTCRay ray{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = dir.x;
+  ray.dir_y = dir.y;
+  ray.dir_z = dir.z;
+  ray.tnear = 0.0f;
+  ray.tfar = tMaxM;
+  ray.mask = 0xffffffffu;
+  return ray;
+}
+
+}  // namespace
+
+EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) {
+  const size_t triangleCount = rdb.triangleCount();
+  normals_.assign(triangleCount, vec3(0.0f));
+  areasM2_.assign(triangleCount, 0.0f);
+  magnitudesM_.assign(triangleCount, 0.0f);
+  std::vector<uint32_t> validIndices;
+  for (size_t t = 0; t < triangleCount; ++t) {
+    const uint32_t i0 = rdb.indices[3 * t], i1 = rdb.indices[3 * t + 1], i2 = rdb.indices[3 * t + 2];
+    if (i0 >= rdb.positionsM.size() || i1 >= rdb.positionsM.size() || i2 >= rdb.positionsM.size()) {
+      throw std::invalid_argument("EmbreeScene: triangle " + std::to_string(t) +
+                                  " has a vertex index beyond " + std::to_string(rdb.positionsM.size()) +
+                                  " positions");
+    }
+    const vec3& p0 = rdb.positionsM[i0];
+    const vec3& p1 = rdb.positionsM[i1];
+    const vec3& p2 = rdb.positionsM[i2];
+    if (!isFinite(p0) || !isFinite(p1) || !isFinite(p2)) continue;
+    // In double, so that the normal of a sliver is not lost to cancellation.
+    const dvec3 cross = glm::cross(dvec3(p1) - dvec3(p0), dvec3(p2) - dvec3(p0));
+    const double twiceArea = glm::length(cross);
+    if (!(twiceArea > 0.0) || !std::isfinite(twiceArea)) continue;
+    const vec3 n(cross / twiceArea);
+    if (!isFinite(n) || glm::dot(n, n) < 0.5f) continue;
+    normals_[t] = n;
+    areasM2_[t] = static_cast<float>(0.5 * twiceArea);
+    magnitudesM_[t] = std::max({maxAbs(p0), maxAbs(p1), maxAbs(p2)});
+    validIndices.insert(validIndices.end(), {i0, i1, i2});
+    triangleOfPrimitive_.push_back(static_cast<uint32_t>(t));
+  }
+
+  device_ = rtcNewDevice(nullptr);
+  if (device_ == nullptr) {
+    throw std::runtime_error("cannot create the Embree device (error " +
+                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  }
+  rtcSetDeviceErrorFunction(device_, logEmbreeError, nullptr);
+  scene_ = rtcNewScene(device_);
+  // Watertight ray–triangle tests: a ray through a shared edge or vertex hits one of the triangles.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  if (!triangleOfPrimitive_.empty()) {
+    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Copies: Embree pads the vertex buffer so that it can read the last vertex as 16 bytes.
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(vec3), rdb.positionsM.size()));
+    for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
+      const vec3& p = rdb.positionsM[v];
+      // Vertices of left-out triangles may be non-finite; Embree must not see them.
+      const vec3 finite = isFinite(p) ? p : vec3(0.0f);
+      vertices[3 * v] = finite.x;
+      vertices[3 * v + 1] = finite.y;
+      vertices[3 * v + 2] = finite.z;
+    }
+    auto* indices =
+        static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                       3 * sizeof(uint32_t), triangleOfPrimitive_.size()));
+    std::copy(validIndices.begin(), validIndices.end(), indices);
+    rtcSetGeometryUserData(geometry, this);
+    rtcSetGeometryIntersectFilterFunction(geometry, rejectHitsLeavingOrigin);
+    rtcSetGeometryOccludedFilterFunction(geometry, rejectHitsLeavingOrigin);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene_, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(scene_);
+}
+
+EmbreeScene::~EmbreeScene() {
+  rtcReleaseScene(scene_);
+  rtcReleaseDevice(device_);
+}
+
+void EmbreeScene::rejectHitsLeavingOrigin(const RTCFilterFunctionNArguments* args) {
+  const auto* self = static_cast<const EmbreeScene*>(args->geometryUserPtr);
+  for (unsigned int i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const vec3 origin(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                      RTCRayN_org_z(args->ray, args->N, i));
+    const vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                   RTCRayN_dir_z(args->ray, args->N, i));
+    // The filter sees the candidate hit's distance in tfar.
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const uint32_t triangle = self->triangleOfPrimitive_[RTCHitN_primID(args->hit, args->N, i)];
+    if (t <= rayOffsetM(maxAbs(origin)) && glm::dot(self->normals_[triangle], dir) > 0.0f) args->valid[i] = 0;
+  }
+}
+
+bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = makeRay(origin, dir, tMaxM);
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+std::optional<Hit> EmbreeScene::intersect(const vec3& origin, const vec3& dir, float tMaxM) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayHit{};
+  rayHit.ray = makeRay(origin, dir, tMaxM);
+  rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rayHit);
+  if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  const uint32_t triangle = triangleOfPrimitive_[rayHit.hit.primID];
+  return Hit{triangle, vec2(rayHit.hit.u, rayHit.hit.v), normals_[triangle], rayHit.ray.tfar};
+}
+
+}  // namespace fly::raytracer

@@ -1,0 +1,493 @@
+#include "raytracer/integrator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "raytracer/warp.h"
+
+namespace fly::raytracer {
+namespace {
+
+// Veach & Guibas 1995, the power heuristic with β = 2, one sample from each technique: the weight of the
+// technique that drew the sample, with density a, against the other's b.
+float powerHeuristic(float a, float b) {
+  if (std::isinf(a)) return 1.0f;
+  const float a2 = a * a;
+  const float b2 = b * b;
+  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+// Sampler dimension groups per path vertex: (sun, sky), (emitter, continuation), (Russian roulette).
+constexpr uint32_t kGroupsPerVertex = 3;
+
+// Direction of the sky table's (u, v) = (φ / 2π, 1 − μ), φ = atan2(d.z, d.x) (TraceSky).
+vec3 skyDirection(const vec2& uv) {
+  const float mu = 1.0f - uv.y;
+  const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - mu * mu));
+  const float phi = 2.0f * kPiF * uv.x;
+  return vec3(sinTheta * std::cos(phi), mu, sinTheta * std::sin(phi));
+}
+
+vec2 skyUv(const vec3& d) {
+  float phi = std::atan2(d.z, d.x);
+  if (phi < 0.0f) phi += 2.0f * kPiF;
+  return vec2(std::min(phi / (2.0f * kPiF), 0x1.fffffep-1f), std::clamp(1.0f - d.y, 0.0f, 0x1.fffffep-1f));
+}
+
+// A measured intensity table at (γ, C) in radians, bilinear, wrapping in C (TraceGoniometricTable).
+float goniometricCandela(const rdb::TraceGoniometricTable& table, float gammaRad, float cRad) {
+  const float g = std::clamp(gammaRad / kPiF, 0.0f, 1.0f) * static_cast<float>(table.gammaSteps - 1);
+  float c = cRad / (2.0f * kPiF) * static_cast<float>(table.cSteps);
+  c -= std::floor(c / static_cast<float>(table.cSteps)) * static_cast<float>(table.cSteps);
+  const auto g0 = std::min(static_cast<uint32_t>(g), table.gammaSteps - 1);
+  const uint32_t g1 = std::min(g0 + 1, table.gammaSteps - 1);
+  const auto c0 = std::min(static_cast<uint32_t>(c), table.cSteps - 1);
+  const uint32_t c1 = (c0 + 1) % table.cSteps;
+  const float fg = g - static_cast<float>(g0);
+  const float fc = c - static_cast<float>(c0);
+  auto at = [&](uint32_t ci, uint32_t gi) { return table.candelaCd[ci * table.gammaSteps + gi]; };
+  return (1.0f - fc) * ((1.0f - fg) * at(c0, g0) + fg * at(c0, g1)) +
+         fc * ((1.0f - fg) * at(c1, g0) + fg * at(c1, g1));
+}
+
+}  // namespace
+
+Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings)
+    : rdb_(rdb), scene_(scene), settings_(settings) {
+  if (rdb.triangleMaterial.size() != rdb.triangleCount()) {
+    throw std::invalid_argument("Integrator: " + std::to_string(rdb.triangleMaterial.size()) +
+                                " triangle materials for " + std::to_string(rdb.triangleCount()) +
+                                " triangles");
+  }
+  for (uint32_t m : rdb.triangleMaterial) {
+    if (m >= rdb.materials.size()) {
+      throw std::invalid_argument("Integrator: material index " + std::to_string(m) + " of " +
+                                  std::to_string(rdb.materials.size()) + " materials");
+    }
+  }
+  for (const rdb::TracePunctualLight& light : rdb.punctualLights) {
+    if (light.type != rdb::PunctualType::kGoniometric) continue;
+    if (light.goniometricTable >= rdb.goniometricTables.size()) {
+      throw std::invalid_argument("Integrator: goniometric table " + std::to_string(light.goniometricTable) +
+                                  " does not exist");
+    }
+    const rdb::TraceGoniometricTable& table = rdb.goniometricTables[light.goniometricTable];
+    if (table.gammaSteps < 2 || table.cSteps < 1 ||
+        table.candelaCd.size() != table.gammaSteps * table.cSteps) {
+      throw std::invalid_argument("Integrator: goniometric table " + std::to_string(light.goniometricTable) +
+                                  " needs gammaSteps >= 2, cSteps >= 1 and gammaSteps * cSteps values");
+    }
+  }
+
+  const uint32_t res = rdb.sky.resolution;
+  if (res > 0) {
+    if (rdb.sky.radianceCdM2.size() != size_t{res} * res) {
+      throw std::invalid_argument("Integrator: the sky table has " +
+                                  std::to_string(rdb.sky.radianceCdM2.size()) + " cells for resolution " +
+                                  std::to_string(res));
+    }
+    std::vector<float> luminances(rdb.sky.radianceCdM2.size());
+    for (size_t i = 0; i < luminances.size(); ++i) {
+      luminances[i] = std::max(luminance(rdb.sky.radianceCdM2[i]), 0.0f);
+    }
+    Distribution2D sky(luminances, res, res);
+    if (!sky.allZero()) skyDistribution_.emplace(std::move(sky));
+  }
+
+  emitterPmfOfTriangle_.assign(rdb.triangleCount(), 0.0f);
+  if (!rdb.emissiveTriangles.empty()) {
+    std::vector<float> powers;
+    powers.reserve(rdb.emissiveTriangles.size());
+    for (uint32_t t : rdb.emissiveTriangles) {
+      const rdb::TraceMaterial& m = rdb.materials[rdb.triangleMaterial.at(t)];
+      const float sides = m.doubleSided ? 2.0f : 1.0f;
+      powers.push_back(sides * scene.triangleAreaM2(t) * std::max(luminance(m.emissionCdM2), 0.0f));
+    }
+    Distribution1D emitters(powers);
+    if (!emitters.allZero()) {
+      for (size_t i = 0; i < rdb.emissiveTriangles.size(); ++i) {
+        emitterPmfOfTriangle_[rdb.emissiveTriangles[i]] += emitters.pmf(static_cast<uint32_t>(i));
+      }
+      emitterDistribution_.emplace(std::move(emitters));
+    }
+  }
+
+  if (rdb.hasSun && luminance(rdb.sun.normalIlluminanceLux) > 0.0f) {
+    // ∫ over the cone of half-angle θ_s of cos(angle to its axis) dω = π sin² θ_s; sin² θ_s = w (2 − w), w =
+    // 1 − cos θ_s.
+    sunOneMinusCos_ = oneMinusCos(rdb.sun.halfAngleRad);
+    sunRadianceCdM2_ = rdb.sun.normalIlluminanceLux / (kPiF * sunOneMinusCos_ * (2.0f - sunOneMinusCos_));
+  }
+}
+
+Rgb Integrator::skyRadiance(const vec3& d) const {
+  if (!skyDistribution_ || d.y < 0.0f) return Rgb(0.0f);
+  const uint32_t res = rdb_.sky.resolution;
+  const vec2 uv = skyUv(d);
+  const auto i = std::min(static_cast<uint32_t>(uv.x * static_cast<float>(res)), res - 1);
+  const auto j = std::min(static_cast<uint32_t>(uv.y * static_cast<float>(res)), res - 1);
+  return rdb_.sky.radianceCdM2[j * res + i];
+}
+
+float Integrator::skyPdf(const vec3& d) const {
+  // dω = dφ dμ = 2π du dv.
+  if (!skyDistribution_ || d.y < 0.0f) return 0.0f;
+  return skyDistribution_->pdf(skyUv(d)) / (2.0f * kPiF);
+}
+
+float Integrator::emitterPdf(uint32_t t, float distM, float absCosLight) const {
+  if (absCosLight <= 0.0f) return 0.0f;
+  return emitterPmfOfTriangle_[t] / scene_.triangleAreaM2(t) * distM * distM / absCosLight;
+}
+
+Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const {
+  const vec3 origin = offsetRayOrigin(v.p, v.n, v.magnitudeM);
+  if (light.type == rdb::PunctualType::kDirectional) {
+    const vec3 toLight = -light.directionWorld;
+    const float cosTheta = glm::dot(v.n, toLight);
+    if (cosTheta <= 0.0f) return Rgb(0.0f);
+    ++rays;
+    if (scene_.occluded(origin, toLight, std::numeric_limits<float>::infinity())) return Rgb(0.0f);
+    return light.intensity * cosTheta;
+  }
+  const vec3 toLight = light.positionM - v.p;
+  const float distM = glm::length(toLight);
+  if (!(distM > 0.0f) || distM >= light.rangeM) return Rgb(0.0f);
+  const vec3 dir = toLight / distM;
+  const float cosTheta = glm::dot(v.n, dir);
+  if (cosTheta <= 0.0f) return Rgb(0.0f);
+  // KHR_lights_punctual's recommended range window: clamp(1 − (d / range)⁴, 0, 1) / d².
+  const float ratio = distM / light.rangeM;
+  float factor = std::clamp(1.0f - ratio * ratio * ratio * ratio, 0.0f, 1.0f);
+  if (light.type == rdb::PunctualType::kSpot) {
+    // KHR_lights_punctual: t = clamp((cos − cos_outer) / max(0.001, cos_inner − cos_outer), 0, 1), squared.
+    const float cd = glm::dot(light.directionWorld, -dir);
+    const float t =
+        std::clamp((cd - light.cosOuter) / std::max(0.001f, light.cosInner - light.cosOuter), 0.0f, 1.0f);
+    factor *= t * t;
+  } else if (light.type == rdb::PunctualType::kGoniometric) {
+    // γ from the photometric axis (directionWorld), C from cAxisWorld towards the light's +Y = −Z × X.
+    const vec3 w = -dir;
+    const float gamma = std::acos(std::clamp(glm::dot(w, light.directionWorld), -1.0f, 1.0f));
+    const vec3 yAxis = glm::cross(-light.directionWorld, light.cAxisWorld);
+    const float c = std::atan2(glm::dot(w, yAxis), glm::dot(w, light.cAxisWorld));
+    factor *= goniometricCandela(rdb_.goniometricTables[light.goniometricTable], gamma, c);
+  }
+  if (factor <= 0.0f) return Rgb(0.0f);
+  ++rays;
+  if (scene_.occluded(origin, dir, distM)) return Rgb(0.0f);
+  return light.intensity * (factor * cosTheta / (distM * distM));
+}
+
+template <class S>
+Rgb Integrator::directLight(const Vertex& v, uint32_t group, S& sampler, uint64_t& rays) const {
+  sampler.startGroup(group);
+  Rgb sum(0.0f);
+  const vec3 origin = offsetRayOrigin(v.p, v.n, v.magnitudeM);
+  const vec2 uSun = sampler.next2D();
+  const vec2 uSky = sampler.next2D();
+
+  if (sunOneMinusCos_ > 0.0f) {
+    // Uniform in the sun's cone: L cos θ / pdf, pdf = 1 / (2π (1 − cos θ_s)).
+    const vec3 d = onb(rdb_.sun.directionWorld).toWorld(sampleUniformCone(uSun, sunOneMinusCos_));
+    const float cosTheta = glm::dot(v.n, d);
+    if (cosTheta > 0.0f) {
+      ++rays;
+      if (!scene_.occluded(origin, d, std::numeric_limits<float>::infinity())) {
+        sum += sunRadianceCdM2_ * (cosTheta / uniformConePdf(sunOneMinusCos_));
+      }
+    }
+  }
+
+  if (skyDistribution_) {
+    const Distribution2D::Sample s = skyDistribution_->sample(uSky);
+    const vec3 d = skyDirection(s.p);
+    const float cosTheta = glm::dot(v.n, d);
+    const float pdf = s.pdf / (2.0f * kPiF);
+    if (cosTheta > 0.0f && pdf > 0.0f) {
+      ++rays;
+      if (!scene_.occluded(origin, d, std::numeric_limits<float>::infinity())) {
+        sum += skyRadiance(d) * (cosTheta / pdf * powerHeuristic(pdf, cosineHemispherePdf(cosTheta)));
+      }
+    }
+  }
+
+  for (const rdb::TracePunctualLight& light : rdb_.punctualLights) sum += punctualLight(light, v, rays);
+
+  sampler.startGroup(group + 1);
+  const vec2 uEmitter = sampler.next2D();
+  if (emitterDistribution_) {
+    const Distribution1D::DiscreteSample pick = emitterDistribution_->sampleDiscrete(uEmitter.x);
+    const uint32_t t = rdb_.emissiveTriangles[pick.index];
+    const vec3 b = sampleUniformTriangle(vec2(pick.uRemapped, uEmitter.y));
+    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * t]];
+    const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * t + 1]];
+    const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * t + 2]];
+    const vec3 y = b.x * p0 + b.y * p1 + b.z * p2;
+    const vec3 toLight = y - v.p;
+    const float distM = glm::length(toLight);
+    const vec3 d = toLight / distM;
+    const float cosTheta = glm::dot(v.n, d);
+    const vec3& nLight = scene_.triangleNormal(t);
+    const float cosLight = -glm::dot(nLight, d);
+    const rdb::TraceMaterial& m = rdb_.materials[rdb_.triangleMaterial[t]];
+    if (distM > 0.0f && cosTheta > 0.0f && (cosLight > 0.0f || (m.doubleSided && cosLight < 0.0f))) {
+      const float pdf = emitterPdf(t, distM, std::abs(cosLight));
+      // Both ends moved off their surfaces, the light's towards the receiver.
+      const vec3 target =
+          offsetRayOrigin(y, cosLight > 0.0f ? nLight : -nLight, scene_.triangleMagnitudeM(t));
+      const vec3 toTarget = target - origin;
+      const float targetDistM = glm::length(toTarget);
+      ++rays;
+      if (pdf > 0.0f && std::isfinite(pdf) && targetDistM > 0.0f &&
+          !scene_.occluded(origin, toTarget / targetDistM, targetDistM)) {
+        sum += m.emissionCdM2 * (cosTheta / pdf * powerHeuristic(pdf, cosineHemispherePdf(cosTheta)));
+      }
+    }
+  }
+  return sum;
+}
+
+template <class S>
+Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
+                                 float surfaceMagnitudeM) const {
+  Rgb sum(0.0f);
+  // Path throughput: Π f cos θ / pdf over the vertices passed (π at the sensor, then the albedos, over the
+  // Russian-roulette survival probabilities).
+  Rgb beta(1.0f);
+  // The vertex's BSDF factor: 1 at the sensor (its integrand is L cos θ), albedo / π on a Lambertian surface.
+  Rgb f(1.0f);
+  Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM)};
+  const uint32_t maxDepth = std::min(settings_.maxBounces, kPathLengthGuard);
+  for (uint32_t depth = 0;; ++depth) {
+    sum += beta * f * directLight(v, kGroupsPerVertex * depth, sampler, rays);
+
+    // Continue by cosine sampling (the second pair of group 3·depth + 1): f cos θ / pdf = π f.
+    const vec3 d = onb(v.n).toWorld(sampleCosineHemisphere(sampler.next2D()));
+    const float cosTheta = glm::dot(v.n, d);
+    if (!(cosTheta > 0.0f)) break;
+    const float pdfCos = cosineHemispherePdf(cosTheta);
+    beta *= kPiF * f;
+    ++rays;
+    const std::optional<Hit> hit =
+        scene_.intersect(offsetRayOrigin(v.p, v.n, v.magnitudeM), d, std::numeric_limits<float>::infinity());
+    if (!hit) {
+      if (skyDistribution_) sum += beta * skyRadiance(d) * powerHeuristic(pdfCos, skyPdf(d));
+      break;
+    }
+    const float cosLight = -glm::dot(hit->geometricNormal, d);
+    const bool front = cosLight > 0.0f;
+    const rdb::TraceMaterial& m = rdb_.materials[rdb_.triangleMaterial[hit->triangle]];
+    if (emitterPmfOfTriangle_[hit->triangle] > 0.0f && (front || m.doubleSided)) {
+      const float pdfLight = emitterPdf(hit->triangle, hit->distanceM, std::abs(cosLight));
+      sum += beta * m.emissionCdM2 * powerHeuristic(pdfCos, pdfLight);
+    }
+    if ((!front && !m.doubleSided) || depth + 1 > maxDepth || maxComponent(m.diffuse) <= 0.0f) break;
+
+    const uint32_t t = hit->triangle;
+    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * t]];
+    const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * t + 1]];
+    const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * t + 2]];
+    // The hit point from its barycentrics, more precise than origin + t·d (Wächter & Binder 2019).
+    const vec3 x = (1.0f - hit->barycentric.x - hit->barycentric.y) * p0 + hit->barycentric.x * p1 +
+                   hit->barycentric.y * p2;
+    v = Vertex{x, front ? hit->geometricNormal : -hit->geometricNormal,
+               std::max(maxAbs(x), scene_.triangleMagnitudeM(t))};
+    f = m.diffuse / kPiF;
+
+    // Russian roulette from the second bounce on, on the throughput relative to the sensor's (β ρ / π) that
+    // the path carries past this vertex (as pbrt-v4's PathIntegrator).
+    sampler.startGroup(kGroupsPerVertex * depth + 2);
+    const float uRoulette = sampler.next1D();
+    if (depth + 1 >= 2) {
+      const float q = std::min(1.0f, maxComponent(beta * m.diffuse) / kPiF);
+      if (uRoulette >= q) break;
+      beta /= q;
+    }
+  }
+  return sum;
+}
+
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float) const;
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float) const;
+
+namespace {
+
+// Welford's running mean and sum of squared deviations, per channel, in double (Welford, "Note on a method
+// for calculating corrected sums of squares and products", Technometrics 4(3), 1962).
+struct Welford {
+  dvec3 mean{0.0};
+  dvec3 m2{0.0};
+  uint32_t count = 0;
+
+  void add(const Rgb& x) {
+    ++count;
+    const dvec3 delta = dvec3(x) - mean;
+    mean += delta / static_cast<double>(count);
+    m2 += delta * (dvec3(x) - mean);
+  }
+};
+
+// Every point's running statistics.
+class Accumulators {
+ public:
+  Accumulators(size_t pointCount, uint32_t replicates)
+      : replicates_(replicates), welford_(pointCount), replicateSums_(pointCount * replicates, dvec3(0.0)) {}
+
+  uint32_t replicates() const { return replicates_; }
+  Welford& welford(size_t point) { return welford_[point]; }
+  dvec3& replicateSum(size_t point, uint32_t r) { return replicateSums_[point * replicates_ + r]; }
+
+  // samples: per point, all replicates together.
+  IrradianceEstimate estimate(size_t point, uint32_t samples) const {
+    IrradianceEstimate e;
+    e.samples = samples;
+    if (replicates_ == 1) {
+      const Welford& w = welford_[point];
+      e.meanLux = Rgb(w.mean);
+      if (w.count > 1) e.stdErrorLux = Rgb(glm::sqrt(w.m2 / (static_cast<double>(w.count) * (w.count - 1))));
+      return e;
+    }
+    // The replicates' means are independent and identically distributed; the standard error of their mean is
+    // their sample standard deviation over √K.
+    const double perReplicate = static_cast<double>(samples) / replicates_;
+    dvec3 mean(0.0);
+    for (uint32_t r = 0; r < replicates_; ++r) mean += replicateSums_[point * replicates_ + r] / perReplicate;
+    mean /= static_cast<double>(replicates_);
+    dvec3 squares(0.0);
+    for (uint32_t r = 0; r < replicates_; ++r) {
+      const dvec3 d = replicateSums_[point * replicates_ + r] / perReplicate - mean;
+      squares += d * d;
+    }
+    e.meanLux = Rgb(mean);
+    e.stdErrorLux = Rgb(glm::sqrt(squares / (static_cast<double>(replicates_) * (replicates_ - 1))));
+    return e;
+  }
+
+ private:
+  uint32_t replicates_;
+  std::vector<Welford> welford_;      // replicates_ == 1
+  std::vector<dvec3> replicateSums_;  // replicates_ ≥ 2: point-major
+};
+
+float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
+  std::vector<float> rel;
+  rel.reserve(estimates.size());
+  for (const IrradianceEstimate& e : estimates) {
+    const float mean = luminance(e.meanLux);
+    const float err = luminance(e.stdErrorLux);
+    rel.push_back(mean > 0.0f ? err / mean : (err > 0.0f ? std::numeric_limits<float>::infinity() : 0.0f));
+  }
+  if (rel.empty()) return 0.0f;
+  const size_t k =
+      std::min(rel.size() - 1, static_cast<size_t>(std::ceil(0.95 * static_cast<double>(rel.size()))) - 1);
+  std::nth_element(rel.begin(), rel.begin() + static_cast<std::ptrdiff_t>(k), rel.end());
+  return rel[k];
+}
+
+// Samples firstSample … firstSample + sampleCount − 1 of every point (split evenly over the replicates).
+template <class S>
+void runPass(const Integrator& integrator, std::span<const vec3> points, std::span<const vec3> normals,
+             std::span<const float> magnitudesM, const EstimateSettings& settings, uint32_t firstSample,
+             uint32_t sampleCount, Accumulators& acc, uint64_t& rays) {
+  std::atomic<size_t> next{0};
+  std::atomic<uint64_t> totalRays{0};
+  const uint32_t k = acc.replicates();
+  auto work = [&] {
+    constexpr size_t kChunk = 16;
+    uint64_t threadRays = 0;
+    for (size_t begin = next.fetch_add(kChunk); begin < points.size(); begin = next.fetch_add(kChunk)) {
+      for (size_t i = begin; i < std::min(begin + kChunk, points.size()); ++i) {
+        const float magnitudeM = magnitudesM.empty() ? 0.0f : magnitudesM[i];
+        if (k == 1) {
+          S sampler(settings.seed + i);
+          for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
+            sampler.startSample(s);
+            acc.welford(i).add(
+                integrator.sampleIrradiance(points[i], normals[i], sampler, threadRays, magnitudeM));
+          }
+          continue;
+        }
+        for (uint32_t r = 0; r < k; ++r) {
+          // An independent randomisation per replicate.
+          S sampler(detail::mix64(settings.seed + i) + r);
+          dvec3& sum = acc.replicateSum(i, r);
+          for (uint32_t s = firstSample / k; s < (firstSample + sampleCount) / k; ++s) {
+            sampler.startSample(s);
+            sum += dvec3(integrator.sampleIrradiance(points[i], normals[i], sampler, threadRays, magnitudeM));
+          }
+        }
+      }
+    }
+    totalRays += threadRays;
+  };
+  const uint32_t threads =
+      settings.threads > 0 ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::jthread> pool;
+  for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  pool.clear();
+  rays += totalRays;
+}
+
+bool isPowerOfTwo(uint32_t x) {
+  return x != 0 && (x & (x - 1)) == 0;
+}
+
+}  // namespace
+
+EstimateResult estimateIrradiance(const Integrator& integrator, std::span<const vec3> points,
+                                  std::span<const vec3> normals, const EstimateSettings& settings,
+                                  std::span<const float> surfaceMagnitudesM) {
+  if (points.size() != normals.size() ||
+      (!surfaceMagnitudesM.empty() && surfaceMagnitudesM.size() != points.size())) {
+    throw std::invalid_argument("estimateIrradiance: " + std::to_string(points.size()) + " points but " +
+                                std::to_string(normals.size()) + " normals and " +
+                                std::to_string(surfaceMagnitudesM.size()) + " surface magnitudes");
+  }
+  if (!isPowerOfTwo(settings.replicates) || !isPowerOfTwo(settings.firstPassSamples) ||
+      settings.firstPassSamples < settings.replicates) {
+    throw std::invalid_argument("estimateIrradiance: replicates (" + std::to_string(settings.replicates) +
+                                ") and firstPassSamples (" + std::to_string(settings.firstPassSamples) +
+                                ") must be powers of two, firstPassSamples >= replicates");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  EstimateResult result;
+  Accumulators acc(points.size(), settings.replicates);
+  uint32_t total = 0;
+  double lastPassS = 0.0;
+  for (uint32_t passSamples = settings.firstPassSamples; total + passSamples <= settings.maxSamples;
+       passSamples = total) {
+    // Passes double the total; each costs about as much per sample as the last.
+    if (total > 0 && elapsed() + lastPassS * passSamples / static_cast<double>(total) > settings.timeLimitS)
+      break;
+    const double passStart = elapsed();
+    if (settings.sampler == SamplerKind::kSobol) {
+      runPass<SobolSampler>(integrator, points, normals, surfaceMagnitudesM, settings, total, passSamples,
+                            acc, result.rays);
+    } else {
+      runPass<RandomSampler>(integrator, points, normals, surfaceMagnitudesM, settings, total, passSamples,
+                             acc, result.rays);
+    }
+    total += passSamples;
+    lastPassS = elapsed() - passStart;
+    result.points.clear();
+    for (size_t i = 0; i < points.size(); ++i) result.points.push_back(acc.estimate(i, total));
+    result.relativeErrorP95 = relativeErrorP95(result.points);
+    if (settings.targetRelativeError > 0.0f && result.relativeErrorP95 <= settings.targetRelativeError) break;
+  }
+  result.samplesPerPoint = total;
+  if (total == 0) result.points.assign(points.size(), IrradianceEstimate{});
+  result.seconds = elapsed();
+  return result;
+}
+
+}  // namespace fly::raytracer

@@ -1,0 +1,622 @@
+// Irradiance against exact answers (STYLE.md 8, 9): every estimate must lie within 4 of its reported standard
+// errors of the exact value, and that standard error must be small enough for the comparison to mean
+// something.
+#include "raytracer/integrator.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "raytracer/sampler.h"
+#include "raytracer/warp.h"
+
+namespace fly::raytracer {
+namespace {
+
+// A TraceRdb built by hand.
+struct SceneBuilder {
+  rdb::TraceRdb rdb;
+
+  uint32_t material(const Rgb& diffuse, const Rgb& emissionCdM2 = Rgb(0.0f), bool doubleSided = false) {
+    rdb::TraceMaterial m;
+    m.diffuse = diffuse;
+    m.emissionCdM2 = emissionCdM2;
+    m.doubleSided = doubleSided;
+    rdb.materials.push_back(m);
+    return static_cast<uint32_t>(rdb.materials.size() - 1);
+  }
+  void triangle(const vec3& a, const vec3& b, const vec3& c, uint32_t mat) {
+    const auto first = static_cast<uint32_t>(rdb.positionsM.size());
+    rdb.positionsM.insert(rdb.positionsM.end(), {a, b, c});
+    const vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    rdb.normals.insert(rdb.normals.end(), {n, n, n});
+    rdb.indices.insert(rdb.indices.end(), {first, first + 1, first + 2});
+    rdb.triangleMaterial.push_back(mat);
+    if (maxComponent(rdb.materials[mat].emissionCdM2) > 0.0f) {
+      rdb.emissiveTriangles.push_back(static_cast<uint32_t>(rdb.triangleCount() - 1));
+    }
+  }
+  // Counter-clockwise seen from the front.
+  void quad(const vec3& a, const vec3& b, const vec3& c, const vec3& d, uint32_t mat) {
+    triangle(a, b, c, mat);
+    triangle(a, c, d, mat);
+  }
+  // y = 0 from −half to half, facing +Y.
+  void ground(float halfM, uint32_t mat) {
+    quad(vec3(-halfM, 0, -halfM), vec3(-halfM, 0, halfM), vec3(halfM, 0, halfM), vec3(halfM, 0, -halfM), mat);
+  }
+  void box(const vec3& lo, const vec3& hi, bool inward, uint32_t mat) {
+    const vec3 c[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {lo.x, hi.y, lo.z},
+                       {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+    const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 4, 7, 3},
+                             {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}};
+    for (const auto& f : faces) {
+      if (inward) {
+        quad(c[f[0]], c[f[3]], c[f[2]], c[f[1]], mat);
+      } else {
+        quad(c[f[0]], c[f[1]], c[f[2]], c[f[3]], mat);
+      }
+    }
+  }
+  void uniformSky(const Rgb& radianceCdM2, uint32_t resolution = 16) {
+    rdb.sky.resolution = resolution;
+    rdb.sky.radianceCdM2.assign(size_t{resolution} * resolution, radianceCdM2);
+  }
+  void sun(float elevationDeg, float azimuthDeg, const Rgb& normalLux) {
+    const auto e = static_cast<float>(degToRad(elevationDeg));
+    const auto a = static_cast<float>(degToRad(azimuthDeg));
+    rdb.hasSun = true;
+    rdb.sun.directionWorld = vec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
+    rdb.sun.normalIlluminanceLux = normalLux;
+  }
+};
+
+struct Sensors {
+  std::vector<vec3> points;
+  std::vector<vec3> normals;
+  std::vector<Rgb> exact;
+  void add(const vec3& p, const vec3& n, const Rgb& e) {
+    points.push_back(p);
+    normals.push_back(glm::normalize(n));
+    exact.push_back(e);
+  }
+};
+
+// The tests estimate each point's error from 64 replicates: with the default 8, the 4σ bound of expectAgrees
+// (t-distributed with 7 degrees of freedom) would fail by chance on 1 point in 200.
+constexpr uint32_t kTestReplicates = 64;
+
+EstimateResult run(const rdb::TraceRdb& rdb, const Sensors& s, uint32_t samples,
+                   SamplerKind kind = SamplerKind::kSobol, uint32_t threads = 0, uint64_t seed = 0,
+                   uint32_t replicates = kTestReplicates) {
+  const EmbreeScene scene(rdb);
+  const Integrator integrator(rdb, scene);
+  EstimateSettings settings;
+  settings.firstPassSamples = std::max(std::min(samples, 16u), replicates);
+  settings.maxSamples = samples;
+  settings.sampler = kind;
+  settings.threads = threads;
+  settings.seed = seed;
+  settings.replicates = replicates;
+  return estimateIrradiance(integrator, s.points, s.normals, settings);
+}
+
+// |mean − exact| < 4 σ + 10⁻⁵ exact per channel, and σ ≤ maxRelStdError · exact (so that the test can fail).
+void expectAgrees(const char* what, const EstimateResult& r, const Sensors& s, float maxRelStdError) {
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    const IrradianceEstimate& e = r.points[i];
+    std::cout << "[ estimate ] " << what << " #" << i << ": " << e.meanLux.g << " ± " << e.stdErrorLux.g
+              << " lux (exact " << s.exact[i].g << ", error "
+              << (e.meanLux.g - s.exact[i].g) / e.stdErrorLux.g << " σ, " << e.samples << " samples)\n";
+    for (int c = 0; c < 3; ++c) {
+      const float exact = s.exact[i][c];
+      EXPECT_LE(std::abs(e.meanLux[c] - exact), 4.0f * e.stdErrorLux[c] + 1e-5f * exact + 1e-6f)
+          << what << " point " << i << " channel " << c << ": " << e.meanLux[c] << " ± " << e.stdErrorLux[c]
+          << ", exact " << exact;
+      EXPECT_LE(e.stdErrorLux[c], maxRelStdError * exact + 1e-6f)
+          << what << " point " << i << " channel " << c;
+    }
+  }
+}
+
+constexpr float kHugeGroundHalfM = 5000.0f;
+
+TEST(Integrator, PointLightOverPlaneIsICosOverDSquared) {
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+  rdb::TracePunctualLight light;
+  light.positionM = vec3(0.5f, 2.0f, -0.25f);
+  light.intensity = Rgb(100.0f, 50.0f, 25.0f);
+  b.rdb.punctualLights.push_back(light);
+  Sensors s;
+  for (const vec3& p : {vec3(0.5f, 0, -0.25f), vec3(0, 0, 0), vec3(3, 0, -2), vec3(-40, 0, 15)}) {
+    const vec3 toLight = light.positionM - p;
+    const float d = glm::length(toLight);
+    s.add(p, vec3(0, 1, 0), light.intensity * (toLight.y / d) / (d * d));
+  }
+  // A tilted sensor: cos θ from its own normal.
+  const vec3 p(1, 0, 1);
+  const vec3 n = glm::normalize(vec3(-1, 1, -1));
+  const vec3 toLight = light.positionM - p;
+  const float d = glm::length(toLight);
+  s.add(p, n, light.intensity * glm::dot(n, toLight / d) / (d * d));
+  expectAgrees("point light", run(b.rdb, s, 64), s, 1e-5f);
+}
+
+TEST(Integrator, SpotRangeDirectionalAndGoniometricLightsFollowKhrLightsPunctual) {
+  const vec3 up(0, 1, 0);
+  auto single = [](const rdb::TracePunctualLight& light, rdb::TraceGoniometricTable table = {}) {
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    b.rdb.punctualLights.push_back(light);
+    if (!table.candelaCd.empty()) b.rdb.goniometricTables.push_back(table);
+    return b;
+  };
+  {
+    // Spot straight down from 2 m, inner 20°, outer 30°: at 25° off axis the factor is t² with
+    // t = (cos 25° − cos 30°) / (cos 20° − cos 30°); at 10° it is 1, at 35° it is 0.
+    rdb::TracePunctualLight spot;
+    spot.type = rdb::PunctualType::kSpot;
+    spot.positionM = vec3(0, 2, 0);
+    spot.directionWorld = vec3(0, -1, 0);
+    spot.cosInner = std::cos(static_cast<float>(degToRad(20.0)));
+    spot.cosOuter = std::cos(static_cast<float>(degToRad(30.0)));
+    spot.intensity = Rgb(1000.0f);
+    const SceneBuilder b = single(spot);
+    Sensors s;
+    for (double angleDeg : {10.0, 25.0, 35.0}) {
+      const auto a = static_cast<float>(degToRad(angleDeg));
+      const float d = 2.0f / std::cos(a);
+      const float t = std::clamp((std::cos(a) - spot.cosOuter) / (spot.cosInner - spot.cosOuter), 0.0f, 1.0f);
+      s.add(vec3(2.0f * std::tan(a), 0, 0), up, spot.intensity * (t * t * std::cos(a) / (d * d)));
+    }
+    expectAgrees("spot", run(b.rdb, s, 64), s, 1e-5f);
+  }
+  {
+    // Range 10 m at 5 m: the window is 1 − (5/10)⁴; beyond the range, nothing.
+    rdb::TracePunctualLight point;
+    point.positionM = vec3(0, 5, 0);
+    point.intensity = Rgb(400.0f);
+    point.rangeM = 10.0f;
+    const SceneBuilder b = single(point);
+    Sensors s;
+    s.add(vec3(0, 0, 0), up, point.intensity * ((1.0f - 0.0625f) / 25.0f));
+    s.add(vec3(20, 0, 0), up, Rgb(0.0f));
+    expectAgrees("range", run(b.rdb, s, 64), s, 1e-5f);
+  }
+  {
+    // Directional: lux on a surface facing it, times cos θ.
+    rdb::TracePunctualLight sunLike;
+    sunLike.type = rdb::PunctualType::kDirectional;
+    sunLike.directionWorld = glm::normalize(vec3(1, -2, 0));
+    sunLike.intensity = Rgb(1000.0f, 900.0f, 800.0f);
+    const SceneBuilder b = single(sunLike);
+    Sensors s;
+    s.add(vec3(100, 0, 100), up, sunLike.intensity * (2.0f / std::sqrt(5.0f)));
+    s.add(vec3(0, 1, 0), vec3(0, -1, 0), Rgb(0.0f));  // facing the ground
+    expectAgrees("directional", run(b.rdb, s, 64), s, 1e-5f);
+  }
+  {
+    // Goniometric with a table that grows linearly in γ from 0 to 180° (C-independent): straight below (γ =
+    // 0) it is 0 cd, at γ = 45° (from the downward axis) a quarter of the maximum.
+    rdb::TraceGoniometricTable table;
+    table.gammaSteps = 5;
+    table.cSteps = 4;
+    for (uint32_t c = 0; c < 4; ++c) {
+      for (uint32_t g = 0; g < 5; ++g) table.candelaCd.push_back(static_cast<float>(g) * 0.25f);
+    }
+    rdb::TracePunctualLight gonio;
+    gonio.type = rdb::PunctualType::kGoniometric;
+    gonio.positionM = vec3(0, 2, 0);
+    gonio.directionWorld = vec3(0, -1, 0);
+    gonio.cAxisWorld = vec3(1, 0, 0);
+    gonio.intensity = Rgb(800.0f);
+    const SceneBuilder b = single(gonio, table);
+    Sensors s;
+    const float d = 2.0f * std::sqrt(2.0f);
+    s.add(vec3(0, 0, 2), up, gonio.intensity * (0.25f * std::cos(kPiF / 4.0f) / (d * d)));
+    s.add(vec3(0.0f, 0.0f, 0.0f), up, Rgb(0.0f));
+    expectAgrees("goniometric", run(b.rdb, s, 64), s, 1e-5f);
+  }
+}
+
+TEST(Integrator, UniformSkyOverPlaneIsPiL) {
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+  const Rgb sky(1000.0f, 2000.0f, 3000.0f);
+  b.uniformSky(sky);
+  Sensors s;
+  s.add(vec3(0, 0, 0), vec3(0, 1, 0), kPiF * sky);
+  s.add(vec3(4000.0f, 0, -3000.0f), vec3(0, 1, 0), kPiF * sky);
+  // Tilted by α (the sky is black below the horizon): E = π L (1 + cos α) / 2.
+  for (float alphaDeg : {30.0f, 90.0f, 150.0f}) {
+    const auto a = static_cast<float>(degToRad(alphaDeg));
+    s.add(vec3(1, 1, 1), vec3(std::sin(a), std::cos(a), 0), kPiF * sky * (1.0f + std::cos(a)) / 2.0f);
+  }
+  expectAgrees("uniform sky", run(b.rdb, s, 1024), s, 0.05f);
+}
+
+// A non-uniform sky table: each equal-area cell (i, j) spans φ ∈ [2π i/res, 2π (i+1)/res) and
+// μ = cos θ ∈ [1 − (j+1)/res, 1 − j/res] (TraceSky). Facing up, E = Σ L_ij ∫_cell μ dω = Σ L_ij (π / res)
+// (μ_hi² − μ_lo²) exactly; facing +x or +z (vertical sensors, no ground), E = Σ L_ij ∫_cell max(0, d · n) dω
+// by fine midpoint quadrature: these check the table's orientation in φ = atan2(d.z, d.x).
+TEST(Integrator, TabulatedSkyIsImportanceSampledInWorldDirections) {
+  SceneBuilder b;
+  constexpr uint32_t kRes = 8;
+  b.rdb.sky.resolution = kRes;
+  RandomSampler values(17);
+  for (uint32_t c = 0; c < kRes * kRes; ++c) {
+    values.startSample(c);
+    const float u = values.next1D();
+    // A wide dynamic range, and one bright cell, as a sky around the sun has.
+    b.rdb.sky.radianceCdM2.push_back(Rgb(100.0f * u * u, 50.0f * u, 20.0f) * (c == 10 ? 200.0f : 1.0f));
+  }
+  dvec3 up(0.0);
+  dvec3 alongX(0.0);
+  dvec3 alongZ(0.0);
+  constexpr int kSub = 64;
+  for (uint32_t j = 0; j < kRes; ++j) {
+    const double muHi = 1.0 - static_cast<double>(j) / kRes;
+    const double muLo = 1.0 - static_cast<double>(j + 1) / kRes;
+    for (uint32_t i = 0; i < kRes; ++i) {
+      const dvec3 radiance(b.rdb.sky.radianceCdM2[j * kRes + i]);
+      double cellX = 0.0;
+      double cellZ = 0.0;
+      for (int a = 0; a < kSub; ++a) {
+        const double phi = 2.0 * kPi * (i + (a + 0.5) / kSub) / kRes;
+        for (int c = 0; c < kSub; ++c) {
+          const double mu = muLo + (muHi - muLo) * (c + 0.5) / kSub;
+          cellX += std::max(0.0, std::sqrt(1.0 - mu * mu) * std::cos(phi));
+          cellZ += std::max(0.0, std::sqrt(1.0 - mu * mu) * std::sin(phi));
+        }
+      }
+      const double subCellSolidAngle = 2.0 * kPi / (kRes * kRes) / (kSub * kSub);
+      up += radiance * ((kPi / kRes) * (muHi * muHi - muLo * muLo));
+      alongX += radiance * (cellX * subCellSolidAngle);
+      alongZ += radiance * (cellZ * subCellSolidAngle);
+    }
+  }
+  Sensors s;
+  s.add(vec3(0.0f), vec3(0, 1, 0), Rgb(up));
+  s.add(vec3(0.0f), vec3(1, 0, 0), Rgb(alongX));
+  s.add(vec3(0.0f), vec3(0, 0, 1), Rgb(alongZ));
+  expectAgrees("sky table", run(b.rdb, s, 4096), s, 0.02f);
+}
+
+// Lambert's formula for a polygon of uniform radiance L seen from p with normal n (Lambert 1760; Arvo,
+// "Analytic methods for simulated light transport", 1995, eq. 3.6): E = (L / 2) |Σ_i γ_i n · (r_i × r_{i+1})
+// / |r_i × r_{i+1}||, with r_i the unit vectors to the vertices and γ_i the angle between r_i and r_{i+1};
+// valid when the polygon lies wholly above the sensor's horizon.
+float lambertPolygon(const vec3& p, const vec3& n, const std::vector<vec3>& polygon, float radiance) {
+  double sum = 0.0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const dvec3 a = glm::normalize(dvec3(polygon[i]) - dvec3(p));
+    const dvec3 c = glm::normalize(dvec3(polygon[(i + 1) % polygon.size()]) - dvec3(p));
+    const double gamma = std::acos(std::clamp(glm::dot(a, c), -1.0, 1.0));
+    sum += gamma * glm::dot(dvec3(n), glm::normalize(glm::cross(a, c)));
+  }
+  return static_cast<float>(0.5 * std::abs(sum) * radiance);
+}
+
+TEST(Integrator, RectangularEmitterFollowsLambertsPolygonFormula) {
+  SceneBuilder b;
+  const float radiance = 50.0f;
+  // 2 m × 1 m at 1 m height, facing down.
+  const std::vector<vec3> rect = {vec3(-1, 1, -0.5f), vec3(1, 1, -0.5f), vec3(1, 1, 0.5f), vec3(-1, 1, 0.5f)};
+  b.quad(rect[0], rect[1], rect[2], rect[3], b.material(Rgb(0.0f), Rgb(radiance)));
+  ASSERT_LT(glm::cross(rect[1] - rect[0], rect[2] - rect[0]).y, 0.0f);
+  Sensors s;
+  for (const auto& [p, n] :
+       {std::pair{vec3(0, 0, 0), vec3(0, 1, 0)}, std::pair{vec3(0.7f, 0, 0.3f), vec3(0, 1, 0)},
+        std::pair{vec3(2, 0, 1), vec3(0, 1, 0)}, std::pair{vec3(0, 0.5f, 0), vec3(0.2f, 1, 0.1f)}}) {
+    s.add(p, n, Rgb(lambertPolygon(p, glm::normalize(n), rect, radiance)));
+  }
+  expectAgrees("rectangle", run(b.rdb, s, 1024), s, 0.01f);
+}
+
+// The same rectangle turned to face up: seen from below, its back emits only when it is double-sided (glTF).
+TEST(Integrator, EmitterBackFaceEmitsOnlyWhenDoubleSided) {
+  const float radiance = 50.0f;
+  const std::vector<vec3> rect = {vec3(-1, 1, -0.5f), vec3(-1, 1, 0.5f), vec3(1, 1, 0.5f), vec3(1, 1, -0.5f)};
+  for (bool doubleSided : {false, true}) {
+    SceneBuilder b;
+    b.quad(rect[0], rect[1], rect[2], rect[3], b.material(Rgb(0.0f), Rgb(radiance), doubleSided));
+    ASSERT_GT(glm::cross(rect[1] - rect[0], rect[2] - rect[0]).y, 0.0f);
+    Sensors s;
+    const vec3 p(0.3f, 0.0f, 0.1f);
+    s.add(p, vec3(0, 1, 0), Rgb(doubleSided ? lambertPolygon(p, vec3(0, 1, 0), rect, radiance) : 0.0f));
+    expectAgrees(doubleSided ? "double-sided emitter" : "one-sided emitter's back", run(b.rdb, s, 1024), s,
+                 0.01f);
+  }
+}
+
+TEST(Integrator, DiskEmitterAboveDifferentialAreaIsPiLR2OverR2PlusH2) {
+  SceneBuilder b;
+  const float radiance = 100.0f;
+  const float radiusM = 1.0f;
+  const float heightM = 2.0f;
+  const uint32_t mat = b.material(Rgb(0.0f), Rgb(radiance));
+  // A fan of 512 triangles facing down, inscribed in the disk.
+  constexpr int kSegments = 512;
+  std::vector<vec3> rim;
+  for (int i = 0; i < kSegments; ++i) {
+    const float phi = 2.0f * kPiF * static_cast<float>(i) / kSegments;
+    rim.emplace_back(radiusM * std::cos(phi), heightM, radiusM * std::sin(phi));
+  }
+  for (int i = 0; i < kSegments; ++i) b.triangle(vec3(0, heightM, 0), rim[i], rim[(i + 1) % kSegments], mat);
+  ASSERT_LT(glm::cross(rim[0] - vec3(0, heightM, 0), rim[1] - vec3(0, heightM, 0)).y, 0.0f);
+  const float disk = kPiF * radiance * radiusM * radiusM / (radiusM * radiusM + heightM * heightM);
+  // The inscribed polygon receives slightly less; allow for it.
+  const float polygon = lambertPolygon(vec3(0.0f), vec3(0, 1, 0), rim, radiance);
+  ASSERT_LT(std::abs(polygon - disk), 1e-4f * disk);
+  Sensors s;
+  s.add(vec3(0.0f), vec3(0, 1, 0), Rgb(disk));
+  expectAgrees("disk", run(b.rdb, s, 4096), s, 0.005f);
+}
+
+// A closed box whose inward walls all have albedo ρ and emit L: L_i = L / (1 − ρ) everywhere, E = π L / (1 −
+// ρ).
+TEST(Integrator, WhiteFurnaceConvergesUpToAlbedo099) {
+  for (const auto& [albedo, samples, maxRel] :
+       {std::tuple{0.5f, 4096u, 0.01f}, std::tuple{0.9f, 4096u, 0.02f}, std::tuple{0.99f, 8192u, 0.02f}}) {
+    SceneBuilder b;
+    const Rgb emission(1.0f, 2.0f, 0.5f);
+    b.box(vec3(-1.0f), vec3(1.0f), true, b.material(Rgb(albedo), emission));
+    Sensors s;
+    const Rgb exact = kPiF * emission / (1.0f - albedo);
+    s.add(vec3(0.0f), vec3(0, 1, 0), exact);
+    s.add(vec3(0.3f, -0.5f, 0.8f), vec3(-1, 2, 0.5f), exact);
+    s.add(vec3(0.2f, -1.0f, 0.1f), vec3(0, 1, 0), exact);  // on the floor
+    const EstimateResult r = run(b.rdb, s, samples);
+    std::cout << "[ furnace  ] albedo " << albedo << ": " << r.rays << " rays in " << r.seconds
+              << " s = " << static_cast<double>(r.rays) / r.seconds / 1e6 << " Mrays/s\n";
+    expectAgrees("furnace", r, s, maxRel);
+  }
+}
+
+// In the furnace, light reflected k times contributes π L ρ^k: with at most B bounces, E = π L Σ_{k≤B} ρ^k.
+TEST(Integrator, MaxBouncesCountsReflections) {
+  SceneBuilder b;
+  const float albedo = 0.8f;
+  b.box(vec3(-1.0f), vec3(1.0f), true, b.material(Rgb(albedo), Rgb(1.0f)));
+  const EmbreeScene scene(b.rdb);
+  Sensors s;
+  s.add(vec3(0.1f, 0.2f, -0.3f), vec3(0, 1, 0), Rgb(0.0f));
+  for (uint32_t bounces : {0u, 1u, 3u}) {
+    const Integrator integrator(b.rdb, scene, IntegratorSettings{bounces});
+    EstimateSettings settings;
+    settings.firstPassSamples = kTestReplicates;
+    settings.replicates = kTestReplicates;
+    settings.maxSamples = 2048;
+    float sum = 0.0f;
+    for (uint32_t k = 0; k <= bounces; ++k) sum += std::pow(albedo, static_cast<float>(k));
+    s.exact[0] = Rgb(kPiF * sum);
+    expectAgrees("max bounces", estimateIrradiance(integrator, s.points, s.normals, settings), s, 0.01f);
+  }
+}
+
+TEST(Integrator, AlbedoOneEndsAtThePathLengthGuard) {
+  SceneBuilder b;
+  b.box(vec3(-1.0f), vec3(1.0f), true, b.material(Rgb(1.0f), Rgb(1.0f)));
+  Sensors s;
+  s.add(vec3(0.0f), vec3(0, 1, 0), Rgb(0.0f));
+  const EstimateResult r = run(b.rdb, s, 2, SamplerKind::kSobol, 0, 0, 1);
+  // Each path runs to the guard and gathers about π L per vertex.
+  EXPECT_TRUE(isFinite(r.points[0].meanLux));
+  EXPECT_GT(r.points[0].meanLux.g, 0.5f * kPiF * static_cast<float>(kPathLengthGuard));
+}
+
+TEST(Integrator, SunDiscAtHalfDegreeZenithAndBelowHorizon) {
+  const Rgb normalLux(100000.0f, 95000.0f, 90000.0f);
+  const vec3 up(0, 1, 0);
+  {
+    // The disc (half-angle 0.27°) lies wholly above the horizon at 0.5°: ∫ over it of cos θ = (n · s) π sin²
+    // θ_s exactly, so E = E_n sin 0.5°. Sensors near the origin and 5.7 km out on the 10 km ground.
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    b.sun(0.5f, 30.0f, normalLux);
+    Sensors s;
+    const Rgb exact = normalLux * static_cast<float>(std::sin(degToRad(0.5)));
+    for (const vec3& p : {vec3(0.0f), vec3(4000.0f, 0, -4000.0f), vec3(-4999.0f, 0, 4999.0f)})
+      s.add(p, up, exact);
+    expectAgrees("sun 0.5°", run(b.rdb, s, 256), s, 0.01f);
+  }
+  {
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    b.sun(90.0f, 0.0f, normalLux);
+    Sensors s;
+    s.add(vec3(0.0f), up, normalLux);
+    s.add(vec3(3000.0f, 0, 1000.0f), up, normalLux);
+    expectAgrees("sun zenith", run(b.rdb, s, 256), s, 0.001f);
+  }
+  {
+    // 2° below the horizon: nothing on the ground, nor on a sensor above it turned towards the sun (the
+    // ground is in the way).
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    b.sun(-2.0f, 0.0f, normalLux);
+    Sensors s;
+    s.add(vec3(0.0f), up, Rgb(0.0f));
+    s.add(vec3(0, 1, 0), b.rdb.sun.directionWorld, Rgb(0.0f));
+    expectAgrees("sun below horizon", run(b.rdb, s, 64), s, 0.0f);
+  }
+}
+
+TEST(Integrator, ReportedStandardErrorIsHonest) {
+  // 200 sensors at random tilts under a uniform sky over black ground, E = π L (1 + cos α) / 2: the RMS of
+  // (mean − exact) and the mean reported standard error agree within a factor of 2 at every sample count, for
+  // plain Monte Carlo with either error estimate and for Sobol' with replicates.
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+  const Rgb sky(1000.0f);
+  b.uniformSky(sky);
+  Sensors s;
+  RandomSampler tilts(99);
+  for (uint32_t i = 0; i < 200; ++i) {
+    tilts.startSample(i);
+    const vec3 n = sampleUniformSphere(tilts.next2D());
+    s.add(vec3(0.01f * static_cast<float>(i), 1.0f, 0.0f), n, kPiF * sky * (1.0f + n.y) / 2.0f);
+  }
+  for (const auto& [kind, replicates] :
+       {std::pair{SamplerKind::kRandom, 1u}, std::pair{SamplerKind::kRandom, 8u},
+        std::pair{SamplerKind::kSobol, 8u}, std::pair{SamplerKind::kSobol, 1u}}) {
+    for (uint32_t samples : {16u, 64u, 256u, 1024u}) {
+      const EstimateResult r = run(b.rdb, s, samples, kind, 0, 0, replicates);
+      double squaredError = 0.0;
+      double stdError = 0.0;
+      for (size_t i = 0; i < s.points.size(); ++i) {
+        squaredError += std::pow(luminance(r.points[i].meanLux) - luminance(s.exact[i]), 2.0);
+        stdError += luminance(r.points[i].stdErrorLux);
+      }
+      const double rms = std::sqrt(squaredError / static_cast<double>(s.points.size()));
+      const double meanStdError = stdError / static_cast<double>(s.points.size());
+      std::cout << "[ honesty  ] " << (kind == SamplerKind::kRandom ? "random" : "sobol ") << " replicates "
+                << replicates << ", " << samples << " samples: RMS error " << rms
+                << " lux, mean reported std. error " << meanStdError << " lux, ratio " << rms / meanStdError
+                << "\n";
+      if (kind == SamplerKind::kSobol && replicates == 1) {
+        // The per-sample variance of Sobol' points only bounds their error from above.
+        EXPECT_LT(rms / meanStdError, 2.0);
+      } else {
+        EXPECT_GT(rms / meanStdError, 0.5);
+        EXPECT_LT(rms / meanStdError, 2.0);
+      }
+    }
+  }
+}
+
+TEST(Integrator, DeterministicAcrossThreadCounts) {
+  SceneBuilder b;
+  b.box(vec3(-1.0f), vec3(1.0f), true, b.material(Rgb(0.9f), Rgb(1.0f)));
+  b.uniformSky(Rgb(5.0f));
+  Sensors s;
+  for (int i = 0; i < 37; ++i) {
+    const float x = -0.9f + 0.05f * static_cast<float>(i);
+    s.add(vec3(x, 0.1f * x, -0.5f * x), vec3(x, 1, 0.3f), Rgb(0.0f));
+  }
+  for (SamplerKind kind : {SamplerKind::kSobol, SamplerKind::kRandom}) {
+    const EstimateResult one = run(b.rdb, s, 64, kind, 1, 5);
+    const EstimateResult two = run(b.rdb, s, 64, kind, 2, 5);
+    ASSERT_EQ(one.points.size(), two.points.size());
+    EXPECT_EQ(one.rays, two.rays);
+    for (size_t i = 0; i < one.points.size(); ++i) {
+      EXPECT_EQ(std::memcmp(&one.points[i], &two.points[i], sizeof(IrradianceEstimate)), 0) << "point " << i;
+    }
+  }
+}
+
+TEST(Integrator, RobustOnDegenerateTrianglesEdgesAnd10KmGroundWith1MmBox) {
+  SceneBuilder b;
+  const uint32_t black = b.material(Rgb(0.0f));
+  b.ground(kHugeGroundHalfM, black);
+  b.box(vec3(-0.0005f, 0.0f, -0.0005f), vec3(0.0005f, 0.001f, 0.0005f), false, b.material(Rgb(0.5f)));
+  // Degenerate triangles, emissive and not: a point, a line, a repeated vertex.
+  const uint32_t glowing = b.material(Rgb(0.5f), Rgb(10.0f));
+  const auto degenerate = [&](const vec3& a, const vec3& c, const vec3& d, uint32_t mat) {
+    const auto first = static_cast<uint32_t>(b.rdb.positionsM.size());
+    b.rdb.positionsM.insert(b.rdb.positionsM.end(), {a, c, d});
+    b.rdb.normals.insert(b.rdb.normals.end(), 3, vec3(0, 1, 0));
+    b.rdb.indices.insert(b.rdb.indices.end(), {first, first + 1, first + 2});
+    b.rdb.triangleMaterial.push_back(mat);
+    if (mat == glowing) b.rdb.emissiveTriangles.push_back(static_cast<uint32_t>(b.rdb.triangleCount() - 1));
+  };
+  degenerate(vec3(1, 1, 1), vec3(1, 1, 1), vec3(1, 1, 1), glowing);
+  degenerate(vec3(0, 0.5f, 0), vec3(1, 0.5f, 0), vec3(2, 0.5f, 0), glowing);
+  degenerate(vec3(0, 0.2f, 0), vec3(0, 0.2f, 0), vec3(1, 0.3f, 0), black);
+  const Rgb sky(2000.0f);
+  b.uniformSky(sky);
+  b.sun(40.0f, 10.0f, Rgb(80000.0f));
+  rdb::TracePunctualLight light;
+  light.positionM = vec3(0.2f, 3.0f, 0.1f);
+  light.intensity = Rgb(500.0f);
+  b.rdb.punctualLights.push_back(light);
+
+  // Where nothing but the sky, the sun and the light are seen, E is exact: π L + E_n sin 40° + I cos θ / d².
+  auto exact = [&](const vec3& p) {
+    const vec3 toLight = light.positionM - p;
+    const float d = glm::length(toLight);
+    return kPiF * sky + b.rdb.sun.normalIlluminanceLux * static_cast<float>(std::sin(degToRad(40.0))) +
+           light.intensity * (toLight.y / d / (d * d));
+  };
+  Sensors s;
+  const vec3 up(0, 1, 0);
+  s.add(vec3(0.0f, 0.001f, 0.0f), up, exact(vec3(0.0f, 0.001f, 0.0f)));              // the 1 mm box's top
+  s.add(vec3(0.0005f, 0.001f, 0.0005f), up, exact(vec3(0.0005f, 0.001f, 0.0005f)));  // its corner
+  s.add(vec3(4000.0f, 0, 4000.0f), up, exact(vec3(4000.0f, 0, 4000.0f)));    // the ground's diagonal edge
+  s.add(vec3(5000.0f, 0, -5000.0f), up, exact(vec3(5000.0f, 0, -5000.0f)));  // its corner vertex
+  const EstimateResult r = run(b.rdb, s, 1024);
+  expectAgrees("robust", r, s, 0.01f);
+
+  // Beside the box and on its sides: not exact, but finite.
+  Sensors near;
+  near.add(vec3(0.0006f, 0, 0), up, Rgb(0.0f));
+  near.add(vec3(0.0005f, 0.0005f, 0), vec3(1, 0, 0), Rgb(0.0f));
+  near.add(vec3(1, 0.5f, 0), up, Rgb(0.0f));  // on the degenerate line
+  for (const IrradianceEstimate& e : run(b.rdb, near, 256).points) {
+    EXPECT_TRUE(isFinite(e.meanLux) && isFinite(e.stdErrorLux));
+    EXPECT_GE(std::min({e.meanLux.r, e.meanLux.g, e.meanLux.b}), 0.0f);
+  }
+}
+
+// A 10 km ground tilted by 7° about the z axis, through the origin, under a uniform sky (black below the
+// horizon): a sensor on it facing along its normal sees the sky over E = π L (1 + cos 7°) / 2, and nothing of
+// the ground, whose own plane bounds the hemisphere — provided rays leave it by the ground's magnitude, not
+// the sensor's (surfaceMagnitudesM).
+TEST(Integrator, SensorsOnTiltedTerrainUseTheSurfaceMagnitude) {
+  SceneBuilder b;
+  const auto tilt = static_cast<float>(degToRad(7.0));
+  const vec3 slope(std::cos(tilt), std::sin(tilt), 0.0f);  // up the hill along x
+  const vec3 across(0, 0, 1);
+  const float h = kHugeGroundHalfM;
+  b.quad(-h * slope - h * across, -h * slope + h * across, h * slope + h * across, h * slope - h * across,
+         b.material(Rgb(0.0f)));
+  const Rgb sky(1000.0f);
+  b.uniformSky(sky);
+  const vec3 n = glm::normalize(glm::cross(across, slope));
+  ASSERT_GT(n.y, 0.0f);
+  Sensors s;
+  std::vector<float> magnitudes;
+  const EmbreeScene scene(b.rdb);
+  for (float along : {0.0f, 0.37f, 12.5f, 800.0f}) {
+    s.add(along * slope + 0.3f * across, n, kPiF * sky * (1.0f + std::cos(tilt)) / 2.0f);
+    magnitudes.push_back(scene.triangleMagnitudeM(0));
+  }
+  const Integrator integrator(b.rdb, scene);
+  EstimateSettings settings;
+  settings.firstPassSamples = kTestReplicates;
+  settings.replicates = kTestReplicates;
+  settings.maxSamples = 1024;
+  expectAgrees("tilted terrain", estimateIrradiance(integrator, s.points, s.normals, settings, magnitudes), s,
+               0.02f);
+}
+
+TEST(Integrator, StopsAtTargetErrorAndTimeLimit) {
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+  b.uniformSky(Rgb(1000.0f));
+  Sensors s;
+  for (int i = 0; i < 8; ++i) s.add(vec3(static_cast<float>(i), 1, 0), vec3(1, 0.5f, 0), Rgb(0.0f));
+  const EmbreeScene scene(b.rdb);
+  const Integrator integrator(b.rdb, scene);
+  EstimateSettings settings;
+  settings.maxSamples = 1u << 20;
+  settings.targetRelativeError = 0.01f;
+  const EstimateResult r = estimateIrradiance(integrator, s.points, s.normals, settings);
+  EXPECT_LE(r.relativeErrorP95, 0.01f);
+  EXPECT_LT(r.samplesPerPoint, settings.maxSamples);
+  settings.targetRelativeError = 0.0f;
+  settings.timeLimitS = 0.05;
+  const EstimateResult timed = estimateIrradiance(integrator, s.points, s.normals, settings);
+  EXPECT_LT(timed.samplesPerPoint, settings.maxSamples);
+  EXPECT_LT(timed.seconds, 1.0);
+}
+
+}  // namespace
+}  // namespace fly::raytracer
