@@ -392,24 +392,22 @@ float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
 
 // Samples firstSample … firstSample + sampleCount − 1 of every point (split evenly over the replicates).
 template <class S>
-void runPass(const Integrator& integrator, std::span<const vec3> points, std::span<const vec3> normals,
-             std::span<const float> magnitudesM, const EstimateSettings& settings, uint32_t firstSample,
+void runPass(const SampleSource& source, const EstimateSettings& settings, uint32_t firstSample,
              uint32_t sampleCount, Accumulators& acc, uint64_t& rays) {
+  const size_t pointCount = source.pointCount();
   std::atomic<size_t> next{0};
   std::atomic<uint64_t> totalRays{0};
   const uint32_t k = acc.replicates();
   auto work = [&] {
     constexpr size_t kChunk = 16;
     uint64_t threadRays = 0;
-    for (size_t begin = next.fetch_add(kChunk); begin < points.size(); begin = next.fetch_add(kChunk)) {
-      for (size_t i = begin; i < std::min(begin + kChunk, points.size()); ++i) {
-        const float magnitudeM = magnitudesM.empty() ? 0.0f : magnitudesM[i];
+    for (size_t begin = next.fetch_add(kChunk); begin < pointCount; begin = next.fetch_add(kChunk)) {
+      for (size_t i = begin; i < std::min(begin + kChunk, pointCount); ++i) {
         if (k == 1) {
           S sampler(settings.seed + i);
           for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
             sampler.startSample(s);
-            acc.welford(i).add(
-                integrator.sampleIrradiance(points[i], normals[i], sampler, threadRays, magnitudeM));
+            acc.welford(i).add(source.sample(i, sampler, threadRays));
           }
           continue;
         }
@@ -419,7 +417,7 @@ void runPass(const Integrator& integrator, std::span<const vec3> points, std::sp
           dvec3& sum = acc.replicateSum(i, r);
           for (uint32_t s = firstSample / k; s < (firstSample + sampleCount) / k; ++s) {
             sampler.startSample(s);
-            sum += dvec3(integrator.sampleIrradiance(points[i], normals[i], sampler, threadRays, magnitudeM));
+            sum += dvec3(source.sample(i, sampler, threadRays));
           }
         }
       }
@@ -439,7 +437,79 @@ bool isPowerOfTwo(uint32_t x) {
   return x != 0 && (x & (x - 1)) == 0;
 }
 
+// estimateIrradiance's sensors.
+class SensorSource final : public SampleSource {
+ public:
+  SensorSource(const Integrator& integrator, std::span<const vec3> points, std::span<const vec3> normals,
+               std::span<const float> magnitudesM)
+      : integrator_(integrator), points_(points), normals_(normals), magnitudesM_(magnitudesM) {}
+
+  size_t pointCount() const override { return points_.size(); }
+  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
+    return sampleAt(point, sampler, rays);
+  }
+  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
+    return sampleAt(point, sampler, rays);
+  }
+
+ private:
+  template <class S>
+  Rgb sampleAt(size_t i, S& sampler, uint64_t& rays) const {
+    return integrator_.sampleIrradiance(points_[i], normals_[i], sampler, rays,
+                                        magnitudesM_.empty() ? 0.0f : magnitudesM_[i]);
+  }
+
+  const Integrator& integrator_;
+  std::span<const vec3> points_;
+  std::span<const vec3> normals_;
+  std::span<const float> magnitudesM_;
+};
+
 }  // namespace
+
+EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
+                                     const PassCallback& afterPass) {
+  if (!isPowerOfTwo(settings.replicates) || !isPowerOfTwo(settings.firstPassSamples) ||
+      settings.firstPassSamples < settings.replicates) {
+    throw std::invalid_argument("estimateProgressively: replicates (" + std::to_string(settings.replicates) +
+                                ") and firstPassSamples (" + std::to_string(settings.firstPassSamples) +
+                                ") must be powers of two, firstPassSamples >= replicates");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const size_t pointCount = source.pointCount();
+  EstimateResult result;
+  Accumulators acc(pointCount, settings.replicates);
+  uint32_t total = 0;
+  double lastPassS = 0.0;
+  for (uint32_t passSamples = settings.firstPassSamples; total + passSamples <= settings.maxSamples;
+       passSamples = total) {
+    // Passes double the total; each costs about as much per sample as the last.
+    if (total > 0 && elapsed() + lastPassS * passSamples / static_cast<double>(total) > settings.timeLimitS)
+      break;
+    const double passStart = elapsed();
+    const uint64_t raysBefore = result.rays;
+    if (settings.sampler == SamplerKind::kSobol) {
+      runPass<SobolSampler>(source, settings, total, passSamples, acc, result.rays);
+    } else {
+      runPass<RandomSampler>(source, settings, total, passSamples, acc, result.rays);
+    }
+    total += passSamples;
+    lastPassS = elapsed() - passStart;
+    result.points.clear();
+    for (size_t i = 0; i < pointCount; ++i) result.points.push_back(acc.estimate(i, total));
+    result.relativeErrorP95 = relativeErrorP95(result.points);
+    result.samplesPerPoint = total;
+    result.seconds = elapsed();
+    if (afterPass && !afterPass(result, result.rays - raysBefore, lastPassS)) break;
+    if (settings.targetRelativeError > 0.0f && result.relativeErrorP95 <= settings.targetRelativeError) break;
+  }
+  if (total == 0) result.points.assign(pointCount, IrradianceEstimate{});
+  result.seconds = elapsed();
+  return result;
+}
 
 EstimateResult estimateIrradiance(const Integrator& integrator, std::span<const vec3> points,
                                   std::span<const vec3> normals, const EstimateSettings& settings,
@@ -450,44 +520,7 @@ EstimateResult estimateIrradiance(const Integrator& integrator, std::span<const 
                                 std::to_string(normals.size()) + " normals and " +
                                 std::to_string(surfaceMagnitudesM.size()) + " surface magnitudes");
   }
-  if (!isPowerOfTwo(settings.replicates) || !isPowerOfTwo(settings.firstPassSamples) ||
-      settings.firstPassSamples < settings.replicates) {
-    throw std::invalid_argument("estimateIrradiance: replicates (" + std::to_string(settings.replicates) +
-                                ") and firstPassSamples (" + std::to_string(settings.firstPassSamples) +
-                                ") must be powers of two, firstPassSamples >= replicates");
-  }
-  const auto start = std::chrono::steady_clock::now();
-  auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  EstimateResult result;
-  Accumulators acc(points.size(), settings.replicates);
-  uint32_t total = 0;
-  double lastPassS = 0.0;
-  for (uint32_t passSamples = settings.firstPassSamples; total + passSamples <= settings.maxSamples;
-       passSamples = total) {
-    // Passes double the total; each costs about as much per sample as the last.
-    if (total > 0 && elapsed() + lastPassS * passSamples / static_cast<double>(total) > settings.timeLimitS)
-      break;
-    const double passStart = elapsed();
-    if (settings.sampler == SamplerKind::kSobol) {
-      runPass<SobolSampler>(integrator, points, normals, surfaceMagnitudesM, settings, total, passSamples,
-                            acc, result.rays);
-    } else {
-      runPass<RandomSampler>(integrator, points, normals, surfaceMagnitudesM, settings, total, passSamples,
-                             acc, result.rays);
-    }
-    total += passSamples;
-    lastPassS = elapsed() - passStart;
-    result.points.clear();
-    for (size_t i = 0; i < points.size(); ++i) result.points.push_back(acc.estimate(i, total));
-    result.relativeErrorP95 = relativeErrorP95(result.points);
-    if (settings.targetRelativeError > 0.0f && result.relativeErrorP95 <= settings.targetRelativeError) break;
-  }
-  result.samplesPerPoint = total;
-  if (total == 0) result.points.assign(points.size(), IrradianceEstimate{});
-  result.seconds = elapsed();
-  return result;
+  return estimateProgressively(SensorSource(integrator, points, normals, surfaceMagnitudesM), settings);
 }
 
 }  // namespace fly::raytracer

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -141,6 +142,27 @@ struct EstimateResult {
   uint64_t rays = 0;
   double seconds = 0.0;
 };
+
+// The points the progressive driver estimates: estimateIrradiance's sensors, the baker's vertex sides. Sample
+// index s of point i is sample(i, sampler) after sampler.startSample(s); `rays` grows by the rays traced.
+// Both overloads must compute the same function of the sampler's numbers.
+class SampleSource {
+ public:
+  virtual ~SampleSource() = default;
+  virtual size_t pointCount() const = 0;
+  virtual Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const = 0;
+  virtual Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
+};
+
+// Called after every pass (from the calling thread) with the estimates so far (seconds: since the start) and
+// the pass's rays and seconds; return false to stop after it.
+using PassCallback = std::function<bool(const EstimateResult& soFar, uint64_t passRays, double passSeconds)>;
+
+// Progressive passes over all of source's points in parallel, as described for estimateIrradiance below.
+// std::invalid_argument for replicates or firstPassSamples that are not powers of two, or fewer first-pass
+// samples than replicates.
+EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
+                                     const PassCallback& afterPass = {});
 
 // Progressive passes over all points in parallel. A point's samples depend only on (seed + point index,
 // replicate, sample index), and each point's statistics are updated in sample order by one thread, so the

@@ -1,0 +1,231 @@
+#include "raytracer/baker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "raytracer/sampler.h"
+
+namespace fly::raytracer {
+namespace {
+
+// The sampler group that places a sample in its vertex's one-ring, far above the integrator's groups
+// (3 per path vertex from group 0, at most 3 · kPathLengthGuard of them).
+constexpr uint32_t kOneRingGroup = 1u << 20;
+
+// The barycentric coordinate b of a triangle's corner under the density 3b / A (the hat function of that
+// corner, normalised: ∫ b dA = A / 3), by inversion. A uniform point on a triangle is Dirichlet(1, 1, 1) in
+// its barycentrics; weighting by b makes it Dirichlet(2, 1, 1), whose b is Beta(2, 2) (Devroye, "Non-Uniform
+// Random Variate Generation", 1986, ch. XI.4): density 6b(1 − b), CDF F(b) = 3b² − 2b³. With b = 1/2 + x,
+// F = u reads 4x³ − 3x = 1 − 2u, and Viète's trigonometric solution (sin 3φ = 3 sin φ − 4 sin³ φ) gives its
+// root in [−1/2, 1/2] as x = sin(asin(2u − 1) / 3). Given b the density is constant on the segment of
+// constant b, so the other two coordinates split 1 − b uniformly.
+float sampleHatBarycentric(float u) {
+  return 0.5f + std::sin(std::asin(2.0f * u - 1.0f) / 3.0f);
+}
+
+// The baker's points: every vertex with a valid one-ring, on its front, then on its back where its mesh is
+// two-sided.
+class OneRingSource final : public SampleSource {
+ public:
+  OneRingSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator)
+      : rdb_(rdb), scene_(scene), integrator_(integrator) {
+    const size_t vertexCount = rdb.positionsM.size();
+    // The one-rings in compressed rows: every triangle of non-zero area once per corner.
+    ringOffsets_.assign(vertexCount + 1, 0);
+    for (size_t t = 0; t < rdb.triangleCount(); ++t) {
+      if (!isValid(static_cast<uint32_t>(t))) continue;
+      for (int c = 0; c < 3; ++c) ++ringOffsets_[rdb.indices[3 * t + static_cast<size_t>(c)] + 1];
+    }
+    for (size_t v = 0; v < vertexCount; ++v) ringOffsets_[v + 1] += ringOffsets_[v];
+    ringTriangles_.resize(ringOffsets_.back());
+    ringCorners_.resize(ringOffsets_.back());
+    ringCdfM2_.resize(ringOffsets_.back());
+    std::vector<uint32_t> fill(ringOffsets_.begin(), ringOffsets_.end() - 1);
+    for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
+      if (!isValid(t)) continue;
+      for (uint8_t c = 0; c < 3; ++c) {
+        const uint32_t slot = fill[rdb.indices[3 * size_t{t} + c]]++;
+        ringTriangles_[slot] = t;
+        ringCorners_[slot] = c;
+      }
+    }
+    // Cumulative areas per ring, to pick a triangle by area: one flat array for all rings rather than a
+    // Distribution1D (and its vectors) per vertex.
+    for (size_t v = 0; v < vertexCount; ++v) {
+      float sum = 0.0f;
+      for (uint32_t j = ringOffsets_[v]; j < ringOffsets_[v + 1]; ++j) {
+        sum += scene.triangleAreaM2(ringTriangles_[j]);
+        ringCdfM2_[j] = sum;
+      }
+    }
+
+    twoSided_.assign(vertexCount, false);
+    for (const rdb::TraceMesh& mesh : rdb.meshes) {
+      if (!mesh.twoSided) continue;
+      const size_t end = std::min<size_t>(size_t{mesh.firstVertex} + mesh.vertexCount, vertexCount);
+      for (size_t v = mesh.firstVertex; v < end; ++v) twoSided_[v] = true;
+    }
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+      if (hasRing(v)) pointVertex_.push_back(v);
+    }
+    frontCount_ = pointVertex_.size();
+    for (size_t i = 0; i < frontCount_; ++i) {
+      if (twoSided_[pointVertex_[i]]) pointVertex_.push_back(pointVertex_[i]);
+    }
+  }
+
+  size_t pointCount() const override { return pointVertex_.size(); }
+  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
+    return sampleAt(point, sampler, rays);
+  }
+  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
+    return sampleAt(point, sampler, rays);
+  }
+
+  bool hasRing(uint32_t v) const { return ringOffsets_[v + 1] > ringOffsets_[v]; }
+  bool isTwoSided(uint32_t v) const { return twoSided_[v]; }
+  uint32_t pointVertex(size_t point) const { return pointVertex_[point]; }
+  bool isBack(size_t point) const { return point >= frontCount_; }
+
+ private:
+  bool isValid(uint32_t t) const {
+    const float area = scene_.triangleAreaM2(t);
+    return area > 0.0f && std::isfinite(area) &&
+           glm::dot(scene_.triangleNormal(t), scene_.triangleNormal(t)) > 0.0f;
+  }
+
+  // Irradiance at a point of the vertex's one-ring drawn with density b_v(x) / ∫ b_v dA over the ring (a
+  // triangle by area, then the hat density 3 b_v / A in it), so that the mean of the samples is the
+  // hat-weighted average ∫ b_v E dA / ∫ b_v dA.
+  template <class S>
+  Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const {
+    const uint32_t v = pointVertex_[point];
+    sampler.startGroup(kOneRingGroup);
+    const vec2 u = sampler.next2D();
+    const uint32_t begin = ringOffsets_[v];
+    const uint32_t end = ringOffsets_[v + 1];
+    const float x = u.x * ringCdfM2_[end - 1];
+    uint32_t j = begin;
+    while (j + 1 < end && ringCdfM2_[j] <= x) ++j;
+    // The remainder of u.x within the chosen triangle's interval, uniform again: it places the point.
+    const float below = j == begin ? 0.0f : ringCdfM2_[j - 1];
+    const float uHat = std::clamp((x - below) / (ringCdfM2_[j] - below), 0.0f, 0x1.fffffep-1f);
+    const uint32_t t = ringTriangles_[j];
+    const uint32_t c = ringCorners_[j];
+
+    const float bV = sampleHatBarycentric(uHat);
+    const float bA = (1.0f - bV) * u.y;
+    float b[3];
+    b[c] = bV;
+    b[(c + 1) % 3] = bA;
+    b[(c + 2) % 3] = std::max(0.0f, 1.0f - bV - bA);
+    vec3 p(0.0f);
+    vec3 n(0.0f);
+    for (size_t k = 0; k < 3; ++k) {
+      const uint32_t vk = rdb_.indices[3 * size_t{t} + k];
+      p += b[k] * rdb_.positionsM[vk];
+      n += b[k] * rdb_.normals[vk];
+    }
+    n = glm::normalize(n);
+    // The geometric normal on the side of the vertex's normal; it replaces a shading normal that is
+    // degenerate or points to the other side of the surface.
+    const vec3& ng = scene_.triangleNormal(t);
+    const vec3 ngFront = glm::dot(ng, rdb_.normals[v]) >= 0.0f ? ng : -ng;
+    if (!(glm::dot(n, ngFront) > 0.0f)) n = ngFront;
+    if (isBack(point)) n = -n;
+    return integrator_.sampleIrradiance(p, n, sampler, rays, scene_.triangleMagnitudeM(t));
+  }
+
+  const rdb::TraceRdb& rdb_;
+  const EmbreeScene& scene_;
+  const Integrator& integrator_;
+  std::vector<uint32_t> ringOffsets_;  // vertex v's ring: entries ringOffsets_[v] … ringOffsets_[v + 1] − 1
+  std::vector<uint32_t> ringTriangles_;
+  std::vector<uint8_t> ringCorners_;   // which corner of the triangle the vertex is
+  std::vector<float> ringCdfM2_;       // the ring's areas summed up to and including this entry
+  std::vector<bool> twoSided_;         // per vertex: of a two-sided mesh
+  std::vector<uint32_t> pointVertex_;  // per point: the fronts, then the backs
+  size_t frontCount_ = 0;
+};
+
+// Vertices without a ring take the mean of their already known neighbours along the mesh's edges (all
+// triangles, degenerate ones included; the back only on two-sided meshes), repeated until nothing changes;
+// the rest stay 0. Returns their count.
+size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source, std::vector<bool>& known,
+                          VertexLightMaps& maps) {
+  const size_t vertexCount = known.size();
+  std::vector<Rgb> sums[4];
+  for (;;) {
+    for (std::vector<Rgb>& s : sums) s.assign(vertexCount, Rgb(0.0f));
+    std::vector<uint32_t> counts(vertexCount, 0);
+    for (size_t t = 0; t < rdb.triangleCount(); ++t) {
+      for (size_t a = 0; a < 3; ++a) {
+        for (size_t d = 1; d < 3; ++d) {
+          const uint32_t to = rdb.indices[3 * t + a];
+          const uint32_t from = rdb.indices[3 * t + (a + d) % 3];
+          if (known[to] || !known[from]) continue;
+          sums[0][to] += maps.frontLux[from];
+          sums[1][to] += maps.frontStdErrorLux[from];
+          sums[2][to] += maps.backLux[from];
+          sums[3][to] += maps.backStdErrorLux[from];
+          ++counts[to];
+        }
+      }
+    }
+    bool changed = false;
+    for (size_t v = 0; v < vertexCount; ++v) {
+      if (counts[v] == 0) continue;
+      const float inv = 1.0f / static_cast<float>(counts[v]);
+      maps.frontLux[v] = sums[0][v] * inv;
+      maps.frontStdErrorLux[v] = sums[1][v] * inv;
+      if (source.isTwoSided(static_cast<uint32_t>(v))) {
+        maps.backLux[v] = sums[2][v] * inv;
+        maps.backStdErrorLux[v] = sums[3][v] * inv;
+      }
+      known[v] = true;
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  return static_cast<size_t>(std::count(known.begin(), known.end(), false));
+}
+
+}  // namespace
+
+VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
+                                    const BakeSettings& settings, const BakeProgress& progress) {
+  const Integrator integrator(rdb, scene, settings.integrator);
+  const OneRingSource source(rdb, scene, integrator);
+  VertexLightMaps maps;
+  const PassCallback afterPass = [&](const EstimateResult& soFar, uint64_t passRays, double passSeconds) {
+    ConvergencePoint point;
+    point.seconds = soFar.seconds;
+    point.samples = soFar.samplesPerPoint;
+    point.relativeErrorP95 = soFar.relativeErrorP95;
+    point.raysPerSecond = passSeconds > 0.0 ? static_cast<double>(passRays) / passSeconds : 0.0;
+    maps.history.push_back(point);
+    return !progress || progress(point, settings.estimate.maxSamples);
+  };
+  const EstimateResult result = estimateProgressively(source, settings.estimate, afterPass);
+
+  const size_t vertexCount = rdb.positionsM.size();
+  maps.frontLux.assign(vertexCount, Rgb(0.0f));
+  maps.frontStdErrorLux.assign(vertexCount, Rgb(0.0f));
+  maps.backLux.assign(vertexCount, Rgb(0.0f));
+  maps.backStdErrorLux.assign(vertexCount, Rgb(0.0f));
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    const uint32_t v = source.pointVertex(i);
+    const IrradianceEstimate& e = result.points[i];
+    (source.isBack(i) ? maps.backLux : maps.frontLux)[v] = e.meanLux;
+    (source.isBack(i) ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
+  }
+  std::vector<bool> known(vertexCount);
+  for (uint32_t v = 0; v < vertexCount; ++v) known[v] = source.hasRing(v);
+  maps.unfilledVertices = fillFromNeighbours(rdb, source, known, maps);
+  maps.samplesPerVertex = result.samplesPerPoint;
+  maps.rays = result.rays;
+  maps.seconds = result.seconds;
+  return maps;
+}
+
+}  // namespace fly::raytracer

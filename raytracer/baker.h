@@ -1,0 +1,56 @@
+// The vertex light-map baker: for every vertex of the TraceRdb, the irradiance (lux, RGB) integrated over its
+// neighbourhood, for two-sided meshes on both sides, in progressive passes with a standard error per vertex and
+// a convergence history (error against run time) — what `fly bake` runs.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "raytracer/embree_scene.h"
+#include "raytracer/integrator.h"
+#include "rdb/trace_rdb.h"
+
+namespace fly::raytracer {
+
+struct BakeSettings {
+  EstimateSettings estimate;      // passes, stopping rules (samples, time, target error), sampler, threads
+  IntegratorSettings integrator;  // bounces
+};
+
+// One row of convergence.csv: the state after a pass.
+struct ConvergencePoint {
+  double seconds = 0.0;          // since the bake started
+  uint32_t samples = 0;          // per vertex (and side)
+  float relativeErrorP95 = 0.0f; // 95th percentile over vertices of the relative standard error of luminance
+  double raysPerSecond = 0.0;    // over the pass
+};
+
+// Called after every pass (from the calling thread); return false to stop after it.
+using BakeProgress = std::function<bool(const ConvergencePoint& latest, uint32_t maxSamples)>;
+
+struct VertexLightMaps {
+  // Per TraceRdb vertex (rdb.positionsM.size() entries): irradiance on the front (the side of the vertex normal)
+  // and its standard error, lux per channel.
+  std::vector<Rgb> frontLux;
+  std::vector<Rgb> frontStdErrorLux;
+  // The same for the back (the side of −normal) of vertices of two-sided meshes; 0 for one-sided ones.
+  std::vector<Rgb> backLux;
+  std::vector<Rgb> backStdErrorLux;
+  uint32_t samplesPerVertex = 0;
+  std::vector<ConvergencePoint> history;
+  uint64_t rays = 0;
+  double seconds = 0.0;
+  // Vertices whose every sample was invalid (no triangle of non-zero area around them), filled from the
+  // neighbours along the mesh's edges or, with none, set to 0 and counted here.
+  size_t unfilledVertices = 0;
+};
+
+// Bakes every vertex of rdb. A vertex's value is the irradiance averaged over its one-ring with the weight of
+// its linear "hat" basis function (the area-weighted neighbourhood that interpolated vertex colours represent):
+// each sample picks a triangle of the one-ring by area, a point in it by the hat weight, and the interpolated
+// shading normal there. Deterministic for any thread count.
+VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const BakeSettings& settings,
+                                    const BakeProgress& progress = {});
+
+}  // namespace fly::raytracer
