@@ -10,6 +10,7 @@
 
 #include "base/error.h"
 #include "base/file_io.h"
+#include "cli/bake_options.h"
 #include "cli/command.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
@@ -24,12 +25,7 @@ struct IlluminanceOptions {
   std::string scene;
   std::string points;
   std::string out;
-  std::string targetError;  // "1%" or 0.01
-  std::string time;         // seconds, "90s", "5m"
-  std::optional<uint32_t> samples;
-  std::string sampler = "sobol";
-  uint32_t threads = 0;
-  std::optional<uint32_t> maxBounces;
+  SamplingOptions sampling;
 };
 
 // The sensors of a CSV file and its lines, so that the output repeats them.
@@ -119,38 +115,6 @@ SensorTable readSensors(const std::string& path) {
   return t;
 }
 
-// "1%" → 0.01, "0.02" → 0.02; must lie in (0, 1).
-double parseRelativeError(const std::string& s) {
-  std::string v = trim(s);
-  double scale = 1.0;
-  if (!v.empty() && v.back() == '%') {
-    v.pop_back();
-    scale = 0.01;
-  }
-  double x = 0.0;
-  const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
-  if (ec != std::errc() || ptr != v.data() + v.size() || !(x * scale > 0.0 && x * scale < 1.0)) {
-    throw UsageError("--target-error " + s + ": expected a relative error in (0, 1) such as 0.01 or 1%");
-  }
-  return x * scale;
-}
-
-// "90", "90s", "5m", "1.5h" → seconds > 0.
-double parseDuration(const std::string& s) {
-  std::string v = trim(s);
-  double unit = 1.0;
-  if (!v.empty() && (v.back() == 's' || v.back() == 'm' || v.back() == 'h')) {
-    unit = v.back() == 'h' ? 3600.0 : v.back() == 'm' ? 60.0 : 1.0;
-    v.pop_back();
-  }
-  double x = 0.0;
-  const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
-  if (ec != std::errc() || ptr != v.data() + v.size() || !(x > 0.0) || !std::isfinite(x)) {
-    throw UsageError("--time " + s + ": expected a duration such as 60, 90s, 5m or 1.5h");
-  }
-  return x * unit;
-}
-
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -158,32 +122,12 @@ std::string number(double v) {
 }
 
 int runIlluminance(const IlluminanceOptions& o) {
-  raytracer::EstimateSettings settings;
-  if (o.sampler != "sobol" && o.sampler != "random") throw UsageError("--sampler: expected sobol or random");
-  if (o.samples && (*o.samples == 0 || (*o.samples & (*o.samples - 1)) != 0)) {
-    throw UsageError("--samples " + std::to_string(*o.samples) + ": expected a power of two (e.g. 256)");
-  }
   const sdb::Scene scene = sdb::loadScene(o.scene);
+  const raytracer::EstimateSettings settings = estimateSettings(o.sampling, scene.bakeSettings());
   const SensorTable sensors = readSensors(o.points);
-  const sdb::BakeSettings& bake = scene.bakeSettings();
-
-  // Stopping rules: the flags, else the scene's bake settings; at most 2^16 samples per sensor.
-  settings.maxSamples = o.samples ? *o.samples : bake.samples > 0 ? bake.samples : 65536u;
-  settings.firstPassSamples = std::min(settings.maxSamples, 16u);
-  settings.replicates = std::min(settings.firstPassSamples, settings.replicates);
-  settings.targetRelativeError = float(!o.targetError.empty() ? parseRelativeError(o.targetError)
-                                       : o.samples              ? 0.0
-                                                                : bake.targetErrorRel);
-  const double timeLimit = !o.time.empty() ? parseDuration(o.time) : bake.timeLimitS;
-  if (timeLimit > 0.0) settings.timeLimitS = timeLimit;
-  settings.threads = o.threads;
-  settings.sampler = o.sampler == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
-
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
-  raytracer::IntegratorSettings integratorSettings;
-  integratorSettings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces;
-  const raytracer::Integrator integrator(rdb, embree, integratorSettings);
+  const raytracer::Integrator integrator(rdb, embree, integratorSettings(o.sampling, scene.bakeSettings()));
   const raytracer::EstimateResult result =
       raytracer::estimateIrradiance(integrator, sensors.positionsM, sensors.normals, settings);
 
@@ -217,17 +161,7 @@ Command addIlluminanceCommand(CLI::App& app) {
       ->required();
   sub->add_option("--out", o->out, "output .csv: the input rows with illuminance_lux and std_error_lux added")
       ->required();
-  sub->add_option("--target-error", o->targetError,
-                  "stop when the 95th percentile of the relative standard error reaches this, e.g. 1% (default: "
-                  "the scene's bake.targetError, 1%)");
-  sub->add_option("--time", o->time, "stop after this run time, e.g. 60s or 5m (default: the scene's bake.time)");
-  sub->add_option("--samples", o->samples,
-                  "samples per sensor, a power of two (default: the scene's bake.samples, else up to 65536)");
-  sub->add_option("--sampler", o->sampler, "sobol (Owen-scrambled, quasi-Monte Carlo) or random (plain Monte Carlo)")
-      ->capture_default_str();
-  sub->add_option("--max-bounces", o->maxBounces,
-                  "interreflections before the path ends (default: the scene's bake.maxBounces, 8)");
-  sub->add_option("--threads", o->threads, "worker threads (default 0: all cores)")->capture_default_str();
+  addSamplingOptions(*sub, o->sampling, "sensor");
   return {sub, [o] { return runIlluminance(*o); }};
 }
 

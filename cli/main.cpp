@@ -21,7 +21,7 @@ int run(int argc, char** argv) {
                "fly");
   app.footer(kFooter);
   app.require_subcommand(1);
-  app.set_version_flag("--version", "fly 0.1.0");
+  app.set_version_flag("--version", std::string("fly ") + fly::cli::kFlyVersion);
   bool verbose = false;
   bool quiet = false;
   app.add_flag("-v,--verbose", verbose, "print debug messages");
@@ -32,6 +32,7 @@ int run(int argc, char** argv) {
       fly::cli::addSunCommand(app),
       fly::cli::addSkyCommand(app),
       fly::cli::addIlluminanceCommand(app),
+      fly::cli::addBakeCommand(app),
   };
 
   try {

@@ -1,0 +1,429 @@
+#include "cli/baked_scene.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <random>
+#include <span>
+#include <stdexcept>
+
+#include "base/error.h"
+#include "base/file_io.h"
+#include "base/math.h"
+#include "base/tone_map.h"
+#include "cli/command.h"
+#include "cli/convergence_plot.h"
+
+namespace fly::cli {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// glTF 2.0 enumerations (§5.1.3 componentType, §5.11.1 bufferView target).
+constexpr int kFloat = 5126;
+constexpr int kUnsignedInt = 5125;
+constexpr int kArrayBuffer = 34962;
+constexpr int kElementArrayBuffer = 34963;
+
+// A glTF document with one binary buffer, built accessor by accessor. Every view starts 4-byte aligned (all
+// data here is 4-byte floats and integers).
+class GltfBuilder {
+ public:
+  // A VEC3 FLOAT accessor over `v`; `bounds` adds min and max (required for POSITION).
+  int vec3s(std::span<const vec3> v, bool bounds = false) {
+    json a = accessor(v.data(), v.size_bytes(), kArrayBuffer, kFloat, v.size(), "VEC3");
+    if (bounds && !v.empty()) {
+      vec3 lo = v[0], hi = v[0];
+      for (const vec3& p : v) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      a["min"] = {lo.x, lo.y, lo.z};
+      a["max"] = {hi.x, hi.y, hi.z};
+    }
+    return push(std::move(a));
+  }
+  int indices(std::span<const uint32_t> v) {
+    return push(accessor(v.data(), v.size_bytes(), kElementArrayBuffer, kUnsignedInt, v.size(), "SCALAR"));
+  }
+
+  // The document with its buffer named `binName`, and the buffer's bytes.
+  json finish(json doc, const std::string& binName) {
+    doc["asset"] = {{"version", "2.0"}, {"generator", std::string("fly ") + kFlyVersion}};
+    doc["buffers"] = json::array({{{"uri", binName}, {"byteLength", bin_.size()}}});
+    doc["bufferViews"] = std::move(views_);
+    doc["accessors"] = std::move(accessors_);
+    return doc;
+  }
+  const std::string& bin() const { return bin_; }
+
+ private:
+  json accessor(const void* data, size_t bytes, int target, int componentType, size_t count,
+                const char* type) {
+    views_.push_back({{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes}, {"target", target}});
+    bin_.append(static_cast<const char*>(data), bytes);
+    return {{"bufferView", views_.size() - 1},
+            {"componentType", componentType},
+            {"count", count},
+            {"type", type}};
+  }
+  int push(json a) {
+    accessors_.push_back(std::move(a));
+    return static_cast<int>(accessors_.size() - 1);
+  }
+
+  json views_ = json::array();
+  json accessors_ = json::array();
+  std::string bin_;
+};
+
+// The triangles of a mesh grouped by material, in the order the materials are first met: one primitive each.
+struct MaterialGroup {
+  uint32_t material = 0;
+  std::vector<uint32_t> indices;  // relative to the mesh's firstVertex
+};
+std::vector<MaterialGroup> groupByMaterial(const rdb::TraceRdb& rdb, const rdb::TraceMesh& m) {
+  std::vector<MaterialGroup> groups;
+  for (uint32_t t = m.firstTriangle; t < m.firstTriangle + m.triangleCount; ++t) {
+    const uint32_t material = rdb.triangleMaterial[t];
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](const MaterialGroup& x) { return x.material == material; });
+    if (g == groups.end()) g = groups.insert(groups.end(), {material, {}});
+    for (int k = 0; k < 3; ++k) g->indices.push_back(rdb.indices[3 * size_t(t) + size_t(k)] - m.firstVertex);
+  }
+  return groups;
+}
+
+std::span<const vec3> range(const std::vector<vec3>& v, const rdb::TraceMesh& m) {
+  return std::span<const vec3>(v).subspan(m.firstVertex, m.vertexCount);
+}
+
+json materialJson(const rdb::TraceMaterial& m, const std::string& name) {
+  json j = {{"pbrMetallicRoughness",
+             {{"baseColorFactor", {m.diffuse.r, m.diffuse.g, m.diffuse.b, 1.0f}},
+              {"metallicFactor", 0.0f},
+              {"roughnessFactor", 1.0f}}},
+            {"doubleSided", m.doubleSided}};
+  if (!name.empty()) j["name"] = name;
+  return j;
+}
+
+// One glTF node per baked mesh, all at the root with identity transforms: the geometry is in world space.
+void nodesAndScene(json& doc, const std::vector<json>& nodes) {
+  doc["nodes"] = nodes;
+  json roots = json::array();
+  for (size_t i = 0; i < nodes.size(); ++i) roots.push_back(i);
+  doc["scenes"] = json::array({{{"nodes", roots}}});
+  doc["scene"] = 0;
+}
+
+json node(const BakeDescription& d, size_t meshIndex, size_t gltfMesh) {
+  json n = {{"mesh", gltfMesh}};
+  if (!d.nodeNames[meshIndex].empty()) n["name"] = d.nodeNames[meshIndex];
+  return n;
+}
+
+json meshJson(const BakeDescription& d, size_t meshIndex, json primitives) {
+  json mesh = {{"primitives", std::move(primitives)}};
+  if (!d.meshNames[meshIndex].empty()) mesh["name"] = d.meshNames[meshIndex];
+  return mesh;
+}
+
+// scene.gltf + scene.bin: the geometry with its float light maps. Meshes whose every triangle was degenerate
+// have no primitive to draw (glTF requires at least one) and are left out; the manifest still lists them.
+void writeBakedGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps,
+                    const BakeDescription& d) {
+  GltfBuilder b;
+  json doc;
+  json meshes = json::array();
+  std::vector<json> nodes;
+  for (size_t i = 0; i < rdb.meshes.size(); ++i) {
+    const rdb::TraceMesh& m = rdb.meshes[i];
+    const std::vector<MaterialGroup> groups = groupByMaterial(rdb, m);
+    if (groups.empty()) continue;
+    json attributes = {{"POSITION", b.vec3s(range(rdb.positionsM, m), true)},
+                       {"NORMAL", b.vec3s(range(rdb.normals, m))},
+                       {"_IRRADIANCE_FRONT", b.vec3s(range(maps.frontLux, m))},
+                       {"_IRRADIANCE_FRONT_STDERR", b.vec3s(range(maps.frontStdErrorLux, m))}};
+    if (m.twoSided) {
+      attributes["_IRRADIANCE_BACK"] = b.vec3s(range(maps.backLux, m));
+      attributes["_IRRADIANCE_BACK_STDERR"] = b.vec3s(range(maps.backStdErrorLux, m));
+    }
+    json primitives = json::array();
+    for (const MaterialGroup& g : groups) {
+      primitives.push_back(
+          {{"attributes", attributes}, {"indices", b.indices(g.indices)}, {"material", g.material}});
+    }
+    meshes.push_back(meshJson(d, i, std::move(primitives)));
+    nodes.push_back(node(d, i, meshes.size() - 1));
+  }
+  json materials = json::array();
+  for (size_t k = 0; k < rdb.materials.size(); ++k)
+    materials.push_back(materialJson(rdb.materials[k], d.materialNames[k]));
+  doc["meshes"] = std::move(meshes);
+  doc["materials"] = std::move(materials);
+  nodesAndScene(doc, nodes);
+  doc = b.finish(std::move(doc), "scene.bin");
+  writeFileAtomic(dir / "scene.bin", b.bin());
+  writeFileAtomic(dir / "scene.gltf", doc.dump(1) + "\n");
+}
+
+// export/scene.gltf + scene.bin for any glTF viewer. COLOR_0 is the displayed colour of the luminance
+// L = albedo·E/π + emission (cd/m²) under automatic exposure and Reinhard's operator. toneMap's result is a
+// linear display value, which is what glTF's COLOR_0 holds (linear; the viewer encodes to sRGB on output),
+// so no transfer function is applied here. The material is unlit with a white base colour, so the viewer
+// shows COLOR_0 as is. A vertex shared by triangles of different materials has one colour per material: one
+// COLOR_0 accessor per primitive. Two-sided meshes get a second primitive per material for the back: normals
+// negated, winding reversed, the back's light.
+void writeExportGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps,
+                     const BakeDescription& d) {
+  struct Side {
+    size_t mesh;
+    const MaterialGroup* group;
+    bool back;
+    std::vector<Rgb> luminanceCdM2;
+  };
+  std::vector<std::vector<MaterialGroup>> groups;
+  std::vector<Side> sides;
+  for (size_t i = 0; i < rdb.meshes.size(); ++i) groups.push_back(groupByMaterial(rdb, rdb.meshes[i]));
+  std::vector<float> allLuminances;
+  for (size_t i = 0; i < rdb.meshes.size(); ++i) {
+    const rdb::TraceMesh& m = rdb.meshes[i];
+    for (const MaterialGroup& g : groups[i]) {
+      const rdb::TraceMaterial& material = rdb.materials[g.material];
+      for (const bool back : {false, true}) {
+        if (back && !m.twoSided) continue;
+        const std::span<const vec3> e = range(back ? maps.backLux : maps.frontLux, m);
+        const Rgb emission = !back || material.doubleSided ? material.emissionCdM2 : Rgb(0.0f);
+        Side s{i, &g, back, {}};
+        for (const vec3& lux : e) {
+          s.luminanceCdM2.push_back(material.diffuse * lux / kPiF + emission);
+          allLuminances.push_back(luminance(s.luminanceCdM2.back()));
+        }
+        sides.push_back(std::move(s));
+      }
+    }
+  }
+  const double ev100 = autoExposureEv100(allLuminances);
+
+  GltfBuilder b;
+  json doc;
+  json meshes = json::array();
+  std::vector<json> nodes;
+  size_t next = 0;
+  for (size_t i = 0; i < rdb.meshes.size(); ++i) {
+    if (groups[i].empty()) continue;
+    const rdb::TraceMesh& m = rdb.meshes[i];
+    const int position = b.vec3s(range(rdb.positionsM, m), true);
+    const int normal = b.vec3s(range(rdb.normals, m));
+    int backNormal = -1;
+    if (m.twoSided) {
+      std::vector<vec3> negated;
+      for (const vec3& n : range(rdb.normals, m)) negated.push_back(-n);
+      backNormal = b.vec3s(negated);
+    }
+    json primitives = json::array();
+    for (; next < sides.size() && sides[next].mesh == i; ++next) {
+      const Side& s = sides[next];
+      std::vector<vec3> colours;
+      for (const Rgb& l : s.luminanceCdM2) colours.push_back(toneMap(l, ev100, ToneOperator::kReinhard));
+      std::vector<uint32_t> indices = s.group->indices;
+      if (s.back) {
+        for (size_t t = 0; t < indices.size(); t += 3) std::swap(indices[t + 1], indices[t + 2]);
+      }
+      primitives.push_back({{"attributes",
+                             {{"POSITION", position},
+                              {"NORMAL", s.back ? backNormal : normal},
+                              {"COLOR_0", b.vec3s(colours)}}},
+                            {"indices", b.indices(indices)},
+                            {"material", s.group->material}});
+    }
+    meshes.push_back(meshJson(d, i, std::move(primitives)));
+    nodes.push_back(node(d, i, meshes.size() - 1));
+  }
+  json materials = json::array();
+  for (size_t k = 0; k < rdb.materials.size(); ++k) {
+    json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}}},
+                     {"extensions", {{"KHR_materials_unlit", json::object()}}}};
+    if (!d.materialNames[k].empty()) material["name"] = d.materialNames[k];
+    materials.push_back(std::move(material));
+  }
+  doc["meshes"] = std::move(meshes);
+  doc["materials"] = std::move(materials);
+  doc["extensionsUsed"] = {"KHR_materials_unlit"};
+  doc["extras"] = {{"fly", {{"toneMapping", "Reinhard"}, {"ev100", ev100}}}};
+  nodesAndScene(doc, nodes);
+  doc = b.finish(std::move(doc), "scene.bin");
+  fs::create_directory(dir);
+  writeFileAtomic(dir / "scene.bin", b.bin());
+  writeFileAtomic(dir / "scene.gltf", doc.dump(1) + "\n");
+}
+
+// Mean over a mesh's vertices of the luminance of the irradiance, and of the relative standard error of the
+// vertices that received light.
+json sideSummary(std::span<const vec3> lux, std::span<const vec3> stdErrorLux) {
+  double sum = 0.0, relSum = 0.0;
+  size_t lit = 0;
+  for (size_t v = 0; v < lux.size(); ++v) {
+    const double e = luminance(lux[v]);
+    sum += e;
+    if (e > 0.0) {
+      relSum += luminance(stdErrorLux[v]) / e;
+      ++lit;
+    }
+  }
+  return {{"mean_irradiance_lux", lux.empty() ? 0.0 : sum / double(lux.size())},
+          {"mean_relative_error", lit == 0 ? 0.0 : relSum / double(lit)}};
+}
+
+std::string shortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string shortest(float v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace
+
+std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history) {
+  std::string csv = "seconds,samples,estimated_error,rays_per_second\n";
+  for (const raytracer::ConvergencePoint& p : history) {
+    csv += shortest(p.seconds) + "," + std::to_string(p.samples) + "," + shortest(p.relativeErrorP95) + "," +
+           shortest(p.raysPerSecond) + "\n";
+  }
+  return csv;
+}
+
+void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps,
+                     const BakeDescription& d) {
+  const size_t n = rdb.positionsM.size();
+  if (maps.frontLux.size() != n || maps.frontStdErrorLux.size() != n || maps.backLux.size() != n ||
+      maps.backStdErrorLux.size() != n || rdb.normals.size() != n) {
+    throw std::invalid_argument("writeBakedScene: the light maps do not have one value per vertex");
+  }
+  if (d.meshNames.size() != rdb.meshes.size() || d.nodeNames.size() != rdb.meshes.size() ||
+      d.materialNames.size() != rdb.materials.size()) {
+    throw std::invalid_argument("writeBakedScene: the names do not match the meshes and materials");
+  }
+  if (!fs::create_directory(dir)) throw std::runtime_error("writeBakedScene: " + dir.string() + " exists");
+
+  writeBakedGltf(dir, rdb, maps, d);
+  writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history));
+  drawConvergencePlot(maps.history, dir / "convergence.png", {.targetRelativeError = d.targetRelativeError});
+  std::vector<std::string> files = {"scene.gltf", "scene.bin", "convergence.csv", "convergence.png"};
+  if (d.exportGltf) {
+    writeExportGltf(dir / "export", rdb, maps, d);
+    files.insert(files.end(), {"export/scene.gltf", "export/scene.bin"});
+  }
+
+  json objects = json::array();
+  size_t gltfMesh = 0;  // meshes without triangles have none (writeBakedGltf)
+  for (size_t i = 0; i < rdb.meshes.size(); ++i) {
+    const rdb::TraceMesh& m = rdb.meshes[i];
+    json o = {{"sdb_mesh_id", m.sdbMeshId},
+              {"sdb_node_id", m.sdbNodeId},
+              {"gltf_mesh", m.triangleCount > 0 ? json(gltfMesh++) : json()},
+              {"mesh_name", d.meshNames[i]},
+              {"node_name", d.nodeNames[i]},
+              {"vertices", m.vertexCount},
+              {"triangles", m.triangleCount},
+              {"two_sided", m.twoSided},
+              {"front", sideSummary(range(maps.frontLux, m), range(maps.frontStdErrorLux, m))}};
+    if (m.twoSided) o["back"] = sideSummary(range(maps.backLux, m), range(maps.backStdErrorLux, m));
+    objects.push_back(std::move(o));
+  }
+  const float finalError = maps.history.empty() ? 0.0f : maps.history.back().relativeErrorP95;
+  const json manifest = {
+      {"format", kBakedSceneFormat},
+      {"format_version", kBakedSceneFormatVersion},
+      {"fly_version", kFlyVersion},
+      {"scene", d.scenePath},
+      {"settings", d.settings},
+      {"samples_per_vertex", maps.samplesPerVertex},
+      {"rays", maps.rays},
+      {"bake_seconds", maps.seconds},
+      {"relative_error_p95", finalError},
+      {"unfilled_vertices", maps.unfilledVertices},
+      {"timings_s", d.timingsS},
+      {"units", {{"irradiance", "lux"}, {"length", "m"}, {"frame", "glTF world: +Y up, right-handed"}}},
+      {"objects", std::move(objects)},
+      {"files", files},
+  };
+  writeFileAtomic(dir / "manifest.json", manifest.dump(2) + "\n");
+}
+
+bool isBakedScene(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_directory(dir, ec) && fs::is_regular_file(dir / "manifest.json", ec);
+}
+
+void checkBakeOutput(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir, ec)) && !isBakedScene(dir)) {
+    throw UsageError("--out " + dir.string() +
+                     ": exists and is not a baked scene (no manifest.json); a bake replaces only an earlier "
+                     "bake — give a new directory or remove this one");
+  }
+}
+
+void writeDirectoryAtomic(const fs::path& dir, const std::function<void(const fs::path& tmp)>& fill) {
+  checkBakeOutput(dir);
+  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+  const std::string base = dir.filename().string();
+  std::random_device rd;
+  const std::string suffix = std::to_string(rd());
+  const fs::path tmp = parent / (base + ".tmp-" + suffix);
+  const fs::path old = parent / (base + ".old-" + suffix);
+  try {
+    fs::create_directories(parent);
+    fill(tmp);
+    if (fs::exists(dir)) {
+      fs::rename(dir, old);
+      try {
+        fs::rename(tmp, dir);
+      } catch (...) {
+        fs::rename(old, dir);  // put the earlier bake back
+        throw;
+      }
+      // The new bake is in place: failing to delete the old one leaves clutter, not a wrong result.
+      std::error_code ec;
+      fs::remove_all(old, ec);
+    } else {
+      fs::rename(tmp, dir);
+    }
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+json readBakedManifest(const fs::path& dir) {
+  const fs::path path = dir / "manifest.json";
+  const std::string text = readInputFile(path, "baked scene manifest");
+  json manifest = json::parse(text, nullptr, false);
+  if (manifest.is_discarded() || !manifest.is_object()) {
+    throw InputError({path.string()}, "is not valid JSON", "bake the scene again with fly bake");
+  }
+  if (manifest.value("format", "") != kBakedSceneFormat) {
+    throw InputError({path.string(), 0, 0, "/format"}, "is not a fly baked-scene manifest",
+                     "give the directory that fly bake --out wrote");
+  }
+  const json version = manifest.value("format_version", json());
+  if (!version.is_number_integer() || version.get<int>() != kBakedSceneFormatVersion) {
+    throw InputError({path.string(), 0, 0, "/format_version"},
+                     "has format version " + version.dump() + "; this fly reads version " +
+                         std::to_string(kBakedSceneFormatVersion),
+                     "bake the scene again with this fly");
+  }
+  return manifest;
+}
+
+}  // namespace fly::cli

@@ -1,0 +1,73 @@
+// The baked scene directory that `fly bake --out DIR` writes and `fly info DIR` and the GL engine read.
+//
+// manifest.json: format "fly-baked-scene" version 1; fly version, scene path, settings, samples per vertex,
+//   rays, timings, final error; per object (TraceMesh: SDB ids and names, its glTF mesh) the mean over
+//   vertices of the irradiance's luminance and of its relative error; the list of files.
+// scene.gltf + scene.bin: the baked geometry in world space (metres, +Y up), one glTF mesh and node per
+//   TraceMesh with POSITION, NORMAL and the application-specific (glTF 2.0 §3.7.2.1: names start with "_")
+//   VEC3 FLOAT attributes _IRRADIANCE_FRONT and _IRRADIANCE_FRONT_STDERR, for two-sided meshes also
+//   _IRRADIANCE_BACK and _IRRADIANCE_BACK_STDERR, in lux (linear Rec.709 RGB, photometric luminance); one
+//   primitive per material, pbrMetallicRoughness with baseColor = the diffuse albedo.
+// convergence.csv: seconds,samples,estimated_error,rays_per_second, one row per pass.
+// convergence.png: the estimated error against run time, log-log (cli/convergence_plot.h).
+// export/scene.gltf + scene.bin (optional), for any glTF viewer: COLOR_0 = the tone-mapped luminance
+//   albedo·E/π, KHR_materials_unlit; two-sided meshes twice, the back with reversed winding.
+//
+// The directory appears atomically (writeDirectoryAtomic): readers see the old bake or the whole new one.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "raytracer/baker.h"
+#include "rdb/trace_rdb.h"
+
+namespace fly::cli {
+
+inline constexpr const char* kBakedSceneFormat = "fly-baked-scene";
+inline constexpr int kBakedSceneFormatVersion = 1;
+
+// What the manifest records besides the light maps: names from the SDB (the TraceRdb holds ids only).
+struct BakeDescription {
+  std::string scenePath;
+  nlohmann::json settings;                 // the resolved options, as the command reports them
+  float targetRelativeError = 0.0f;        // drawn in convergence.png; 0 = none
+  std::vector<std::string> meshNames;      // per TraceMesh (rdb.meshes order); "" = unnamed
+  std::vector<std::string> nodeNames;      // per TraceMesh
+  std::vector<std::string> materialNames;  // per TraceMaterial (rdb.materials order)
+  nlohmann::json timingsS;                 // named phases in seconds, e.g. {"build": 0.2, "bake": 61.3}
+  bool exportGltf = false;                 // also write export/scene.gltf for glTF viewers
+};
+
+// Writes the baked scene into `dir`, which must not exist (writeDirectoryAtomic gives it a fresh one).
+// std::runtime_error when a file cannot be written; std::invalid_argument when the light maps or the names do
+// not match rdb.
+void writeBakedScene(const std::filesystem::path& dir, const rdb::TraceRdb& rdb,
+                     const raytracer::VertexLightMaps& maps, const BakeDescription& description);
+
+// convergence.csv's text: the header and one row per point, numbers in the shortest form that reads back
+// exactly.
+std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history);
+
+// Whether `dir` holds a baked scene (a manifest.json).
+bool isBakedScene(const std::filesystem::path& dir);
+
+// Throws UsageError when `dir` exists and is not a baked scene (a file, or a directory of something else):
+// a bake replaces only an earlier bake.
+void checkBakeOutput(const std::filesystem::path& dir);
+
+// Creates `dir` atomically: `fill` writes everything into a fresh sibling temporary directory
+// (DIR.tmp-NNNN), which is then renamed to `dir`. An earlier bake at `dir` is renamed away first and deleted
+// after. When fill throws, or any step fails, the temporary is removed, an earlier bake stays where it was,
+// and the exception propagates. checkBakeOutput(dir) first.
+void writeDirectoryAtomic(const std::filesystem::path& dir,
+                          const std::function<void(const std::filesystem::path& tmp)>& fill);
+
+// Reads DIR/manifest.json. InputError naming the file when it is missing, not JSON, or not a baked scene of a
+// format version this program reads.
+nlohmann::json readBakedManifest(const std::filesystem::path& dir);
+
+}  // namespace fly::cli
