@@ -3,10 +3,13 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/baked_scene.h"
 #include "cli/command.h"
 #include "sdb/features.h"
 #include "sdb/scene_load.h"
@@ -119,21 +122,52 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   std::cout << o.str();
 }
 
+nlohmann::json bakeSummaryJson(const nlohmann::json& m) {
+  return {{"scene", m.at("scene")},
+          {"samples_per_vertex", m.at("samples_per_vertex")},
+          {"relative_error_p95", m.at("relative_error_p95")},
+          {"bake_seconds", m.at("bake_seconds")},
+          {"rays", m.at("rays")},
+          {"objects", m.at("objects").size()},
+          {"fly_version", m.at("fly_version")}};
+}
+
+void printBakeSummary(const nlohmann::json& m) {
+  std::ostringstream o;
+  o << "baked from " << m.at("scene").get<std::string>() << " by fly " << m.at("fly_version").get<std::string>()
+    << "\n";
+  o << "bake       " << m.at("samples_per_vertex").get<uint64_t>() << " samples per vertex, 95th percentile of "
+    << "relative standard error " << fixed(100.0 * m.at("relative_error_p95").get<double>(), 2) << " %, "
+    << fixed(m.at("bake_seconds").get<double>(), 1) << " s, " << m.at("objects").size() << " objects\n";
+  std::cout << o.str();
+}
+
 }  // namespace
 
 Command addInfoCommand(CLI::App& app) {
   auto opts = std::make_shared<InfoOptions>();
   CLI::App* sub = app.add_subcommand("info", "Print what a scene contains: counts, bounds (m), site, features");
-  sub->add_option("SCENE", opts->scene, "scene file (.json) or glTF model (.gltf, .glb)")->required();
+  sub->add_option("SCENE", opts->scene, "scene file (.json), glTF model (.gltf, .glb) or baked scene directory")
+      ->required();
   sub->add_flag("--json", opts->json, "print one JSON object instead of text (default: text)");
   return {sub, [opts]() {
-            const sdb::Scene scene = sdb::loadScene(opts->scene);
+            // A baked scene directory: its geometry (scene.gltf) and what the manifest says of the bake.
+            std::optional<nlohmann::json> bake;
+            std::filesystem::path path = opts->scene;
+            if (isBakedScene(path)) {
+              bake = readBakedManifest(path);
+              path /= "scene.gltf";
+            }
+            const sdb::Scene scene = sdb::loadScene(path);
             const sdb::SceneStats stats = sdb::computeStats(scene);
             const sdb::SceneFeatures features = sdb::computeFeatures(scene);
             if (opts->json) {
-              std::cout << infoJson(scene, stats, features).dump(2) << "\n";
+              nlohmann::json j = infoJson(scene, stats, features);
+              if (bake) j["bake"] = bakeSummaryJson(*bake);
+              std::cout << j.dump(2) << "\n";
             } else {
               printText(scene, stats, features);
+              if (bake) printBakeSummary(*bake);
             }
             return 0;
           }};

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs `fly bake` end to end and checks the baked scene directory: every file the manifest lists exists, a
 # second bake replaces the first and leaves nothing beside it, and a directory that is not a bake is refused
-# (exit 2) and left untouched.
+# (exit 2) and left untouched; `fly info` reads the bake.
 #   bake_check.sh FLY SCENE WORKDIR [FLY BAKE OPTIONS...]
 set -euo pipefail
 fly=$1 scene=$2 work=$3
@@ -25,6 +25,11 @@ check_files
 "$fly" bake "$scene" --out "$out" "$@"
 check_files
 [ "$(ls -A "$work")" = "bake" ] || { echo "FAIL: left beside the bake: $(ls -A "$work")"; exit 1; }
+# fly info reads the baked scene: its geometry and the bake's summary.
+"$fly" info "$out" > "$work/info.txt"
+grep -q "samples per vertex" "$work/info.txt" || { echo "FAIL: fly info DIR"; cat "$work/info.txt"; exit 1; }
+"$fly" info "$out" --json | grep -q '"samples_per_vertex"' || { echo "FAIL: fly info DIR --json"; exit 1; }
+rm "$work/info.txt"
 
 mkdir "$work/other"
 echo keep > "$work/other/keep.txt"
