@@ -1,6 +1,7 @@
 // `fly illuminance SCENE --points IN.csv --out OUT.csv`: illuminance at sensor points with its standard error,
 // from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as Radiance's
-// rtrace -I).
+// rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
+// (raytracer/sensor_grid.h).
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "cli/command.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
+#include "raytracer/sensor_grid.h"
 #include "rdb/trace_rdb_build.h"
 #include "sdb/scene_load.h"
 
@@ -24,6 +26,7 @@ namespace {
 struct IlluminanceOptions {
   std::string scene;
   std::string points;
+  std::string grid;
   std::string out;
   SamplingOptions sampling;
 };
@@ -121,12 +124,77 @@ std::string number(double v) {
   return buf;
 }
 
+// The most sensors --grid may place: beyond this a spacing is surely a slip (10^6 sensors take minutes).
+constexpr double kMaxGridSensors = 1e6;
+
+struct GridSpec {
+  float heightM = 0.0f;
+  float spacingM = 0.0f;
+};
+
+// --grid HEIGHT,SPACING in metres, e.g. 0.85,0.5.
+GridSpec parseGrid(const std::string& s) {
+  const std::vector<std::string> fields = splitCsv(s);
+  GridSpec g;
+  float* values[2] = {&g.heightM, &g.spacingM};
+  bool ok = fields.size() == 2;
+  for (size_t i = 0; ok && i < 2; ++i) {
+    const std::string f = trim(fields[i]);
+    const char* end = f.data() + f.size();
+    const auto [ptr, ec] = std::from_chars(f.data(), end, *values[i]);
+    ok = ec == std::errc() && ptr == end && std::isfinite(*values[i]);
+  }
+  if (!ok) {
+    throw UsageError("--grid " + s + ": expected HEIGHT,SPACING in metres, e.g. 0.85,0.5 (sensors 0.85 m above "
+                     "the floors, 0.5 m apart)");
+  }
+  if (!(g.heightM > 0.0f)) throw UsageError("--grid " + s + ": the height above the floors must be > 0 m");
+  if (!(g.spacingM >= 0.01f)) throw UsageError("--grid " + s + ": the spacing must be at least 0.01 m");
+  return g;
+}
+
+// --grid's sensors over the scene's floors, as a table with the columns x,y,z,nx,ny,nz.
+SensorTable gridSensors(const std::string& spec, const GridSpec& g, const std::string& scenePath,
+                        const rdb::TraceRdb& rdb, const raytracer::EmbreeScene& embree) {
+  const double columns = raytracer::floorGridColumnCount(rdb, g.spacingM);
+  if (columns > kMaxGridSensors) {
+    throw UsageError("--grid " + spec + ": a spacing of " + number(g.spacingM) + " m gives " + number(columns) +
+                     " grid columns over the scene's " + number(rdb.boundsM.size().x) + " m × " +
+                     number(rdb.boundsM.size().z) + " m, more than the limit of 10^6 sensors; give a larger spacing");
+  }
+  const std::vector<raytracer::GridSensor> grid = raytracer::floorSensorGrid(rdb, embree, g.heightM, g.spacingM);
+  if (double(grid.size()) > kMaxGridSensors) {
+    throw UsageError("--grid " + spec + ": " + std::to_string(grid.size()) +
+                     " sensors over all floors, more than the limit of 10^6; give a larger spacing");
+  }
+  if (grid.empty()) {
+    throw InputError({scenePath}, "--grid " + spec + ": the scene has no floor with " + number(g.heightM) +
+                             " m of free space above it",
+                     "a floor is a surface facing up (within 25.8° of +Y); give a smaller height or use --points");
+  }
+  SensorTable t;
+  t.header = "x,y,z,nx,ny,nz";
+  for (const raytracer::GridSensor& s : grid) {
+    t.lines.push_back(number(s.positionM.x) + "," + number(s.positionM.y) + "," + number(s.positionM.z) + "," +
+                      number(s.normal.x) + "," + number(s.normal.y) + "," + number(s.normal.z));
+    t.positionsM.push_back(s.positionM);
+    t.normals.push_back(s.normal);
+  }
+  return t;
+}
+
 int runIlluminance(const IlluminanceOptions& o) {
+  if (o.points.empty() == o.grid.empty()) {
+    throw UsageError("give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
+                     "over the floors)");
+  }
+  const GridSpec grid = o.grid.empty() ? GridSpec{} : parseGrid(o.grid);  // bad values fail before the load
   const sdb::Scene scene = sdb::loadScene(o.scene);
   const raytracer::EstimateSettings settings = estimateSettings(o.sampling, scene.bakeSettings());
-  const SensorTable sensors = readSensors(o.points);
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
+  const SensorTable sensors =
+      o.grid.empty() ? readSensors(o.points) : gridSensors(o.grid, grid, o.scene, rdb, embree);
   const raytracer::Integrator integrator(rdb, embree, integratorSettings(o.sampling, scene.bakeSettings()));
   const raytracer::EstimateResult result =
       raytracer::estimateIrradiance(integrator, sensors.positionsM, sensors.normals, settings);
@@ -157,9 +225,16 @@ Command addIlluminanceCommand(CLI::App& app) {
   sub->add_option("SCENE", o->scene, "scene file (.json) or glTF model (.gltf, .glb)")->required();
   sub->add_option("--points", o->points,
                   "sensor file (.csv): a header naming the columns x,y,z,nx,ny,nz (metres, world space; the "
-                  "sensor's unit normal), one row per sensor; other columns are kept")
-      ->required();
-  sub->add_option("--out", o->out, "output .csv: the input rows with illuminance_lux and std_error_lux added")
+                  "sensor's unit normal), one row per sensor; other columns are kept");
+  sub->add_option("--grid", o->grid,
+                  "instead of --points: sensors facing up HEIGHT m above every floor (a surface facing within 25.8° "
+                  "of up, the ground included) that has HEIGHT m of free space, on a lattice SPACING m apart in x "
+                  "and z centred on the scene; rows ordered by floor height, z, x. HEIGHT,SPACING in metres, e.g. "
+                  "0.85,0.5")
+      ->type_name("HEIGHT,SPACING");
+  sub->add_option("--out", o->out,
+                  "output .csv: the sensor rows (--grid: x,y,z,nx,ny,nz) with illuminance_lux and std_error_lux "
+                  "added")
       ->required();
   addSamplingOptions(*sub, o->sampling, "sensor");
   return {sub, [o] { return runIlluminance(*o); }};
