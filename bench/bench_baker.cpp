@@ -1,0 +1,336 @@
+// fly-bench-baker: the vertex baker's performance figures, each as a ratio against a baseline measured in the
+// same run, because the machine is shared and noisy (DESIGN.md, "Performance figures"; results in
+// docs/benchmarks.md).
+//
+//   1. Throughput: the baker's rays/s (sampling and shading included) against raw EmbreeScene queries on rays
+//      of the same kind, traced from precomputed arrays.
+//   2. QMC against plain MC: RMSE of vertex irradiance at equal samples against a many-sample reference,
+//      with all bounces and with direct light only.
+//   3. Scaling: bake time for 10k, 100k and 1M triangles, 1 thread against all.
+//   4. Memory: peak resident set size after the largest bake.
+//
+// Usage: fly-bench-baker [--quick]   (--quick: 10k triangles only, a smaller QMC reference)
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "base/color.h"
+#include "base/math.h"
+#include "raytracer/baker.h"
+#include "raytracer/embree_scene.h"
+#include "raytracer/integrator.h"
+#include "raytracer/warp.h"
+#include "rdb/trace_rdb.h"
+
+namespace fly::raytracer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The benchmark scene: a square ground of 2·cells² triangles, 40 m wide, with a 4 × 4 array of boxes (five
+// faces of two triangles each) that cast shadows under a sun at 35° elevation and a sky brighter at the
+// zenith. Ground albedo 0.5, boxes 0.7, so indirect light matters too.
+rdb::TraceRdb makeScene(uint32_t cells) {
+  rdb::TraceRdb rdb;
+  rdb::TraceMaterial groundMaterial;
+  groundMaterial.diffuse = Rgb(0.5f);
+  rdb::TraceMaterial boxMaterial;
+  boxMaterial.diffuse = Rgb(0.7f);
+  rdb.materials = {groundMaterial, boxMaterial};
+
+  // (n + 1)² shared vertices from origin along edgeU and edgeV, facing cross(edgeU, edgeV).
+  auto grid = [&rdb](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n,
+                     uint32_t material) {
+    rdb::TraceMesh mesh;
+    mesh.firstVertex = static_cast<uint32_t>(rdb.positionsM.size());
+    mesh.firstTriangle = static_cast<uint32_t>(rdb.triangleCount());
+    const vec3 normal = glm::normalize(glm::cross(edgeU, edgeV));
+    const float step = 1.0f / static_cast<float>(n);
+    for (uint32_t j = 0; j <= n; ++j) {
+      for (uint32_t i = 0; i <= n; ++i) {
+        rdb.positionsM.push_back(origin + edgeU * (static_cast<float>(i) * step) +
+                                 edgeV * (static_cast<float>(j) * step));
+        rdb.normals.push_back(normal);
+      }
+    }
+    auto at = [&](uint32_t i, uint32_t j) { return mesh.firstVertex + j * (n + 1) + i; };
+    for (uint32_t j = 0; j < n; ++j) {
+      for (uint32_t i = 0; i < n; ++i) {
+        rdb.indices.insert(rdb.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        rdb.indices.insert(rdb.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        rdb.triangleMaterial.insert(rdb.triangleMaterial.end(), {material, material});
+      }
+    }
+    mesh.vertexCount = static_cast<uint32_t>(rdb.positionsM.size()) - mesh.firstVertex;
+    mesh.triangleCount = static_cast<uint32_t>(rdb.triangleCount()) - mesh.firstTriangle;
+    rdb.meshes.push_back(mesh);
+  };
+
+  constexpr float kHalfM = 20.0f;
+  grid(vec3(-kHalfM, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(2 * kHalfM, 0, 0), cells, 0);
+  for (int bz = 0; bz < 4; ++bz) {
+    for (int bx = 0; bx < 4; ++bx) {
+      const float x0 = -16.0f + 9.0f * static_cast<float>(bx);
+      const float z0 = -16.0f + 9.0f * static_cast<float>(bz);
+      const float sx = 2.5f;
+      const float sz = 1.5f + 0.5f * static_cast<float>(bx);
+      const float h = 1.0f + 0.75f * static_cast<float>(bz);
+      grid(vec3(x0, h, z0), vec3(0, 0, sz), vec3(sx, 0, 0), 1, 1);      // top, +Y
+      grid(vec3(x0 + sx, 0, z0), vec3(0, h, 0), vec3(0, 0, sz), 1, 1);  // +X
+      grid(vec3(x0, 0, z0), vec3(0, 0, sz), vec3(0, h, 0), 1, 1);       // −X
+      grid(vec3(x0, 0, z0 + sz), vec3(sx, 0, 0), vec3(0, h, 0), 1, 1);  // +Z
+      grid(vec3(x0, 0, z0), vec3(0, h, 0), vec3(sx, 0, 0), 1, 1);       // −Z
+    }
+  }
+
+  const float elevation = glm::radians(35.0f);
+  const float azimuth = glm::radians(60.0f);
+  rdb.hasSun = true;
+  rdb.sun.directionWorld = glm::normalize(vec3(std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
+                                               std::cos(elevation) * std::sin(azimuth)));
+  rdb.sun.normalIlluminanceLux = Rgb(90000.0f, 85000.0f, 78000.0f);
+  // Radiance rising from 2000 cd/m² at the horizon to 5000 cd/m² at the zenith, bluish.
+  constexpr uint32_t kSkyResolution = 16;
+  rdb.sky.resolution = kSkyResolution;
+  for (uint32_t j = 0; j < kSkyResolution; ++j) {
+    const float mu = 1.0f - (static_cast<float>(j) + 0.5f) / kSkyResolution;
+    for (uint32_t i = 0; i < kSkyResolution; ++i) {
+      rdb.sky.radianceCdM2.push_back(Rgb(0.75f, 0.9f, 1.2f) * (2000.0f + 3000.0f * mu));
+    }
+  }
+  for (const vec3& p : rdb.positionsM) rdb.boundsM.extend(p);
+  return rdb;
+}
+
+// Ground cells for about `triangles` triangles (the boxes add 160).
+uint32_t cellsFor(uint32_t triangles) {
+  return static_cast<uint32_t>(std::lround(std::sqrt(static_cast<double>(triangles) / 2.0)));
+}
+
+VertexLightMaps bake(const rdb::TraceRdb& rdb, const EmbreeScene& scene, uint32_t samples, uint32_t threads,
+                     SamplerKind sampler = SamplerKind::kSobol, uint32_t replicates = 8, uint64_t seed = 0,
+                     uint32_t maxBounces = kPathLengthGuard) {
+  BakeSettings settings;
+  settings.integrator.maxBounces = maxBounces;
+  settings.estimate.firstPassSamples = samples;
+  settings.estimate.maxSamples = samples;
+  settings.estimate.replicates = replicates;
+  settings.estimate.sampler = sampler;
+  settings.estimate.threads = threads;
+  settings.estimate.seed = seed;
+  return bakeVertexLightMaps(rdb, scene, settings);
+}
+
+struct Ray {
+  vec3 origin;
+  vec3 dir;
+  bool occlusion;  // occluded() to infinity, else intersect()
+};
+
+// The baseline's rays: from every vertex, moved off its surface as the integrator moves its points, per
+// sample one sun shadow ray (uniform in the sun's cone, where it lies above the surface), one sky shadow ray
+// and one continuation ray (both cosine-distributed about the normal) — the rays the integrator traces at a
+// path's first vertex. Unlike the baker's, the rays leave from the vertex itself rather than a point of its
+// one-ring, the sky ray is cosine- rather than luminance-distributed, and no ray leaves from a bounce.
+std::vector<Ray> baselineRays(const rdb::TraceRdb& rdb, uint32_t samples) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> uniform(0.0f, 0x1.fffffep-1f);
+  auto u2 = [&] { return vec2(uniform(rng), uniform(rng)); };
+  const Onb sunFrame = onb(rdb.sun.directionWorld);
+  const float sunOneMinusCos = oneMinusCos(rdb.sun.halfAngleRad);
+  std::vector<Ray> rays;
+  rays.reserve(rdb.positionsM.size() * samples * 3);
+  for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
+    const vec3& n = rdb.normals[v];
+    const vec3 origin = offsetRayOrigin(rdb.positionsM[v], n, maxAbs(rdb.positionsM[v]));
+    const Onb frame = onb(n);
+    for (uint32_t s = 0; s < samples; ++s) {
+      const vec3 sun = sunFrame.toWorld(sampleUniformCone(u2(), sunOneMinusCos));
+      if (glm::dot(sun, n) > 0.0f) rays.push_back({origin, sun, true});
+      rays.push_back({origin, frame.toWorld(sampleCosineHemisphere(u2())), true});
+      rays.push_back({origin, frame.toWorld(sampleCosineHemisphere(u2())), false});
+    }
+  }
+  return rays;
+}
+
+// Rays per second of tracing `rays` on `threads` threads, each taking a contiguous share, over as many passes
+// as make at least half a second (one pass of 16 threads is too short to time).
+double rawRaysPerSecond(const EmbreeScene& scene, const std::vector<Ray>& rays, uint32_t threads) {
+  // One counter per thread, written once at the end: incrementing adjacent counters in the loop would share
+  // a cache line between threads. Read afterwards so that no query can be optimised away.
+  std::vector<uint64_t> hits(threads, 0);
+  const Clock::time_point start = Clock::now();
+  uint64_t traced = 0;
+  do {
+    std::vector<std::thread> workers;
+    for (uint32_t t = 0; t < threads; ++t) {
+      workers.emplace_back([&, t] {
+        const size_t begin = rays.size() * t / threads;
+        const size_t end = rays.size() * (t + 1) / threads;
+        const float inf = std::numeric_limits<float>::infinity();
+        uint64_t local = 0;
+        for (size_t i = begin; i < end; ++i) {
+          const Ray& r = rays[i];
+          local += r.occlusion ? scene.occluded(r.origin, r.dir, inf)
+                               : scene.intersect(r.origin, r.dir, inf).has_value();
+        }
+        hits[t] += local;
+      });
+    }
+    for (std::thread& w : workers) w.join();
+    traced += rays.size();
+  } while (secondsSince(start) < 0.5);
+  const double seconds = secondsSince(start);
+  uint64_t total = 0;
+  for (uint64_t h : hits) total += h;
+  if (total == 0) std::printf("  (no ray hit anything: the baseline scene is wrong)\n");
+  return static_cast<double>(traced) / seconds;
+}
+
+void benchThroughput(uint32_t maxThreads) {
+  constexpr uint32_t kSamples = 64;
+  // Baker and baseline alternate, and each keeps its best run: the one least slowed by the machine's other
+  // load.
+  constexpr int kRepetitions = 3;
+  const rdb::TraceRdb rdb = makeScene(cellsFor(10000));
+  const EmbreeScene scene(rdb);
+  const std::vector<Ray> rays = baselineRays(rdb, kSamples);
+  std::printf(
+      "1. Throughput: %zu triangles, %zu vertices, %u samples per vertex (Sobol, 8 replicates), best of "
+      "%d\n",
+      rdb.triangleCount(), rdb.positionsM.size(), kSamples, kRepetitions);
+  for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
+    double raw = 0.0;
+    double baker = 0.0;
+    uint64_t bakerRays = 0;
+    for (int r = 0; r < kRepetitions; ++r) {
+      raw = std::max(raw, rawRaysPerSecond(scene, rays, threads));
+      const VertexLightMaps maps = bake(rdb, scene, kSamples, threads);
+      baker = std::max(baker, static_cast<double>(maps.rays) / maps.seconds);
+      bakerRays = maps.rays;
+    }
+    std::printf(
+        "   threads %u: baker %.3g rays/s (%.2f rays per vertex sample), raw %.3g rays/s (%zu rays a pass): "
+        "ratio %.2f\n",
+        threads, baker,
+        static_cast<double>(bakerRays) / static_cast<double>(rdb.positionsM.size() * kSamples), raw,
+        rays.size(), baker / raw);
+  }
+}
+
+std::vector<double> frontLuminance(const VertexLightMaps& maps) {
+  std::vector<double> y(maps.frontLux.size());
+  for (size_t v = 0; v < y.size(); ++v) y[v] = luminance(maps.frontLux[v]);
+  return y;
+}
+
+// Root mean square over vertices and seeds of the difference from the reference, in lux.
+double rmse(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const std::vector<double>& reference,
+            uint32_t samples, uint32_t threads, SamplerKind sampler, uint32_t replicates, uint32_t seeds,
+            uint32_t maxBounces) {
+  double sum = 0.0;
+  for (uint32_t s = 0; s < seeds; ++s) {
+    // Seeds far from the reference's, so that no point shares its scrambling with the reference.
+    const uint64_t seed = 1000000u * (s + 1);
+    const std::vector<double> y =
+        frontLuminance(bake(rdb, scene, samples, threads, sampler, replicates, seed, maxBounces));
+    for (size_t v = 0; v < y.size(); ++v) sum += (y[v] - reference[v]) * (y[v] - reference[v]);
+  }
+  return std::sqrt(sum / static_cast<double>(reference.size() * seeds));
+}
+
+// Run with all bounces (what the baker does) and with direct light only (maxBounces = 0), which shows how
+// much of QMC's advantage the high-dimensional indirect paths take away.
+void benchQmc(uint32_t threads, bool quick, uint32_t maxBounces) {
+  const uint32_t referenceSamples = quick ? 2048 : 16384;
+  constexpr uint32_t kSeeds = 4;
+  const rdb::TraceRdb rdb = makeScene(24);
+  const EmbreeScene scene(rdb);
+  const Clock::time_point start = Clock::now();
+  const std::vector<double> reference =
+      frontLuminance(bake(rdb, scene, referenceSamples, threads, SamplerKind::kSobol, 1, 7, maxBounces));
+  std::printf(
+      "\n2. QMC against MC, %s: %zu vertices, reference %u Sobol samples (1 replicate, %.1f s); RMSE "
+      "of vertex luminance over %u seeds\n",
+      maxBounces == 0 ? "direct light only" : "all bounces", rdb.positionsM.size(), referenceSamples,
+      secondsSince(start), kSeeds);
+  double meanReference = 0.0;
+  for (double y : reference) meanReference += y / static_cast<double>(reference.size());
+  std::printf("   mean vertex illuminance %.0f lx\n", meanReference);
+  std::printf("   %8s %12s %14s %14s %13s %13s\n", "samples", "RMSE MC", "RMSE QMC K=8", "RMSE QMC K=1",
+              "MC/QMC K=8", "MC/QMC K=1");
+  const std::vector<uint32_t> counts =
+      quick ? std::vector<uint32_t>{16, 64} : std::vector<uint32_t>{16, 64, 256};
+  for (uint32_t samples : counts) {
+    const double mc =
+        rmse(rdb, scene, reference, samples, threads, SamplerKind::kRandom, 1, kSeeds, maxBounces);
+    const double qmc8 =
+        rmse(rdb, scene, reference, samples, threads, SamplerKind::kSobol, 8, kSeeds, maxBounces);
+    const double qmc1 =
+        rmse(rdb, scene, reference, samples, threads, SamplerKind::kSobol, 1, kSeeds, maxBounces);
+    std::printf("   %8u %9.1f lx %11.1f lx %11.1f lx %13.2f %13.2f\n", samples, mc, qmc8, qmc1, mc / qmc8,
+                mc / qmc1);
+  }
+}
+
+void benchScaling(uint32_t maxThreads, bool quick) {
+  constexpr uint32_t kSamples = 16;
+  std::printf("\n3. Scaling: %u samples per vertex (Sobol, 8 replicates); bake time without the BVH build\n",
+              kSamples);
+  std::printf("   %10s %10s %10s %12s %12s %9s\n", "triangles", "vertices", "BVH build", "1 thread",
+              (std::to_string(maxThreads) + " threads").c_str(), "speed-up");
+  const std::vector<uint32_t> sizes =
+      quick ? std::vector<uint32_t>{10000} : std::vector<uint32_t>{10000, 100000, 1000000};
+  for (uint32_t triangles : sizes) {
+    const rdb::TraceRdb rdb = makeScene(cellsFor(triangles));
+    const Clock::time_point start = Clock::now();
+    const EmbreeScene scene(rdb);
+    const double buildSeconds = secondsSince(start);
+    const double one = bake(rdb, scene, kSamples, 1).seconds;
+    const double many = bake(rdb, scene, kSamples, maxThreads).seconds;
+    std::printf("   %10zu %10zu %8.2f s %10.2f s %10.2f s %9.2f\n", rdb.triangleCount(),
+                rdb.positionsM.size(), buildSeconds, one, many, one / many);
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  // ru_maxrss is in KiB on Linux.
+  std::printf("\n4. Memory: peak resident set size after the %s-triangle bake: %.0f MiB\n",
+              quick ? "10k" : "1M", static_cast<double>(usage.ru_maxrss) / 1024.0);
+}
+
+}  // namespace
+}  // namespace fly::raytracer
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else {
+      std::fprintf(stderr, "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick]\n",
+                   argv[i]);
+      return 2;
+    }
+  }
+  const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
+  fly::raytracer::benchThroughput(threads);
+  fly::raytracer::benchQmc(threads, quick, fly::raytracer::kPathLengthGuard);
+  fly::raytracer::benchQmc(threads, quick, 0);
+  fly::raytracer::benchScaling(threads, quick);
+  return 0;
+}
