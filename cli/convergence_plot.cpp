@@ -1,5 +1,7 @@
 #include "cli/convergence_plot.h"
 
+#include "cli/cairo_png.h"
+
 #include <cairo.h>
 
 #include <algorithm>
@@ -67,11 +69,6 @@ struct Painter {
     cairo_restore(cr);
   }
 };
-
-cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
 
 }  // namespace
 
@@ -218,14 +215,7 @@ void drawConvergencePlot(std::span<const ConvergencePoint> history, const fs::pa
            at + glm::dvec2(swatch + 8 * p.unit, 2 * step), 13, 0.0, 0.5);
   }
 
-  cairo_surface_flush(surface.get());
-  std::string png;
-  if (cairo_status(cr) != CAIRO_STATUS_SUCCESS ||
-      cairo_surface_write_to_png_stream(surface.get(), appendToString, &png) != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error("drawing the convergence plot failed: " +
-                             std::string(cairo_status_to_string(cairo_status(cr))));
-  }
-  writeFileAtomic(pngOut, png);
+  writeCairoPng(surface.get(), cr, pngOut, "convergence plot");
 }
 
 }  // namespace fly::cli

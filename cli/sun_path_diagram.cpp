@@ -1,5 +1,7 @@
 #include "cli/sun_path_diagram.h"
 
+#include "cli/cairo_png.h"
+
 #include <cairo.h>
 
 #include <algorithm>
@@ -11,7 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "base/image_io.h"
 #include "base/math.h"
 #include "sunsky/civil_time.h"
 
@@ -465,25 +466,6 @@ void drawHourLines(Painter& p, SunTracks& sun, std::vector<Label>& labels) {
   }
 }
 
-// Cairo's RGB24 surface (each pixel a native-endian uint32 0x00RRGGBB) as packed 8-bit RGB.
-std::vector<uint8_t> packedRgb(cairo_surface_t* surface) {
-  const int width = cairo_image_surface_get_width(surface);
-  const int height = cairo_image_surface_get_height(surface);
-  const int stride = cairo_image_surface_get_stride(surface);
-  const unsigned char* data = cairo_image_surface_get_data(surface);
-  std::vector<uint8_t> rgb;
-  rgb.reserve(3 * static_cast<size_t>(width) * static_cast<size_t>(height));
-  for (int y = 0; y < height; ++y) {
-    const auto* row = reinterpret_cast<const uint32_t*>(data + static_cast<ptrdiff_t>(y) * stride);
-    for (int x = 0; x < width; ++x) {
-      rgb.push_back(static_cast<uint8_t>(row[x] >> 16));
-      rgb.push_back(static_cast<uint8_t>(row[x] >> 8));
-      rgb.push_back(static_cast<uint8_t>(row[x]));
-    }
-  }
-  return rgb;
-}
-
 }  // namespace
 
 void drawSunPath(const SunPathRequest& request, const fs::path& pngOut) {
@@ -555,12 +537,7 @@ void drawSunPath(const SunPathRequest& request, const fs::path& pngOut) {
            {cx, 0.983 * size}, {.size = 15.0, .bold = true, .maxWidth = kWidth});
   }
 
-  cairo_surface_flush(surface.get());
-  if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error(std::string("drawing the sun-path diagram failed: ") +
-                             cairo_status_to_string(cairo_status(cr)));
-  }
-  writePng(pngOut, size, size, 3, packedRgb(surface.get()).data());
+  writeCairoPng(surface.get(), cr, pngOut, "sun-path diagram");
 }
 
 }  // namespace fly::cli
