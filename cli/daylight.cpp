@@ -9,13 +9,6 @@
 
 namespace fly::cli {
 
-int dayOfYear(const sunsky::UtcTime& utc) {
-  static constexpr int kDaysBefore[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
-  const int y = utc.year;
-  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
-  return kDaysBefore[utc.month - 1] + utc.day + (leap && utc.month > 2 ? 1 : 0);
-}
-
 double stationPressureHpa(const sunsky::SpaInput& spa) {
   return std::isnan(spa.pressureHpa) ? sunsky::standardPressureHpa(spa.elevationM) : spa.pressureHpa;
 }
@@ -29,7 +22,7 @@ sunsky::SunDiscInput sunDiscInput(const SiteTime& st, const sunsky::SunPosition&
   in.turbidity = turbidity;
   // The clear-sky model's valid pressure range; a site above ~9 km is outside what it was made for.
   in.pressureHpa = std::clamp(stationPressureHpa(st.spa), 300.0, 1100.0);
-  in.dayOfYear = dayOfYear(st.spa.utc);
+  in.dayOfYear = sunsky::dayOfYear(st.spa.utc);
   return in;
 }
 
@@ -37,12 +30,6 @@ double directHorizontal(const sunsky::SunDisc& disc) {
   return std::max(0.0, double(luminance(disc.normalIlluminanceLux)) * disc.dirEnu.z);
 }
 
-// The weather record at the instant: EPW hours are local standard time at the file's zone (epw.h).
-sunsky::EpwSample weatherAt(const sunsky::EpwFile& epw, const sunsky::UtcTime& utc) {
-  const sunsky::UtcTime local = sunsky::addHours(utc, epw.location.timeZoneHours);
-  const double hour = local.hour + local.minute / 60.0 + local.second / 3600.0;
-  return sunsky::sampleAt(epw, local.month, local.day, hour);
-}
 
 }  // namespace
 
@@ -85,7 +72,7 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
     std::optional<double> dhi = r.diffuseHorizontalLux;
     std::optional<double> dni = r.directNormalLux;
     if (r.weather && !dhi && !r.zenithLuminanceCdM2) {
-      const sunsky::EpwSample w = weatherAt(*r.weather, st.spa.utc);
+      const sunsky::EpwSample w = sunsky::sampleAtUtc(*r.weather, st.spa.utc);
       dhi = w.dhiLux;
       if (!dni) dni = w.dniLux;
     }
@@ -118,7 +105,7 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
       in.diffuseHorizontal = wm2 ? *r.diffuseHorizontalWm2 : *r.diffuseHorizontalLux;
       d.description = "Perez all-weather sky (Perez et al. 1993)";
     } else if (r.weather) {
-      const sunsky::EpwSample w = weatherAt(*r.weather, st.spa.utc);
+      const sunsky::EpwSample w = sunsky::sampleAtUtc(*r.weather, st.spa.utc);
       if (!w.dniWm2 || !w.dhiWm2) {
         throw InputError({r.weather->fileName}, "the weather record at " + st.localIso +
                                                    " has no direct normal or diffuse horizontal radiation",

@@ -12,9 +12,6 @@
 
 namespace fly::cli {
 
-// Day of the year (1..366) of a UTC instant's calendar date.
-int dayOfYear(const sunsky::UtcTime& utc);
-
 // Station pressure of the site: the --pressure value, or the standard atmosphere at its elevation.
 double stationPressureHpa(const sunsky::SpaInput& spa);
 

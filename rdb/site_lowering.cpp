@@ -42,23 +42,6 @@ double cieSkyDefaultDiffuseLux(int cieType, double sunElevationDeg, double sunAz
 
 namespace {
 
-// Day of the year (1..366) of a UTC instant's calendar date, from the Julian days of the date and of 1 January.
-int dayOfYear(const sunsky::UtcTime& utc) {
-  sunsky::UtcTime midnight;
-  midnight.year = utc.year;
-  midnight.month = utc.month;
-  midnight.day = utc.day;
-  sunsky::UtcTime newYear;
-  newYear.year = utc.year;
-  return int(std::lround(sunsky::julianDay(midnight) - sunsky::julianDay(newYear))) + 1;
-}
-
-// The weather at a UTC instant: EPW hours are local standard time at the file's zone (sunsky/epw.h).
-sunsky::EpwSample weatherAt(const sunsky::EpwFile& epw, const sunsky::UtcTime& utc) {
-  const sunsky::UtcTime local = sunsky::addHours(utc, epw.location.timeZoneHours);
-  const double hour = local.hour + local.minute / 60.0 + local.second / 3600.0;
-  return sunsky::sampleAt(epw, local.month, local.day, hour);
-}
 
 }  // namespace
 
@@ -89,7 +72,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
   disc.turbidity = settings.turbidity;
   // The clear-atmosphere model's valid pressure range; a site above ~9 km is outside what it was made for.
   disc.pressureHpa = std::clamp(sunsky::standardPressureHpa(site.elevationM), 300.0, 1100.0);
-  disc.dayOfYear = dayOfYear(spa.utc);
+  disc.dayOfYear = sunsky::dayOfYear(spa.utc);
 
   std::optional<double> directNormalLux;  // the weather's, for the sun of a Perez sky
   switch (settings.model) {
@@ -109,7 +92,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
     case sdb::SkyModel::kPerez: {
       // The scene-file reader has already resolved the path against the scene file's folder.
       const sunsky::EpwFile epw = sunsky::loadEpw(settings.weatherFile);
-      const sunsky::EpwSample w = weatherAt(epw, spa.utc);
+      const sunsky::EpwSample w = sunsky::sampleAtUtc(epw, spa.utc);
       if (!w.dniWm2 || !w.dhiWm2) {
         throw InputError({epw.fileName},
                          "the weather record at " + scene.time().localDateTime +

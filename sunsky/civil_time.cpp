@@ -387,4 +387,10 @@ double julianDay(const UtcTime& t, double dut1Seconds) {
   return 2440587.5 + days + secondOfDay / 86400.0;
 }
 
+int dayOfYear(const UtcTime& t) {
+  static constexpr int kDaysBefore[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
+  const bool leap = (t.year % 4 == 0 && t.year % 100 != 0) || t.year % 400 == 0;
+  return kDaysBefore[t.month - 1] + t.day + (leap && t.month > 2 ? 1 : 0);
+}
+
 }  // namespace fly::sunsky

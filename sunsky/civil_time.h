@@ -36,6 +36,9 @@ double utcOffsetHours(std::string_view timeZone, const UtcTime& t);
 // `t` shifted by `hours` (any sign), normalised to a valid calendar date; leap seconds collapse to :59.999….
 UtcTime addHours(const UtcTime& t, double hours);
 
+// Day of the year (1..366) of t's calendar date (proleptic Gregorian).
+int dayOfYear(const UtcTime& t);
+
 // Julian day of a UTC instant (Reda & Andreas 2004, eq. 4; Gregorian calendar), with UT1 = UTC + dut1Seconds.
 // A leap second 23:59:60.x counts as second 60.x of its minute: the day fraction runs on past 23:59:59
 // (UT1 has no leap seconds; the ≤ 1 s this leaves is what dut1Seconds is for).

@@ -618,4 +618,9 @@ EpwSample sampleAt(const EpwFile& file, int month, int day, double localStandard
   return s;
 }
 
+EpwSample sampleAtUtc(const EpwFile& file, const UtcTime& utc) {
+  const UtcTime local = addHours(utc, file.location.timeZoneHours);
+  return sampleAt(file, local.month, local.day, local.hour + local.minute / 60.0 + local.second / 3600.0);
+}
+
 }  // namespace fly::sunsky

@@ -17,6 +17,8 @@
 // std::nullopt here.
 #pragma once
 
+#include "sunsky/civil_time.h"
+
 #include <cstddef>
 #include <filesystem>
 #include <optional>
@@ -135,5 +137,8 @@ struct EpwSample {
 // InputError naming the file for a date the file does not cover or that does not exist (month 13, 30
 // February, 29 February in a file without leap day) and for an hour outside [0, 24].
 EpwSample sampleAt(const EpwFile& file, int month, int day, double localStandardHour);
+
+// The sample at a UTC instant: shifted to the file's standard time (LOCATION time zone), then sampleAt.
+EpwSample sampleAtUtc(const EpwFile& file, const UtcTime& utc);
 
 }  // namespace fly::sunsky

@@ -207,3 +207,18 @@ TEST(CivilTime, JulianDayMatchesTheReportsTable) {
 
 }  // namespace
 }  // namespace fly::sunsky
+
+namespace fly::sunsky {
+namespace {
+
+TEST(CivilTime, DayOfYear) {
+  EXPECT_EQ(dayOfYear(parseTime("2026-01-01T00:00Z", "")), 1);
+  EXPECT_EQ(dayOfYear(parseTime("2026-06-21T23:59Z", "")), 172);  // 31+28+31+30+31+21
+  EXPECT_EQ(dayOfYear(parseTime("2026-03-01T12:00Z", "")), 60);
+  EXPECT_EQ(dayOfYear(parseTime("2024-03-01T12:00Z", "")), 61);   // leap year
+  EXPECT_EQ(dayOfYear(parseTime("2024-12-31T12:00Z", "")), 366);
+  EXPECT_EQ(dayOfYear(parseTime("2100-12-31T12:00Z", "")), 365);  // not a leap year (divisible by 100)
+}
+
+}  // namespace
+}  // namespace fly::sunsky

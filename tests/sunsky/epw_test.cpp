@@ -236,6 +236,11 @@ TEST(Epw, HourConventionRecordThirteenIsHalfPastTwelve) {
   EXPECT_EQ(*s.dewPointC, *r13.dewPointC);
   EXPECT_EQ(*s.pressurePa, *r13.pressurePa);
   EXPECT_EQ(*s.albedo, *r13.albedo);
+  // A UTC instant is read in the file's standard time (LOCATION: UTC+2): 10:30Z is 12:30 local standard time.
+  const EpwSample u = sampleAtUtc(f, parseTime("2026-06-21T10:30:00Z", ""));
+  EXPECT_EQ(u.recordBefore, 12u);
+  EXPECT_EQ(u.weightAfter, 0.0);
+  EXPECT_EQ(*u.ghiWm2, *r13.ghiWm2);
 }
 
 TEST(Epw, InterpolatesBetweenMidpoints) {
