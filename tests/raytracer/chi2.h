@@ -15,7 +15,12 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include <iostream>
+
 #include "base/math.h"
+#include "raytracer/sampler.h"
 
 namespace fly::raytracer::test {
 
@@ -198,5 +203,22 @@ inline dvec3 sphereChartDirection(double s, double t) {
   return dvec3(r * std::cos(2.0 * kPi * t), r * std::sin(2.0 * kPi * t), z);
 }
 inline constexpr double kSphereChartJacobian = 4.0 * kPi;
+
+// Calls f with `count` independent uniform points of the unit square (a chi-square test needs independent
+// samples, not a net).
+template <class F>
+void forRandomSquarePoints(uint32_t count, uint64_t seed, F f) {
+  RandomSampler sampler(seed);
+  for (uint32_t i = 0; i < count; ++i) {
+    sampler.startSample(i);
+    f(sampler.next2D());
+  }
+}
+
+// Prints a chi-square result and fails the test unless it passed.
+inline void expectFits(const char* name, const Chi2Result& r) {
+  std::cout << "[ chi2     ] " << name << ": " << r.describe() << "\n";
+  EXPECT_TRUE(r.passed()) << name << ": " << r.describe();
+}
 
 }  // namespace fly::raytracer::test

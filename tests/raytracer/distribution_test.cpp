@@ -18,24 +18,10 @@ constexpr uint32_t kSampleCount = 1'000'000;
 // Bins of zero weight at both ends and inside, and a wide dynamic range.
 const std::vector<float> kWeights = {0.0f, 1.0f, 3.0f, 0.0f, 0.0f, 0.5f, 7.0f, 2.0f, 0.02f, 0.0f};
 
-template <class F>
-void forRandomNumbers(uint32_t count, uint64_t seed, F f) {
-  RandomSampler sampler(seed);
-  for (uint32_t i = 0; i < count; ++i) {
-    sampler.startSample(i);
-    f(sampler.next2D());
-  }
-}
-
-void expectFits(const char* name, const test::Chi2Result& r) {
-  std::cout << "[ chi2     ] " << name << ": " << r.describe() << "\n";
-  EXPECT_TRUE(r.passed()) << name << ": " << r.describe();
-}
-
 TEST(Distribution, DiscreteChi2) {
   const Distribution1D dist(kWeights);
   std::vector<double> observed(kWeights.size(), 0.0);
-  forRandomNumbers(kSampleCount, 1, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 1, [&](vec2 u) {
     const Distribution1D::DiscreteSample s = dist.sampleDiscrete(u.x);
     ASSERT_EQ(s.pmf, dist.pmf(s.index));
     ASSERT_GT(s.pmf, 0.0f);
@@ -46,20 +32,20 @@ TEST(Distribution, DiscreteChi2) {
   for (float w : kWeights) sum += w;
   std::vector<double> expected;
   for (float w : kWeights) expected.push_back(kSampleCount * w / sum);
-  expectFits("discrete 1D", test::chi2Test(observed, expected, test::kChi2Significance));
+  test::expectFits("discrete 1D", test::chi2Test(observed, expected, test::kChi2Significance));
 }
 
 TEST(Distribution, ContinuousChi2) {
   const Distribution1D dist(kWeights);
   test::Chi2Grid grid(static_cast<int>(kWeights.size()) * 4,
                       1);  // four cells per bin: the offset in the bin too
-  forRandomNumbers(kSampleCount, 2, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 2, [&](vec2 u) {
     const Distribution1D::Sample s = dist.sampleContinuous(u.x);
     ASSERT_EQ(s.bin, static_cast<uint32_t>(s.x * static_cast<float>(kWeights.size())));
     ASSERT_EQ(s.pdf, dist.pdf(s.x));
     grid.add(s.x, 0.5);
   });
-  expectFits("continuous 1D", grid.test([&](double x, double) { return dist.pdf(static_cast<float>(x)); }));
+  test::expectFits("continuous 1D", grid.test([&](double x, double) { return dist.pdf(static_cast<float>(x)); }));
 }
 
 TEST(Distribution, PdfIntegratesToOneAndMatchesTheFunction) {
@@ -164,13 +150,13 @@ TEST(Distribution, SkyTableChi2) {
   constexpr uint32_t kNv = 16;
   const Distribution2D dist(skyTable(kNu, kNv), kNu, kNv);
   test::Chi2Grid grid(2 * kNu, 2 * kNv);
-  forRandomNumbers(kSampleCount, 3, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 3, [&](vec2 u) {
     const Distribution2D::Sample s = dist.sample(u);
     ASSERT_EQ(s.pdf, dist.pdf(s.p));
     ASSERT_GT(s.pdf, 0.0f);
     grid.add(s.p.x, s.p.y);
   });
-  expectFits("sky table 2D", grid.test([&](double x, double y) {
+  test::expectFits("sky table 2D", grid.test([&](double x, double y) {
     return dist.pdf(vec2(static_cast<float>(x), static_cast<float>(y)));
   }));
 }

@@ -17,26 +17,11 @@ namespace {
 constexpr uint32_t kSampleCount = 1'000'000;
 const double kSunHalfAngleRad = degToRad(0.2665);
 
-// Independent uniform points of the square (the chi-square test needs independent samples, not a net).
-template <class F>
-void forRandomSquarePoints(uint32_t count, uint64_t seed, F f) {
-  RandomSampler sampler(seed);
-  for (uint32_t i = 0; i < count; ++i) {
-    sampler.startSample(i);
-    f(sampler.next2D());
-  }
-}
-
-void expectFits(const char* name, const test::Chi2Result& r) {
-  std::cout << "[ chi2     ] " << name << ": " << r.describe() << "\n";
-  EXPECT_TRUE(r.passed()) << name << ": " << r.describe();
-}
-
 // Directions binned on the equal-area sphere chart, 32 cells in z (edges at z = −1 + k/16) by 64 in φ.
 test::Chi2Result directionChi2(const std::function<vec3(vec2)>& warp,
                                const std::function<double(dvec3)>& pdf) {
   test::Chi2Grid grid(32, 64);
-  forRandomSquarePoints(kSampleCount, 1, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 1, [&](vec2 u) {
     const dvec2 st = test::sphereChart(warp(u));
     grid.add(st.x, st.y);
   });
@@ -46,7 +31,7 @@ test::Chi2Result directionChi2(const std::function<vec3(vec2)>& warp,
 
 TEST(Warp, OnbIsOrthonormalAndRightHanded) {
   std::vector<vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {0, 0.0f, -1.0f + 1e-7f}};
-  forRandomSquarePoints(1000, 2, [&](vec2 u) { normals.push_back(sampleUniformSphere(u)); });
+  test::forRandomSquarePoints(1000, 2, [&](vec2 u) { normals.push_back(sampleUniformSphere(u)); });
   normals.push_back(glm::normalize(vec3(1e-4f, -2e-4f, -1.0f)));
   for (const vec3& raw : normals) {
     const vec3 n = glm::normalize(raw);
@@ -64,19 +49,19 @@ TEST(Warp, OnbIsOrthonormalAndRightHanded) {
 }
 
 TEST(Warp, UniformHemisphereChi2) {
-  expectFits("uniform hemisphere", directionChi2(sampleUniformHemisphere, [](dvec3 d) {
+  test::expectFits("uniform hemisphere", directionChi2(sampleUniformHemisphere, [](dvec3 d) {
                return d.z >= 0.0 ? static_cast<double>(kUniformHemispherePdf) : 0.0;
              }));
 }
 
 TEST(Warp, CosineHemisphereChi2) {
-  expectFits("cosine hemisphere", directionChi2(sampleCosineHemisphere, [](dvec3 d) {
+  test::expectFits("cosine hemisphere", directionChi2(sampleCosineHemisphere, [](dvec3 d) {
                return static_cast<double>(cosineHemispherePdf(static_cast<float>(d.z)));
              }));
 }
 
 TEST(Warp, UniformSphereChi2) {
-  expectFits("uniform sphere", directionChi2(sampleUniformSphere,
+  test::expectFits("uniform sphere", directionChi2(sampleUniformSphere,
                                              [](dvec3) { return static_cast<double>(kUniformSpherePdf); }));
 }
 
@@ -84,7 +69,7 @@ TEST(Warp, UniformConeChi2) {
   // Cones whose edge lies on a cell boundary of the chart: cos θmax = 0.875 (29.0°) and −0.25 (104.5°).
   for (float w : {0.125f, 1.25f}) {
     const std::string name = "uniform cone, 1 - cos = " + std::to_string(w);
-    expectFits(name.c_str(),
+    test::expectFits(name.c_str(),
                directionChi2(
                    [w](vec2 u) { return sampleUniformCone(u, w); },
                    [w](dvec3 d) { return d.z >= 1.0 - w ? static_cast<double>(uniformConePdf(w)) : 0.0; }));
@@ -102,13 +87,13 @@ TEST(Warp, SunConeChi2) {
   // outside the cone land in the cells s ≥ 0.8, whose density is 0.
   const float w = oneMinusCos(static_cast<float>(kSunHalfAngleRad));
   test::Chi2Grid grid(40, 40);
-  forRandomSquarePoints(kSampleCount, 3, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 3, [&](vec2 u) {
     const vec3 d = sampleUniformCone(u, w);
     const double phi = std::atan2(static_cast<double>(d.y), static_cast<double>(d.x));
     grid.add(oneMinusCosOf(d) / (1.25 * w), (phi < 0.0 ? phi + 2.0 * kPi : phi) / (2.0 * kPi));
   });
   const double jacobian = 1.25 * w * 2.0 * kPi;
-  expectFits("sun cone (0.2665 deg)", grid.test([&](double s, double) {
+  test::expectFits("sun cone (0.2665 deg)", grid.test([&](double s, double) {
     return s < 0.8 ? static_cast<double>(uniformConePdf(w)) * jacobian : 0.0;
   }));
 }
@@ -129,18 +114,18 @@ TEST(Warp, SunConeStaysInsideWithExactPdf) {
   for (float a : {0.0f, 0.5f, kLast}) {
     for (float b : {0.0f, 0.25f, kLast}) expectInside(vec2(a, b));
   }
-  forRandomSquarePoints(kSampleCount, 4, expectInside);
+  test::forRandomSquarePoints(kSampleCount, 4, expectInside);
 }
 
 TEST(Warp, ConcentricDiskChi2) {
   // Chart: s = r² / 1.25, t = φ / 2π; dA = r dr dφ = ½ d(r²) dφ = 1.25 π ds dt.
   test::Chi2Grid grid(40, 40);
-  forRandomSquarePoints(kSampleCount, 5, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 5, [&](vec2 u) {
     const dvec2 p(sampleConcentricDisk(u));
     const double phi = std::atan2(p.y, p.x);
     grid.add(glm::dot(p, p) / 1.25, (phi < 0.0 ? phi + 2.0 * kPi : phi) / (2.0 * kPi));
   });
-  expectFits("concentric disk", grid.test([](double s, double) {
+  test::expectFits("concentric disk", grid.test([](double s, double) {
     return s < 0.8 ? static_cast<double>(kUniformDiskPdf) * 1.25 * kPi : 0.0;
   }));
 }
@@ -149,7 +134,7 @@ TEST(Warp, UniformTriangleChi2) {
   // Chart: the inverse of the square-root parameterisation, s = (1 − b0)² / 1.25, t = b1 / ((1 − b0) 1.25),
   // under which the barycentric area is ½ · 1.25² ds dt; a point with b0 < 0 or b2 < 0 leaves [0, 0.8)².
   test::Chi2Grid grid(40, 40);
-  forRandomSquarePoints(kSampleCount, 6, [&](vec2 u) {
+  test::forRandomSquarePoints(kSampleCount, 6, [&](vec2 u) {
     const dvec3 b(sampleUniformTriangle(u));
     if (b.y < 0.0) {
       grid.add(-1.0, -1.0);
@@ -158,7 +143,7 @@ TEST(Warp, UniformTriangleChi2) {
     grid.add((1.0 - b.x) * (1.0 - b.x) / 1.25, b.y / ((1.0 - b.x) * 1.25));
   });
   // The reference triangle of the barycentric plane has area ½: density 2.
-  expectFits("uniform triangle", grid.test([](double s, double t) {
+  test::expectFits("uniform triangle", grid.test([](double s, double t) {
     return s < 0.8 && t < 0.8 ? static_cast<double>(uniformTrianglePdf(0.5f)) * 0.5 * 1.25 * 1.25 : 0.0;
   }));
 }
@@ -211,7 +196,7 @@ TEST(Warp, DensityIsTheInverseJacobian) {
   };
   const auto cone = [](vec2 u) { return sampleUniformCone(u, 0.3f); };
   int tested = 0;
-  forRandomSquarePoints(2000, 7, [&](vec2 r) {
+  test::forRandomSquarePoints(2000, 7, [&](vec2 r) {
     const vec2 u = 0.02f + 0.96f * r;
     if (!awayFromKinks(u)) return;
     ++tested;
