@@ -1,0 +1,78 @@
+// The progressive driver of every Monte-Carlo estimate (`fly illuminance`'s sensors, the baker's vertex sides
+// and texels): passes that double the samples of every point, a mean and a standard error per point after
+// each, and the stopping rules (samples, time, target error). Independent of what a sample computes
+// (SampleSource).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "base/color.h"
+#include "base/math.h"
+#include "raytracer/sampler.h"
+
+namespace fly::raytracer {
+
+// One point's estimate: the mean of its samples and the standard error of that mean, per channel.
+struct IrradianceEstimate {
+  Rgb meanLux{0.0f};
+  Rgb stdErrorLux{0.0f};
+  uint32_t samples = 0;
+};
+
+enum class SamplerKind { kSobol, kRandom };
+
+struct EstimateSettings {
+  uint32_t firstPassSamples =
+      16;                      // per point, a power of two ≥ replicates; every later pass doubles the total
+  uint32_t maxSamples = 1024;  // per point; no pass starts that would exceed it
+  double timeLimitS =
+      std::numeric_limits<double>::infinity();  // no pass starts that is predicted to end later
+  // Stop when the 95th percentile over points of (standard error / mean) of luminance is at most this; 0 =
+  // off.
+  float targetRelativeError = 0.0f;
+  uint32_t threads = 0;  // 0 = std::thread::hardware_concurrency()
+  SamplerKind sampler = SamplerKind::kSobol;
+  // How the standard error is estimated, a power of two. 1: from the per-sample variance (Welford), honest
+  // for plain Monte Carlo only — scrambled Sobol' points converge faster than their variance says, and it
+  // overstates their error 2.5–5× (the ReportedStandardErrorIsHonest test). K ≥ 2: the samples are split into
+  // K independently randomised sequences (randomised quasi-Monte Carlo replicates: L'Ecuyer & Lemieux,
+  // "Recent advances in randomized quasi-Monte Carlo methods", 2002), and the error is the standard
+  // deviation of their K means over √K: honest for either sampler, at the cost of K shorter nets. K = 8
+  // estimates it with 7 degrees of freedom.
+  uint32_t replicates = 8;
+  uint64_t seed = 0;  // point i's samplers are seeded from seed + i
+};
+
+struct EstimateResult {
+  std::vector<IrradianceEstimate> points;
+  uint32_t samplesPerPoint = 0;
+  float relativeErrorP95 = 0.0f;  // of luminance, after the last pass
+  uint64_t rays = 0;
+  double seconds = 0.0;
+};
+
+// The points the progressive driver estimates: estimateIrradiance's sensors, the baker's vertex sides. Sample
+// index s of point i is sample(i, sampler) after sampler.startSample(s); `rays` grows by the rays traced.
+// Both overloads must compute the same function of the sampler's numbers.
+class SampleSource {
+ public:
+  virtual ~SampleSource() = default;
+  virtual size_t pointCount() const = 0;
+  virtual Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const = 0;
+  virtual Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
+};
+
+// Called after every pass (from the calling thread) with the estimates so far (seconds: since the start) and
+// the pass's rays and seconds; return false to stop after it.
+using PassCallback = std::function<bool(const EstimateResult& soFar, uint64_t passRays, double passSeconds)>;
+
+// Progressive passes over all of source's points in parallel, as described for estimateIrradiance below.
+// std::invalid_argument for replicates or firstPassSamples that are not powers of two, or fewer first-pass
+// samples than replicates.
+EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
+                                     const PassCallback& afterPass = {});
+
+}  // namespace fly::raytracer
