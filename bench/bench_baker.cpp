@@ -31,6 +31,7 @@
 #include "raytracer/integrator.h"
 #include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
+#include "rdb/trace_rdb_builder.h"
 
 namespace fly::raytracer {
 namespace {
@@ -45,43 +46,15 @@ double secondsSince(Clock::time_point start) {
 // faces of two triangles each) that cast shadows under a sun at 35° elevation and a sky brighter at the
 // zenith. Ground albedo 0.5, boxes 0.7, so indirect light matters too.
 rdb::TraceRdb makeScene(uint32_t cells) {
-  rdb::TraceRdb rdb;
-  rdb::TraceMaterial groundMaterial;
-  groundMaterial.diffuse = Rgb(0.5f);
-  rdb::TraceMaterial boxMaterial;
-  boxMaterial.diffuse = Rgb(0.7f);
-  rdb.materials = {groundMaterial, boxMaterial};
-
-  // (n + 1)² shared vertices from origin along edgeU and edgeV, facing cross(edgeU, edgeV).
-  auto grid = [&rdb](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n,
-                     uint32_t material) {
-    rdb::TraceMesh mesh;
-    mesh.firstVertex = static_cast<uint32_t>(rdb.positionsM.size());
-    mesh.firstTriangle = static_cast<uint32_t>(rdb.triangleCount());
-    const vec3 normal = glm::normalize(glm::cross(edgeU, edgeV));
-    const float step = 1.0f / static_cast<float>(n);
-    for (uint32_t j = 0; j <= n; ++j) {
-      for (uint32_t i = 0; i <= n; ++i) {
-        rdb.positionsM.push_back(origin + edgeU * (static_cast<float>(i) * step) +
-                                 edgeV * (static_cast<float>(j) * step));
-        rdb.normals.push_back(normal);
-      }
-    }
-    auto at = [&](uint32_t i, uint32_t j) { return mesh.firstVertex + j * (n + 1) + i; };
-    for (uint32_t j = 0; j < n; ++j) {
-      for (uint32_t i = 0; i < n; ++i) {
-        rdb.indices.insert(rdb.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-        rdb.indices.insert(rdb.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-        rdb.triangleMaterial.insert(rdb.triangleMaterial.end(), {material, material});
-      }
-    }
-    mesh.vertexCount = static_cast<uint32_t>(rdb.positionsM.size()) - mesh.firstVertex;
-    mesh.triangleCount = static_cast<uint32_t>(rdb.triangleCount()) - mesh.firstTriangle;
-    rdb.meshes.push_back(mesh);
+  rdb::TraceRdbBuilder b;
+  const uint32_t groundMaterial = b.material(Rgb(0.5f));
+  const uint32_t boxMaterial = b.material(Rgb(0.7f));
+  auto grid = [&b](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n, uint32_t material) {
+    b.grid(origin, edgeU, edgeV, n, material);
   };
 
   constexpr float kHalfM = 20.0f;
-  grid(vec3(-kHalfM, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(2 * kHalfM, 0, 0), cells, 0);
+  grid(vec3(-kHalfM, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(2 * kHalfM, 0, 0), cells, groundMaterial);
   for (int bz = 0; bz < 4; ++bz) {
     for (int bx = 0; bx < 4; ++bx) {
       const float x0 = -16.0f + 9.0f * static_cast<float>(bx);
@@ -89,14 +62,15 @@ rdb::TraceRdb makeScene(uint32_t cells) {
       const float sx = 2.5f;
       const float sz = 1.5f + 0.5f * static_cast<float>(bx);
       const float h = 1.0f + 0.75f * static_cast<float>(bz);
-      grid(vec3(x0, h, z0), vec3(0, 0, sz), vec3(sx, 0, 0), 1, 1);      // top, +Y
-      grid(vec3(x0 + sx, 0, z0), vec3(0, h, 0), vec3(0, 0, sz), 1, 1);  // +X
-      grid(vec3(x0, 0, z0), vec3(0, 0, sz), vec3(0, h, 0), 1, 1);       // −X
-      grid(vec3(x0, 0, z0 + sz), vec3(sx, 0, 0), vec3(0, h, 0), 1, 1);  // +Z
-      grid(vec3(x0, 0, z0), vec3(0, h, 0), vec3(sx, 0, 0), 1, 1);       // −Z
+      grid(vec3(x0, h, z0), vec3(0, 0, sz), vec3(sx, 0, 0), 1, boxMaterial);      // top, +Y
+      grid(vec3(x0 + sx, 0, z0), vec3(0, h, 0), vec3(0, 0, sz), 1, boxMaterial);  // +X
+      grid(vec3(x0, 0, z0), vec3(0, 0, sz), vec3(0, h, 0), 1, boxMaterial);       // −X
+      grid(vec3(x0, 0, z0 + sz), vec3(sx, 0, 0), vec3(0, h, 0), 1, boxMaterial);  // +Z
+      grid(vec3(x0, 0, z0), vec3(0, h, 0), vec3(sx, 0, 0), 1, boxMaterial);       // −Z
     }
   }
 
+  rdb::TraceRdb& rdb = b.rdb;
   const float elevation = glm::radians(35.0f);
   const float azimuth = glm::radians(60.0f);
   rdb.hasSun = true;
@@ -113,7 +87,7 @@ rdb::TraceRdb makeScene(uint32_t cells) {
     }
   }
   for (const vec3& p : rdb.positionsM) rdb.boundsM.extend(p);
-  return rdb;
+  return std::move(rdb);
 }
 
 // Ground cells for about `triangles` triangles (the boxes add 160).

@@ -1,6 +1,9 @@
 #include "raytracer/progressive.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
+#include <type_traits>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -8,64 +11,61 @@
 #include <string>
 #include <thread>
 
+#include "base/error.h"
+
 namespace fly::raytracer {
 namespace {
 
-// Welford's running mean and sum of squared deviations, per channel, in double (Welford, "Note on a method
-// for calculating corrected sums of squares and products", Technometrics 4(3), 1962).
-struct Welford {
-  dvec3 mean{0.0};
-  dvec3 m2{0.0};
-  uint32_t count = 0;
+// Every point's running statistics, kept in a ProgressState's sums. replicates = 1: Welford's running mean
+// and sum of squared deviations per channel, in double (Welford, "Note on a method for calculating corrected
+// sums of squares and products", Technometrics 4(3), 1962). replicates ≥ 2: each replicate's sum.
+class Accumulators {
+ public:
+  explicit Accumulators(ProgressState& state) : state_(state) {}
 
-  void add(const Rgb& x) {
-    ++count;
+  uint32_t replicates() const { return state_.replicates; }
+
+  // Welford's update with the point's count-th sample (count ≥ 1).
+  void addWelford(size_t point, uint32_t count, const Rgb& x) {
+    dvec3& mean = state_.sums[2 * point];
+    dvec3& m2 = state_.sums[2 * point + 1];
     const dvec3 delta = dvec3(x) - mean;
     mean += delta / static_cast<double>(count);
     m2 += delta * (dvec3(x) - mean);
   }
-};
-
-// Every point's running statistics.
-class Accumulators {
- public:
-  Accumulators(size_t pointCount, uint32_t replicates)
-      : replicates_(replicates), welford_(pointCount), replicateSums_(pointCount * replicates, dvec3(0.0)) {}
-
-  uint32_t replicates() const { return replicates_; }
-  Welford& welford(size_t point) { return welford_[point]; }
-  dvec3& replicateSum(size_t point, uint32_t r) { return replicateSums_[point * replicates_ + r]; }
+  dvec3& replicateSum(size_t point, uint32_t r) { return state_.sums[point * state_.replicates + r]; }
 
   // samples: per point, all replicates together.
   IrradianceEstimate estimate(size_t point, uint32_t samples) const {
     IrradianceEstimate e;
     e.samples = samples;
-    if (replicates_ == 1) {
-      const Welford& w = welford_[point];
-      e.meanLux = Rgb(w.mean);
-      if (w.count > 1) e.stdErrorLux = Rgb(glm::sqrt(w.m2 / (static_cast<double>(w.count) * (w.count - 1))));
+    const uint32_t k = state_.replicates;
+    if (k == 1) {
+      e.meanLux = Rgb(state_.sums[2 * point]);
+      if (samples > 1) {
+        e.stdErrorLux =
+            Rgb(glm::sqrt(state_.sums[2 * point + 1] / (static_cast<double>(samples) * (samples - 1))));
+      }
       return e;
     }
     // The replicates' means are independent and identically distributed; the standard error of their mean is
     // their sample standard deviation over √K.
-    const double perReplicate = static_cast<double>(samples) / replicates_;
+    const double perReplicate = static_cast<double>(samples) / k;
     dvec3 mean(0.0);
-    for (uint32_t r = 0; r < replicates_; ++r) mean += replicateSums_[point * replicates_ + r] / perReplicate;
-    mean /= static_cast<double>(replicates_);
+    for (uint32_t r = 0; r < k; ++r) mean += state_.sums[point * k + r] / perReplicate;
+    mean /= static_cast<double>(k);
     dvec3 squares(0.0);
-    for (uint32_t r = 0; r < replicates_; ++r) {
-      const dvec3 d = replicateSums_[point * replicates_ + r] / perReplicate - mean;
+    for (uint32_t r = 0; r < k; ++r) {
+      const dvec3 d = state_.sums[point * k + r] / perReplicate - mean;
       squares += d * d;
     }
     e.meanLux = Rgb(mean);
-    e.stdErrorLux = Rgb(glm::sqrt(squares / (static_cast<double>(replicates_) * (replicates_ - 1))));
+    e.stdErrorLux = Rgb(glm::sqrt(squares / (static_cast<double>(k) * (k - 1))));
     return e;
   }
 
  private:
-  uint32_t replicates_;
-  std::vector<Welford> welford_;      // replicates_ == 1
-  std::vector<dvec3> replicateSums_;  // replicates_ ≥ 2: point-major
+  ProgressState& state_;
 };
 
 float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
@@ -83,24 +83,24 @@ float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
   return rel[k];
 }
 
-// Samples firstSample … firstSample + sampleCount − 1 of every point (split evenly over the replicates).
+// Samples firstSample … firstSample + sampleCount − 1 of points [pointBegin, pointEnd) (split evenly over the
+// replicates).
 template <class S>
-void runPass(const SampleSource& source, const EstimateSettings& settings, uint32_t firstSample,
-             uint32_t sampleCount, Accumulators& acc, uint64_t& rays) {
-  const size_t pointCount = source.pointCount();
-  std::atomic<size_t> next{0};
+void runPass(const SampleSource& source, const EstimateSettings& settings, size_t pointBegin, size_t pointEnd,
+             uint32_t firstSample, uint32_t sampleCount, Accumulators& acc, uint64_t& rays) {
+  std::atomic<size_t> next{pointBegin};
   std::atomic<uint64_t> totalRays{0};
   const uint32_t k = acc.replicates();
   auto work = [&] {
     constexpr size_t kChunk = 16;
     uint64_t threadRays = 0;
-    for (size_t begin = next.fetch_add(kChunk); begin < pointCount; begin = next.fetch_add(kChunk)) {
-      for (size_t i = begin; i < std::min(begin + kChunk, pointCount); ++i) {
+    for (size_t begin = next.fetch_add(kChunk); begin < pointEnd; begin = next.fetch_add(kChunk)) {
+      for (size_t i = begin; i < std::min(begin + kChunk, pointEnd); ++i) {
         if (k == 1) {
           S sampler(settings.seed + i);
           for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
             sampler.startSample(s);
-            acc.welford(i).add(source.sample(i, sampler, threadRays));
+            acc.addWelford(i, s + 1, source.sample(i, sampler, threadRays));
           }
           continue;
         }
@@ -134,47 +134,204 @@ bool isPowerOfTwo(uint32_t x) {
 
 EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
                                      const PassCallback& afterPass) {
+  ProgressState state;
+  return estimateProgressively(source, settings, afterPass, state);
+}
+
+EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
+                                     const PassCallback& afterPass, ProgressState& state,
+                                     const Checkpointing& checkpointing) {
   if (!isPowerOfTwo(settings.replicates) || !isPowerOfTwo(settings.firstPassSamples) ||
       settings.firstPassSamples < settings.replicates) {
     throw std::invalid_argument("estimateProgressively: replicates (" + std::to_string(settings.replicates) +
                                 ") and firstPassSamples (" + std::to_string(settings.firstPassSamples) +
                                 ") must be powers of two, firstPassSamples >= replicates");
   }
-  const auto start = std::chrono::steady_clock::now();
-  auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   const size_t pointCount = source.pointCount();
+  const size_t sumsPerPoint = settings.replicates == 1 ? 2 : settings.replicates;
+  if (!state.started()) {
+    state = ProgressState{};
+    state.pointCount = pointCount;
+    state.replicates = settings.replicates;
+    state.sums.assign(pointCount * sumsPerPoint, dvec3(0.0));
+  } else if (state.pointCount != pointCount || state.replicates != settings.replicates ||
+             state.sums.size() != pointCount * sumsPerPoint || state.passPointsDone > pointCount) {
+    throw std::invalid_argument("estimateProgressively: the state to continue has " +
+                                std::to_string(state.pointCount) + " points and " +
+                                std::to_string(state.replicates) + " replicates, the estimate " +
+                                std::to_string(pointCount) + " and " + std::to_string(settings.replicates));
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  const double earlierS = state.seconds;
+  auto elapsed = [&] {
+    return earlierS + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  Accumulators acc(state);
   EstimateResult result;
-  Accumulators acc(pointCount, settings.replicates);
-  uint32_t total = 0;
-  double lastPassS = 0.0;
-  for (uint32_t passSamples = settings.firstPassSamples; total + passSamples <= settings.maxSamples;
-       passSamples = total) {
-    // Passes double the total; each costs about as much per sample as the last.
-    if (total > 0 && elapsed() + lastPassS * passSamples / static_cast<double>(total) > settings.timeLimitS)
-      break;
-    const double passStart = elapsed();
-    const uint64_t raysBefore = result.rays;
-    if (settings.sampler == SamplerKind::kSobol) {
-      runPass<SobolSampler>(source, settings, total, passSamples, acc, result.rays);
-    } else {
-      runPass<RandomSampler>(source, settings, total, passSamples, acc, result.rays);
-    }
-    total += passSamples;
-    lastPassS = elapsed() - passStart;
+  result.rays = state.rays;
+  auto fillResult = [&](uint32_t total) {
     result.points.clear();
+    result.points.reserve(pointCount);
     for (size_t i = 0; i < pointCount; ++i) result.points.push_back(acc.estimate(i, total));
     result.relativeErrorP95 = relativeErrorP95(result.points);
     result.samplesPerPoint = total;
+  };
+  if (state.samplesPerPoint > 0) fillResult(state.samplesPerPoint);
+
+  // With checkpoints, a pass runs in blocks of points so that a checkpoint can fall inside it.
+  const bool checkpoints = checkpointing.save && std::isfinite(checkpointing.intervalS);
+  const size_t block = checkpoints ? std::max<size_t>(256, (pointCount + 63) / 64) : std::max<size_t>(pointCount, 1);
+  double lastCheckpointS = elapsed();
+  auto save = [&] {
+    state.seconds = elapsed();
+    state.rays = result.rays;
+    checkpointing.save(state);
+    lastCheckpointS = elapsed();
+  };
+
+  for (;;) {
+    if (state.passSamples == 0) {
+      // Start the next pass: the first, or one that doubles the total. Each costs about as much per sample
+      // as the last.
+      const uint32_t total = state.samplesPerPoint;
+      const uint32_t passSamples = total == 0 ? settings.firstPassSamples : total;
+      if (uint64_t{total} + passSamples > settings.maxSamples) break;
+      if (total > 0 && elapsed() + state.lastPassS * passSamples / static_cast<double>(total) > settings.timeLimitS)
+        break;
+      state.passSamples = passSamples;
+      state.passPointsDone = 0;
+      state.passRays = 0;
+      state.passSeconds = 0.0;
+    }
+    const uint32_t total = state.samplesPerPoint;
+    while (state.passPointsDone < pointCount) {
+      const double blockStart = elapsed();
+      const size_t end = std::min<size_t>(pointCount, state.passPointsDone + block);
+      uint64_t blockRays = 0;
+      if (settings.sampler == SamplerKind::kSobol) {
+        runPass<SobolSampler>(source, settings, state.passPointsDone, end, total, state.passSamples, acc,
+                              blockRays);
+      } else {
+        runPass<RandomSampler>(source, settings, state.passPointsDone, end, total, state.passSamples, acc,
+                               blockRays);
+      }
+      state.passPointsDone = end;
+      state.passRays += blockRays;
+      result.rays += blockRays;
+      state.passSeconds += elapsed() - blockStart;
+      if (checkpoints && end < pointCount && elapsed() - lastCheckpointS >= checkpointing.intervalS) save();
+    }
+    state.samplesPerPoint = total + state.passSamples;
+    state.lastPassS = state.passSeconds;
+    const uint64_t passRays = state.passRays;
+    state.passSamples = 0;
+    state.passPointsDone = 0;
+    state.passRays = 0;
+    state.passSeconds = 0.0;
+    ++state.passes;
+    fillResult(state.samplesPerPoint);
     result.seconds = elapsed();
-    if (afterPass && !afterPass(result, result.rays - raysBefore, lastPassS)) break;
+    const bool more = !afterPass || afterPass(result, passRays, state.lastPassS);
+    if (checkpoints && elapsed() - lastCheckpointS >= checkpointing.intervalS) save();
+    if (!more) break;
     if (settings.targetRelativeError > 0.0f && result.relativeErrorP95 <= settings.targetRelativeError) break;
   }
-  if (total == 0) result.points.assign(pointCount, IrradianceEstimate{});
+  if (state.samplesPerPoint == 0) result.points.assign(pointCount, IrradianceEstimate{});
   result.seconds = elapsed();
+  state.seconds = result.seconds;
+  state.rays = result.rays;
+  if (checkpointing.save) checkpointing.save(state);
   return result;
 }
 
+namespace {
+
+// FNV-1a, 64 bit (Fowler, Noll & Vo; IETF draft-eastlake-fnv).
+uint64_t fnv1a(const std::string& bytes, size_t count) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (size_t i = 0; i < count; ++i) {
+    h ^= static_cast<unsigned char>(bytes[i]);
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '1'};
+
+template <class T>
+void put(std::string& out, const T& value) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+}  // namespace
+
+std::string serializeProgressState(const ProgressState& s) {
+  static_assert(std::endian::native == std::endian::little, "checkpoints are written little-endian");
+  std::string out(kStateTag, sizeof kStateTag);
+  put(out, s.pointCount);
+  put(out, s.replicates);
+  put(out, s.samplesPerPoint);
+  put(out, s.passSamples);
+  put(out, s.passPointsDone);
+  put(out, s.passes);
+  put(out, s.rays);
+  put(out, s.passRays);
+  put(out, s.seconds);
+  put(out, s.passSeconds);
+  put(out, s.lastPassS);
+  put(out, static_cast<uint64_t>(s.sums.size()));
+  for (const dvec3& v : s.sums) {
+    put(out, v.x);
+    put(out, v.y);
+    put(out, v.z);
+  }
+  put(out, fnv1a(out, out.size()));
+  return out;
+}
+
+ProgressState deserializeProgressState(const std::string& bytes, const std::string& fileName) {
+  auto bad = [&](const std::string& what) {
+    return InputError(SourceLocation{fileName}, "not a usable checkpoint: " + what,
+                      "the checkpoint is damaged or from another version of fly; start the bake afresh");
+  };
+  if (bytes.size() < sizeof kStateTag + 8 || bytes.compare(0, sizeof kStateTag, kStateTag, sizeof kStateTag) != 0)
+    throw bad("it does not start with the fly progress-state tag");
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+  if (fnv1a(bytes, bytes.size() - 8) != stored) throw bad("its checksum does not match (truncated or corrupt)");
+  size_t at = sizeof kStateTag;
+  auto get = [&](auto& value) {
+    if (at + sizeof value > bytes.size() - 8) throw bad("it ends early");
+    std::memcpy(&value, bytes.data() + at, sizeof value);
+    at += sizeof value;
+  };
+  ProgressState s;
+  get(s.pointCount);
+  get(s.replicates);
+  get(s.samplesPerPoint);
+  get(s.passSamples);
+  get(s.passPointsDone);
+  get(s.passes);
+  get(s.rays);
+  get(s.passRays);
+  get(s.seconds);
+  get(s.passSeconds);
+  get(s.lastPassS);
+  uint64_t count = 0;
+  get(count);
+  const size_t perPoint = s.replicates == 1 ? 2 : s.replicates;
+  if (s.replicates == 0 || count != s.pointCount * perPoint || count > (bytes.size() - at) / 24)
+    throw bad("its sizes do not agree");
+  s.sums.resize(count);
+  for (dvec3& v : s.sums) {
+    get(v.x);
+    get(v.y);
+    get(v.z);
+  }
+  if (at != bytes.size() - 8) throw bad("it has trailing bytes");
+  return s;
+}
 
 }  // namespace fly::raytracer

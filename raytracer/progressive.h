@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "base/color.h"
@@ -74,5 +75,50 @@ using PassCallback = std::function<bool(const EstimateResult& soFar, uint64_t pa
 // samples than replicates.
 EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
                                      const PassCallback& afterPass = {});
+
+// Everything the driver needs to continue an estimate where it stopped (a checkpoint): every point's running
+// sums, bit for bit, and where in its passes it was. A pass may stop between blocks of points: points
+// [0, passPointsDone) then have samplesPerPoint + passSamples samples, the others samplesPerPoint. Because a
+// point's samples depend only on (seed, point, replicate, sample index) and its sums are added in sample order,
+// an estimate continued from a state ends bit-identical to one that never stopped.
+struct ProgressState {
+  uint64_t pointCount = 0;
+  uint32_t replicates = 0;
+  uint32_t samplesPerPoint = 0;  // after the last complete pass
+  uint32_t passSamples = 0;      // samples per point of the pass in progress; 0 = none
+  uint64_t passPointsDone = 0;   // points of the pass in progress that are done
+  uint32_t passes = 0;           // complete passes
+  uint64_t rays = 0;             // all rays so far
+  uint64_t passRays = 0;         // rays of the pass in progress so far
+  double seconds = 0.0;          // run time so far, summed over every process that worked on it
+  double passSeconds = 0.0;      // run time of the pass in progress so far
+  double lastPassS = 0.0;        // duration of the last complete pass (predicts the next one's)
+  // replicates ≥ 2: per point and replicate, the sum of its samples (point-major). replicates = 1: per point,
+  // Welford's mean and sum of squared deviations (2 entries).
+  std::vector<dvec3> sums;
+
+  bool started() const { return samplesPerPoint > 0 || passPointsDone > 0; }
+};
+
+// A state as bytes (little-endian, with a format tag and an FNV-1a checksum at the end), and back.
+// deserializeProgressState throws InputError naming `fileName` when the bytes are truncated, corrupt or of
+// another format version.
+std::string serializeProgressState(const ProgressState& state);
+ProgressState deserializeProgressState(const std::string& bytes, const std::string& fileName);
+
+// Checkpointing for estimateProgressively: `save` is called from the calling thread with the complete state
+// at most every intervalS seconds (between blocks of points, so that long passes are cut too) and after the
+// last pass. With intervalS = ∞ and no save, passes run unbroken.
+struct Checkpointing {
+  double intervalS = std::numeric_limits<double>::infinity();
+  std::function<void(const ProgressState&)> save;
+};
+
+// As above, continuing from `state` when state.started() (std::invalid_argument when its point count or
+// replicates do not match), and leaving in it the state at the end. The result's seconds and rays include
+// those of earlier runs.
+EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
+                                     const PassCallback& afterPass, ProgressState& state,
+                                     const Checkpointing& checkpointing = {});
 
 }  // namespace fly::raytracer
