@@ -19,7 +19,8 @@ float powerHeuristic(float a, float b) {
   return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-// Sampler dimension groups per path vertex: (sun, sky), (emitter, continuation), (Russian roulette).
+// Sampler dimension groups per path vertex: (sun, sky), (emitter, continuation), (Russian roulette, punctual
+// light choice, BSDF lobe choice).
 constexpr uint32_t kGroupsPerVertex = 3;
 
 // Direction of the sky table's (u, v) = (φ / 2π, 1 − μ), φ = atan2(d.z, d.x) (TraceSky).
@@ -114,6 +115,41 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
+  frontBsdfs_.reserve(rdb.materials.size());
+  backBsdfs_.reserve(rdb.materials.size());
+  for (const rdb::TraceMaterial& m : rdb.materials) {
+    frontBsdfs_.emplace_back(m, true);
+    backBsdfs_.emplace_back(m, m.doubleSided);
+    hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().passesStraight();
+  }
+
+  std::vector<float> fluxesLm;
+  for (uint32_t i = 0; i < rdb.punctualLights.size(); ++i) {
+    const rdb::TracePunctualLight& light = rdb.punctualLights[i];
+    const float intensityCd = std::max(luminance(light.intensity), 0.0f);
+    switch (light.type) {
+      case rdb::PunctualType::kDirectional:
+        directionalLights_.push_back(i);
+        continue;
+      case rdb::PunctualType::kPoint:
+        fluxesLm.push_back(4.0f * kPiF * intensityCd);
+        break;
+      case rdb::PunctualType::kSpot:
+        fluxesLm.push_back(2.0f * kPiF * std::max(1.0f - light.cosOuter, 0.0f) * intensityCd);
+        break;
+      case rdb::PunctualType::kGoniometric: {
+        // The table's mean: positive wherever the light shines, which is all the choice needs.
+        const std::vector<float>& cd = rdb.goniometricTables[light.goniometricTable].candelaCd;
+        double sum = 0.0;
+        for (float c : cd) sum += std::max(c, 0.0f);
+        fluxesLm.push_back(4.0f * kPiF * intensityCd * static_cast<float>(sum / static_cast<double>(cd.size())));
+        break;
+      }
+    }
+    positionalLights_.push_back(i);
+  }
+  if (positionalLights_.size() > kAllPunctualLights) positionalDistribution_.emplace(fluxesLm);
+
   if (rdb.hasSun && luminance(rdb.sun.normalIlluminanceLux) > 0.0f) {
     // ∫ over the cone of half-angle θ_s of cos(angle to its axis) dω = π sin² θ_s; sin² θ_s = w (2 − w), w =
     // 1 − cos θ_s.
@@ -142,22 +178,73 @@ float Integrator::emitterPdf(uint32_t t, float distM, float absCosLight) const {
   return emitterPmfOfTriangle_[t] / scene_.triangleAreaM2(t) * distM * distM / absCosLight;
 }
 
+vec3 Integrator::hitPoint(const Hit& hit) const {
+  const uint32_t t = hit.triangle;
+  const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * t]];
+  const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * t + 1]];
+  const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * t + 2]];
+  return (1.0f - hit.barycentric.x - hit.barycentric.y) * p0 + hit.barycentric.x * p1 + hit.barycentric.y * p2;
+}
+
+Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const {
+  ++rays;
+  if (!hasClearGlass_) return scene_.occluded(origin, dir, tMaxM) ? Rgb(0.0f) : Rgb(1.0f);
+  const bool bounded = std::isfinite(tMaxM);
+  const vec3 end = bounded ? origin + tMaxM * dir : vec3(0.0f);
+  Rgb transmittance(1.0f);
+  vec3 o = origin;
+  float tMax = tMaxM;
+  for (uint32_t panes = 0;; ++panes) {
+    const std::optional<Hit> hit = scene_.intersect(o, dir, tMax);
+    if (!hit) return transmittance;
+    const Bsdf& pane = frontBsdfs_[rdb_.triangleMaterial[hit->triangle]];
+    if (!pane.passesStraight() || panes == kMaxPanesPassed) return Rgb(0.0f);
+    const float cosPane = glm::dot(hit->geometricNormal, dir);
+    transmittance *= pane.straightTransmittance(std::abs(cosPane));
+    if (!(maxComponent(transmittance) > 0.0f)) return Rgb(0.0f);
+    // On through the pane: from its far side.
+    const vec3 x = hitPoint(*hit);
+    o = offsetRayOrigin(x, cosPane > 0.0f ? hit->geometricNormal : -hit->geometricNormal,
+                        std::max(maxAbs(x), scene_.triangleMagnitudeM(hit->triangle)));
+    if (bounded) {
+      tMax = glm::dot(end - o, dir);
+      if (!(tMax > 0.0f)) return transmittance;
+    }
+    ++rays;
+  }
+}
+
+bool Integrator::response(const Vertex& v, const vec3& d, Rgb& fCos, float& pdf) const {
+  const float cosTheta = glm::dot(v.n, d);
+  if (v.bsdf == nullptr) {
+    if (!(cosTheta > 0.0f)) return false;
+    fCos = Rgb(cosTheta);
+    pdf = cosineHemispherePdf(cosTheta);
+    return true;
+  }
+  if (!(cosTheta > 0.0f) && !(cosTheta < 0.0f && v.bsdf->hasNonDeltaTransmission())) return false;
+  const vec3 wi = v.frame.toLocal(d);
+  fCos = v.bsdf->eval(v.woLocal, wi) * std::abs(cosTheta);
+  if (!(maxComponent(fCos) > 0.0f)) return false;
+  pdf = v.bsdf->pdf(v.woLocal, wi);
+  return true;
+}
+
 Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const {
-  const vec3 origin = offsetRayOrigin(v.p, v.n, v.magnitudeM);
+  Rgb fCos;
+  float pdfUnused;
   if (light.type == rdb::PunctualType::kDirectional) {
     const vec3 toLight = -light.directionWorld;
-    const float cosTheta = glm::dot(v.n, toLight);
-    if (cosTheta <= 0.0f) return Rgb(0.0f);
-    ++rays;
-    if (scene_.occluded(origin, toLight, std::numeric_limits<float>::infinity())) return Rgb(0.0f);
-    return light.intensity * cosTheta;
+    if (!response(v, toLight, fCos, pdfUnused)) return Rgb(0.0f);
+    const vec3 origin =
+        offsetRayOrigin(v.p, glm::dot(v.n, toLight) > 0.0f ? v.n : -v.n, v.magnitudeM);
+    return light.intensity * fCos * visibility(origin, toLight, std::numeric_limits<float>::infinity(), rays);
   }
   const vec3 toLight = light.positionM - v.p;
   const float distM = glm::length(toLight);
   if (!(distM > 0.0f) || distM >= light.rangeM) return Rgb(0.0f);
   const vec3 dir = toLight / distM;
-  const float cosTheta = glm::dot(v.n, dir);
-  if (cosTheta <= 0.0f) return Rgb(0.0f);
+  if (!response(v, dir, fCos, pdfUnused)) return Rgb(0.0f);
   // KHR_lights_punctual's recommended range window: clamp(1 − (d / range)⁴, 0, 1) / d².
   const float ratio = distM / light.rangeM;
   float factor = std::clamp(1.0f - ratio * ratio * ratio * ratio, 0.0f, 1.0f);
@@ -176,48 +263,51 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
     factor *= goniometricCandela(rdb_.goniometricTables[light.goniometricTable], gamma, c);
   }
   if (factor <= 0.0f) return Rgb(0.0f);
-  ++rays;
-  if (scene_.occluded(origin, dir, distM)) return Rgb(0.0f);
-  return light.intensity * (factor * cosTheta / (distM * distM));
+  const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.n, dir) > 0.0f ? v.n : -v.n, v.magnitudeM);
+  return light.intensity * fCos * (factor / (distM * distM)) * visibility(origin, dir, distM, rays);
 }
 
 template <class S>
-Rgb Integrator::directLight(const Vertex& v, uint32_t group, S& sampler, uint64_t& rays) const {
+Rgb Integrator::directLight(const Vertex& v, uint32_t group, const vec2& uEmitter, float uPunctual,
+                            S& sampler, uint64_t& rays) const {
   sampler.startGroup(group);
   Rgb sum(0.0f);
-  const vec3 origin = offsetRayOrigin(v.p, v.n, v.magnitudeM);
   const vec2 uSun = sampler.next2D();
   const vec2 uSky = sampler.next2D();
+  // The ray origin on the side of the light.
+  auto originTowards = [&](const vec3& d) {
+    return offsetRayOrigin(v.p, glm::dot(v.n, d) > 0.0f ? v.n : -v.n, v.magnitudeM);
+  };
+  Rgb fCos;
+  float pdfBsdf;
 
   if (sunOneMinusCos_ > 0.0f) {
-    // Uniform in the sun's cone: L cos θ / pdf, pdf = 1 / (2π (1 − cos θ_s)).
+    // Uniform in the sun's cone: L f |cos θ| / pdf, pdf = 1 / (2π (1 − cos θ_s)).
     const vec3 d = onb(rdb_.sun.directionWorld).toWorld(sampleUniformCone(uSun, sunOneMinusCos_));
-    const float cosTheta = glm::dot(v.n, d);
-    if (cosTheta > 0.0f) {
-      ++rays;
-      if (!scene_.occluded(origin, d, std::numeric_limits<float>::infinity())) {
-        sum += sunRadianceCdM2_ * (cosTheta / uniformConePdf(sunOneMinusCos_));
-      }
+    if (response(v, d, fCos, pdfBsdf)) {
+      sum += sunRadianceCdM2_ * fCos * (1.0f / uniformConePdf(sunOneMinusCos_)) *
+             visibility(originTowards(d), d, std::numeric_limits<float>::infinity(), rays);
     }
   }
 
   if (skyDistribution_) {
     const Distribution2D::Sample s = skyDistribution_->sample(uSky);
     const vec3 d = skyDirection(s.p);
-    const float cosTheta = glm::dot(v.n, d);
     const float pdf = s.pdf / (2.0f * kPiF);
-    if (cosTheta > 0.0f && pdf > 0.0f) {
-      ++rays;
-      if (!scene_.occluded(origin, d, std::numeric_limits<float>::infinity())) {
-        sum += skyRadiance(d) * (cosTheta / pdf * powerHeuristic(pdf, cosineHemispherePdf(cosTheta)));
-      }
+    if (pdf > 0.0f && response(v, d, fCos, pdfBsdf)) {
+      sum += skyRadiance(d) * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) *
+             visibility(originTowards(d), d, std::numeric_limits<float>::infinity(), rays);
     }
   }
 
-  for (const rdb::TracePunctualLight& light : rdb_.punctualLights) sum += punctualLight(light, v, rays);
+  for (uint32_t i : directionalLights_) sum += punctualLight(rdb_.punctualLights[i], v, rays);
+  if (positionalDistribution_) {
+    const Distribution1D::DiscreteSample pick = positionalDistribution_->sampleDiscrete(uPunctual);
+    sum += punctualLight(rdb_.punctualLights[positionalLights_[pick.index]], v, rays) / pick.pmf;
+  } else {
+    for (uint32_t i : positionalLights_) sum += punctualLight(rdb_.punctualLights[i], v, rays);
+  }
 
-  sampler.startGroup(group + 1);
-  const vec2 uEmitter = sampler.next2D();
   if (emitterDistribution_) {
     const Distribution1D::DiscreteSample pick = emitterDistribution_->sampleDiscrete(uEmitter.x);
     const uint32_t t = rdb_.emissiveTriangles[pick.index];
@@ -229,21 +319,21 @@ Rgb Integrator::directLight(const Vertex& v, uint32_t group, S& sampler, uint64_
     const vec3 toLight = y - v.p;
     const float distM = glm::length(toLight);
     const vec3 d = toLight / distM;
-    const float cosTheta = glm::dot(v.n, d);
     const vec3& nLight = scene_.triangleNormal(t);
     const float cosLight = -glm::dot(nLight, d);
     const rdb::TraceMaterial& m = rdb_.materials[rdb_.triangleMaterial[t]];
-    if (distM > 0.0f && cosTheta > 0.0f && (cosLight > 0.0f || (m.doubleSided && cosLight < 0.0f))) {
+    if (distM > 0.0f && (cosLight > 0.0f || (m.doubleSided && cosLight < 0.0f)) &&
+        response(v, d, fCos, pdfBsdf)) {
       const float pdf = emitterPdf(t, distM, std::abs(cosLight));
       // Both ends moved off their surfaces, the light's towards the receiver.
+      const vec3 origin = originTowards(d);
       const vec3 target =
           offsetRayOrigin(y, cosLight > 0.0f ? nLight : -nLight, scene_.triangleMagnitudeM(t));
       const vec3 toTarget = target - origin;
       const float targetDistM = glm::length(toTarget);
-      ++rays;
-      if (pdf > 0.0f && std::isfinite(pdf) && targetDistM > 0.0f &&
-          !scene_.occluded(origin, toTarget / targetDistM, targetDistM)) {
-        sum += m.emissionCdM2 * (cosTheta / pdf * powerHeuristic(pdf, cosineHemispherePdf(cosTheta)));
+      if (pdf > 0.0f && std::isfinite(pdf) && targetDistM > 0.0f) {
+        sum += m.emissionCdM2 * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) *
+               visibility(origin, toTarget / targetDistM, targetDistM, rays);
       }
     }
   }
@@ -254,55 +344,102 @@ template <class S>
 Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
                                  float surfaceMagnitudeM) const {
   Rgb sum(0.0f);
-  // Path throughput: Π f cos θ / pdf over the vertices passed (π at the sensor, then the albedos, over the
-  // Russian-roulette survival probabilities).
+  // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos θ),
+  // over the Russian-roulette survival probabilities.
   Rgb beta(1.0f);
-  // The vertex's BSDF factor: 1 at the sensor (its integrand is L cos θ), albedo / π on a Lambertian surface.
-  Rgb f(1.0f);
-  Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM)};
-  const uint32_t maxDepth = std::min(settings_.maxBounces, kPathLengthGuard);
-  for (uint32_t depth = 0;; ++depth) {
-    sum += beta * f * directLight(v, kGroupsPerVertex * depth, sampler, rays);
-
-    // Continue by cosine sampling (the second pair of group 3·depth + 1): f cos θ / pdf = π f.
-    const vec3 d = onb(v.n).toWorld(sampleCosineHemisphere(sampler.next2D()));
-    const float cosTheta = glm::dot(v.n, d);
-    if (!(cosTheta > 0.0f)) break;
-    const float pdfCos = cosineHemispherePdf(cosTheta);
-    beta *= kPiF * f;
-    ++rays;
-    const std::optional<Hit> hit =
-        scene_.intersect(offsetRayOrigin(v.p, v.n, v.magnitudeM), d, std::numeric_limits<float>::infinity());
-    if (!hit) {
-      if (skyDistribution_) sum += beta * skyRadiance(d) * powerHeuristic(pdfCos, skyPdf(d));
-      break;
-    }
-    const float cosLight = -glm::dot(hit->geometricNormal, d);
-    const bool front = cosLight > 0.0f;
-    const rdb::TraceMaterial& m = rdb_.materials[rdb_.triangleMaterial[hit->triangle]];
-    if (emitterPmfOfTriangle_[hit->triangle] > 0.0f && (front || m.doubleSided)) {
-      const float pdfLight = emitterPdf(hit->triangle, hit->distanceM, std::abs(cosLight));
-      sum += beta * m.emissionCdM2 * powerHeuristic(pdfCos, pdfLight);
-    }
-    if ((!front && !m.doubleSided) || depth + 1 > maxDepth || maxComponent(m.diffuse) <= 0.0f) break;
-
-    const uint32_t t = hit->triangle;
-    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * t]];
-    const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * t + 1]];
-    const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * t + 2]];
-    // The hit point from its barycentrics, more precise than origin + t·d (Wächter & Binder 2019).
-    const vec3 x = (1.0f - hit->barycentric.x - hit->barycentric.y) * p0 + hit->barycentric.x * p1 +
-                   hit->barycentric.y * p2;
-    v = Vertex{x, front ? hit->geometricNormal : -hit->geometricNormal,
-               std::max(maxAbs(x), scene_.triangleMagnitudeM(t))};
-    f = m.diffuse / kPiF;
-
-    // Russian roulette from the second bounce on, on the throughput relative to the sensor's (β ρ / π) that
-    // the path carries past this vertex (as pbrt-v4's PathIntegrator).
+  Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, Onb{}, vec3(0.0f)};
+  // Light that the next ray finds is MIS-weighted against light sampling at the last non-delta vertex, with
+  // the density pdfLast of its continuation and the distance travelledM from it (straight through clear
+  // panes included), unless the last scattering was a mirror (`specular`): light sampling cannot find that.
+  bool specular = false;
+  float pdfLast = 0.0f;
+  float travelledM = 0.0f;
+  // Reflections so far (straight passages through clear panes are none); a vertex's light-sampled light has
+  // been reflected reflections + 1 times.
+  uint32_t reflections = 0;
+  const uint32_t maxReflections = std::min(settings_.maxBounces, kPathLengthGuard);
+  // Whether v may only pass light straight through (it would be a reflection too many).
+  bool straightOnly = false;
+  for (uint32_t depth = 0; depth <= kPathLengthGuard; ++depth) {
     sampler.startGroup(kGroupsPerVertex * depth + 2);
     const float uRoulette = sampler.next1D();
+    const float uPunctual = sampler.next1D();
+    const float uLobe = sampler.next1D();
+    sampler.startGroup(kGroupsPerVertex * depth + 1);
+    const vec2 uEmitter = sampler.next2D();
+    const vec2 uContinue = sampler.next2D();
+
+    if (!straightOnly && (v.bsdf == nullptr || v.bsdf->hasNonDelta())) {
+      sum += beta * directLight(v, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays);
+    }
+
+    // The continuation.
+    vec3 d;
+    if (v.bsdf == nullptr) {
+      // Cosine sampling at the sensor: cos θ / pdf = π.
+      d = onb(v.n).toWorld(sampleCosineHemisphere(uContinue));
+      const float cosTheta = glm::dot(v.n, d);
+      if (!(cosTheta > 0.0f)) break;
+      beta *= kPiF;
+      pdfLast = cosineHemispherePdf(cosTheta);
+      travelledM = 0.0f;
+    } else if (straightOnly) {
+      d = v.frame.toWorld(-v.woLocal);
+      beta *= v.bsdf->straightTransmittance(v.woLocal.z);
+    } else {
+      Bsdf::Sample s;
+      if (!v.bsdf->sample(v.woLocal, uLobe, uContinue, s)) break;
+      d = glm::normalize(v.frame.toWorld(s.wi));
+      beta *= s.weight;
+      if (s.lobe != Bsdf::Lobe::kStraight) {
+        ++reflections;
+        specular = s.lobe == Bsdf::Lobe::kMirror;
+        pdfLast = s.pdf;
+        travelledM = 0.0f;
+      }
+    }
+    if (!(maxComponent(beta) > 0.0f)) break;
+
+    ++rays;
+    const std::optional<Hit> hit = scene_.intersect(
+        offsetRayOrigin(v.p, glm::dot(v.n, d) > 0.0f ? v.n : -v.n, v.magnitudeM), d,
+        std::numeric_limits<float>::infinity());
+    if (!hit) {
+      if (skyDistribution_) {
+        sum += beta * skyRadiance(d) * (specular ? 1.0f : powerHeuristic(pdfLast, skyPdf(d)));
+      }
+      // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
+      if (specular && sunOneMinusCos_ > 0.0f) {
+        const vec3 offAxis = d - rdb_.sun.directionWorld;
+        if (0.5f * glm::dot(offAxis, offAxis) <= sunOneMinusCos_) sum += beta * sunRadianceCdM2_;
+      }
+      break;
+    }
+    travelledM += hit->distanceM;
+    const float cosLight = -glm::dot(hit->geometricNormal, d);
+    const bool front = cosLight > 0.0f;
+    const uint32_t t = hit->triangle;
+    const uint32_t mi = rdb_.triangleMaterial[t];
+    const rdb::TraceMaterial& m = rdb_.materials[mi];
+    if (emitterPmfOfTriangle_[t] > 0.0f && (front || m.doubleSided)) {
+      sum += beta * m.emissionCdM2 *
+             (specular ? 1.0f : powerHeuristic(pdfLast, emitterPdf(t, travelledM, std::abs(cosLight))));
+    }
+    const Bsdf& bsdf = front || m.doubleSided ? frontBsdfs_[mi] : backBsdfs_[mi];
+    straightOnly = reflections >= maxReflections;
+    if (bsdf.isBlack() || (straightOnly && !bsdf.passesStraight())) break;
+
+    const vec3 x = hitPoint(*hit);
+    const vec3 side = front ? hit->geometricNormal : -hit->geometricNormal;
+    const Onb frame = onb(side);
+    const vec3 wo = frame.toLocal(-d);
+    if (!(wo.z > 0.0f)) break;
+    v = Vertex{x, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, frame, wo};
+
+    // Russian roulette from the second vertex on, on the throughput relative to the sensor's (β / π) times
+    // the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).
     if (depth + 1 >= 2) {
-      const float q = std::min(1.0f, maxComponent(beta * m.diffuse) / kPiF);
+      const float q = std::min(1.0f, maxComponent(beta * bsdf.albedo(wo.z)) / kPiF);
       if (uRoulette >= q) break;
       beta /= q;
     }

@@ -1,36 +1,50 @@
 // Monte-Carlo irradiance at points: the sensor of `fly illuminance` and, later, the baker's vertices and
 // texels.
 //
-// E(p, n) = ∫_{H(n)} L_i(p, ω) cos θ dω (lux), by path tracing on Lambertian surfaces (Kajiya, "The rendering
-// equation", SIGGRAPH 1986) with next-event estimation at every vertex.
+// E(p, n) = ∫_{H(n)} L_i(p, ω) cos θ dω (lux) at the sensor, by path tracing (Kajiya, "The rendering
+// equation", SIGGRAPH 1986) with next-event estimation (light sampling) at every vertex whose BSDF has a
+// non-delta lobe. Surfaces scatter by their material's Bsdf (raytracer/bsdf.h: diffuse, mirror or GGX
+// reflection, thin-walled clear or frosted transmission, the SDB's energy rule at the actual angle).
 //
 // The sun: a disc of uniform radiance E_n / (π sin² θ_s), so that a surface facing it receives E_n, sampled
-// uniformly in its cone; only by next-event estimation (a cosine-sampled ray that escapes sees the sky table,
-// which holds no sun).
+// uniformly in its cone at every non-delta vertex, without MIS; the sky table holds no sun, so a path adds
+// the disc's radiance only when a ray leaving a delta lobe (a mirror) reaches it.
 //
 // The sky table: importance-sampled by a Distribution2D over its equal-area cells weighted by luminance, and
-// combined with cosine sampling by multiple importance sampling with the power heuristic, β = 2 (Veach &
-// Guibas, "Optimally combining sampling techniques for Monte Carlo rendering", SIGGRAPH 1995).
+// combined with BSDF sampling (cosine sampling at the sensor) by multiple importance sampling with the power
+// heuristic, β = 2 (Veach & Guibas, "Optimally combining sampling techniques for Monte Carlo rendering",
+// SIGGRAPH 1995).
 //
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based
-// Rendering", 4th ed., ch. 4), and combined with cosine sampling likewise.
+// Rendering", 4th ed., ch. 4), and combined with BSDF sampling likewise. Light found after a delta lobe
+// counts in full (light sampling cannot find it).
 //
-// Punctual lights: every one, deterministically (they are deltas).
+// Punctual lights: directional lights every one; point, spot and goniometric lights every one while there
+// are at most kAllPunctualLights of them (deterministic: no variance from the choice), otherwise one per
+// sample chosen by a Distribution1D over an estimate of its flux (lm: 4π I for a point, 2π (1 − cos θ_outer) I
+// for a spot, 4π I × the table's mean for a goniometric light; luminance of the colour) and divided by its
+// probability (pbrt-v4's PowerLightSampler; a light's distance is not considered).
 //
-// Indirect light: cosine-sampled continuation, albedo = TraceMaterial::diffuse. Russian roulette from bounce
-// 2 on, with survival probability q = min(1, max component of the path's throughput relative to the sensor's)
-// and weight 1/q (as pbrt-v4's PathIntegrator): unbiased, and in a closed room of albedo ρ the throughput
-// stays at 1 while a path survives each bounce with probability ρ, so the variance stays bounded even at ρ =
-// 0.99. (A survival probability capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster
-// than paths die: infinite variance.)
+// Clear glass (thin-walled, straight-through transmission): shadow rays pass through it with its
+// transmittance T(θ) at the angle they cross it, and stop at anything else. A path that passes straight
+// through keeps the MIS state of its last non-delta vertex (the light it then finds is also what that
+// vertex's shadow rays find through the pane), and the passage is not a reflection (maxBounces). When the
+// TraceRdb has no clear glass, shadow rays are plain occlusion queries.
 //
-// Not yet: specular reflection and transmission (glass), shading normals (surfaces shade with their geometric
-// normal), light selection by power for many punctual lights.
+// Russian roulette from the second vertex on, with survival probability q = min(1, max component of the
+// path's throughput times the vertex's albedo, relative to the sensor's) and weight 1/q (as pbrt-v4's
+// PathIntegrator): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
+// each bounce with probability ρ, so the variance stays bounded even at ρ = 0.99. (A survival probability
+// capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than paths die: infinite
+// variance.)
 //
-// Sides: the sensor integrates the hemisphere of n (pass −n for the back side of a two-sided surface). A path
-// that reaches the back face of a one-sided material ends there: it blocks light and reflects none. A
-// double-sided material reflects and emits on both faces.
+// Not yet: shading normals (surfaces shade with their geometric normal), textures, anisotropy, refraction
+// through thick glass.
+//
+// Sides: the sensor integrates the hemisphere of n (pass −n for the back side of a two-sided surface). The
+// back face of a one-sided material only transmits (Bsdf); without transmission it ends a path: it blocks
+// light and reflects none. A double-sided material reflects and emits on both faces.
 #pragma once
 
 #include <cstdint>
@@ -42,10 +56,12 @@
 
 #include "base/color.h"
 #include "base/math.h"
+#include "raytracer/bsdf.h"
 #include "raytracer/distribution.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/progressive.h"
 #include "raytracer/sampler.h"
+#include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
 
 namespace fly::raytracer {
@@ -54,9 +70,17 @@ namespace fly::raytracer {
 // by Russian roulette otherwise (at ρ = 0.99 a path is this long with probability 0.99^10000 ≈ 2·10⁻⁴⁴).
 inline constexpr uint32_t kPathLengthGuard = 10000;
 
+// Point, spot and goniometric lights evaluated every one at each vertex (no variance from a choice, at most
+// this many shadow rays for them per vertex); with more, one is chosen by flux per vertex.
+inline constexpr uint32_t kAllPunctualLights = 8;
+
+// Clear panes a shadow ray passes at most; it is blocked at the next (a guard against stacked coplanar
+// glass, not a limit real scenes reach).
+inline constexpr uint32_t kMaxPanesPassed = 64;
+
 struct IntegratorSettings {
-  // Reflections of indirect light, ≥ 0 (0 = direct light only). Paths end by Russian roulette long before the
-  // default; kPathLengthGuard caps it.
+  // Reflections of indirect light, ≥ 0 (0 = direct light only, which includes light through clear glass).
+  // Paths end by Russian roulette long before the default; kPathLengthGuard caps it.
   uint32_t maxBounces = kPathLengthGuard;
 };
 
@@ -67,7 +91,8 @@ class Integrator {
   Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings = {});
 
   // One sample of the irradiance in lux at p (world, metres) on the side of unit normal n. The caller starts
-  // the sample (sampler.startSample); this uses 3 groups of dimensions per path vertex from group 0. `rays`
+  // the sample (sampler.startSample); this uses 3 groups of dimensions per path vertex from group 0: (sun,
+  // sky), (emitter, continuation), (Russian roulette, punctual light choice, BSDF lobe choice). `rays`
   // grows by the rays traced. Finite and ≥ 0 for finite input. When p lies on a triangle, pass the triangle's
   // EmbreeScene::triangleMagnitudeM as surfaceMagnitudeM so that rays leave it far enough (rayOffsetM); a
   // free sensor needs none.
@@ -78,15 +103,29 @@ class Integrator {
  private:
   struct Vertex {
     vec3 p;            // on the surface (not offset)
-    vec3 n;            // unit, the side being lit
+    vec3 n;            // unit, the side being lit (the side of the path's previous vertex)
     float magnitudeM;  // for rayOffsetM()
+    const Bsdf* bsdf;  // null at the sensor, which weighs incident light by cos θ
+    Onb frame;         // around n (surface vertices)
+    vec3 woLocal;      // towards the previous vertex, in frame (surface vertices)
   };
 
-  // ∫ L_i cos θ dω over the hemisphere of v.n from the lights by next-event estimation, MIS-weighted where
-  // cosine sampling also finds the light. Uses the sampler's group `group` and the first pair of group + 1.
+  // Σ over the lights of ∫ L_i f |cos θ| dω at v by light sampling (f = 1 and the hemisphere of n at the
+  // sensor), MIS-weighted where BSDF sampling also finds the light. Uses the sampler's group `group`;
+  // uEmitter and uPunctual choose an emitter point and a punctual light.
   template <class S>
-  Rgb directLight(const Vertex& v, uint32_t group, S& sampler, uint64_t& rays) const;
+  Rgb directLight(const Vertex& v, uint32_t group, const vec2& uEmitter, float uPunctual, S& sampler,
+                  uint64_t& rays) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
+  // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor), and the density
+  // per steradian with which v's continuation samples d. False when v takes no light from d.
+  bool response(const Vertex& v, const vec3& d, Rgb& fCos, float& pdf) const;
+  // The fraction of light that reaches origin from unit direction dir over [0, tMaxM] (tMaxM may be ∞): 1
+  // when nothing is in the way, the product of T(θ) of the clear panes crossed, 0 when anything else is hit.
+  // `rays` grows by the rays traced.
+  Rgb visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const;
+  // The point of a hit from its barycentrics, more precise than origin + t·d (Wächter & Binder 2019).
+  vec3 hitPoint(const Hit& hit) const;
   // Sky radiance towards world direction d (black below the horizon), and the density per steradian with
   // which directLight samples d.
   Rgb skyRadiance(const vec3& d) const;
@@ -103,6 +142,13 @@ class Integrator {
   std::vector<float> emitterPmfOfTriangle_;            // per triangle, 0 when not emissive
   Rgb sunRadianceCdM2_{0.0f};
   float sunOneMinusCos_ = 0.0f;
+  std::vector<Bsdf> frontBsdfs_;  // per material: front face (either face when double-sided)
+  std::vector<Bsdf> backBsdfs_;   // per material: back face (transmission only when one-sided)
+  bool hasClearGlass_ = false;    // some material passes light straight through (visibility())
+  std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
+  std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
+  // Over positionalLights_ by flux, when there are more than kAllPunctualLights.
+  std::optional<Distribution1D> positionalDistribution_;
 };
 
 // Progressive passes over all points in parallel. A point's samples depend only on (seed + point index,

@@ -28,6 +28,9 @@ struct SceneBuilder {
     m.diffuse = diffuse;
     m.emissionCdM2 = emissionCdM2;
     m.doubleSided = doubleSided;
+    return add(m);
+  }
+  uint32_t add(const rdb::TraceMaterial& m) {
     rdb.materials.push_back(m);
     return static_cast<uint32_t>(rdb.materials.size() - 1);
   }
@@ -48,8 +51,18 @@ struct SceneBuilder {
     triangle(a, c, d, mat);
   }
   // y = 0 from −half to half, facing +Y.
-  void ground(float halfM, uint32_t mat) {
-    quad(vec3(-halfM, 0, -halfM), vec3(-halfM, 0, halfM), vec3(halfM, 0, halfM), vec3(halfM, 0, -halfM), mat);
+  void ground(float halfM, uint32_t mat) { plane(0.0f, halfM, true, mat); }
+  // y = yM from −half to half, facing +Y (up) or −Y.
+  void plane(float yM, float halfM, bool up, uint32_t mat) {
+    const vec3 a(-halfM, yM, -halfM);
+    const vec3 b(-halfM, yM, halfM);
+    const vec3 c(halfM, yM, halfM);
+    const vec3 d(halfM, yM, -halfM);
+    if (up) {
+      quad(a, b, c, d, mat);
+    } else {
+      quad(a, d, c, b, mat);
+    }
   }
   void box(const vec3& lo, const vec3& hi, bool inward, uint32_t mat) {
     const vec3 c[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {lo.x, hi.y, lo.z},
@@ -595,6 +608,194 @@ TEST(Integrator, SensorsOnTiltedTerrainUseTheSurfaceMagnitude) {
   settings.maxSamples = 1024;
   expectAgrees("tilted terrain", estimateIrradiance(integrator, s.points, s.normals, settings, magnitudes), s,
                0.02f);
+}
+
+// Thin clear glass as the SDB's clear-glass preset lowers it: white Fresnel reflection, full transmission.
+rdb::TraceMaterial clearGlass(bool doubleSided) {
+  rdb::TraceMaterial m;
+  m.diffuse = Rgb(0.0f);
+  m.reflection = Rgb(1.0f);
+  m.transmission = Rgb(1.0f);
+  m.ior = 1.52f;
+  m.reflectionGlossiness = 0.0f;
+  m.transmissionGlossiness = 0.0f;
+  m.doubleSided = doubleSided;
+  return m;
+}
+
+// Schlick's Fresnel term.
+double schlick(double cosTheta, double ior) {
+  const double f0 = std::pow((ior - 1.0) / (ior + 1.0), 2.0);
+  return f0 + (1.0 - f0) * std::pow(1.0 - cosTheta, 5.0);
+}
+
+// The sun at elevation e through a horizontal clear pane above a black floor: E = E_n sin e (1 − F(sin e)), the
+// pane's transmittance at the angle the light crosses it, whichever face it shows the floor (a one-sided
+// pane's back face transmits too). A uniform sky through one pane: E = 2π L ∫₀¹ (1 − F(μ)) μ dμ = π L (1 − F0 −
+// (1 − F0) / 21); through two parallel double-sided panes, with the light reflected between them: E = 2π L
+// ∫₀¹ T² / (1 − R²) μ dμ, T = 1 − F(μ), R = F(μ). The sensor's own rays that pass the panes and escape must
+// add neither the sun nor the sky's light-sampled share again.
+TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
+  const float elevationDeg = 50.0f;
+  const Rgb normalLux(100000.0f, 90000.0f, 80000.0f);
+  const Rgb sky(1000.0f, 2000.0f, 3000.0f);
+  const double sinE = std::sin(degToRad(elevationDeg));
+  const auto transmittance = static_cast<float>(1.0 - schlick(sinE, 1.52));
+  for (const auto& [doubleSided, faceUp] : {std::pair{true, false}, std::pair{false, false}, std::pair{false, true}}) {
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    b.plane(1.0f, kHugeGroundHalfM, faceUp, b.add(clearGlass(doubleSided)));
+    b.sun(elevationDeg, 20.0f, normalLux);
+    Sensors s;
+    s.add(vec3(0.0f), vec3(0, 1, 0), normalLux * static_cast<float>(sinE) * transmittance);
+    s.add(vec3(3.0f, 0.0f, -2.0f), vec3(0, 1, 0), normalLux * static_cast<float>(sinE) * transmittance);
+    expectAgrees("sun through a pane", run(b.rdb, s, 256), s, 1e-3f);
+  }
+  for (int panes : {1, 2}) {
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    const uint32_t glass = b.add(clearGlass(true));
+    b.plane(1.0f, kHugeGroundHalfM, false, glass);
+    if (panes == 2) b.plane(1.5f, kHugeGroundHalfM, true, glass);
+    b.uniformSky(sky);
+    double integral = 0.0;  // 2 ∫₀¹ T(μ)ⁿ / (1 − R(μ)²)ⁿ⁻¹ μ dμ by the midpoint rule
+    constexpr int kSteps = 100000;
+    for (int i = 0; i < kSteps; ++i) {
+      const double mu = (i + 0.5) / kSteps;
+      const double f = schlick(mu, 1.52);
+      integral += 2.0 * (panes == 1 ? 1.0 - f : (1.0 - f) * (1.0 - f) / (1.0 - f * f)) * mu / kSteps;
+    }
+    if (panes == 1) {
+      const double f0 = schlick(1.0, 1.52);
+      ASSERT_NEAR(integral, 1.0 - f0 - (1.0 - f0) / 21.0, 1e-8);
+    }
+    Sensors s;
+    s.add(vec3(0.0f), vec3(0, 1, 0), kPiF * sky * static_cast<float>(integral));
+    expectAgrees(panes == 1 ? "sky through a pane" : "sky through two panes", run(b.rdb, s, 1024), s, 0.02f);
+    if (panes == 1) {
+      // Direct light only: the pane is no reflection, so the sky seen through it still counts in full.
+      const EmbreeScene scene(b.rdb);
+      const Integrator directOnly(b.rdb, scene, IntegratorSettings{0});
+      EstimateSettings settings;
+      settings.firstPassSamples = kTestReplicates;
+      settings.replicates = kTestReplicates;
+      settings.maxSamples = 1024;
+      expectAgrees("sky through a pane, direct only", estimateIrradiance(directOnly, s.points, s.normals, settings),
+                   s, 0.02f);
+    }
+  }
+}
+
+// A mirror floor (uniform reflection r) under a rectangle that emits L downwards: a sensor facing down sees
+// the rectangle's mirror image, E = r × Lambert's formula for the image; one facing up sees the rectangle
+// itself. Light sampling cannot find the image; the mirror's sampled paths must.
+TEST(Integrator, MirrorFloorShowsTheEmittersImage) {
+  SceneBuilder b;
+  rdb::TraceMaterial mirror;
+  mirror.diffuse = Rgb(0.0f);
+  mirror.reflection = Rgb(0.9f, 0.8f, 0.7f);
+  mirror.fresnel = false;
+  mirror.reflectionGlossiness = 0.0f;
+  b.ground(kHugeGroundHalfM, b.add(mirror));
+  const float radiance = 50.0f;
+  const std::vector<vec3> rect = {vec3(-1, 2, -0.5f), vec3(1, 2, -0.5f), vec3(1, 2, 0.5f), vec3(-1, 2, 0.5f)};
+  b.quad(rect[0], rect[1], rect[2], rect[3], b.material(Rgb(0.0f), Rgb(radiance)));
+  std::vector<vec3> image;
+  for (const vec3& c : rect) image.emplace_back(c.x, -c.y, c.z);
+  Sensors s;
+  const vec3 p(0.3f, 0.5f, 0.1f);
+  s.add(p, vec3(0, -1, 0), mirror.reflection * lambertPolygon(p, vec3(0, -1, 0), image, radiance));
+  s.add(p, vec3(0, 1, 0), Rgb(lambertPolygon(p, vec3(0, 1, 0), rect, radiance)));
+  expectAgrees("mirror image", run(b.rdb, s, 16384), s, 0.03f);
+}
+
+// The sun reflected by a vertical mirror wall onto the floor (a sun disc of 10° half-angle, so that the
+// floor's sampled rays find its image often enough): E = E_n sin e (1 + r), the direct sun and its image
+// at the same elevation. The sun is added where a ray leaving a mirror reaches its disc, and only there.
+TEST(Integrator, MirrorReflectsTheSun) {
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+  rdb::TraceMaterial mirror;
+  mirror.diffuse = Rgb(0.0f);
+  mirror.reflection = Rgb(0.8f);
+  mirror.fresnel = false;
+  mirror.reflectionGlossiness = 0.0f;
+  // x = 2, facing −x, 20 m wide and 10 m high.
+  b.quad(vec3(2, 0, -10), vec3(2, 0, 10), vec3(2, 10, 10), vec3(2, 10, -10), b.add(mirror));
+  ASSERT_LT(glm::cross(vec3(0, 0, 20), vec3(0, 10, 20)).x, 0.0f);
+  const float elevationDeg = 40.0f;
+  b.sun(elevationDeg, 180.0f, Rgb(100000.0f));  // in −x: its light falls towards the mirror
+  b.rdb.sun.halfAngleRad = static_cast<float>(degToRad(10.0));
+  Sensors s;
+  s.add(vec3(0.0f), vec3(0, 1, 0),
+        b.rdb.sun.normalIlluminanceLux * static_cast<float>(std::sin(degToRad(elevationDeg)) * 1.8));
+  expectAgrees("mirrored sun", run(b.rdb, s, 16384), s, 0.05f);
+}
+
+// A closed box whose inward walls mix a uniform mirror (r = 0.5) with diffuse (0.8 × (1 − r)) and emit L:
+// albedo ρ = 0.5 + 0.4 = 0.9 at every angle, so L_i = L / (1 − ρ) everywhere and E = π L / (1 − ρ).
+TEST(Integrator, WhiteFurnaceWithMirrorAndDiffuseWalls) {
+  SceneBuilder b;
+  rdb::TraceMaterial walls;
+  walls.reflection = Rgb(0.5f);
+  walls.fresnel = false;
+  walls.reflectionGlossiness = 0.0f;
+  walls.diffuse = Rgb(0.4f);  // the energy rule at normal incidence: (1 − 0.5) × 0.8
+  walls.emissionCdM2 = Rgb(1.0f, 2.0f, 0.5f);
+  b.box(vec3(-1.0f), vec3(1.0f), true, b.add(walls));
+  Sensors s;
+  const Rgb exact = kPiF * walls.emissionCdM2 / (1.0f - 0.9f);
+  s.add(vec3(0.0f), vec3(0, 1, 0), exact);
+  s.add(vec3(0.3f, -0.5f, 0.8f), vec3(-1, 2, 0.5f), exact);
+  s.add(vec3(0.2f, -1.0f, 0.1f), vec3(0, 1, 0), exact);  // on the floor
+  expectAgrees("mirror-diffuse furnace", run(b.rdb, s, 4096), s, 0.02f);
+}
+
+// Many point lights over a black floor, E = Σ I cos θ / d². Up to kAllPunctualLights every light is
+// evaluated (no variance at all); with 100, one is chosen per sample by flux: the estimate is unbiased and
+// its reported standard error honest (the RMS of (mean − exact) / σ over the sensors is near 1).
+TEST(Integrator, ManyPointLightsAreChosenByFlux) {
+  for (uint32_t lightCount : {kAllPunctualLights, 100u}) {
+    SceneBuilder b;
+    b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
+    RandomSampler random(23);
+    for (uint32_t i = 0; i < lightCount; ++i) {
+      random.startSample(i);
+      const vec2 xz = random.next2D();
+      const vec2 hi = random.next2D();
+      rdb::TracePunctualLight light;
+      light.positionM = vec3(20.0f * xz.x - 10.0f, 1.0f + 3.0f * hi.x, 20.0f * xz.y - 10.0f);
+      light.intensity = Rgb(10.0f + 990.0f * hi.y * hi.y) * Rgb(1.0f, 0.8f + 0.2f * hi.x, 0.6f + 0.4f * xz.x);
+      b.rdb.punctualLights.push_back(light);
+    }
+    Sensors s;
+    for (uint32_t i = 0; i < 60; ++i) {
+      random.startSample(1000 + i);
+      const vec2 u = random.next2D();
+      const vec3 p(24.0f * u.x - 12.0f, 0.0f, 24.0f * u.y - 12.0f);
+      Rgb e(0.0f);
+      for (const rdb::TracePunctualLight& light : b.rdb.punctualLights) {
+        const vec3 toLight = light.positionM - p;
+        const float d = glm::length(toLight);
+        e += light.intensity * (toLight.y / d / (d * d));
+      }
+      s.add(p, vec3(0, 1, 0), e);
+    }
+    const EstimateResult r = run(b.rdb, s, 4096);
+    if (lightCount == kAllPunctualLights) {
+      expectAgrees("all point lights", r, s, 1e-5f);
+      continue;
+    }
+    expectAgrees("100 point lights", r, s, 0.1f);
+    double z2 = 0.0;
+    for (size_t i = 0; i < s.points.size(); ++i) {
+      z2 += std::pow((r.points[i].meanLux.g - s.exact[i].g) / r.points[i].stdErrorLux.g, 2.0);
+    }
+    const double rmsZ = std::sqrt(z2 / static_cast<double>(s.points.size()));
+    std::cout << "[ honesty  ] 100 point lights: RMS of (mean − exact) / σ = " << rmsZ << "\n";
+    EXPECT_GT(rmsZ, 0.5);
+    EXPECT_LT(rmsZ, 2.0);
+  }
 }
 
 TEST(Integrator, StopsAtTargetErrorAndTimeLimit) {

@@ -1,0 +1,188 @@
+#include "raytracer/bsdf.h"
+
+#include <cmath>
+
+#include "raytracer/warp.h"
+
+namespace fly::raytracer {
+namespace {
+
+// GGX normal distribution (Walter et al. 2007, eq. 33) at cos θh > 0, with a2 = α².
+float ggxD(float cosH, float a2) {
+  const float den = cosH * cosH * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPiF * den * den);
+}
+
+// Smith's Λ for GGX (Heitz 2014, eq. 72) at cos θ > 0.
+float ggxLambda(float cosTheta, float a2) {
+  const float c2 = cosTheta * cosTheta;
+  if (c2 >= 1.0f) return 0.0f;
+  return 0.5f * (std::sqrt(1.0f + a2 * (1.0f - c2) / c2) - 1.0f);
+}
+
+// The reflection lobe's D G2 / (4 cos θo cos θi) for wo, wi above the surface, and the density per steradian
+// of sampling wi by visible normals: G1(wo) D(h) / (4 cos θo) (Heitz 2018, eq. 17 with the reflection
+// Jacobian 1 / (4 ωo·h)). `h` receives the half vector.
+float ggxReflection(const vec3& wo, const vec3& wi, float alpha, vec3& h, float& pdf) {
+  h = glm::normalize(wo + wi);
+  const float a2 = alpha * alpha;
+  const float d = ggxD(h.z, a2);
+  const float lambdaO = ggxLambda(wo.z, a2);
+  pdf = d / ((1.0f + lambdaO) * 4.0f * wo.z);
+  return d / ((1.0f + lambdaO + ggxLambda(wi.z, a2)) * 4.0f * wo.z * wi.z);
+}
+
+// A microfacet normal of the GGX distribution of visible normals from wo (wo.z > 0): Heitz 2018, listing 1.
+vec3 sampleGgxVisibleNormal(const vec3& wo, float alpha, const vec2& u) {
+  const vec3 vh = glm::normalize(vec3(alpha * wo.x, alpha * wo.y, wo.z));
+  const float lensq = vh.x * vh.x + vh.y * vh.y;
+  const vec3 t1 = lensq > 0.0f ? vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : vec3(1.0f, 0.0f, 0.0f);
+  const vec3 t2 = glm::cross(vh, t1);
+  const float r = std::sqrt(u.x);
+  const float phi = 2.0f * kPiF * u.y;
+  const float p1 = r * std::cos(phi);
+  const float s = 0.5f * (1.0f + vh.z);
+  const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+  const vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  return glm::normalize(vec3(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z)));
+}
+
+float mean(const Rgb& c) {
+  return (c.r + c.g + c.b) / 3.0f;
+}
+
+// GGX α from a glossiness in [0, 1]; 0 (a delta lobe) below kSmoothAlpha.
+float alphaOf(float glossiness) {
+  const float g = std::clamp(glossiness, 0.0f, 1.0f);
+  return g * g < kSmoothAlpha ? 0.0f : g * g;
+}
+
+}  // namespace
+
+Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace) {
+  reflection_ = glm::clamp(m.reflection, 0.0f, 1.0f);
+  transmission_ = glm::clamp(m.transmission, 0.0f, 1.0f);
+  fresnel_ = m.fresnel;
+  const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
+  f0_ = q * q;
+  alphaR_ = alphaOf(m.reflectionGlossiness);
+  alphaT_ = alphaOf(m.transmissionGlossiness);
+  // F is smallest at normal incidence (F0), so T(θ) > 0 somewhere iff t (1 − r F0) > 0.
+  hasTransmission_ = maxComponent(transmission_ * (Rgb(1.0f) - reflection_ * fresnel(1.0f))) > 0.0f;
+  clearTransmission_ = hasTransmission_ && alphaT_ == 0.0f;
+  if (!frontFace) return;
+  hasReflection_ = maxComponent(reflection_) > 0.0f && (!fresnel_ || f0_ < 1.0f);
+  // Σ F μ over the hemisphere: F̄ = 2∫₀¹ (F0 + (1 − F0)(1 − μ)⁵) μ dμ = F0 + (1 − F0)·2·B(2, 6) = F0 + (1 − F0)/21.
+  const float fBar = fresnel_ ? f0_ + (1.0f - f0_) / 21.0f : 1.0f;
+  const Rgb diffuse = glm::clamp(m.diffuse, 0.0f, 1.0f);
+  for (int c = 0; c < 3; ++c) {
+    const float atNormal = 1.0f - reflection_[c] * fresnel(1.0f);
+    const float norm = 1.0f - reflection_[c] * fBar;
+    if (atNormal > 0.0f && norm > 0.0f && diffuse[c] > 0.0f) {
+      diffuseKd_[c] = std::min(diffuse[c] / atNormal, 1.0f);
+      diffuseNorm_[c] = 1.0f / norm;
+    }
+  }
+  hasDiffuse_ = maxComponent(diffuseKd_) > 0.0f;
+}
+
+Rgb Bsdf::albedo(float cosO) const {
+  const Rgb reflected = reflection_ * fresnel(cosO);
+  Rgb a(0.0f);
+  if (hasDiffuse_) a += diffuseKd_ * (Rgb(1.0f) - reflected);
+  if (hasReflection_) a += reflected;
+  if (hasTransmission_) a += transmission_ * (Rgb(1.0f) - reflected);
+  return a;
+}
+
+vec3 Bsdf::lobeProbabilities(float cosO) const {
+  const Rgb reflected = reflection_ * fresnel(cosO);
+  const vec3 w(hasDiffuse_ ? mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
+               hasReflection_ ? mean(reflected) : 0.0f,
+               hasTransmission_ ? mean(transmission_ * (Rgb(1.0f) - reflected)) : 0.0f);
+  const float sum = w.x + w.y + w.z;
+  return sum > 0.0f ? w / sum : vec3(0.0f);
+}
+
+Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
+  Rgb f(0.0f);
+  if (wi.z > 0.0f) {
+    if (hasDiffuse_) {
+      const Rgb oneMinusRi = Rgb(1.0f) - reflection_ * fresnel(wi.z);
+      const Rgb oneMinusRo = Rgb(1.0f) - reflection_ * fresnel(wo.z);
+      f += diffuseKd_ * diffuseNorm_ * oneMinusRi * oneMinusRo / kPiF;
+    }
+    if (hasReflection_ && alphaR_ > 0.0f) {
+      vec3 h;
+      float pdfUnused;
+      const float g = ggxReflection(wo, wi, alphaR_, h, pdfUnused);
+      f += reflection_ * (fresnel(glm::dot(wo, h)) * g);
+    }
+  } else if (wi.z < 0.0f && frostedTransmission()) {
+    vec3 h;
+    float pdfUnused;
+    const float g = ggxReflection(wo, vec3(wi.x, wi.y, -wi.z), alphaT_, h, pdfUnused);
+    f += transmission_ * (Rgb(1.0f) - reflection_ * fresnel(glm::dot(wo, h))) * g;
+  }
+  return f;
+}
+
+float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
+  const vec3 p = lobeProbabilities(wo.z);
+  vec3 h;
+  float lobePdf = 0.0f;
+  float sum = 0.0f;
+  if (wi.z > 0.0f) {
+    if (hasDiffuse_) sum += p.x * wi.z / kPiF;
+    if (hasReflection_ && alphaR_ > 0.0f) {
+      ggxReflection(wo, wi, alphaR_, h, lobePdf);
+      sum += p.y * lobePdf;
+    }
+  } else if (wi.z < 0.0f && frostedTransmission()) {
+    ggxReflection(wo, vec3(wi.x, wi.y, -wi.z), alphaT_, h, lobePdf);
+    sum += p.z * lobePdf;
+  }
+  return sum;
+}
+
+bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const {
+  const vec3 p = lobeProbabilities(wo.z);
+  if (p.x + p.y + p.z <= 0.0f) return false;
+  // The lobe whose interval of [0, 1) holds uLobe; rounding past the last interval falls to the last lobe.
+  int lobe = uLobe < p.x ? 0 : (uLobe < p.x + p.y ? 1 : 2);
+  while (p[lobe] == 0.0f) lobe = (lobe + 2) % 3;
+  if (lobe == 0) {
+    out.wi = sampleCosineHemisphere(u);
+  } else if (lobe == 1) {
+    if (alphaR_ == 0.0f) {
+      out.wi = vec3(-wo.x, -wo.y, wo.z);
+      out.pdf = p.y;
+      out.weight = reflection_ * (fresnel(wo.z) / p.y);
+      out.lobe = Lobe::kMirror;
+      return true;
+    }
+    const vec3 h = sampleGgxVisibleNormal(wo, alphaR_, u);
+    out.wi = 2.0f * glm::dot(wo, h) * h - wo;
+    if (out.wi.z <= 0.0f) return false;
+  } else {
+    if (clearTransmission_) {
+      out.wi = -wo;
+      out.pdf = p.z;
+      out.weight = straightTransmittance(wo.z) / p.z;
+      out.lobe = Lobe::kStraight;
+      return true;
+    }
+    const vec3 h = sampleGgxVisibleNormal(wo, alphaT_, u);
+    const vec3 mirrored = 2.0f * glm::dot(wo, h) * h - wo;
+    if (mirrored.z <= 0.0f) return false;
+    out.wi = vec3(mirrored.x, mirrored.y, -mirrored.z);
+  }
+  out.wi = glm::normalize(out.wi);
+  out.pdf = pdf(wo, out.wi);
+  if (!(out.pdf > 0.0f) || !std::isfinite(out.pdf)) return false;
+  out.weight = eval(wo, out.wi) * (std::abs(out.wi.z) / out.pdf);
+  out.lobe = Lobe::kNonDelta;
+  return true;
+}
+
+}  // namespace fly::raytracer

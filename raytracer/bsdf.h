@@ -1,0 +1,128 @@
+// The scattering function of a TraceMaterial (the SDB's realistic material): Lambertian diffuse, specular or
+// glossy reflection, and thin-walled transmission, with the SDB's energy rule evaluated at the actual angle.
+//
+// Energy rule (sdb/material.h, reference 002), per channel, for light arriving at θ from the normal:
+//   R(θ) = r·F(θ),  T(θ) = (1 − R(θ))·t,  D(θ) = (1 − R(θ) − T(θ))·d = (1 − R(θ))·(1 − t)·d,
+// r, t, d the reflection, transmission and diffuse colours; F Schlick's Fresnel term with F0 = ((ior − 1) /
+// (ior + 1))² ("fresnel" materials; Schlick, "An inexpensive BRDF model for physically-based rendering",
+// Computer Graphics Forum 13(3), 1994, eq. 24) or F ≡ 1 (uniform reflection). TraceMaterial::diffuse holds
+// D(0) (the rule at normal incidence), so the constructor recovers (1 − t)·d = diffuse / (1 − r F(0)).
+//
+// Lobes, in a local frame whose +z is the surface normal on the side of ωo (the direction towards the
+// sensor; ωi towards the light):
+//   - Diffuse: f = (1 − t)d/π · (1 − r F(θi)) (1 − r F(θo)) / (1 − r F̄), F̄ = 2∫₀¹ F(μ) μ dμ = F0 + (1 − F0)/21
+//     (1 for uniform reflection). Symmetric in ωi, ωo, and its albedo for light from θi is exactly D(θi): the
+//     coupling of Kelemen & Szirmay-Kalos ("A microfacet based coupled specular-matte BRDF model with
+//     importance sampling", Eurographics 2001 short papers), with Schlick's F in place of the microfacet albedo.
+//   - Reflection, glossiness g = 0 (or α = g² < kSmoothAlpha): a perfect mirror of weight R(θ). Otherwise GGX
+//     (Walter, Marschner, Li & Torrance, "Microfacet models for refraction through rough surfaces", EGSR 2007)
+//     with α = g², the height-correlated Smith masking-shadowing G2 (Heitz, "Understanding the masking-
+//     shadowing function in microfacet-based BRDFs", JCGT 3(2), 2014, eq. 99), f = r F(ωo·h) D(h) G2 /
+//     (4 cos θo cos θi); its albedo is close to R(θ) for smooth lobes and below it for rough ones (single
+//     scattering loses energy), sampled by the distribution of visible normals (Heitz, "Sampling the GGX
+//     distribution of visible normals", JCGT 7(4), 2018).
+//   - Transmission: thin-walled, as daylighting tools model a window pane (Radiance's `glass` material:
+//     Ward, "The RADIANCE lighting simulation and rendering system", SIGGRAPH 1994): light passes straight
+//     through with no refraction offset, transmittance T(θ) = t (1 − r F(θ)) (the energy rule; for a preset
+//     glass, r = 1: t (1 − F(θ))). One interface's Fresnel term, as the SDB's rule has it, not Radiance's two
+//     interfaces with inter-reflection. Frosted glass (transmissionGlossiness g_t > 0) scatters into the GGX
+//     lobe of α = g_t² mirrored through the surface plane around the straight-through direction (the
+//     thin-surface transmission of Burley, "Extending the Disney BRDF to a BSDF with integrated subsurface
+//     scattering", SIGGRAPH 2015 course notes, §4): f = t (1 − r F(ωo·h)) D(h) G2 / (4 |cos θo| |cos θi|),
+//     h = normalize(ωo + ωi'), ωi' = ωi mirrored to ωo's side.
+//
+// Faces: the front face (or either face of a double-sided material) has every lobe; the back face of a
+// one-sided material transmits only (the rule's reflected and diffuse shares are absorbed there): a pane
+// passes light both ways, and glTF culls one-sided back faces.
+//
+// Sampling chooses one lobe with probability proportional to its estimated albedo at θo (channel mean of
+// D(θo), R(θo), T(θo)) and samples it; eval() and pdf() cover the non-delta lobes (the mixture's density,
+// for multiple importance sampling with light sampling); the mirror and clear transmission are deltas.
+//
+// Textures (per-texel colours) and anisotropy are not modelled here: the TraceRdb carries constant colours.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "base/color.h"
+#include "base/math.h"
+#include "rdb/trace_rdb.h"
+
+namespace fly::raytracer {
+
+// GGX α below which a lobe is a delta (mirror or clear transmission): at α = 10⁻³ (glossiness 0.032) the lobe
+// is 0.06° wide, far narrower than the sun (0.53°), and its density overflows float precision (pbrt-v4's
+// TrowbridgeReitzDistribution::EffectivelySmooth uses the same bound).
+inline constexpr float kSmoothAlpha = 1e-3f;
+
+// Schlick's approximation, cos θ clamped to [0, 1].
+inline float schlickFresnel(float cosTheta, float f0) {
+  const float m = 1.0f - std::clamp(cosTheta, 0.0f, 1.0f);
+  const float m2 = m * m;
+  return f0 + (1.0f - f0) * m2 * m2 * m;
+}
+
+class Bsdf {
+ public:
+  enum class Lobe : uint8_t {
+    kNonDelta,  // diffuse, glossy reflection or frosted transmission: eval() and pdf() describe it
+    kMirror,    // perfect specular reflection
+    kStraight,  // clear thin-walled transmission, ωi = −ωo
+  };
+
+  struct Sample {
+    vec3 wi{0.0f};      // local, unit
+    Rgb weight{0.0f};   // f |cos θi| / pdf; for a delta lobe its reflectance or transmittance / probability
+    float pdf = 0.0f;   // per steradian (non-delta), or the probability of choosing the delta lobe
+    Lobe lobe = Lobe::kNonDelta;
+  };
+
+  // frontFace: false for the back face of a one-sided material (transmission only).
+  Bsdf(const rdb::TraceMaterial& m, bool frontFace);
+
+  // f(ωo, ωi) of the non-delta lobes in 1/sr, local directions with wo.z > 0; ωi on either side.
+  Rgb eval(const vec3& wo, const vec3& wi) const;
+  // Density per steradian with which sample() draws ωi by a non-delta lobe (times that lobe's probability).
+  float pdf(const vec3& wo, const vec3& wi) const;
+  // One direction: uLobe chooses the lobe, u the direction in it. False when nothing scatters (black, or a
+  // direction below the surface from a glossy lobe's tail).
+  bool sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const;
+
+  // Straight-through transmittance at |cos θ| = absCos: T(θ) for clear glass, 0 otherwise. The shadow rays of
+  // light sampling pass clear glass with this factor.
+  Rgb straightTransmittance(float absCos) const {
+    return clearTransmission_ ? transmission_ * (Rgb(1.0f) - reflection_ * fresnel(absCos)) : Rgb(0.0f);
+  }
+  // The albedo for light leaving towards ωo, cos θo = cosO (exact for the diffuse, mirror and clear lobes, an
+  // estimate for glossy ones): the lobe weights and Russian roulette's survival guide.
+  Rgb albedo(float cosO) const;
+
+  bool isBlack() const { return !hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  // Whether eval() can be non-zero: light sampling is pointless otherwise.
+  bool hasNonDelta() const { return hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission(); }
+  // Whether non-delta light arrives from below the surface (frosted transmission).
+  bool hasNonDeltaTransmission() const { return frostedTransmission(); }
+  bool passesStraight() const { return clearTransmission_; }
+
+ private:
+  float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
+  bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
+  // Lobe choice probabilities at cos θo: diffuse, reflection, transmission (sum 1 unless black).
+  vec3 lobeProbabilities(float cosO) const;
+
+  Rgb diffuseKd_{0.0f};     // (1 − t)·d: the diffuse colour before the rule's (1 − R) factor
+  Rgb diffuseNorm_{0.0f};   // 1 / (1 − r F̄), 0 where the diffuse share is 0
+  Rgb reflection_{0.0f};    // r, [0, 1]
+  Rgb transmission_{0.0f};  // t, [0, 1]
+  float f0_ = 0.0f;
+  bool fresnel_ = true;
+  float alphaR_ = 0.0f;  // GGX α of reflection, 0 = mirror
+  float alphaT_ = 0.0f;  // GGX α of transmission, 0 = clear
+  bool hasDiffuse_ = false;
+  bool hasReflection_ = false;
+  bool hasTransmission_ = false;
+  bool clearTransmission_ = false;
+};
+
+}  // namespace fly::raytracer
