@@ -41,7 +41,7 @@ double parseRelativeError(const std::string& s) {
   return x * scale;
 }
 
-double parseDuration(const std::string& s) {
+double parseDuration(const std::string& s, const std::string& option) {
   std::string v = s;
   double unit = 1.0;
   if (!v.empty() && (v.back() == 's' || v.back() == 'm' || v.back() == 'h')) {
@@ -51,7 +51,7 @@ double parseDuration(const std::string& s) {
   double x = 0.0;
   const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
   if (ec != std::errc() || ptr != v.data() + v.size() || !(x > 0.0) || !std::isfinite(x)) {
-    throw UsageError("--time " + s + ": expected a duration such as 60, 90s, 5m or 1.5h");
+    throw UsageError(option + " " + s + ": expected a duration such as 60, 90s, 5m or 1.5h");
   }
   return x * unit;
 }

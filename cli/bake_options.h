@@ -27,8 +27,8 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
 // "1%" → 0.01, "0.02" → 0.02; UsageError unless in (0, 1).
 double parseRelativeError(const std::string& s);
 
-// "90", "90s", "5m", "1.5h" → seconds; UsageError unless finite and > 0.
-double parseDuration(const std::string& s);
+// "90", "90s", "5m", "1.5h" → seconds; UsageError naming `option` unless finite and > 0.
+double parseDuration(const std::string& s, const std::string& option = "--time");
 
 // The estimator's settings: the flags, else the scene's bake settings; at most 2^16 samples per point. An
 // explicit --samples without --target-error turns the error target off, so that exactly that many are taken.

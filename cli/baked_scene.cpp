@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <span>
 #include <stdexcept>
 
 #include "base/error.h"
 #include "base/file_io.h"
+#include "base/image_io.h"
 #include "base/math.h"
 #include "base/tone_map.h"
 #include "cli/command.h"
@@ -44,6 +46,12 @@ class GltfBuilder {
       a["max"] = {hi.x, hi.y, hi.z};
     }
     return push(std::move(a));
+  }
+  int vec2s(std::span<const vec2> v) {
+    return push(accessor(v.data(), v.size_bytes(), kArrayBuffer, kFloat, v.size(), "VEC2"));
+  }
+  int floats(std::span<const float> v) {
+    return push(accessor(v.data(), v.size_bytes(), kArrayBuffer, kFloat, v.size(), "SCALAR"));
   }
   int indices(std::span<const uint32_t> v) {
     return push(accessor(v.data(), v.size_bytes(), kElementArrayBuffer, kUnsignedInt, v.size(), "SCALAR"));
@@ -84,16 +92,81 @@ struct MaterialGroup {
   uint32_t material = 0;
   std::vector<uint32_t> indices;  // relative to the mesh's firstVertex
 };
-std::vector<MaterialGroup> groupByMaterial(const rdb::TraceRdb& rdb, const rdb::TraceMesh& m) {
+// cornerVertex (3 per triangle of the mesh), when given, replaces the TraceRdb's indices (seam-split
+// vertices).
+std::vector<MaterialGroup> groupByMaterial(const rdb::TraceRdb& rdb, const rdb::TraceMesh& m,
+                                           const std::vector<uint32_t>* cornerVertex = nullptr) {
   std::vector<MaterialGroup> groups;
   for (uint32_t t = m.firstTriangle; t < m.firstTriangle + m.triangleCount; ++t) {
     const uint32_t material = rdb.triangleMaterial[t];
     auto g = std::find_if(groups.begin(), groups.end(),
                           [&](const MaterialGroup& x) { return x.material == material; });
     if (g == groups.end()) g = groups.insert(groups.end(), {material, {}});
-    for (int k = 0; k < 3; ++k) g->indices.push_back(rdb.indices[3 * size_t(t) + size_t(k)] - m.firstVertex);
+    for (size_t k = 0; k < 3; ++k) {
+      g->indices.push_back(cornerVertex ? (*cornerVertex)[3 * size_t(t - m.firstTriangle) + k]
+                                        : rdb.indices[3 * size_t(t) + k] - m.firstVertex);
+    }
   }
   return groups;
+}
+
+// A light-textured mesh's vertices split where charts meet: the mesh's vertices first (each with the UV of
+// its first corner in triangle order; (0, 0) for a vertex of no triangle), then a copy for every further
+// (vertex, UV) pair. All relative to the mesh's firstVertex.
+struct SeamSplit {
+  std::vector<uint32_t> sourceVertex;  // per output vertex
+  std::vector<vec2> uv1;               // per output vertex
+  std::vector<uint32_t> cornerVertex;  // per triangle corner: its output vertex
+};
+SeamSplit splitAtSeams(const rdb::TraceRdb& rdb, const rdb::TraceMesh& m, const rdb::TraceLightTexture& lt) {
+  SeamSplit s;
+  for (uint32_t v = 0; v < m.vertexCount; ++v) s.sourceVertex.push_back(v);
+  s.uv1.assign(m.vertexCount, vec2(0.0f));
+  std::vector<bool> assigned(m.vertexCount, false);
+  std::vector<std::vector<uint32_t>> copies(m.vertexCount);  // output vertices of each source vertex
+  for (size_t c = 0; c < 3 * size_t(m.triangleCount); ++c) {
+    const uint32_t v = rdb.indices[3 * size_t(m.firstTriangle) + c] - m.firstVertex;
+    const vec2 uv = lt.cornerUv[c];
+    if (!assigned[v]) {
+      assigned[v] = true;
+      s.uv1[v] = uv;
+      copies[v].push_back(v);
+      s.cornerVertex.push_back(v);
+      continue;
+    }
+    auto same = std::find_if(copies[v].begin(), copies[v].end(), [&](uint32_t o) { return s.uv1[o] == uv; });
+    if (same == copies[v].end()) {
+      same = copies[v].insert(copies[v].end(), uint32_t(s.sourceVertex.size()));
+      s.sourceVertex.push_back(v);
+      s.uv1.push_back(uv);
+    }
+    s.cornerVertex.push_back(*same);
+  }
+  return s;
+}
+
+// The per-vertex values of a mesh, gathered for the output vertices of a seam split (or as they are).
+std::vector<vec3> gather(std::span<const vec3> values, const SeamSplit* split) {
+  if (!split) return {values.begin(), values.end()};
+  std::vector<vec3> out;
+  for (uint32_t v : split->sourceVertex) out.push_back(values[v]);
+  return out;
+}
+
+// Files of one light texture, relative to the baked directory: lightmaps/objectN_SIDE[_stderr].exr.
+std::string lightTextureFile(size_t object, bool back, bool stdError, const char* extension = ".exr") {
+  return "lightmaps/object" + std::to_string(object) + (back ? "_back" : "_front") +
+         (stdError ? "_stderr" : "") + extension;
+}
+
+json lightTextureFilesJson(size_t object, bool twoSided) {
+  json j = {{"front", lightTextureFile(object, false, false)},
+            {"front_stderr", lightTextureFile(object, false, true)}};
+  if (twoSided) {
+    j["back"] = lightTextureFile(object, true, false);
+    j["back_stderr"] = lightTextureFile(object, true, true);
+  }
+  return j;
 }
 
 std::span<const vec3> range(const std::vector<vec3>& v, const rdb::TraceMesh& m) {
@@ -141,22 +214,41 @@ void writeBakedGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytrac
   std::vector<json> nodes;
   for (size_t i = 0; i < rdb.meshes.size(); ++i) {
     const rdb::TraceMesh& m = rdb.meshes[i];
-    const std::vector<MaterialGroup> groups = groupByMaterial(rdb, m);
+    std::optional<SeamSplit> split;
+    if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
+      split = splitAtSeams(rdb, m, rdb.lightTextures[m.lightTexture]);
+    }
+    const SeamSplit* sp = split ? &*split : nullptr;
+    const std::vector<MaterialGroup> groups = groupByMaterial(rdb, m, sp ? &sp->cornerVertex : nullptr);
     if (groups.empty()) continue;
-    json attributes = {{"POSITION", b.vec3s(range(rdb.positionsM, m), true)},
-                       {"NORMAL", b.vec3s(range(rdb.normals, m))},
-                       {"_IRRADIANCE_FRONT", b.vec3s(range(maps.frontLux, m))},
-                       {"_IRRADIANCE_FRONT_STDERR", b.vec3s(range(maps.frontStdErrorLux, m))}};
+    json attributes = {{"POSITION", b.vec3s(gather(range(rdb.positionsM, m), sp), true)},
+                       {"NORMAL", b.vec3s(gather(range(rdb.normals, m), sp))},
+                       {"_IRRADIANCE_FRONT", b.vec3s(gather(range(maps.frontLux, m), sp))},
+                       {"_IRRADIANCE_FRONT_STDERR", b.vec3s(gather(range(maps.frontStdErrorLux, m), sp))}};
     if (m.twoSided) {
-      attributes["_IRRADIANCE_BACK"] = b.vec3s(range(maps.backLux, m));
-      attributes["_IRRADIANCE_BACK_STDERR"] = b.vec3s(range(maps.backStdErrorLux, m));
+      attributes["_IRRADIANCE_BACK"] = b.vec3s(gather(range(maps.backLux, m), sp));
+      attributes["_IRRADIANCE_BACK_STDERR"] = b.vec3s(gather(range(maps.backStdErrorLux, m), sp));
+    }
+    if (sp) {
+      attributes["TEXCOORD_1"] = b.vec2s(sp->uv1);
+      const std::vector<float> source(sp->sourceVertex.begin(), sp->sourceVertex.end());
+      attributes["_SOURCE_VERTEX"] = b.floats(source);
     }
     json primitives = json::array();
     for (const MaterialGroup& g : groups) {
       primitives.push_back(
           {{"attributes", attributes}, {"indices", b.indices(g.indices)}, {"material", g.material}});
     }
-    meshes.push_back(meshJson(d, i, std::move(primitives)));
+    json mesh = meshJson(d, i, std::move(primitives));
+    if (sp) {
+      const rdb::TraceLightTexture& lt = rdb.lightTextures[m.lightTexture];
+      json files = lightTextureFilesJson(i, m.twoSided);
+      files["width"] = lt.width;
+      files["height"] = lt.height;
+      files["texels_per_metre"] = lt.texelsPerMetre;
+      mesh["extras"] = {{"fly", {{"light_texture", std::move(files)}}}};
+    }
+    meshes.push_back(std::move(mesh));
     nodes.push_back(node(d, i, meshes.size() - 1));
   }
   json materials = json::array();
@@ -177,8 +269,8 @@ void writeBakedGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytrac
 // shows COLOR_0 as is. A vertex shared by triangles of different materials has one colour per material: one
 // COLOR_0 accessor per primitive. Two-sided meshes get a second primitive per material for the back: normals
 // negated, winding reversed, the back's light.
-void writeExportGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps,
-                     const BakeDescription& d) {
+std::vector<std::string> writeExportGltf(const fs::path& dir, const rdb::TraceRdb& rdb,
+                                         const raytracer::VertexLightMaps& maps, const BakeDescription& d) {
   struct Side {
     size_t mesh;
     const MaterialGroup* group;
@@ -207,42 +299,13 @@ void writeExportGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
     }
   }
   const double ev100 = autoExposureEv100(allLuminances);
+  fs::create_directory(dir);
 
   GltfBuilder b;
   json doc;
   json meshes = json::array();
   std::vector<json> nodes;
   size_t next = 0;
-  for (size_t i = 0; i < rdb.meshes.size(); ++i) {
-    if (groups[i].empty()) continue;
-    const rdb::TraceMesh& m = rdb.meshes[i];
-    const int position = b.vec3s(range(rdb.positionsM, m), true);
-    const int normal = b.vec3s(range(rdb.normals, m));
-    int backNormal = -1;
-    if (m.twoSided) {
-      std::vector<vec3> negated;
-      for (const vec3& n : range(rdb.normals, m)) negated.push_back(-n);
-      backNormal = b.vec3s(negated);
-    }
-    json primitives = json::array();
-    for (; next < sides.size() && sides[next].mesh == i; ++next) {
-      const Side& s = sides[next];
-      std::vector<vec3> colours;
-      for (const Rgb& l : s.luminanceCdM2) colours.push_back(toneMap(l, ev100, ToneOperator::kReinhard));
-      std::vector<uint32_t> indices = s.group->indices;
-      if (s.back) {
-        for (size_t t = 0; t < indices.size(); t += 3) std::swap(indices[t + 1], indices[t + 2]);
-      }
-      primitives.push_back({{"attributes",
-                             {{"POSITION", position},
-                              {"NORMAL", s.back ? backNormal : normal},
-                              {"COLOR_0", b.vec3s(colours)}}},
-                            {"indices", b.indices(indices)},
-                            {"material", s.group->material}});
-    }
-    meshes.push_back(meshJson(d, i, std::move(primitives)));
-    nodes.push_back(node(d, i, meshes.size() - 1));
-  }
   json materials = json::array();
   for (size_t k = 0; k < rdb.materials.size(); ++k) {
     json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}}},
@@ -250,15 +313,102 @@ void writeExportGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
     if (!d.materialNames[k].empty()) material["name"] = d.materialNames[k];
     materials.push_back(std::move(material));
   }
+  json images = json::array();
+  std::vector<std::string> pngs;
+  for (size_t i = 0; i < rdb.meshes.size(); ++i) {
+    if (groups[i].empty()) continue;
+    const rdb::TraceMesh& m = rdb.meshes[i];
+    std::optional<SeamSplit> split;
+    if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
+      split = splitAtSeams(rdb, m, rdb.lightTextures[m.lightTexture]);
+    }
+    const SeamSplit* sp = split ? &*split : nullptr;
+    const std::vector<vec3> normals = gather(range(rdb.normals, m), sp);
+    const int position = b.vec3s(gather(range(rdb.positionsM, m), sp), true);
+    const int normal = b.vec3s(normals);
+    int backNormal = -1;
+    if (m.twoSided) {
+      std::vector<vec3> negated;
+      for (const vec3& n : normals) negated.push_back(-n);
+      backNormal = b.vec3s(negated);
+    }
+    // A light-textured mesh: per side one PNG light map and one unlit material that shows it through
+    // TEXCOORD_1, instead of vertex colours.
+    int texcoord = -1;
+    int textureMaterial[2] = {-1, -1};
+    std::vector<MaterialGroup> splitGroups;
+    if (sp) {
+      texcoord = b.vec2s(sp->uv1);
+      splitGroups = groupByMaterial(rdb, m, &sp->cornerVertex);
+      const raytracer::LightTexture& tex = maps.lightTextures.at(m.lightTexture);
+      const rdb::TraceMaterial& material = rdb.materials[rdb.triangleMaterial[m.firstTriangle]];
+      for (const bool back : {false, true}) {
+        if (back && !m.twoSided) continue;
+        const std::vector<Rgb>& lux = back ? tex.backLux : tex.frontLux;
+        const Rgb emission = !back || material.doubleSided ? material.emissionCdM2 : Rgb(0.0f);
+        std::vector<float> rgb;
+        for (const Rgb& e : lux) {
+          const Rgb l = material.diffuse * e / kPiF + emission;
+          rgb.insert(rgb.end(), {l.r, l.g, l.b});
+        }
+        const std::string file = lightTextureFile(i, back, false, ".png");
+        fs::create_directories(dir / "lightmaps");
+        writePng(dir / file, int(tex.width), int(tex.height), 3,
+                 toneMapToSrgb8(rgb, ev100, ToneOperator::kReinhard).data());
+        pngs.push_back(file);
+        images.push_back({{"uri", file}});
+        textureMaterial[back] = int(materials.size());
+        json unlit = {{"pbrMetallicRoughness",
+                       {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
+                        {"baseColorTexture", {{"index", images.size() - 1}, {"texCoord", 1}}}}},
+                      {"extensions", {{"KHR_materials_unlit", json::object()}}}};
+        const std::string& name = d.meshNames[i].empty() ? d.nodeNames[i] : d.meshNames[i];
+        unlit["name"] = (name.empty() ? "object" + std::to_string(i) : name) + (back ? " (back)" : "") +
+                        " light map";
+        materials.push_back(std::move(unlit));
+      }
+    }
+    json primitives = json::array();
+    for (size_t g = 0; next < sides.size() && sides[next].mesh == i; ++next) {
+      const Side& s = sides[next];
+      std::vector<uint32_t> indices = sp ? splitGroups[g].indices : s.group->indices;
+      g += s.back || !m.twoSided ? 1 : 0;  // sides come front, back per group
+      if (s.back) {
+        for (size_t t = 0; t < indices.size(); t += 3) std::swap(indices[t + 1], indices[t + 2]);
+      }
+      json attributes = {{"POSITION", position}, {"NORMAL", s.back ? backNormal : normal}};
+      if (sp) {
+        attributes["TEXCOORD_1"] = texcoord;
+      } else {
+        std::vector<vec3> colours;
+        for (const Rgb& l : s.luminanceCdM2) colours.push_back(toneMap(l, ev100, ToneOperator::kReinhard));
+        attributes["COLOR_0"] = b.vec3s(colours);
+      }
+      primitives.push_back({{"attributes", std::move(attributes)},
+                            {"indices", b.indices(indices)},
+                            {"material", sp ? textureMaterial[s.back] : int(s.group->material)}});
+    }
+    meshes.push_back(meshJson(d, i, std::move(primitives)));
+    nodes.push_back(node(d, i, meshes.size() - 1));
+  }
   doc["meshes"] = std::move(meshes);
   doc["materials"] = std::move(materials);
+  if (!images.empty()) {
+    // Linear filtering, clamped at the border (the atlas's padding holds dilated values).
+    doc["samplers"] =
+        json::array({{{"magFilter", 9729}, {"minFilter", 9729}, {"wrapS", 33071}, {"wrapT", 33071}}});
+    json textures = json::array();
+    for (size_t k = 0; k < images.size(); ++k) textures.push_back({{"source", k}, {"sampler", 0}});
+    doc["images"] = std::move(images);
+    doc["textures"] = std::move(textures);
+  }
   doc["extensionsUsed"] = {"KHR_materials_unlit"};
   doc["extras"] = {{"fly", {{"toneMapping", "Reinhard"}, {"ev100", ev100}}}};
   nodesAndScene(doc, nodes);
   doc = b.finish(std::move(doc), "scene.bin");
-  fs::create_directory(dir);
   writeFileAtomic(dir / "scene.bin", b.bin());
   writeFileAtomic(dir / "scene.gltf", doc.dump(1) + "\n");
+  return pngs;
 }
 
 // Mean over a mesh's vertices of the luminance of the irradiance, and of the relative standard error of the
@@ -276,6 +426,18 @@ json sideSummary(std::span<const vec3> lux, std::span<const vec3> stdErrorLux) {
   }
   return {{"mean_irradiance_lux", lux.empty() ? 0.0 : sum / double(lux.size())},
           {"mean_relative_error", lit == 0 ? 0.0 : relSum / double(lit)}};
+}
+
+// The same over a light texture's baked texels.
+json textureSummary(const std::vector<Rgb>& lux, const std::vector<Rgb>& stdErrorLux,
+                    const std::vector<uint8_t>& baked) {
+  std::vector<vec3> l, e;
+  for (size_t t = 0; t < baked.size(); ++t) {
+    if (!baked[t]) continue;
+    l.push_back(lux[t]);
+    e.push_back(stdErrorLux[t]);
+  }
+  return sideSummary(l, e);
 }
 
 std::string shortest(double v) {
@@ -318,9 +480,36 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
   writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history));
   drawConvergencePlot(maps.history, dir / "convergence.png", {.targetRelativeError = d.targetRelativeError});
   std::vector<std::string> files = {"scene.gltf", "scene.bin", "convergence.csv", "convergence.png"};
+  if (maps.lightTextures.size() != rdb.lightTextures.size()) {
+    throw std::invalid_argument("writeBakedScene: the light textures do not match the TraceRdb's");
+  }
+  for (size_t k = 0; k < maps.lightTextures.size(); ++k) {
+    const raytracer::LightTexture& tex = maps.lightTextures[k];
+    const rdb::TraceLightTexture& lt = rdb.lightTextures[k];
+    fs::create_directories(dir / "lightmaps");
+    for (const bool back : {false, true}) {
+      if (back && tex.backLux.empty()) continue;
+      for (const bool stdError : {false, true}) {
+        const std::vector<Rgb>& values = back ? (stdError ? tex.backStdErrorLux : tex.backLux)
+                                              : (stdError ? tex.frontStdErrorLux : tex.frontLux);
+        ImageRgbF image{int(tex.width), int(tex.height), {}};
+        for (const Rgb& v : values) image.rgb.insert(image.rgb.end(), {v.r, v.g, v.b});
+        const std::string file = lightTextureFile(lt.mesh, back, stdError);
+        writeExr(dir / file, image,
+                 {{"units", "lux"},
+                  {"fly:quantity", stdError ? "standard error of irradiance" : "irradiance"},
+                  {"fly:side", back ? "back" : "front"},
+                  {"fly:object", std::to_string(lt.mesh)},
+                  {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
+                  {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
+        files.push_back(file);
+      }
+    }
+  }
   if (d.exportGltf) {
-    writeExportGltf(dir / "export", rdb, maps, d);
+    const std::vector<std::string> pngs = writeExportGltf(dir / "export", rdb, maps, d);
     files.insert(files.end(), {"export/scene.gltf", "export/scene.bin"});
+    for (const std::string& png : pngs) files.push_back("export/" + png);
   }
 
   json objects = json::array();
@@ -337,6 +526,22 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
               {"two_sided", m.twoSided},
               {"front", sideSummary(range(maps.frontLux, m), range(maps.frontStdErrorLux, m))}};
     if (m.twoSided) o["back"] = sideSummary(range(maps.backLux, m), range(maps.backStdErrorLux, m));
+    if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
+      const rdb::TraceLightTexture& lt = rdb.lightTextures[m.lightTexture];
+      const raytracer::LightTexture& tex = maps.lightTextures[m.lightTexture];
+      json t = lightTextureFilesJson(i, m.twoSided);
+      t["width"] = lt.width;
+      t["height"] = lt.height;
+      t["texels_per_metre"] = lt.texelsPerMetre;
+      t["automatic"] = lt.automatic;
+      t["uv"] = lt.fromTexcoord1 ? "TEXCOORD_1" : "generated";
+      t["baked_texels"] = tex.bakedTexels;
+      t["empty_texels"] = tex.emptyTexels;
+      t["seam_edges"] = tex.seamEdges;
+      t["front_summary"] = textureSummary(tex.frontLux, tex.frontStdErrorLux, tex.baked);
+      if (m.twoSided) t["back_summary"] = textureSummary(tex.backLux, tex.backStdErrorLux, tex.baked);
+      o["light_texture"] = std::move(t);
+    }
     objects.push_back(std::move(o));
   }
   const float finalError = maps.history.empty() ? 0.0f : maps.history.back().relativeErrorP95;

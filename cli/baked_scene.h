@@ -8,10 +8,29 @@
 //   VEC3 FLOAT attributes _IRRADIANCE_FRONT and _IRRADIANCE_FRONT_STDERR, for two-sided meshes also
 //   _IRRADIANCE_BACK and _IRRADIANCE_BACK_STDERR, in lux (linear Rec.709 RGB, photometric luminance); one
 //   primitive per material, pbrMetallicRoughness with baseColor = the diffuse albedo.
+//   Light-textured meshes (TraceMesh::lightTexture) also carry TEXCOORD_1 (the light-map UVs, v = 0 at the
+//   image's top row) and _SOURCE_VERTEX (SCALAR FLOAT, an integer exact below 2^24: the index, within the
+//   mesh, of the TraceMesh vertex the glTF vertex copies). Their first TraceMesh::vertexCount vertices are the
+//   TraceMesh's vertices in order (= the SDB mesh's; _SOURCE_VERTEX = its own index), each with the UV of its
+//   first triangle corner ((0, 0) for a vertex of no triangle); a copy follows for every further UV a vertex
+//   has where charts meet (seams), with the attributes of its source vertex. The mesh's extras hold
+//   {"fly": {"light_texture": {"front", "front_stderr", ["back", "back_stderr"], "width", "height",
+//   "texels_per_metre"}}}: the EXR paths (relative to the directory) and the atlas.
+// lightmaps/objectN_front.exr, objectN_front_stderr.exr (and _back, _back_stderr for two-sided meshes), for
+//   every object N (the manifest's objects index) with a light texture: 32-bit float RGB, ZIP, the irradiance
+//   in lux per texel (mean over the texel's footprint on the mesh) and its standard error, row 0 = v ∈ [0,
+//   1/height). Every texel is finite: texels no triangle covers (padding, empty) are filled from their
+//   neighbours. Header attributes: units "lux", fly:quantity, fly:side, fly:object, fly:texelsPerMetre.
+//   The manifest's object lists them under "light_texture" with the atlas size, density, whether it was
+//   chosen automatically, the UV source ("TEXCOORD_1" or "generated"), baked/empty texel and seam-edge
+//   counts, and front_summary/back_summary (as "front", over the baked texels).
 // convergence.csv: seconds,samples,estimated_error,rays_per_second, one row per pass.
 // convergence.png: the estimated error against run time, log-log (cli/convergence_plot.h).
 // export/scene.gltf + scene.bin (optional), for any glTF viewer: COLOR_0 = the tone-mapped luminance
-//   albedo·E/π, KHR_materials_unlit; two-sided meshes twice, the back with reversed winding.
+//   albedo·E/π, KHR_materials_unlit; two-sided meshes twice, the back with reversed winding. Light-textured
+//   meshes instead use export/lightmaps/objectN_front.png (and _back): 8-bit sRGB of the same tone-mapped
+//   albedo·E/π + emission per texel (albedo of the mesh's first triangle's material; the exposure of the
+//   vertex colours), as the baseColorTexture (texCoord 1, linear filtering, clamped) of an unlit material.
 //
 // The directory appears atomically (writeDirectoryAtomic): readers see the old bake or the whole new one.
 #pragma once

@@ -6,10 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <optional>
+#include <system_error>
 #include <string>
 
 #include "base/error.h"
+#include "cli/bake_checkpoint.h"
 #include "cli/bake_options.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
@@ -27,7 +31,38 @@ struct BakeOptions {
   std::string out;
   SamplingOptions sampling;
   bool exportGltf = false;
+  std::string checkpoint;  // a duration; "" = no checkpoints
+  std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
 };
+
+// The job from the command line, or for --resume from the checkpoint (with --threads and --checkpoint
+// allowed to change: neither changes the result).
+BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<LoadedCheckpoint>& loaded) {
+  if (o.resume.empty()) {
+    if (o.scene.empty() || o.out.empty()) {
+      throw UsageError("bake: give SCENE and --out DIR (or --resume DIR to continue an interrupted bake)");
+    }
+    BakeJob job;
+    job.scenePath = o.scene;
+    job.outDir = o.out;
+    job.samplerName = o.sampling.sampler;
+    job.exportGltf = o.exportGltf;
+    if (!o.checkpoint.empty()) job.checkpointIntervalS = parseDuration(o.checkpoint, "--checkpoint");
+    return job;
+  }
+  for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
+                           "--max-bounces", "--export-gltf"}) {
+    if (sub.count(name) > 0) {
+      throw UsageError(std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") +
+                       name + " cannot change them (only --threads and --checkpoint can be given)");
+    }
+  }
+  loaded = loadBakeCheckpoint(o.resume);
+  BakeJob job = loaded->job;
+  if (sub.count("--threads") > 0) job.settings.estimate.threads = o.sampling.threads;
+  if (!o.checkpoint.empty()) job.checkpointIntervalS = parseDuration(o.checkpoint, "--checkpoint");
+  return job;
+}
 
 // Seconds until the bake stops, from whichever rule stops it first: the sample limit (time grows with the
 // samples), the time limit, or the target error (the error falls as 1/√samples, so reaching it takes
@@ -79,11 +114,20 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-int runBake(const BakeOptions& o) {
+int runBake(const BakeOptions& options, const CLI::App& sub) {
+  std::optional<LoadedCheckpoint> loaded;
+  BakeJob job = resolveJob(options, sub, loaded);
+  BakeOptions o = options;
+  o.scene = job.scenePath;
+  o.out = job.outDir;
+  o.exportGltf = job.exportGltf;
+  o.sampling.sampler = job.samplerName;
   const sdb::Scene scene = sdb::loadScene(o.scene);
-  raytracer::BakeSettings settings;
-  settings.estimate = estimateSettings(o.sampling, scene.bakeSettings());
-  settings.integrator = integratorSettings(o.sampling, scene.bakeSettings());
+  if (!loaded) {
+    job.settings.estimate = estimateSettings(o.sampling, scene.bakeSettings());
+    job.settings.integrator = integratorSettings(o.sampling, scene.bakeSettings());
+  }
+  const raytracer::BakeSettings& settings = job.settings;
   checkBakeOutput(o.out);  // before the bake, so that an hour's work is not refused at the end
 
   auto t = std::chrono::steady_clock::now();
@@ -93,12 +137,43 @@ int runBake(const BakeOptions& o) {
   const raytracer::EmbreeScene embree(rdb);
   const double buildEmbreeS = secondsSince(t);
 
+  // Checkpoints: a resumed bake must see the scene it started with.
+  const uint64_t fingerprint = traceRdbFingerprint(rdb);
+  raytracer::BakeCheckpoint checkpointState;
+  raytracer::BakeCheckpointing checkpointing;
+  if (loaded) {
+    if (loaded->fingerprint != fingerprint) {
+      throw InputError(SourceLocation{o.scene},
+                       "the scene changed since the checkpoint in " + checkpointDirFor(o.out).string() +
+                           " was saved",
+                       "start the bake afresh without --resume (the checkpoint is replaced)");
+    }
+    checkpointState = std::move(loaded->state);
+    checkpointing.state = &checkpointState;
+    std::fprintf(stderr, "bake: resuming from %s (%u samples per point, %s done)\n",
+                 checkpointDirFor(o.out).c_str(), checkpointState.progress.samplesPerPoint,
+                 formatSeconds(checkpointState.progress.seconds).c_str());
+  } else if (std::filesystem::exists(checkpointDirFor(o.out))) {
+    std::fprintf(stderr, "warning: %s holds the checkpoint of an earlier bake; starting afresh (use --resume %s "
+                 "to continue it instead)\n", checkpointDirFor(o.out).c_str(), o.out.c_str());
+    std::filesystem::remove_all(checkpointDirFor(o.out));
+  }
+  if (job.checkpointIntervalS > 0.0) {
+    checkpointing.state = &checkpointState;
+    checkpointing.intervalS = job.checkpointIntervalS;
+    checkpointing.save = [&](const raytracer::BakeCheckpoint& state) {
+      saveBakeCheckpoint(job, fingerprint, state);
+    };
+  }
+
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   const raytracer::VertexLightMaps maps = raytracer::bakeVertexLightMaps(
-      rdb, embree, settings, [&](const raytracer::ConvergencePoint& p, uint32_t) {
+      rdb, embree, settings,
+      [&](const raytracer::ConvergencePoint& p, uint32_t) {
         printProgress(p, settings.estimate, terminal);
         return true;
-      });
+      },
+      checkpointing);
   if (terminal) std::fputc('\n', stderr);
 
   BakeDescription d;
@@ -125,6 +200,9 @@ int runBake(const BakeOptions& o) {
   d.timingsS = {{"build_trace_rdb", buildRdbS}, {"build_embree", buildEmbreeS}, {"bake", maps.seconds}};
   d.exportGltf = o.exportGltf;
   writeDirectoryAtomic(o.out, [&](const std::filesystem::path& tmp) { writeBakedScene(tmp, rdb, maps, d); });
+  // The bake is complete: its checkpoint (this run's, or a stale one) is no longer needed.
+  std::error_code ignored;
+  std::filesystem::remove_all(checkpointDirFor(o.out), ignored);
 
   const float error = maps.history.empty() ? 0.0f : maps.history.back().relativeErrorP95;
   std::fprintf(
@@ -133,6 +211,21 @@ int runBake(const BakeOptions& o) {
       "%.3g Mrays/s -> %s\n",
       rdb.positionsM.size(), maps.samplesPerVertex, 100.0 * error, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
+  for (const raytracer::LightTexture& tex : maps.lightTextures) {
+    const rdb::TraceLightTexture& lt = rdb.lightTextures[size_t(&tex - maps.lightTextures.data())];
+    const std::string& name = d.meshNames[tex.mesh].empty() ? d.nodeNames[tex.mesh] : d.meshNames[tex.mesh];
+    std::fprintf(stderr,
+                 "light texture: object %u \"%s\"%s, %u x %u texels at %.3g texels/m, %zu baked, %zu seam "
+                 "edges\n",
+                 tex.mesh, name.c_str(), lt.automatic ? " (automatic: large flat surface)" : "", tex.width,
+                 tex.height, double(lt.texelsPerMetre), tex.bakedTexels, tex.seamEdges);
+    if (tex.emptyTexels > 0) {
+      std::fprintf(stderr,
+                   "warning: light texture of object %u: %zu texels are touched by triangles without area in "
+                   "texture space (no valid sample); filled from their neighbours\n",
+                   tex.mesh, tex.emptyTexels);
+    }
+  }
   if (maps.unfilledVertices > 0) {
     std::fprintf(stderr, "warning: %zu vertices had no valid sample and no lit neighbour; their value is 0\n",
                  maps.unfilledVertices);
@@ -146,18 +239,26 @@ Command addBakeCommand(CLI::App& app) {
   auto o = std::make_shared<BakeOptions>();
   CLI::App* sub = app.add_subcommand(
       "bake",
-      "Bake vertex light maps (irradiance in lux, with standard errors) into a baked scene directory");
-  sub->add_option("SCENE", o->scene, "scene file (.json) or glTF model (.gltf, .glb)")->required();
+      "Bake vertex light maps and light textures (irradiance in lux, with standard errors) into a baked scene "
+      "directory");
+  sub->add_option("SCENE", o->scene, "scene file (.json) or glTF model (.gltf, .glb)");
   sub->add_option(
          "--out", o->out,
-         "output directory: manifest.json, scene.gltf + scene.bin, convergence.csv, convergence.png; "
+         "output directory: manifest.json, scene.gltf + scene.bin, lightmaps/*.exr (light textures), "
+         "convergence.csv, convergence.png; "
          "created atomically; an earlier bake there is replaced, any other existing path refused "
-         "(exit 2)")
-      ->required();
+         "(exit 2)");
   addSamplingOptions(*sub, o->sampling, "vertex");
   sub->add_flag("--export-gltf", o->exportGltf,
-                "also write export/scene.gltf with tone-mapped vertex colours for any glTF viewer");
-  return {sub, [o] { return runBake(*o); }};
+                "also write export/scene.gltf with tone-mapped vertex colours and PNG light maps for any glTF "
+                "viewer");
+  sub->add_option("--checkpoint", o->checkpoint,
+                  "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
+                  "can continue with --resume DIR; deleted when the bake completes");
+  sub->add_option("--resume", o->resume,
+                  "continue the interrupted bake into DIR from DIR.checkpoint/ with its saved settings; the "
+                  "result equals an uninterrupted bake with the same samples");
+  return {sub, [o, sub] { return runBake(*o, *sub); }};
 }
 
 }  // namespace fly::cli

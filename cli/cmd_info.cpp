@@ -122,6 +122,21 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   std::cout << o.str();
 }
 
+// The objects' light textures: object index, name, files, size and density.
+nlohmann::json lightTexturesJson(const nlohmann::json& m) {
+  nlohmann::json list = nlohmann::json::array();
+  const nlohmann::json& objects = m.at("objects");
+  for (size_t i = 0; i < objects.size(); ++i) {
+    if (!objects[i].contains("light_texture")) continue;
+    nlohmann::json t = objects[i].at("light_texture");
+    t["object"] = i;
+    t["name"] = objects[i].value("mesh_name", "").empty() ? objects[i].value("node_name", "")
+                                                          : objects[i].value("mesh_name", "");
+    list.push_back(std::move(t));
+  }
+  return list;
+}
+
 nlohmann::json bakeSummaryJson(const nlohmann::json& m) {
   return {{"scene", m.at("scene")},
           {"samples_per_vertex", m.at("samples_per_vertex")},
@@ -129,6 +144,7 @@ nlohmann::json bakeSummaryJson(const nlohmann::json& m) {
           {"bake_seconds", m.at("bake_seconds")},
           {"rays", m.at("rays")},
           {"objects", m.at("objects").size()},
+          {"light_textures", lightTexturesJson(m)},
           {"fly_version", m.at("fly_version")}};
 }
 
@@ -139,6 +155,13 @@ void printBakeSummary(const nlohmann::json& m) {
   o << "bake       " << m.at("samples_per_vertex").get<uint64_t>() << " samples per vertex, 95th percentile of "
     << "relative standard error " << fixed(100.0 * m.at("relative_error_p95").get<double>(), 2) << " %, "
     << fixed(m.at("bake_seconds").get<double>(), 1) << " s, " << m.at("objects").size() << " objects\n";
+  for (const nlohmann::json& t : lightTexturesJson(m)) {
+    o << "light tex  object " << t.at("object").get<size_t>() << " \"" << t.at("name").get<std::string>()
+      << "\": " << t.at("width").get<uint32_t>() << " x " << t.at("height").get<uint32_t>() << " texels, "
+      << fixed(t.at("texels_per_metre").get<double>(), 1) << " texels/m"
+      << (t.value("automatic", false) ? " (automatic)" : "") << ", " << t.at("front").get<std::string>()
+      << (t.contains("back") ? " + back" : "") << "\n";
+  }
   std::cout << o.str();
 }
 

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "raytracer/sampler.h"
+#include "raytracer/warp.h"
 
 namespace fly::raytracer {
 namespace {
@@ -105,8 +107,9 @@ class OneRingSource final : public SampleSource {
     const uint32_t begin = ringOffsets_[v];
     const uint32_t end = ringOffsets_[v + 1];
     const float x = u.x * ringCdfM2_[end - 1];
+    // Entries whose sum is ≤ x, counted without branches (a ring has ~6; a branch per entry mispredicts).
     uint32_t j = begin;
-    while (j + 1 < end && ringCdfM2_[j] <= x) ++j;
+    for (uint32_t k = begin; k + 1 < end; ++k) j += ringCdfM2_[k] <= x ? 1u : 0u;
     // The remainder of u.x within the chosen triangle's interval, uniform again: it places the point.
     const float below = j == begin ? 0.0f : ringCdfM2_[j - 1];
     const float uHat = std::clamp((x - below) / (ringCdfM2_[j] - below), 0.0f, 0x1.fffffep-1f);
@@ -190,13 +193,41 @@ size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source,
   return static_cast<size_t>(std::count(known.begin(), known.end(), false));
 }
 
+// The vertex sides, then the texels: one set of points for one progressive run.
+class JoinedSource final : public SampleSource {
+ public:
+  JoinedSource(const SampleSource& first, const SampleSource& second) : first_(first), second_(second) {}
+  size_t pointCount() const override { return first_.pointCount() + second_.pointCount(); }
+  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
+    return at(point, sampler, rays);
+  }
+  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
+    return at(point, sampler, rays);
+  }
+
+ private:
+  template <class S>
+  Rgb at(size_t point, S& sampler, uint64_t& rays) const {
+    const size_t n = first_.pointCount();
+    return point < n ? first_.sample(point, sampler, rays) : second_.sample(point - n, sampler, rays);
+  }
+  const SampleSource& first_;
+  const SampleSource& second_;
+};
+
 }  // namespace
 
 VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
-                                    const BakeSettings& settings, const BakeProgress& progress) {
+                                    const BakeSettings& settings, const BakeProgress& progress,
+                                    const BakeCheckpointing& checkpointing) {
   const Integrator integrator(rdb, scene, settings.integrator);
-  const OneRingSource source(rdb, scene, integrator);
+  const OneRingSource vertexSource(rdb, scene, integrator);
+  const TexelSource texelSource(rdb, scene, integrator);
+  const JoinedSource source(vertexSource, texelSource);
   VertexLightMaps maps;
+  BakeCheckpoint localState;
+  BakeCheckpoint& state = checkpointing.state ? *checkpointing.state : localState;
+  if (state.progress.started()) maps.history = state.history;
   const PassCallback afterPass = [&](const EstimateResult& soFar, uint64_t passRays, double passSeconds) {
     ConvergencePoint point;
     point.seconds = soFar.seconds;
@@ -204,24 +235,34 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     point.relativeErrorP95 = soFar.relativeErrorP95;
     point.raysPerSecond = passSeconds > 0.0 ? static_cast<double>(passRays) / passSeconds : 0.0;
     maps.history.push_back(point);
+    state.history = maps.history;
     return !progress || progress(point, settings.estimate.maxSamples);
   };
-  const EstimateResult result = estimateProgressively(source, settings.estimate, afterPass);
+  Checkpointing driverCheckpoints;
+  if (checkpointing.save) {
+    driverCheckpoints.intervalS = checkpointing.intervalS;
+    driverCheckpoints.save = [&](const ProgressState&) { checkpointing.save(state); };
+  }
+  const EstimateResult result =
+      estimateProgressively(source, settings.estimate, afterPass, state.progress, driverCheckpoints);
 
   const size_t vertexCount = rdb.positionsM.size();
   maps.frontLux.assign(vertexCount, Rgb(0.0f));
   maps.frontStdErrorLux.assign(vertexCount, Rgb(0.0f));
   maps.backLux.assign(vertexCount, Rgb(0.0f));
   maps.backStdErrorLux.assign(vertexCount, Rgb(0.0f));
-  for (size_t i = 0; i < result.points.size(); ++i) {
-    const uint32_t v = source.pointVertex(i);
+  const size_t vertexPoints = vertexSource.pointCount();
+  for (size_t i = 0; i < vertexPoints; ++i) {
+    const uint32_t v = vertexSource.pointVertex(i);
     const IrradianceEstimate& e = result.points[i];
-    (source.isBack(i) ? maps.backLux : maps.frontLux)[v] = e.meanLux;
-    (source.isBack(i) ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
+    (vertexSource.isBack(i) ? maps.backLux : maps.frontLux)[v] = e.meanLux;
+    (vertexSource.isBack(i) ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
   }
   std::vector<bool> known(vertexCount);
-  for (uint32_t v = 0; v < vertexCount; ++v) known[v] = source.hasRing(v);
-  maps.unfilledVertices = fillFromNeighbours(rdb, source, known, maps);
+  for (uint32_t v = 0; v < vertexCount; ++v) known[v] = vertexSource.hasRing(v);
+  maps.unfilledVertices = fillFromNeighbours(rdb, vertexSource, known, maps);
+  maps.lightTextures =
+      texelSource.finish(std::span<const IrradianceEstimate>(result.points).subspan(vertexPoints));
   maps.samplesPerVertex = result.samplesPerPoint;
   maps.rays = result.rays;
   maps.seconds = result.seconds;

@@ -5,10 +5,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
+#include "raytracer/texel_baker.h"
 #include "rdb/trace_rdb.h"
 
 namespace fly::raytracer {
@@ -44,13 +46,33 @@ struct VertexLightMaps {
   // Vertices whose every sample was invalid (no triangle of non-zero area around them), filled from the
   // neighbours along the mesh's edges or, with none, set to 0 and counted here.
   size_t unfilledVertices = 0;
+  // One per TraceRdb::lightTextures entry, baked in the same passes (raytracer/texel_baker.h).
+  std::vector<LightTexture> lightTextures;
+};
+
+// A bake's checkpoint: the driver's state and the convergence history so far (raytracer/progressive.h).
+struct BakeCheckpoint {
+  ProgressState progress;
+  std::vector<ConvergencePoint> history;
+};
+
+// Checkpointing a bake. `state`: when it holds a started checkpoint, the bake continues from it (and ends
+// bit-identical to a bake that never stopped); during and after the bake it holds the current state. `save`
+// is called with it at most every intervalS seconds and after the last pass.
+struct BakeCheckpointing {
+  BakeCheckpoint* state = nullptr;
+  double intervalS = std::numeric_limits<double>::infinity();
+  std::function<void(const BakeCheckpoint&)> save;
 };
 
 // Bakes every vertex of rdb. A vertex's value is the irradiance averaged over its one-ring with the weight of
 // its linear "hat" basis function (the area-weighted neighbourhood that interpolated vertex colours represent):
 // each sample picks a triangle of the one-ring by area, a point in it by the hat weight, and the interpolated
-// shading normal there. Deterministic for any thread count.
+// shading normal there. The texels of the rdb's light textures are points of the same progressive run (after
+// the vertex sides, so that one history and one target error cover both; samplesPerVertex is also the
+// samples per texel). Deterministic for any thread count.
 VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const BakeSettings& settings,
-                                    const BakeProgress& progress = {});
+                                    const BakeProgress& progress = {},
+                                    const BakeCheckpointing& checkpointing = {});
 
 }  // namespace fly::raytracer

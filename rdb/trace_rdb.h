@@ -36,6 +36,23 @@ struct TraceMesh {
   uint32_t firstTriangle = 0;
   uint32_t triangleCount = 0;
   bool twoSided = false;  // bake both faces
+  static constexpr uint32_t kNoLightTexture = std::numeric_limits<uint32_t>::max();
+  uint32_t lightTexture = kNoLightTexture;  // index into TraceRdb::lightTextures, or none
+};
+
+// A mesh's light texture (issue 4): per-texel irradiance over a light-map atlas, baked next to the vertex
+// light maps. The UV convention is rdb/lightmap_uv.h's: texel (i, j) covers u ∈ [i/width, (i+1)/width),
+// v ∈ [j/height, (j+1)/height), row j = 0 at v = 0 is the first (top) row of the image file.
+struct TraceLightTexture {
+  uint32_t mesh = 0;            // index into TraceRdb::meshes
+  uint32_t width = 0;           // atlas size, texels, ≥ 1
+  uint32_t height = 0;
+  float texelsPerMetre = 0.0f;  // achieved density, texels/m (for TEXCOORD_1: the mean over the mesh)
+  bool automatic = false;       // chosen by the large-flat-surface rule (rdb/trace_rdb_build.h), unasked
+  bool fromTexcoord1 = false;   // the UVs are the SDB mesh's TEXCOORD_1, else generated (rdb/lightmap_uv.h)
+  // Light-map UV per triangle corner: 3 per triangle of the mesh, in TraceMesh triangle order. Corners of one
+  // vertex differ where charts meet (seams).
+  std::vector<vec2> cornerUv;
 };
 
 enum class PunctualType : uint8_t { kPoint, kSpot, kDirectional, kGoniometric };
@@ -89,6 +106,7 @@ struct TraceRdb {
   std::vector<uint32_t> triangleMaterial;  // index into materials, one per triangle
   std::vector<TraceMaterial> materials;
   std::vector<TraceMesh> meshes;
+  std::vector<TraceLightTexture> lightTextures;  // meshes with a light texture, in mesh order
 
   // Lights.
   std::vector<TracePunctualLight> punctualLights;

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/log.h"
+#include "rdb/lightmap_uv.h"
 #include "rdb/site_lowering.h"
 
 namespace fly::rdb {
@@ -158,7 +160,92 @@ class Builder {
       // A vertex of no triangle with area has no surface to face; +Y (up) keeps the array unit-length.
       rdb_.normals.push_back(n.value_or(vec3(0.0f, 1.0f, 0.0f)));
     }
+    addLightTexture(mesh, tm);
     rdb_.meshes.push_back(tm);
+  }
+
+  // Sum of the areas of tm's triangles (m²) and whether they all lie in one plane (face normals within
+  // options_.autoLightTextureMaxAngleDeg of their area-weighted mean).
+  std::pair<double, bool> areaAndFlatness(const TraceMesh& tm) const {
+    std::vector<dvec3> faceNormals;  // length = twice the area
+    dvec3 sum(0.0);
+    for (uint32_t t = tm.firstTriangle; t < tm.firstTriangle + tm.triangleCount; ++t) {
+      const uint32_t* v = &rdb_.indices[3 * size_t(t)];
+      const dvec3 p0(rdb_.positionsM[v[0]]);
+      faceNormals.push_back(glm::cross(dvec3(rdb_.positionsM[v[1]]) - p0, dvec3(rdb_.positionsM[v[2]]) - p0));
+      sum += faceNormals.back();
+    }
+    double area = 0.0;
+    for (const dvec3& n : faceNormals) area += 0.5 * glm::length(n);
+    const std::optional<vec3> mean = unit(sum);
+    const double cosMax = std::cos(degToRad(double(options_.autoLightTextureMaxAngleDeg)));
+    bool flat = mean.has_value();
+    for (const dvec3& n : faceNormals) flat = flat && glm::dot(n, dvec3(*mean)) >= cosMax * glm::length(n);
+    return {area, flat};
+  }
+
+  void addLightTexture(const sdb::Mesh& mesh, TraceMesh& tm) {
+    if (tm.triangleCount == 0 || tm.vertexCount == 0) return;
+    const auto [areaM2, flat] = areaAndFlatness(tm);
+    const double areaPerVertexM2 = areaM2 / double(tm.vertexCount);
+    const bool automatic = !mesh.lightTexture.enabled && mesh.lightTexture.allowAutomatic && flat &&
+                           areaPerVertexM2 >= double(options_.autoLightTextureMinAreaPerVertexM2);
+    if (!mesh.lightTexture.enabled && !automatic) return;
+    const float density = mesh.lightTexture.enabled && mesh.lightTexture.texelsPerMetre > 0.0f
+                              ? mesh.lightTexture.texelsPerMetre
+                              : float(scene_.bakeSettings().texelsPerMetre);
+    const int maxSize = automatic ? options_.autoLightTextureMaxSize : options_.lightTextureMaxSize;
+    TraceLightTexture lt;
+    lt.mesh = uint32_t(rdb_.meshes.size());
+    lt.automatic = automatic;
+    const uint32_t* corners = rdb_.indices.data() + 3 * size_t(tm.firstTriangle);
+    const size_t cornerCount = 3 * size_t(tm.triangleCount);
+    if (!mesh.uv1.empty()) {
+      // The UV area the triangles cover; TEXCOORD_1 outside [0, 1]² would wrap onto other charts.
+      double uvArea = 0.0;
+      bool inside = true;
+      for (size_t c = 0; c < cornerCount; c += 3) {
+        const dvec2 a(mesh.uv1[corners[c] - tm.firstVertex]);
+        const dvec2 b(mesh.uv1[corners[c + 1] - tm.firstVertex]);
+        const dvec2 d(mesh.uv1[corners[c + 2] - tm.firstVertex]);
+        uvArea += 0.5 * std::abs((b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x));
+        for (const dvec2& uv : {a, b, d}) {
+          inside = inside && uv.x >= 0.0 && uv.x <= 1.0 && uv.y >= 0.0 && uv.y <= 1.0;
+        }
+      }
+      if (inside && uvArea > 0.0 && std::isfinite(uvArea)) {
+        // A square atlas whose mean density over the mesh is the requested one.
+        const double side = std::ceil(double(density) * std::sqrt(areaM2 / uvArea));
+        lt.width = lt.height = uint32_t(std::clamp(side, 1.0, double(maxSize)));
+        lt.texelsPerMetre = float(double(lt.width) * std::sqrt(uvArea / areaM2));
+        lt.fromTexcoord1 = true;
+        for (size_t c = 0; c < cornerCount; ++c) lt.cornerUv.push_back(mesh.uv1[corners[c] - tm.firstVertex]);
+      } else {
+        log::warn("mesh \"" + mesh.name + "\": TEXCOORD_1 is not usable as light-map UVs (" +
+                  (inside ? "the triangles cover no area" : "coordinates outside [0, 1]") +
+                  "); generating light-map UVs instead");
+      }
+    }
+    if (!lt.fromTexcoord1) {
+      std::vector<uint32_t> local(corners, corners + cornerCount);
+      for (uint32_t& i : local) i -= tm.firstVertex;
+      const LightmapUv uv = generateLightmapUv(
+          std::span<const vec3>(rdb_.positionsM).subspan(tm.firstVertex, tm.vertexCount), local,
+          {.texelsPerMetre = density,
+           .paddingTexels = options_.lightTexturePaddingTexels,
+           .maxAtlasSize = maxSize});
+      lt.width = uv.width;
+      lt.height = uv.height;
+      lt.texelsPerMetre = uv.texelsPerMetre;
+      for (uint32_t i : uv.indices) lt.cornerUv.push_back(uv.uv[i]);
+      if (uv.densityReduced && !automatic) {
+        log::warn("mesh \"" + mesh.name + "\": light texture density reduced from " +
+                  std::to_string(density) + " to " + std::to_string(uv.texelsPerMetre) + " texels/m to fit " +
+                  std::to_string(maxSize) + "² texels");
+      }
+    }
+    tm.lightTexture = uint32_t(rdb_.lightTextures.size());
+    rdb_.lightTextures.push_back(std::move(lt));
   }
 
   void addLight(const sdb::Node& node, const mat4& worldFromLocal) {
@@ -220,7 +307,12 @@ class Builder {
 
 TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options) {
   if (options.skyResolution < 1 || options.skyResolution > 1024 || options.skyCellSamples < 1 ||
-      options.skyCellSamples > 64 || options.goniometricGammaSteps < 2 || options.goniometricCSteps < 1) {
+      options.skyCellSamples > 64 || options.goniometricGammaSteps < 2 || options.goniometricCSteps < 1 ||
+      !(options.autoLightTextureMinAreaPerVertexM2 > 0.0f) || !(options.autoLightTextureMaxAngleDeg > 0.0f) ||
+      !(options.autoLightTextureMaxAngleDeg <= 90.0f) || options.autoLightTextureMaxSize < 8 ||
+      options.autoLightTextureMaxSize > 4096 || options.lightTextureMaxSize < 8 ||
+      options.lightTextureMaxSize > 16384 || options.lightTexturePaddingTexels < 0 ||
+      options.lightTexturePaddingTexels > 16) {
     throw std::invalid_argument("buildTraceRdb: an option is out of range (see TraceBuildOptions)");
   }
   return Builder(scene, options).build();

@@ -14,6 +14,9 @@ namespace fly::sdb {
 struct LightTextureRequest {
   bool enabled = false;
   float texelsPerMetre = 0.0f;  // texel density, texels/m, (0, 1000]; 0 = the scene's bake setting
+  // Whether the TraceRdb may give the mesh a light texture unasked (a large flat surface,
+  // rdb/trace_rdb_build.h); false when the scene file says "lightTexture": false.
+  bool allowAutomatic = true;
 };
 
 // Positions and vectors are in the mesh's local frame (metres); the node's worldFromLocal places them.

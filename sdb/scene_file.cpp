@@ -957,7 +957,7 @@ class SceneFileReader {
   std::optional<LightTextureRequest> readLightTextureRequest(const ObjectReader& r) const {
     const JsonValue* v = r.find("lightTexture");
     if (!v) return std::nullopt;
-    if (v->isBool()) return LightTextureRequest{v->boolean(), 0.0f};
+    if (v->isBool()) return LightTextureRequest{v->boolean(), 0.0f, v->boolean()};
     if (!v->isNumber()) {
       src_.fail(*v,
                 "expected true, false or a texel density in texels/m, (0, 1000]; got " + describeValue(*v));

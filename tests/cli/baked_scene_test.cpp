@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "base/error.h"
+#include "base/image_io.h"
 
 namespace fly::cli {
 namespace {
@@ -272,6 +273,95 @@ TEST_F(BakedSceneTest, BakedSceneManifestReaderRejectsWhatIsNotABake) {
   EXPECT_THROW(readBakedManifest(parent_), InputError);
   std::ofstream(parent_ / "manifest.json") << "{not json";
   EXPECT_THROW(readBakedManifest(parent_), InputError);
+}
+
+// The wall (mesh 1, two-sided) with a light texture whose two triangles lie in separate charts: its
+// vertices 4 and 6 (mesh-relative 0 and 2) appear twice in scene.gltf, the copies appended after the
+// TraceMesh's 4 vertices with _SOURCE_VERTEX naming them; the EXR files hold the texels bit for bit.
+TEST_F(BakedSceneTest, LightTexturesAreWrittenAsExrAndReferencedFromManifestAndGltf) {
+  rdb::TraceRdb r = twoQuads();
+  rdb::TraceLightTexture lt;
+  lt.mesh = 1;
+  lt.width = 4;
+  lt.height = 3;
+  lt.texelsPerMetre = 2.5f;
+  // Triangle (4, 5, 6) in the left half, (4, 6, 7) in the right half.
+  lt.cornerUv = {{0.1f, 0.1f}, {0.4f, 0.1f}, {0.4f, 0.9f}, {0.6f, 0.1f}, {0.9f, 0.9f}, {0.6f, 0.9f}};
+  r.lightTextures.push_back(lt);
+  r.meshes[1].lightTexture = 0;
+  raytracer::VertexLightMaps m = lightMaps();
+  raytracer::LightTexture tex;
+  tex.mesh = 1;
+  tex.width = 4;
+  tex.height = 3;
+  for (int t = 0; t < 12; ++t) {
+    const float f = float(t);
+    tex.frontLux.emplace_back(100.1f + f, 200.2f + f / 3.0f, 300.3f + f / 7.0f);
+    tex.frontStdErrorLux.emplace_back(1.1f + f, 2.2f, 3.3f);
+    tex.backLux.emplace_back(5.5f + f / 9.0f, 6.6f, 7.7f);
+    tex.backStdErrorLux.emplace_back(0.5f, 0.25f + f, 0.125f);
+  }
+  tex.baked.assign(12, 1);
+  tex.bakedTexels = 12;
+  m.lightTextures.push_back(tex);
+  const BakeDescription d = description(true);
+  writeDirectoryAtomic(dir_, [&](const fs::path& tmp) { writeBakedScene(tmp, r, m, d); });
+
+  const json manifest = readBakedManifest(dir_);
+  EXPECT_FALSE(manifest["objects"][0].contains("light_texture"));
+  const json& t = manifest["objects"][1]["light_texture"];
+  EXPECT_EQ(t["width"], 4);
+  EXPECT_EQ(t["height"], 3);
+  EXPECT_EQ(t["uv"], "generated");
+  EXPECT_EQ(t["baked_texels"], 12);
+  const std::pair<const char*, const std::vector<Rgb>*> files[] = {{"front", &tex.frontLux},
+                                                                   {"front_stderr", &tex.frontStdErrorLux},
+                                                                   {"back", &tex.backLux},
+                                                                   {"back_stderr", &tex.backStdErrorLux}};
+  for (const auto& [key, values] : files) {
+    const std::string file = t.at(key).get<std::string>();
+    EXPECT_NE(std::find(manifest["files"].begin(), manifest["files"].end(), file), manifest["files"].end())
+        << file;
+    ExrAttributes attributes;
+    const ImageRgbF image = readExr(dir_ / file, &attributes);
+    ASSERT_EQ(image.width, 4);
+    ASSERT_EQ(image.height, 3);
+    for (size_t i = 0; i < 12; ++i) {
+      EXPECT_EQ(image.rgb[3 * i], (*values)[i].r) << file;
+      EXPECT_EQ(image.rgb[3 * i + 1], (*values)[i].g) << file;
+      EXPECT_EQ(image.rgb[3 * i + 2], (*values)[i].b) << file;
+    }
+    const std::pair<std::string, std::string> units("units", "lux");
+    EXPECT_NE(std::find(attributes.begin(), attributes.end(), units), attributes.end());
+  }
+  for (const char* png : {"export/lightmaps/object1_front.png", "export/lightmaps/object1_back.png"}) {
+    const ImageU8 image = readPng(dir_ / png);
+    EXPECT_EQ(image.width, 4);
+    EXPECT_EQ(image.height, 3);
+  }
+
+  const tinygltf::Model model = loadGltf(dir_ / "scene.gltf");
+  const tinygltf::Primitive& wall = model.meshes.at(1).primitives.at(0);
+  EXPECT_EQ(model.meshes.at(1).extras.Get("fly").Get("light_texture").Get("front").Get<std::string>(),
+            "lightmaps/object1_front.exr");
+  const std::vector<vec3> positions = readVec3s(model, wall.attributes.at("POSITION"));
+  ASSERT_EQ(positions.size(), 6u);  // 4 + copies of vertices 0 and 2
+  for (size_t v = 0; v < 4; ++v) EXPECT_EQ(positions[v], r.positionsM[4 + v]);
+  EXPECT_EQ(positions[4], r.positionsM[4]);
+  EXPECT_EQ(positions[5], r.positionsM[6]);
+  const std::vector<vec3> irradiance = readVec3s(model, wall.attributes.at("_IRRADIANCE_BACK"));
+  EXPECT_EQ(irradiance[5], m.backLux[6]);
+  auto readFloats = [&](int accessor, int components) {
+    const tinygltf::Accessor& a = model.accessors.at(size_t(accessor));
+    const tinygltf::BufferView& view = model.bufferViews.at(size_t(a.bufferView));
+    std::vector<float> out(a.count * size_t(components));
+    std::memcpy(out.data(), model.buffers.at(0).data.data() + view.byteOffset + a.byteOffset,
+                out.size() * sizeof(float));
+    return out;
+  };
+  EXPECT_EQ(readFloats(wall.attributes.at("_SOURCE_VERTEX"), 1), (std::vector<float>{0, 1, 2, 3, 0, 2}));
+  EXPECT_EQ(readFloats(wall.attributes.at("TEXCOORD_1"), 2),
+            (std::vector<float>{0.1f, 0.1f, 0.4f, 0.1f, 0.4f, 0.9f, 0.6f, 0.9f, 0.6f, 0.1f, 0.9f, 0.9f}));
 }
 
 }  // namespace

@@ -1,0 +1,252 @@
+#include "cli/bake_checkpoint.h"
+
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <stdexcept>
+#include <system_error>
+
+#include "base/error.h"
+#include "base/file_io.h"
+#include "cli/command.h"
+
+namespace fly::cli {
+namespace {
+
+constexpr const char* kFormat = "fly-bake-checkpoint";
+constexpr int kVersion = 1;
+
+// FNV-1a, 64 bit (Fowler, Noll & Vo), over raw bytes.
+class Fnv1a {
+ public:
+  void bytes(const void* data, size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) {
+      hash_ ^= p[i];
+      hash_ *= 0x100000001b3ull;
+    }
+  }
+  template <class T>
+  void value(const T& v) {
+    static_assert(std::is_arithmetic_v<T>);
+    bytes(&v, sizeof v);
+  }
+  void rgb(const Rgb& c) {
+    value(c.r);
+    value(c.g);
+    value(c.b);
+  }
+  void v3(const vec3& v) {
+    value(v.x);
+    value(v.y);
+    value(v.z);
+  }
+  template <class T>
+  void array(const std::vector<T>& v) {
+    value(static_cast<uint64_t>(v.size()));
+    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+  }
+  uint64_t hash() const { return hash_; }
+
+ private:
+  uint64_t hash_ = 0xcbf29ce484222325ull;
+};
+
+std::string hex(uint64_t x) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(x));
+  return buf;
+}
+
+nlohmann::json historyJson(const std::vector<raytracer::ConvergencePoint>& history) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const raytracer::ConvergencePoint& p : history) {
+    rows.push_back({p.seconds, p.samples, p.relativeErrorP95, p.raysPerSecond});
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::filesystem::path checkpointDirFor(const std::filesystem::path& outDir) {
+  std::filesystem::path dir = outDir;
+  if (!dir.has_filename()) dir = dir.parent_path();  // "out/bake/" → "out/bake"
+  return dir.string() + ".checkpoint";
+}
+
+uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb) {
+  Fnv1a h;
+  h.array(rdb.positionsM);
+  h.array(rdb.normals);
+  h.array(rdb.indices);
+  h.array(rdb.triangleMaterial);
+  h.value(static_cast<uint64_t>(rdb.materials.size()));
+  for (const rdb::TraceMaterial& m : rdb.materials) {
+    h.rgb(m.diffuse);
+    h.rgb(m.reflection);
+    h.rgb(m.transmission);
+    h.rgb(m.emissionCdM2);
+    h.value(m.fresnel);
+    h.value(m.ior);
+    h.value(m.reflectionGlossiness);
+    h.value(m.transmissionGlossiness);
+    h.value(m.doubleSided);
+  }
+  h.value(static_cast<uint64_t>(rdb.meshes.size()));
+  for (const rdb::TraceMesh& m : rdb.meshes) {
+    h.value(m.firstVertex);
+    h.value(m.vertexCount);
+    h.value(m.firstTriangle);
+    h.value(m.triangleCount);
+    h.value(m.twoSided);
+  }
+  h.value(static_cast<uint64_t>(rdb.punctualLights.size()));
+  for (const rdb::TracePunctualLight& l : rdb.punctualLights) {
+    h.value(static_cast<int>(l.type));
+    h.v3(l.positionM);
+    h.v3(l.directionWorld);
+    h.v3(l.cAxisWorld);
+    h.rgb(l.intensity);
+    h.value(l.rangeM);
+    h.value(l.cosInner);
+    h.value(l.cosOuter);
+    h.value(l.goniometricTable);
+  }
+  for (const rdb::TraceGoniometricTable& t : rdb.goniometricTables) h.array(t.candelaCd);
+  h.value(rdb.hasSun);
+  h.v3(rdb.sun.directionWorld);
+  h.rgb(rdb.sun.normalIlluminanceLux);
+  h.value(rdb.sun.halfAngleRad);
+  h.value(rdb.sky.resolution);
+  h.array(rdb.sky.radianceCdM2);
+  return h.hash();
+}
+
+void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytracer::BakeCheckpoint& state) {
+  const std::filesystem::path dir = checkpointDirFor(job.outDir);
+  std::filesystem::create_directories(dir);
+  // The next state file's number: one more than any there.
+  const std::regex stateName(R"(state-(\d+)\.bin)");
+  unsigned long long next = 1;
+  std::vector<std::filesystem::path> older;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    std::smatch m;
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, m, stateName)) {
+      next = std::max(next, std::stoull(m[1].str()) + 1);
+      older.push_back(entry.path());
+    }
+  }
+  const std::string bytes = raytracer::serializeProgressState(state.progress);
+  const std::string stateFile = "state-" + std::to_string(next) + ".bin";
+  writeFileAtomic(dir / stateFile, bytes);
+
+  Fnv1a stateHash;
+  stateHash.bytes(bytes.data(), bytes.size());
+  const raytracer::EstimateSettings& e = job.settings.estimate;
+  const nlohmann::json j = {
+      {"format", kFormat},
+      {"version", kVersion},
+      {"fly_version", kFlyVersion},
+      {"scene", std::filesystem::absolute(job.scenePath).string()},
+      {"out", job.outDir},
+      {"settings",
+       {{"max_samples", e.maxSamples},
+        {"first_pass_samples", e.firstPassSamples},
+        {"target_relative_error", e.targetRelativeError},
+        {"time_limit_s", std::isfinite(e.timeLimitS) ? nlohmann::json(e.timeLimitS) : nlohmann::json()},
+        {"sampler", job.samplerName},
+        {"replicates", e.replicates},
+        {"seed", e.seed},
+        {"threads", e.threads},
+        {"max_bounces", job.settings.integrator.maxBounces},
+        {"export_gltf", job.exportGltf},
+        {"checkpoint_interval_s", job.checkpointIntervalS}}},
+      {"trace_rdb_fingerprint", hex(fingerprint)},
+      {"samples_done", state.progress.samplesPerPoint},
+      {"seconds", state.progress.seconds},
+      {"history", historyJson(state.history)},
+      {"state_file", stateFile},
+      {"state_fnv1a", hex(stateHash.hash())}};
+  writeFileAtomic(dir / "checkpoint.json", j.dump(2) + "\n");
+  for (const std::filesystem::path& p : older) {
+    std::error_code ignored;
+    std::filesystem::remove(p, ignored);
+  }
+
+  // Testing aid (see the header): die right here, as a killed process would.
+  if (const char* kill = std::getenv("FLY_TEST_KILL_AFTER_CHECKPOINTS")) {
+    static int saves = 0;
+    if (++saves >= std::atoi(kill)) std::raise(SIGKILL);
+  }
+}
+
+LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
+  const std::filesystem::path dir = checkpointDirFor(outDir);
+  const std::filesystem::path jsonPath = dir / "checkpoint.json";
+  if (!std::filesystem::exists(jsonPath)) {
+    throw InputError(SourceLocation{jsonPath.string()}, "no checkpoint to resume",
+                     "--resume DIR continues a bake that ran with --out DIR --checkpoint SECONDS; its "
+                     "checkpoint lives in DIR.checkpoint/");
+  }
+  const std::string text = readInputFile(jsonPath, "checkpoint");
+  auto bad = [&](const std::string& what) {
+    return InputError(SourceLocation{jsonPath.string()}, "not a usable checkpoint: " + what,
+                      "the checkpoint is damaged or from another version of fly; start the bake afresh "
+                      "(without --resume)");
+  };
+  LoadedCheckpoint c;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.at("format") != kFormat) throw bad("its format is not " + std::string(kFormat));
+    if (j.at("version") != kVersion) throw bad("format version " + j.at("version").dump() + ", this fly reads 1");
+    c.job.scenePath = j.at("scene").get<std::string>();
+    c.job.outDir = outDir.string();
+    const nlohmann::json& s = j.at("settings");
+    raytracer::EstimateSettings& e = c.job.settings.estimate;
+    e.maxSamples = s.at("max_samples").get<uint32_t>();
+    e.firstPassSamples = s.at("first_pass_samples").get<uint32_t>();
+    e.targetRelativeError = s.at("target_relative_error").get<float>();
+    if (!s.at("time_limit_s").is_null()) e.timeLimitS = s.at("time_limit_s").get<double>();
+    c.job.samplerName = s.at("sampler").get<std::string>();
+    if (c.job.samplerName != "sobol" && c.job.samplerName != "random") throw bad("unknown sampler");
+    e.sampler = c.job.samplerName == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
+    e.replicates = s.at("replicates").get<uint32_t>();
+    e.seed = s.at("seed").get<uint64_t>();
+    e.threads = s.at("threads").get<uint32_t>();
+    c.job.settings.integrator.maxBounces = s.at("max_bounces").get<uint32_t>();
+    c.job.exportGltf = s.at("export_gltf").get<bool>();
+    c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
+    c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);
+    for (const nlohmann::json& row : j.at("history")) {
+      raytracer::ConvergencePoint p;
+      p.seconds = row.at(0).get<double>();
+      p.samples = row.at(1).get<uint32_t>();
+      p.relativeErrorP95 = row.at(2).get<float>();
+      p.raysPerSecond = row.at(3).get<double>();
+      c.state.history.push_back(p);
+    }
+    const std::string stateFile = j.at("state_file").get<std::string>();
+    if (stateFile.find('/') != std::string::npos) throw bad("state_file must name a file in " + dir.string());
+    const std::filesystem::path statePath = dir / stateFile;
+    const std::string bytes = readInputFile(statePath, "checkpoint state");
+    Fnv1a h;
+    h.bytes(bytes.data(), bytes.size());
+    if (hex(h.hash()) != j.at("state_fnv1a").get<std::string>()) {
+      throw InputError(SourceLocation{statePath.string()}, "the state file does not match checkpoint.json",
+                       "the checkpoint is damaged; start the bake afresh (without --resume)");
+    }
+    c.state.progress = raytracer::deserializeProgressState(bytes, statePath.string());
+  } catch (const nlohmann::json::exception& e) {
+    throw bad(e.what());
+  } catch (const std::invalid_argument& e) {
+    throw bad(e.what());
+  } catch (const std::out_of_range& e) {
+    throw bad(e.what());
+  }
+  return c;
+}
+
+}  // namespace fly::cli

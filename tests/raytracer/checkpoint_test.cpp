@@ -1,0 +1,202 @@
+// Checkpoints of the progressive driver and the baker: an estimate continued from any saved state ends
+// bit-identical to one that never stopped (issue 4: "the result equals an uninterrupted bake with the same
+// total samples"), and a damaged checkpoint is refused with a message naming the file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+#include "raytracer/baker.h"
+#include "raytracer/embree_scene.h"
+#include "raytracer/progressive.h"
+#include "rdb/trace_rdb_builder.h"
+
+namespace fly::raytracer {
+namespace {
+
+// A point's samples: a smooth function of the sampler's first 2D pair and the point index, different per
+// channel, so that every sum and every replicate differs.
+class SmoothSource final : public SampleSource {
+ public:
+  explicit SmoothSource(size_t points) : points_(points) {}
+  size_t pointCount() const override { return points_; }
+  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
+    return at(point, sampler, rays);
+  }
+  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
+    return at(point, sampler, rays);
+  }
+
+ private:
+  template <class S>
+  Rgb at(size_t point, S& sampler, uint64_t& rays) const {
+    sampler.startGroup(0);
+    const vec2 u = sampler.next2D();
+    ++rays;
+    const float k = 1.0f + 0.01f * static_cast<float>(point % 97);
+    return Rgb(std::exp(k * u.x) * std::sin(kPiF * u.y), u.x * u.y + 0.1f, k * u.x);
+  }
+
+  size_t points_;
+};
+
+bool sameBits(const std::vector<IrradianceEstimate>& a, const std::vector<IrradianceEstimate>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (std::memcmp(&a[i].meanLux, &b[i].meanLux, sizeof(Rgb)) != 0 ||
+        std::memcmp(&a[i].stdErrorLux, &b[i].stdErrorLux, sizeof(Rgb)) != 0 || a[i].samples != b[i].samples) {
+      return false;
+    }
+  }
+  return true;
+}
+
+struct Case {
+  SamplerKind sampler;
+  uint32_t replicates;
+};
+
+class ResumeTest : public ::testing::TestWithParam<Case> {};
+
+// Every checkpoint of an estimate (interval 0: one between every two blocks of points and after every pass),
+// serialised, read back and continued, gives the uninterrupted estimate bit for bit, with 1 and 2 threads.
+TEST_P(ResumeTest, ContinuingFromEveryCheckpointEqualsTheUninterruptedEstimate) {
+  const SmoothSource source(1000);  // 4 blocks of 256 points per pass
+  EstimateSettings settings;
+  settings.firstPassSamples = 16;
+  settings.maxSamples = 128;
+  settings.sampler = GetParam().sampler;
+  settings.replicates = GetParam().replicates;
+  settings.threads = 2;
+  const EstimateResult whole = estimateProgressively(source, settings);
+  ASSERT_EQ(whole.samplesPerPoint, 128u);
+
+  std::vector<std::string> saved;
+  ProgressState state;
+  Checkpointing checkpointing;
+  checkpointing.intervalS = 0.0;
+  checkpointing.save = [&](const ProgressState& s) { saved.push_back(serializeProgressState(s)); };
+  const EstimateResult checkpointed = estimateProgressively(source, settings, {}, state, checkpointing);
+  EXPECT_TRUE(sameBits(checkpointed.points, whole.points));
+  // Passes of 16, 16, 32, 64 samples: 3 block boundaries each, and one after each pass (the last twice).
+  ASSERT_GE(saved.size(), 16u);
+
+  uint32_t midPass = 0;
+  for (size_t k = 0; k < saved.size(); ++k) {
+    ProgressState resumed = deserializeProgressState(saved[k], "state.bin");
+    if (resumed.passSamples > 0) ++midPass;
+    settings.threads = 1 + static_cast<uint32_t>(k % 2);
+    const EstimateResult r = estimateProgressively(source, settings, {}, resumed);
+    EXPECT_TRUE(sameBits(r.points, whole.points)) << "continued from checkpoint " << k;
+    EXPECT_EQ(r.rays, whole.rays) << "continued from checkpoint " << k;
+  }
+  EXPECT_GE(midPass, 12u);  // the checkpoints inside passes were exercised
+}
+
+INSTANTIATE_TEST_SUITE_P(Samplers, ResumeTest,
+                         ::testing::Values(Case{SamplerKind::kSobol, 8}, Case{SamplerKind::kSobol, 1},
+                                           Case{SamplerKind::kRandom, 4}),
+                         [](const ::testing::TestParamInfo<Case>& param) {
+                           return std::string(param.param.sampler == SamplerKind::kSobol ? "Sobol" : "Random") +
+                                  std::to_string(param.param.replicates) + "Replicates";
+                         });
+
+TEST(ProgressStateTest, RoundTripsAndRefusesDamage) {
+  const SmoothSource source(300);
+  EstimateSettings settings;
+  settings.maxSamples = 32;
+  ProgressState state;
+  estimateProgressively(source, settings, {}, state);
+  const std::string bytes = serializeProgressState(state);
+  const ProgressState back = deserializeProgressState(bytes, "state.bin");
+  EXPECT_EQ(back.samplesPerPoint, 32u);
+  EXPECT_EQ(back.sums.size(), state.sums.size());
+  EXPECT_EQ(std::memcmp(back.sums.data(), state.sums.data(), state.sums.size() * sizeof(dvec3)), 0);
+  EXPECT_EQ(serializeProgressState(back), bytes);
+
+  auto refused = [](const std::string& damaged) {
+    try {
+      deserializeProgressState(damaged, "out/bake.checkpoint/state.bin");
+    } catch (const InputError& e) {
+      return e.location().file == "out/bake.checkpoint/state.bin";
+    }
+    return false;
+  };
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] = static_cast<char>(flipped[bytes.size() / 2] ^ 0x10);
+  EXPECT_TRUE(refused(flipped));
+  EXPECT_TRUE(refused(bytes.substr(0, bytes.size() - 1)));
+  EXPECT_TRUE(refused(bytes.substr(0, 10)));
+  EXPECT_TRUE(refused(""));
+  EXPECT_TRUE(refused("FLYPROG2" + bytes.substr(8)));
+}
+
+TEST(ProgressStateTest, AStateOfAnotherEstimateIsRefused) {
+  EstimateSettings settings;
+  settings.maxSamples = 16;
+  ProgressState state;
+  estimateProgressively(SmoothSource(100), settings, {}, state);
+  EXPECT_THROW(estimateProgressively(SmoothSource(101), settings, {}, state), std::invalid_argument);
+  settings.replicates = 4;
+  EXPECT_THROW(estimateProgressively(SmoothSource(100), settings, {}, state), std::invalid_argument);
+}
+
+// The baker through a process "killed" after its third checkpoint (save throws), continued from the last
+// saved checkpoint: the same light maps and the same convergence history (samples per pass) as a bake that
+// ran through.
+TEST(BakeCheckpointTest, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
+  rdb::TraceRdbBuilder b;
+  const uint32_t grey = b.material(Rgb(0.5f));
+  b.ground(5.0f, 24, grey);
+  b.grid(vec3(-1, 0, -1), vec3(0, 2, 0), vec3(0, 0, 2), 4, grey, true);  // a two-sided wall
+  b.uniformSky(Rgb(1000.0f));
+  b.pointLight(vec3(2, 3, 1), Rgb(5000.0f));
+  const EmbreeScene scene(b.rdb);
+  BakeSettings settings;
+  settings.estimate.maxSamples = 64;
+  settings.estimate.threads = 2;
+  const VertexLightMaps whole = bakeVertexLightMaps(b.rdb, scene, settings);
+
+  struct Killed {};
+  BakeCheckpoint state;
+  std::vector<std::string> saved;
+  std::vector<size_t> historyAtSave;
+  BakeCheckpointing checkpointing;
+  checkpointing.state = &state;
+  checkpointing.intervalS = 0.0;
+  checkpointing.save = [&](const BakeCheckpoint& s) {
+    saved.push_back(serializeProgressState(s.progress));
+    historyAtSave.push_back(s.history.size());
+    if (saved.size() == 3) throw Killed{};
+  };
+  EXPECT_THROW(bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing), Killed);
+  ASSERT_EQ(saved.size(), 3u);
+
+  BakeCheckpoint resumed;
+  resumed.progress = deserializeProgressState(saved.back(), "state.bin");
+  resumed.history = std::vector<ConvergencePoint>(state.history.begin(),
+                                                  state.history.begin() + static_cast<long>(historyAtSave.back()));
+  checkpointing.state = &resumed;
+  checkpointing.save = {};
+  const VertexLightMaps continued = bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing);
+  ASSERT_EQ(continued.frontLux.size(), whole.frontLux.size());
+  EXPECT_EQ(std::memcmp(continued.frontLux.data(), whole.frontLux.data(), whole.frontLux.size() * sizeof(Rgb)), 0);
+  EXPECT_EQ(std::memcmp(continued.backLux.data(), whole.backLux.data(), whole.backLux.size() * sizeof(Rgb)), 0);
+  EXPECT_EQ(std::memcmp(continued.frontStdErrorLux.data(), whole.frontStdErrorLux.data(),
+                        whole.frontStdErrorLux.size() * sizeof(Rgb)),
+            0);
+  EXPECT_EQ(continued.samplesPerVertex, whole.samplesPerVertex);
+  EXPECT_EQ(continued.rays, whole.rays);
+  ASSERT_EQ(continued.history.size(), whole.history.size());
+  for (size_t i = 0; i < whole.history.size(); ++i) {
+    EXPECT_EQ(continued.history[i].samples, whole.history[i].samples);
+    EXPECT_EQ(continued.history[i].relativeErrorP95, whole.history[i].relativeErrorP95);
+  }
+}
+
+}  // namespace
+}  // namespace fly::raytracer
