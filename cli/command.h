@@ -21,5 +21,7 @@ Command addSunCommand(CLI::App& app);
 Command addSkyCommand(CLI::App& app);
 Command addIlluminanceCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);
+Command addRenderCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
 
 }  // namespace fly::cli

@@ -33,6 +33,8 @@ int run(int argc, char** argv) {
       fly::cli::addSkyCommand(app),
       fly::cli::addIlluminanceCommand(app),
       fly::cli::addBakeCommand(app),
+      fly::cli::addRenderCommand(app),
+      fly::cli::addViewCommand(app),
   };
 
   try {

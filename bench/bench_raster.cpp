@@ -1,0 +1,327 @@
+// fly-bench-raster: frames per second of the OpenGL engine in each mode, as a ratio against a baseline
+// measured in the same run, the same way (DESIGN.md, "Performance figures"; results in docs/benchmarks.md):
+// the empty frame, i.e. clearing the float framebuffer and running the tone-map pass over it, which every
+// frame also pays.
+//
+// Scenes: a 40 m square ground of 2·n² triangles with a 4 × 4 array of 1 m boxes, sized to 100k, 300k and 1M
+// triangles; a 400 cd lamp; Helsinki at 2026-06-21 15:00 with a clear sky and the sun; synthetic vertex light
+// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so ../shared/gpu/pack.sh can carry
+// it to a GPU machine.
+//
+// A frame is Renderer::render (clear, scene, sky) + Renderer::toneMap into the sRGB8 target; nothing is read
+// back. After 3 untimed frames (they compile the programs), each scene and mode is timed three ways:
+//   pipelined  as an interactive viewer runs: frames are submitted back to back with at most 2 in flight (a
+//              fence after each frame; before frame i is submitted the CPU waits for frame i − 2's fence),
+//              until ≥ 1 s and ≥ 3 frames have passed, then one glFinish. ms/frame = wall-clock time from the
+//              first submission to the end of that glFinish, divided by the frames; fps is its inverse, and
+//              "× base" divides it by the empty frame's, timed the same way.
+//   CPU        wall-clock time spent inside the render and toneMap calls of the pipelined loop, per frame
+//              (what the application and the driver cost the CPU; excludes the fence waits).
+//   GPU        a separate pipelined loop (≥ 0.5 s) with a GL_TIME_ELAPSED query around the render call
+//              ("scene") and one around the toneMap call ("tone"); the mean over its frames. Only where the
+//              queries are meaningful: not on Mesa's llvmpipe/softpipe (BUILD-NOTES.md), where "-" is printed.
+//   finish     latency: glFinish after every frame, wall-clock per frame (≥ 0.5 s, ≥ 3 frames); the way the
+//              first version of this benchmark timed frames, kept for comparison.
+// "mean L" is the mean luminance (cd/m²) of the last frame's float image, to compare devices' output.
+//
+// Usage: fly-bench-raster [--size WxH] [--quick]   (default 1920x1080; --quick: the 100k scene only)
+#include <epoxy/gl.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "base/tone_map.h"
+#include "raster/gl_context.h"
+#include "raster/renderer.h"
+#include "rdb/raster_rdb.h"
+#include "sdb/camera.h"
+#include "sdb/scene.h"
+
+namespace fly::raster {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+sdb::Scene makeScene(uint32_t cells) {
+  sdb::Scene s;
+  sdb::Material ground;
+  ground.diffuseColor = Rgb(0.5f);
+  const sdb::MaterialId groundId = s.addMaterial(ground).id;
+  sdb::Material paint;
+  paint.diffuseColor = Rgb(0.7f, 0.6f, 0.5f);
+  const sdb::MaterialId paintId = s.addMaterial(paint).id;
+  sdb::Mesh g;
+  constexpr float kHalfM = 20.0f;
+  for (uint32_t j = 0; j <= cells; ++j) {
+    for (uint32_t i = 0; i <= cells; ++i) {
+      g.positions.push_back(vec3(-kHalfM + 2 * kHalfM * float(i) / float(cells), 0.0f,
+                                 -kHalfM + 2 * kHalfM * float(j) / float(cells)));
+      g.normals.push_back(vec3(0, 1, 0));
+    }
+  }
+  for (uint32_t j = 0; j < cells; ++j) {
+    for (uint32_t i = 0; i < cells; ++i) {
+      const uint32_t a = j * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
+      g.indices.insert(g.indices.end(), {a, c, b, b, c, d});  // counter-clockwise seen from +Y
+    }
+  }
+  g.material = groundId;
+  s.addNode({.name = "ground", .meshes = {s.addMesh(g).id}});
+  sdb::Mesh box;
+  for (int n = 0; n < 3; ++n) {
+    for (int side = 0; side < 2; ++side) {
+      const int u = side ? (n + 1) % 3 : (n + 2) % 3, v = side ? (n + 2) % 3 : (n + 1) % 3;
+      vec3 normal(0.0f);
+      normal[n] = side ? 1.0f : -1.0f;
+      const uint32_t first = uint32_t(box.positions.size());
+      for (int k = 0; k < 4; ++k) {
+        vec3 p(0.0f);
+        p[n] = float(side);
+        p[u] = (k == 1 || k == 2) ? 1.0f : 0.0f;
+        p[v] = k >= 2 ? 1.0f : 0.0f;
+        box.positions.push_back(p - vec3(0.5f, 0.0f, 0.5f));
+        box.normals.push_back(normal);
+      }
+      box.indices.insert(box.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+    }
+  }
+  box.material = paintId;
+  const sdb::MeshId boxId = s.addMesh(box).id;
+  for (int bz = 0; bz < 4; ++bz) {
+    for (int bx = 0; bx < 4; ++bx) {
+      s.addNode({.name = "box",
+                 .parentFromLocal =
+                     frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1),
+                                    vec3(-13.5f + 9.0f * float(bx), 0.0f, -13.5f + 9.0f * float(bz))),
+                 .meshes = {boxId}});
+    }
+  }
+  sdb::Light lamp;
+  lamp.intensity = 400.0f;
+  s.addNode({.name = "lamp",
+             .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0, 3, 0)),
+             .light = s.addLight(lamp).id});
+  sdb::Camera cam;
+  cam.name = "overview";
+  s.addNode({.name = "eye",
+             .parentFromLocal = sdb::lookAtTransform(vec3(-22, 12, 26), vec3(0, 0, 0), vec3(0, 1, 0)),
+             .camera = s.addCamera(cam).id});
+  sdb::Site site;
+  site.latitudeDeg = 60.17;
+  site.longitudeDeg = 24.94;
+  site.timeZone = "Europe/Helsinki";
+  s.setSite(site);
+  s.setTime({"2026-06-21T15:00"});
+  sdb::SkySettings sky;
+  sky.model = sdb::SkyModel::kClear;
+  sky.sun = true;
+  s.setSky(sky);
+  return s;
+}
+
+rdb::LightMapStore syntheticLightMaps(const rdb::RasterRdb& r) {
+  rdb::LightMapStore store;
+  for (const rdb::RasterMesh& m : r.meshes) {
+    rdb::MeshLightMap map{m.sdbNodeId, m.sdbMeshId, {}, {}};
+    for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) {
+      map.frontLux.push_back(Rgb(20000.0f + 500.0f * r.positionsM[v].x));
+    }
+    store.meshes.push_back(std::move(map));
+  }
+  return store;
+}
+
+struct FrameTimes {
+  double pipelinedMs = 0.0;  // wall clock per frame, ≤ 2 frames in flight
+  double cpuMs = 0.0;        // inside render() + toneMap(), per frame
+  double gpuSceneMs = NAN;   // GL_TIME_ELAPSED of render(); NaN where not meaningful
+  double gpuToneMs = NAN;    // GL_TIME_ELAPSED of toneMap()
+  double finishMs = 0.0;     // glFinish after every frame, wall clock per frame
+  double meanLuminanceCdM2 = 0.0;
+};
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+void waitFor(GLsync fence) {
+  for (;;) {
+    const GLenum status = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000);
+    if (status == GL_ALREADY_SIGNALED || status == GL_CONDITION_SATISFIED) break;
+    if (status == GL_WAIT_FAILED) throw std::runtime_error("glClientWaitSync failed");
+  }
+  glDeleteSync(fence);
+}
+
+FrameTimes timeFrames(Renderer& renderer, const View& view, RenderMode mode, uint32_t w, uint32_t h,
+                      bool gpuTimers) {
+  const ToneMapSettings tone{ToneOperator::kFilmic, 12.0};
+  auto frame = [&] {
+    renderer.render(view, mode, w, h);
+    renderer.toneMap(tone);
+  };
+  for (int i = 0; i < 3; ++i) frame();
+  renderer.finish();
+  FrameTimes t;
+
+  constexpr int kInFlight = 2;
+  {
+    std::array<GLsync, kInFlight> fences{};
+    double cpuS = 0.0;
+    int frames = 0;
+    const Clock::time_point start = Clock::now();
+    do {
+      GLsync& slot = fences[size_t(frames % kInFlight)];
+      if (slot) waitFor(slot);
+      const Clock::time_point submit = Clock::now();
+      frame();
+      cpuS += secondsSince(submit);
+      slot = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+      ++frames;
+    } while (frames < 3 || secondsSince(start) < 1.0);
+    renderer.finish();
+    t.pipelinedMs = 1e3 * secondsSince(start) / frames;
+    t.cpuMs = 1e3 * cpuS / frames;
+    for (GLsync f : fences) glDeleteSync(f);
+  }
+
+  if (gpuTimers) {
+    std::array<GLsync, kInFlight> fences{};
+    std::array<std::array<GLuint, 2>, kInFlight> queries{};
+    for (auto& q : queries) glCreateQueries(GL_TIME_ELAPSED, 2, q.data());
+    double sceneNs = 0.0, toneNs = 0.0;
+    int frames = 0, measured = 0;
+    auto collect = [&](size_t slot) {
+      waitFor(fences[slot]);
+      fences[slot] = nullptr;
+      GLuint64 scene = 0, toneMap = 0;
+      glGetQueryObjectui64v(queries[slot][0], GL_QUERY_RESULT, &scene);
+      glGetQueryObjectui64v(queries[slot][1], GL_QUERY_RESULT, &toneMap);
+      sceneNs += double(scene);
+      toneNs += double(toneMap);
+      ++measured;
+    };
+    const Clock::time_point start = Clock::now();
+    do {
+      const size_t slot = size_t(frames % kInFlight);
+      if (fences[slot]) collect(slot);
+      glBeginQuery(GL_TIME_ELAPSED, queries[slot][0]);
+      renderer.render(view, mode, w, h);
+      glEndQuery(GL_TIME_ELAPSED);
+      glBeginQuery(GL_TIME_ELAPSED, queries[slot][1]);
+      renderer.toneMap(tone);
+      glEndQuery(GL_TIME_ELAPSED);
+      fences[slot] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+      ++frames;
+    } while (frames < 3 || secondsSince(start) < 0.5);
+    for (size_t slot = 0; slot < kInFlight; ++slot) {
+      if (fences[slot]) collect(slot);
+    }
+    for (auto& q : queries) glDeleteQueries(2, q.data());
+    t.gpuSceneMs = 1e-6 * sceneNs / measured;
+    t.gpuToneMs = 1e-6 * toneNs / measured;
+  }
+
+  {
+    int frames = 0;
+    const Clock::time_point start = Clock::now();
+    do {
+      frame();
+      renderer.finish();
+      ++frames;
+    } while (frames < 3 || secondsSince(start) < 0.5);
+    t.finishMs = 1e3 * secondsSince(start) / frames;
+  }
+
+  const std::vector<float> rgb = renderer.luminanceRgb();
+  double sum = 0.0;
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3) sum += luminance(Rgb(rgb[i], rgb[i + 1], rgb[i + 2]));
+  t.meanLuminanceCdM2 = sum / double(std::max<size_t>(1, rgb.size() / 3));
+  return t;
+}
+
+void printRow(const char* triangles, const char* mode, const FrameTimes& t, double baselineMs) {
+  char scene[16] = "-", tone[16] = "-";
+  if (std::isfinite(t.gpuSceneMs)) {
+    std::snprintf(scene, sizeof scene, "%.3f", t.gpuSceneMs);
+    std::snprintf(tone, sizeof tone, "%.3f", t.gpuToneMs);
+  }
+  std::printf("%-9s %-9s %9.1f %9.3f %7.2f %9s %8s %8.3f %9.3f %11.4g\n", triangles, mode, 1e3 / t.pipelinedMs,
+              t.pipelinedMs, t.pipelinedMs / baselineMs, scene, tone, t.cpuMs, t.finishMs,
+              t.meanLuminanceCdM2);
+  std::fflush(stdout);
+}
+
+int run(int argc, char** argv) {
+  uint32_t w = 1920, h = 1080;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
+               std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
+    } else {
+      std::fprintf(stderr, "usage: fly-bench-raster [--size WxH] [--quick]\n");
+      return 2;
+    }
+  }
+  const std::unique_ptr<GlContext> context = createHeadlessContext();
+  const GlInfo& info = context->info();
+  const bool gpuTimers = info.renderer.find("llvmpipe") == std::string::npos &&
+                         info.renderer.find("softpipe") == std::string::npos;
+  std::printf("fly-bench-raster: OpenGL %d.%d, %s, %s (%s), GL_VERSION %s, %u×%u\n", info.major, info.minor,
+              info.vendor.c_str(), info.renderer.c_str(), info.platform.c_str(),
+              reinterpret_cast<const char*>(glGetString(GL_VERSION)), w, h);
+  std::printf("pipelined: ≤ 2 frames in flight; GPU: GL_TIME_ELAPSED%s; finish: glFinish after every frame\n\n",
+              gpuTimers ? "" : " (not meaningful on this renderer: not measured)");
+  std::printf("%-9s %-9s %9s %9s %7s %9s %8s %8s %9s %11s\n", "", "", "pipelined", "", "", "GPU ms", "",
+              "CPU", "finish", "");
+  std::printf("%-9s %-9s %9s %9s %7s %9s %8s %8s %9s %11s\n", "triangles", "mode", "fps", "ms/frame", "× base",
+              "scene", "tone", "ms", "ms/frame", "mean L cd/m²");
+
+  // Baseline: the empty frame (clear + tone map) of a scene with no triangles.
+  sdb::Scene empty;
+  const rdb::RasterRdb emptyRdb = rdb::buildRasterRdb(empty);
+  Renderer baselineRenderer;
+  baselineRenderer.upload(emptyRdb);
+  const View emptyView = framingView(emptyRdb.boundsM, float(w) / float(h));
+  const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
+  printRow("0", "empty", baseline, baseline.pipelinedMs);
+
+  const std::vector<uint32_t> cells =
+      quick ? std::vector<uint32_t>{221} : std::vector<uint32_t>{221, 387, 707};
+  for (uint32_t n : cells) {
+    const sdb::Scene scene = makeScene(n);
+    const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
+    const rdb::LightMapStore maps = syntheticLightMaps(plain);
+    const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &maps);
+    Renderer renderer;
+    renderer.upload(r);
+    const View view = viewOfCamera(r.cameras.at(0));
+    const std::string triangles = std::to_string(r.triangleCount());
+    for (RenderMode mode : {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight}) {
+      printRow(triangles.c_str(), renderModeName(mode), timeFrames(renderer, view, mode, w, h, gpuTimers),
+               baseline.pipelinedMs);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace fly::raster
+
+int main(int argc, char** argv) {
+  try {
+    return fly::raster::run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}

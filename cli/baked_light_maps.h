@@ -1,0 +1,28 @@
+// The baked light maps the GL engine draws, as an rdb::LightMapStore: from a bake in memory, or read back
+// from the baked scene directory that `fly bake --out DIR` writes (cli/baked_scene.h describes its files).
+#pragma once
+
+#include <filesystem>
+
+#include "raytracer/baker.h"
+#include "rdb/light_map_store.h"
+#include "rdb/trace_rdb.h"
+
+namespace fly::cli {
+
+// The light maps of a bake: one MeshLightMap per TraceMesh that has triangles (a mesh whose every triangle
+// was degenerate has nothing to draw, and the baked scene.gltf leaves it out too), with the TraceMesh's
+// vertices — the SDB mesh's vertices in order (rdb/trace_rdb_build.cpp) — and backLux only for two-sided
+// meshes. std::invalid_argument when `maps` does not have one value per TraceRdb vertex.
+rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps);
+
+// The light maps of a baked scene directory: manifest.json's objects give each baked mesh's SDB ids, vertex
+// count, sidedness and glTF mesh; scene.gltf's _IRRADIANCE_FRONT (and, for two-sided meshes,
+// _IRRADIANCE_BACK) attributes hold the values, of which the first `vertices` are the SDB mesh's (a
+// light-textured mesh appends seam-split copies after them). Equals lightMapStoreFromBake of the bake that
+// wrote the directory, value for value. The vertex counts are those of the scene at bake time: a caller
+// checks them against the scene it draws. InputError naming the file (manifest.json, scene.gltf or its
+// buffer) when one is missing, corrupt, truncated or does not match the other.
+rdb::LightMapStore readBakedLightMaps(const std::filesystem::path& bakedDir);
+
+}  // namespace fly::cli

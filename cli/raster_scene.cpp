@@ -1,0 +1,96 @@
+#include "cli/raster_scene.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "base/error.h"
+#include "cli/baked_light_maps.h"
+#include "cli/baked_scene.h"
+#include "sdb/scene_load.h"
+
+namespace fly::cli {
+
+namespace {
+
+std::filesystem::path bakedScenePath(const std::filesystem::path& dir, const nlohmann::json& manifest) {
+  const std::filesystem::path recorded = manifest.at("scene").get<std::string>();
+  if (std::filesystem::exists(recorded)) return recorded;
+  const std::filesystem::path beside = dir.parent_path() / recorded;
+  if (recorded.is_relative() && std::filesystem::exists(beside)) return beside;
+  throw InputError({(dir / "manifest.json").string(), 0, 0, "/scene"},
+                   "names the scene " + recorded.string() + ", which does not exist",
+                   "run fly from the directory fly bake ran in, or give the scene file");
+}
+
+}  // namespace
+
+RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const std::string& time) {
+  RasterScene r;
+  r.scenePath = sceneOrBakedDir;
+  if (isBakedScene(r.scenePath)) {
+    const nlohmann::json manifest = readBakedManifest(r.scenePath);
+    r.lightMaps = readBakedLightMaps(r.scenePath);
+    r.scenePath = bakedScenePath(r.scenePath, manifest);
+  }
+  r.scene = sdb::loadScene(r.scenePath);
+  if (!time.empty()) {
+    if (!r.scene.hasSite()) {
+      throw UsageError("--time needs a scene with a site (a scene file with \"site\"); " +
+                       r.scenePath.string() + " has none");
+    }
+    r.scene.setTime(sdb::SiteTime{time});
+  }
+  return r;
+}
+
+void parseSize(const std::string& text, uint32_t& widthPx, uint32_t& heightPx) {
+  unsigned a = 0, b = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%u%c%u%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') || a < 1 ||
+      b < 1 || a > 16384 || b > 16384) {
+    throw UsageError("--size " + text + ": expected WIDTHxHEIGHT in pixels, each 1 to 16384 (e.g. 1280x720)");
+  }
+  widthPx = a;
+  heightPx = b;
+}
+
+raster::RenderMode parseRenderMode(const std::string& name) {
+  if (name == "simple") return raster::RenderMode::kSimple;
+  if (name == "lightmap") return raster::RenderMode::kLightMap;
+  if (name == "sunlight") return raster::RenderMode::kSunlight;
+  throw UsageError("--mode " + name + ": expected simple, lightmap or sunlight");
+}
+
+ToneOperator parseToneOperator(const std::string& name) {
+  if (name == "linear") return ToneOperator::kLinear;
+  if (name == "reinhard") return ToneOperator::kReinhard;
+  if (name == "filmic") return ToneOperator::kFilmic;
+  throw UsageError("--operator " + name + ": expected linear, reinhard or filmic");
+}
+
+raster::RenderMode chooseRenderMode(const rdb::RasterRdb& rdb,
+                                    const std::optional<raster::RenderMode>& requested,
+                                    const std::filesystem::path& scenePath) {
+  const std::vector<raster::RenderMode> modes = raster::supportedModes(rdb);
+  if (!requested) return modes.front();
+  if (std::find(modes.begin(), modes.end(), *requested) == modes.end()) {
+    throw UsageError(std::string("--mode ") + raster::renderModeName(*requested) + ": " + scenePath.string() +
+                     (*requested == raster::RenderMode::kLightMap
+                          ? " has no light maps (render a baked directory)"
+                          : " has neither sky nor sun"));
+  }
+  return *requested;
+}
+
+size_t findCamera(const rdb::RasterRdb& rdb, const std::string& name) {
+  const auto it = std::find_if(rdb.cameras.begin(), rdb.cameras.end(),
+                               [&](const rdb::RasterCamera& c) { return c.name == name; });
+  if (it != rdb.cameras.end()) return size_t(it - rdb.cameras.begin());
+  std::string names;
+  for (const rdb::RasterCamera& c : rdb.cameras)
+    names += (names.empty() ? "" : ", ") + ("\"" + c.name + "\"");
+  throw UsageError("--camera " + name + ": the scene has no such camera (" +
+                   (names.empty() ? std::string("it has none") : "it has " + names) + ")");
+}
+
+}  // namespace fly::cli

@@ -1,0 +1,47 @@
+// What `fly render` and `fly view` share: a scene file, glTF model or baked scene directory loaded for the
+// OpenGL engine (with a baked directory's light maps), and the options both take (mode, operator, size,
+// camera).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "base/tone_map.h"
+#include "raster/renderer.h"
+#include "rdb/light_map_store.h"
+#include "rdb/raster_rdb.h"
+#include "sdb/scene.h"
+
+namespace fly::cli {
+
+struct RasterScene {
+  std::filesystem::path scenePath;  // the scene file; for a baked directory, the scene it was baked from
+  sdb::Scene scene;
+  std::optional<rdb::LightMapStore> lightMaps;  // a baked directory's
+};
+
+// Loads `sceneOrBakedDir`. A baked directory names its scene in manifest.json: that path as given to fly
+// bake, resolved against the current directory, else against the baked directory's parent. `time` (the
+// site's local date and time, "" = the scene's) replaces the scene's time: UsageError for a scene without a
+// site. InputError for unreadable input.
+RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const std::string& time = "");
+
+// --size WIDTHxHEIGHT, each 1..16384 pixels; UsageError otherwise.
+void parseSize(const std::string& text, uint32_t& widthPx, uint32_t& heightPx);
+// --mode simple|lightmap|sunlight; UsageError otherwise.
+raster::RenderMode parseRenderMode(const std::string& name);
+// --operator linear|reinhard|filmic; UsageError otherwise.
+ToneOperator parseToneOperator(const std::string& name);
+
+// `requested` when the scene supports it (UsageError saying why not otherwise), else the best mode it
+// supports (raster::supportedModes).
+raster::RenderMode chooseRenderMode(const rdb::RasterRdb& rdb,
+                                    const std::optional<raster::RenderMode>& requested,
+                                    const std::filesystem::path& scenePath);
+
+// The index in rdb.cameras of the camera called `name`; UsageError listing the scene's cameras otherwise.
+size_t findCamera(const rdb::RasterRdb& rdb, const std::string& name);
+
+}  // namespace fly::cli

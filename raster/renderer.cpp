@@ -1,0 +1,601 @@
+#include "raster/renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "base/log.h"
+#include "raster/shaders/scene_glsl.h"
+
+namespace fly::raster {
+
+const char* renderModeName(RenderMode m) {
+  switch (m) {
+    case RenderMode::kSimple:
+      return "simple";
+    case RenderMode::kLightMap:
+      return "lightmap";
+    case RenderMode::kSunlight:
+      return "sunlight";
+  }
+  return "?";
+}
+
+std::vector<RenderMode> supportedModes(const rdb::RasterRdb& rdb) {
+  std::vector<RenderMode> modes;
+  if (rdb.variants.lightMap) modes.push_back(RenderMode::kLightMap);
+  if (rdb.variants.sky) modes.push_back(RenderMode::kSunlight);
+  modes.push_back(RenderMode::kSimple);
+  return modes;
+}
+
+View viewOfCamera(const rdb::RasterCamera& camera) {
+  View v;
+  v.worldFromCamera = camera.worldFromCamera;
+  v.orthographic = camera.projection == rdb::RasterProjection::kOrthographic;
+  v.yfovRad = camera.yfovRad;
+  v.znearM = camera.znearM;
+  v.zfarM = std::isfinite(camera.zfarM) ? camera.zfarM : 1e30f;
+  v.xmagM = camera.xmagM;
+  v.ymagM = camera.ymagM;
+  return v;
+}
+
+View framingView(const Bounds3& boundsM, float aspect) {
+  View v;
+  const vec3 center = boundsM.empty() ? vec3(0.0f) : 0.5f * (boundsM.min + boundsM.max);
+  const float radius = std::max(1e-3f, 0.5f * glm::length(boundsM.size()));
+  const float halfFov = 0.5f * v.yfovRad;
+  const float halfFovX = std::atan(std::tan(halfFov) * std::max(aspect, 1e-3f));
+  const float distance = radius / std::sin(std::min(halfFov, halfFovX));
+  const float elevation = float(degToRad(30.0));
+  const vec3 back = glm::normalize(vec3(std::cos(elevation) * 0.70710678f, std::sin(elevation),
+                                        std::cos(elevation) * 0.70710678f));  // from the target to the eye
+  const vec3 eye = center + distance * back;
+  const vec3 x = glm::normalize(glm::cross(vec3(0, 1, 0), back));
+  const vec3 y = glm::cross(back, x);
+  v.worldFromCamera = frameTransform(x, y, back, eye);
+  v.znearM = std::max(1e-3f * distance, distance - 1.01f * radius);
+  v.zfarM = distance + 1.01f * radius;
+  return v;
+}
+
+namespace {
+
+// The shader's std430 blocks (raster/shaders/scene_glsl.h).
+struct GpuMaterial {
+  vec4 diffuse, specular, emission;
+};
+struct GpuLight {
+  vec4 positionType, directionRange, cAxisOffset, intensity, cone;
+};
+
+GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
+  return {vec4(m.diffuse, 0.0f), vec4(m.specular, m.phongExponent), vec4(m.emissionCdM2, 0.0f)};
+}
+
+unsigned compileStage(GLenum type, const std::string& source, const std::string& name) {
+  const GLuint s = glCreateShader(type);
+  const char* text = source.c_str();
+  glShaderSource(s, 1, &text, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &length);
+    std::string info(size_t(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(s, length, nullptr, info.data());
+    glDeleteShader(s);
+    throw std::runtime_error("internal error: shader " + name + " does not compile: " + info);
+  }
+  return s;
+}
+
+mat4 projection(const View& v, float aspect) {
+  if (v.orthographic) {
+    const float ymag = v.ymagM, xmag = v.ymagM * aspect;
+    return glm::ortho(-xmag, xmag, -ymag, ymag, v.znearM, v.zfarM);
+  }
+  if (v.zfarM >= 1e30f) return glm::infinitePerspective(v.yfovRad, aspect, v.znearM);
+  return glm::perspective(v.yfovRad, aspect, v.znearM, v.zfarM);
+}
+
+// The scene program's shader variant, one bit per #define (Renderer::sceneProgram).
+enum VariantBit : uint32_t {
+  kVariantLightMap = 1u << 0,
+  kVariantPhong = 1u << 1,
+  kVariantSun = 1u << 2,
+  kVariantTwoSided = 1u << 3,
+  kVariantGonio = 1u << 4,
+  kVariantCount = 1u << 5,
+};
+
+// Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
+struct BackgroundProgram {
+  GLuint program = 0;
+  GLint worldFromCamera = -1, tanHalfFov = -1, sunDir = -1, sunRadiance = -1, sunCosHalfAngle = -1;
+};
+struct ToneMapProgram {
+  GLuint program = 0;
+  GLint op = -1, exposureScale = -1, whitePoint = -1;
+};
+
+// aSurface of kSceneVertex: bits 0–29 the material's index, bit 30 two-sided, bit 31 has a light map.
+uint32_t surfaceBits(const rdb::RasterMesh& m) {
+  return (m.material & 0x3fffffffu) | (m.twoSided ? 0x40000000u : 0u) | (m.hasLightMap ? 0x80000000u : 0u);
+}
+
+// Replaces `buffer` with a new immutable store holding `data`. A zero-sized store cannot be bound as an SSBO
+// range, so an empty `data` still gets one element's (undefined, never read) room.
+template <class T>
+void storeBuffer(GLuint& buffer, const std::vector<T>& data, GLbitfield flags = 0) {
+  glDeleteBuffers(1, &buffer);
+  glCreateBuffers(1, &buffer);
+  glNamedBufferStorage(buffer, GLsizeiptr(std::max<size_t>(1, data.size()) * sizeof(T)),
+                       data.empty() ? nullptr : data.data(), flags);
+}
+
+// Runs the bound compute program (8 × 8 work groups, kBackgroundCompute, kToneMapCompute) over every pixel,
+// then makes its image stores visible to what reads them next: texture fetches (the tone-map pass),
+// framebuffer access (the next frame, present) and read-backs (luminanceRgb, srgb8).
+void dispatchPerPixel(uint32_t widthPx, uint32_t heightPx) {
+  glDispatchCompute((widthPx + 7) / 8, (heightPx + 7) / 8, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                  GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+}  // namespace
+
+struct Renderer::SceneProgram {
+  GLuint program = 0;
+  GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
+        ambientDown = -1, sunDir = -1, sunNormalLux = -1;
+};
+
+struct Renderer::Gpu {
+  GLuint vao = 0;
+  GLuint positions = 0, normals = 0, corners = 0, surfaces = 0, frontLux = 0, backLux = 0, indices = 0;
+  GLuint materials = 0, lights = 0, gonio = 0;
+  GLuint skyTexture = 0;
+  GLuint floatFbo = 0, floatColor = 0, depth = 0;  // depth: a texture, read by the background pass
+  GLuint clearDepthTex = 0;
+  GLuint srgbFbo = 0, srgbColor = 0;
+  SceneProgram scene[kVariantCount];
+  BackgroundProgram background, sky;
+  ToneMapProgram toneMap;
+  GLint maxImageSizePx = 0;     // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
+  GLsizei indexCount = 0;       // of the whole scene (every mesh's indices, in one draw)
+  bool everyMeshLightMapped = false;
+
+  ~Gpu() {
+    const GLuint buffers[] = {positions, normals, corners, surfaces, frontLux,
+                              backLux,   indices, materials, lights, gonio};
+    glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteTextures(1, &skyTexture);
+    glDeleteTextures(1, &floatColor);
+    glDeleteTextures(1, &srgbColor);
+    glDeleteTextures(1, &depth);
+    glDeleteFramebuffers(1, &floatFbo);
+    glDeleteFramebuffers(1, &srgbFbo);
+    for (const SceneProgram& p : scene) glDeleteProgram(p.program);
+    glDeleteProgram(background.program);
+    glDeleteProgram(sky.program);
+    glDeleteProgram(toneMap.program);
+  }
+};
+
+Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
+  glCreateVertexArrays(1, &gpu_->vao);
+  GLint renderbufferPx = 0, texturePx = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbufferPx);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texturePx);
+  gpu_->maxImageSizePx = std::min(renderbufferPx, texturePx);
+}
+
+Renderer::~Renderer() = default;
+
+unsigned Renderer::compileProgram(const std::string& name, const std::string& defines,
+                                  std::initializer_list<std::pair<unsigned, const char*>> stages) {
+  const std::string head = "#version 450 core\n" + defines;
+  std::vector<GLuint> shaders;
+  try {
+    for (const auto& [type, source] : stages) shaders.push_back(compileStage(type, head + source, name));
+  } catch (...) {
+    for (GLuint sh : shaders) glDeleteShader(sh);
+    throw;
+  }
+  const GLuint p = glCreateProgram();
+  for (GLuint sh : shaders) glAttachShader(p, sh);
+  glLinkProgram(p);
+  for (GLuint sh : shaders) glDeleteShader(sh);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(p, GL_INFO_LOG_LENGTH, &length);
+    std::string info(size_t(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(p, length, nullptr, info.data());
+    glDeleteProgram(p);
+    throw std::runtime_error("internal error: program " + name + " does not link: " + info);
+  }
+  stats_.programs.push_back(name);
+  log::debug("compiled GL program " + name);
+  return p;
+}
+
+// The scene program of a variant (VariantBit), compiled on first use, named by its tags in bit order.
+const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
+  SceneProgram& sp = gpu_->scene[variant];
+  if (sp.program) return sp;
+  std::string name = "scene";
+  std::string defines = "#define FLY_CORNER_GAIN " + std::to_string(rdb::kCornerGain) + "\n" +
+                        "#define FLY_GONIO_GAMMA_STEPS " + std::to_string(rdb::kRasterGonioGammaSteps) + "\n" +
+                        "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n";
+  const struct {
+    uint32_t bit;
+    const char* tag;
+    const char* define;
+  } kVariants[] = {{kVariantLightMap, "lightmap", "FLY_LIGHT_MAP"},
+                   {kVariantPhong, "phong", "FLY_PHONG"},
+                   {kVariantSun, "sun", "FLY_SUN"},
+                   {kVariantTwoSided, "twosided", "FLY_TWO_SIDED"},
+                   {kVariantGonio, "gonio", "FLY_GONIO"}};
+  for (const auto& v : kVariants) {
+    if (!(variant & v.bit)) continue;
+    name += std::string("+") + v.tag;
+    defines += std::string("#define ") + v.define + "\n";
+  }
+  const GLuint p = compileProgram(name, defines,
+                                 {{GL_VERTEX_SHADER, shaders::kSceneVertex},
+                                  {GL_FRAGMENT_SHADER, shaders::kSceneFragment}});
+  auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
+  sp.clipFromWorld = loc("uClipFromWorld");
+  sp.eye = loc("uEyeM");
+  sp.viewDir = loc("uViewDirWorld");
+  sp.orthographic = loc("uOrthographic");
+  sp.lightCount = loc("uLightCount");
+  sp.ambientUp = loc("uAmbientUpLux");
+  sp.ambientDown = loc("uAmbientDownLux");
+  sp.sunDir = loc("uSunDirWorld");
+  sp.sunNormalLux = loc("uSunNormalLux");
+  sp.program = p;
+  return sp;
+}
+
+void Renderer::upload(const rdb::RasterRdb& rdb) {
+  rdb_ = &rdb;
+  uploadGeometry();
+  uploadMaterials();
+  uploadLights();
+  uploadSky();
+}
+
+void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes) {
+  rdb_ = &rdb;
+  if (changes.geometry) {
+    upload(rdb);
+    return;
+  }
+  if (changes.materials) {
+    uploadMaterials();
+  } else {
+    for (uint32_t i : changes.materialBlocks) {
+      const GpuMaterial m = gpuMaterial(rdb.materials.at(i));
+      glNamedBufferSubData(gpu_->materials, GLintptr(i * sizeof(GpuMaterial)), sizeof m, &m);
+      ++stats_.materialBlockUploads;
+    }
+  }
+  if (changes.lights) uploadLights();
+  if (changes.sky) uploadSky();
+  // Ambient levels and cameras are uniforms, read at every render.
+}
+
+void Renderer::uploadGeometry() {
+  const rdb::RasterRdb& r = *rdb_;
+  storeBuffer(gpu_->positions, r.positionsM);
+  storeBuffer(gpu_->normals, r.normals);
+  storeBuffer(gpu_->corners, r.cornerFactor);
+  storeBuffer(gpu_->indices, r.indices);
+  const GLuint vao = gpu_->vao;
+  auto attrib = [&](GLuint index, GLuint buffer, GLint components, GLsizei stride) {
+    glVertexArrayVertexBuffer(vao, index, buffer, 0, stride);
+    glVertexArrayAttribFormat(vao, index, components, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, index, index);
+    glEnableVertexArrayAttrib(vao, index);
+  };
+  attrib(0, gpu_->positions, 3, sizeof(vec3));
+  attrib(1, gpu_->normals, 3, sizeof(vec3));
+  attrib(2, gpu_->corners, 1, sizeof(float));
+  if (!r.frontLux.empty()) {
+    storeBuffer(gpu_->frontLux, r.frontLux);
+    attrib(3, gpu_->frontLux, 3, sizeof(vec3));
+  } else {
+    glDisableVertexArrayAttrib(vao, 3);
+  }
+  if (!r.backLux.empty()) {
+    storeBuffer(gpu_->backLux, r.backLux);
+    attrib(4, gpu_->backLux, 3, sizeof(vec3));
+  } else {
+    glDisableVertexArrayAttrib(vao, 4);
+  }
+  glVertexArrayElementBuffer(vao, gpu_->indices);
+  // The meshes' index ranges follow each other (rdb/raster_rdb.h), so one draw covers them all.
+  gpu_->indexCount = GLsizei(r.indices.size());
+  gpu_->everyMeshLightMapped = std::all_of(r.meshes.begin(), r.meshes.end(),
+                                           [](const rdb::RasterMesh& m) { return m.hasLightMap; });
+  ++stats_.geometryUploads;
+}
+
+// The material table and each vertex's aSurface (its mesh's material index and flags), which an assignment
+// changes along with the table.
+void Renderer::uploadMaterials() {
+  const rdb::RasterRdb& r = *rdb_;
+  std::vector<GpuMaterial> m;
+  m.reserve(r.materials.size());
+  for (const rdb::RasterMaterial& x : r.materials) m.push_back(gpuMaterial(x));
+  storeBuffer(gpu_->materials, m, GL_DYNAMIC_STORAGE_BIT);  // update() rewrites single blocks
+  std::vector<uint32_t> surfaces(r.positionsM.size(), 0u);
+  for (const rdb::RasterMesh& mesh : r.meshes) {
+    std::fill_n(surfaces.begin() + std::ptrdiff_t(mesh.firstVertex), mesh.vertexCount, surfaceBits(mesh));
+  }
+  storeBuffer(gpu_->surfaces, surfaces);
+  glVertexArrayVertexBuffer(gpu_->vao, 5, gpu_->surfaces, 0, sizeof(uint32_t));
+  glVertexArrayAttribIFormat(gpu_->vao, 5, 1, GL_UNSIGNED_INT, 0);
+  glVertexArrayAttribBinding(gpu_->vao, 5, 5);
+  glEnableVertexArrayAttrib(gpu_->vao, 5);
+  ++stats_.materialTableUploads;
+}
+
+void Renderer::uploadLights() {
+  std::vector<GpuLight> lights;
+  for (const rdb::RasterLight& l : rdb_->lights) {
+    GpuLight g;
+    g.positionType = vec4(l.positionM, float(uint32_t(l.type)));
+    g.directionRange = vec4(l.directionWorld, std::isfinite(l.rangeM) ? l.rangeM : 0.0f);
+    g.cAxisOffset = vec4(l.cAxisWorld, float(l.goniometricOffset));
+    g.intensity = vec4(l.intensity, 0.0f);
+    g.cone = vec4(l.cosInner, l.cosOuter, 0.0f, 0.0f);
+    lights.push_back(g);
+  }
+  storeBuffer(gpu_->lights, lights);
+  storeBuffer(gpu_->gonio, rdb_->goniometricCd);
+  ++stats_.lightUploads;
+}
+
+void Renderer::uploadSky() {
+  if (gpu_->skyTexture) {
+    glDeleteTextures(1, &gpu_->skyTexture);
+    gpu_->skyTexture = 0;
+  }
+  if (!rdb_->sky || rdb_->sky->width == 0 || rdb_->sky->height == 0) return;
+  const rdb::RasterSky& s = *rdb_->sky;
+  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->skyTexture);
+  glTextureStorage2D(gpu_->skyTexture, 1, GL_RGB32F, GLsizei(s.width), GLsizei(s.height));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(gpu_->skyTexture, 0, 0, 0, GLsizei(s.width), GLsizei(s.height), GL_RGB, GL_FLOAT,
+                      s.radianceCdM2.data());
+  glTextureParameteri(gpu_->skyTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(gpu_->skyTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(gpu_->skyTexture, GL_TEXTURE_WRAP_S, GL_REPEAT);         // φ wraps around
+  glTextureParameteri(gpu_->skyTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);  // θ ends at the poles
+  ++stats_.skyUploads;
+}
+
+void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
+  if (widthPx == width_ && heightPx == height_ && gpu_->floatFbo) return;
+  glDeleteFramebuffers(1, &gpu_->floatFbo);
+  glDeleteFramebuffers(1, &gpu_->srgbFbo);
+  glDeleteTextures(1, &gpu_->floatColor);
+  glDeleteTextures(1, &gpu_->srgbColor);
+  glDeleteTextures(1, &gpu_->depth);
+  const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
+  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->floatColor);
+  glTextureStorage2D(gpu_->floatColor, 1, GL_RGBA32F, w, h);
+  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->depth);
+#if FLY_EXP_DEPTH == 2
+  glTextureStorage2D(gpu_->depth, 1, GL_DEPTH_COMPONENT32F, w, h);
+#else
+  glTextureStorage2D(gpu_->depth, 1, GL_DEPTH24_STENCIL8, w, h);
+#endif
+#if FLY_EXP_DEPTH == 1
+  glDeleteTextures(1, &gpu_->clearDepthTex);
+  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->clearDepthTex);
+  glTextureStorage2D(gpu_->clearDepthTex, 1, GL_DEPTH24_STENCIL8, w, h);
+  const GLuint cleared = 0xffffff00u;
+  glClearTexImage(gpu_->clearDepthTex, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, &cleared);
+#endif
+  glCreateFramebuffers(1, &gpu_->floatFbo);
+  glNamedFramebufferTexture(gpu_->floatFbo, GL_COLOR_ATTACHMENT0, gpu_->floatColor, 0);
+#if FLY_EXP_DEPTH == 2
+  glNamedFramebufferTexture(gpu_->floatFbo, GL_DEPTH_ATTACHMENT, gpu_->depth, 0);
+#else
+  glNamedFramebufferTexture(gpu_->floatFbo, GL_DEPTH_STENCIL_ATTACHMENT, gpu_->depth, 0);
+#endif
+  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->srgbColor);
+  glTextureStorage2D(gpu_->srgbColor, 1, GL_RGBA8, w, h);
+  glCreateFramebuffers(1, &gpu_->srgbFbo);
+  glNamedFramebufferTexture(gpu_->srgbFbo, GL_COLOR_ATTACHMENT0, gpu_->srgbColor, 0);
+  for (GLuint fbo : {gpu_->floatFbo, gpu_->srgbFbo}) {
+    if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      throw std::runtime_error("the OpenGL driver cannot render into a " + std::to_string(widthPx) + "×" +
+                               std::to_string(heightPx) + " RGBA32F framebuffer");
+    }
+  }
+  width_ = widthPx;
+  height_ = heightPx;
+}
+
+void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx) {
+  if (!rdb_) throw std::logic_error("Renderer::render before upload");
+  const GLint maxSize = std::min(16384, gpu_->maxImageSizePx);
+  if (widthPx < 1 || heightPx < 1 || widthPx > uint32_t(maxSize) || heightPx > uint32_t(maxSize)) {
+    throw std::invalid_argument("image size " + std::to_string(widthPx) + "×" + std::to_string(heightPx) +
+                                " is out of range (1 to " + std::to_string(maxSize) + " pixels per side)");
+  }
+  const rdb::RasterRdb& r = *rdb_;
+  const rdb::RasterVariants& v = r.variants;
+  if ((mode == RenderMode::kLightMap && !v.lightMap) || (mode == RenderMode::kSunlight && !v.sky)) {
+    throw std::invalid_argument(std::string("the scene does not support ") + renderModeName(mode) +
+                                " mode (" +
+                                (mode == RenderMode::kLightMap ? "it has no light maps: bake it first"
+                                                               : "it has neither sky nor sun") +
+                                ")");
+  }
+  resize(widthPx, heightPx);
+  const float aspect = float(widthPx) / float(heightPx);
+  const mat4 clipFromWorld = projection(view, aspect) * glm::inverse(view.worldFromCamera);
+
+  // Only depth is cleared: the background pass fills every pixel the scene leaves empty.
+  glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
+  glViewport(0, 0, GLsizei(widthPx), GLsizei(heightPx));
+#if FLY_EXP_DEPTH == 1
+  glCopyImageSubData(gpu_->clearDepthTex, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->depth, GL_TEXTURE_2D, 0, 0, 0, 0,
+                     GLsizei(widthPx), GLsizei(heightPx), 1);
+#elif FLY_EXP_DEPTH == 2
+  const float one = 1.0f;
+  glClearNamedFramebufferfv(gpu_->floatFbo, GL_DEPTH, 0, &one);
+#else
+  glClearNamedFramebufferfi(gpu_->floatFbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+#endif
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+
+  // The scene, in one draw, with the program of this mode and the scene's features (modes that need the
+  // same variant share it: simple mode and sunlight mode without a sun differ only in uniforms).
+  const bool sunlight = mode == RenderMode::kSunlight;
+  if (gpu_->indexCount > 0) {
+    const bool lightMaps = mode != RenderMode::kSimple && v.lightMap;
+    const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
+    const uint32_t variant = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
+                             (phong && sunlight && v.sun ? kVariantSun : 0u) |
+                             (v.twoSided ? kVariantTwoSided : 0u) | (phong && v.goniometric ? kVariantGonio : 0u);
+    const SceneProgram& p = sceneProgram(variant);
+    glUseProgram(p.program);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glUniformMatrix4fv(p.clipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
+    const vec3 eye(view.worldFromCamera[3]);
+    const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
+    glUniform3fv(p.eye, 1, &eye[0]);
+    glUniform3fv(p.viewDir, 1, &viewDir[0]);
+    glUniform1i(p.orthographic, view.orthographic ? 1 : 0);
+    glUniform1i(p.lightCount, GLint(r.lights.size()));
+    const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
+    glUniform3fv(p.ambientUp, 1, &ambient.upLux[0]);
+    glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
+    if (sunlight && v.sun) {
+      const rdb::RasterSky& s = *r.sky;
+      const double solidAngleSr = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
+      const vec3 sunLux = s.sunRadianceCdM2 * float(solidAngleSr);
+      glUniform3fv(p.sunDir, 1, &s.sunDirWorld[0]);
+      glUniform3fv(p.sunNormalLux, 1, &sunLux[0]);
+    }
+    const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
+    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
+    glBindVertexArray(gpu_->vao);
+    if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
+    if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
+    glDrawElements(GL_TRIANGLES, gpu_->indexCount, GL_UNSIGNED_INT, nullptr);
+  }
+
+  glBindVertexArray(0);
+
+  // The background (black, or in sunlight mode the sky and the sun) where the depth is still clear.
+  const bool sky = sunlight && v.sky;
+  BackgroundProgram& bg = sky ? gpu_->sky : gpu_->background;
+  if (!bg.program) {
+    bg.program = compileProgram(sky ? "sky" : "background", sky ? "#define FLY_SKY\n" : "",
+                                {{GL_COMPUTE_SHADER, shaders::kBackgroundCompute}});
+    auto loc = [&](const char* n) { return glGetUniformLocation(bg.program, n); };
+    bg.worldFromCamera = loc("uWorldFromCamera");
+    bg.tanHalfFov = loc("uTanHalfFov");
+    bg.sunDir = loc("uSunDirWorld");
+    bg.sunRadiance = loc("uSunRadianceCdM2");
+    bg.sunCosHalfAngle = loc("uSunCosHalfAngle");
+  }
+  glUseProgram(bg.program);
+  if (sky) {
+    const mat3 rotation(view.worldFromCamera);
+    glUniformMatrix3fv(bg.worldFromCamera, 1, GL_FALSE, &rotation[0][0]);
+    const float tanY = view.orthographic ? 0.0f : std::tan(0.5f * view.yfovRad);
+    glUniform2f(bg.tanHalfFov, tanY * aspect, tanY);
+    const rdb::RasterSky& s = *r.sky;
+    glUniform3fv(bg.sunDir, 1, &s.sunDirWorld[0]);
+    glUniform3fv(bg.sunRadiance, 1, &s.sunRadianceCdM2[0]);
+    glUniform1f(bg.sunCosHalfAngle, s.hasSun ? std::cos(s.sunHalfAngleRad) : 2.0f);
+    glBindTextureUnit(1, gpu_->skyTexture);
+  }
+  glBindTextureUnit(0, gpu_->depth);
+  glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchPerPixel(widthPx, heightPx);
+  ++stats_.scenePasses;
+}
+
+void Renderer::toneMap(const ToneMapSettings& settings) {
+  if (!gpu_->floatFbo) throw std::logic_error("Renderer::toneMap before render");
+  ToneMapProgram& tone = gpu_->toneMap;
+  if (!tone.program) {
+    tone.program = compileProgram("tonemap", std::string(toneMapGlsl()) + "\n",
+                                  {{GL_COMPUTE_SHADER, shaders::kToneMapCompute}});
+    tone.op = glGetUniformLocation(tone.program, "uOperator");
+    tone.exposureScale = glGetUniformLocation(tone.program, "uExposureScale");
+    tone.whitePoint = glGetUniformLocation(tone.program, "uWhitePoint");
+  }
+  glUseProgram(tone.program);
+  glUniform1i(tone.op, GLint(settings.op));
+  glUniform1f(tone.exposureScale, exposureScale(settings.ev100));
+  glUniform1f(tone.whitePoint, settings.whitePoint);
+  glBindTextureUnit(0, gpu_->floatColor);
+  glBindImageTexture(0, gpu_->srgbColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchPerPixel(width_, height_);
+  ++stats_.toneMapPasses;
+}
+
+void Renderer::present(uint32_t widthPx, uint32_t heightPx) const {
+  if (!gpu_->srgbFbo) throw std::logic_error("Renderer::present before toneMap");
+  const bool sameSize = widthPx == width_ && heightPx == height_;
+  glBlitNamedFramebuffer(gpu_->srgbFbo, 0, 0, 0, GLint(width_), GLint(height_), 0, 0, GLint(widthPx),
+                         GLint(heightPx), GL_COLOR_BUFFER_BIT, sameSize ? GL_NEAREST : GL_LINEAR);
+}
+
+void Renderer::finish() const {
+  glFinish();
+}
+
+std::vector<float> Renderer::luminanceRgb() const {
+  std::vector<float> rgba(size_t(width_) * height_ * 4);
+  glGetTextureImage(gpu_->floatColor, 0, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)),
+                    rgba.data());
+  std::vector<float> rgb(size_t(width_) * height_ * 3);
+  for (uint32_t y = 0; y < height_; ++y) {
+    const float* src = rgba.data() + size_t(height_ - 1 - y) * width_ * 4;  // GL rows start at the bottom
+    float* dst = rgb.data() + size_t(y) * width_ * 3;
+    for (uint32_t x = 0; x < width_; ++x) {
+      for (int c = 0; c < 3; ++c) dst[3 * x + c] = src[4 * x + c];
+    }
+  }
+  return rgb;
+}
+
+std::vector<uint8_t> Renderer::srgb8() const {
+  std::vector<uint8_t> rgba(size_t(width_) * height_ * 4);
+  glGetTextureImage(gpu_->srgbColor, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()), rgba.data());
+  std::vector<uint8_t> rgb(size_t(width_) * height_ * 3);
+  for (uint32_t y = 0; y < height_; ++y) {
+    const uint8_t* src = rgba.data() + size_t(height_ - 1 - y) * width_ * 4;
+    uint8_t* dst = rgb.data() + size_t(y) * width_ * 3;
+    for (uint32_t x = 0; x < width_; ++x) {
+      for (int c = 0; c < 3; ++c) dst[3 * x + c] = src[4 * x + c];
+    }
+  }
+  return rgb;
+}
+
+}  // namespace fly::raster

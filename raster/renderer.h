@@ -1,0 +1,114 @@
+// The OpenGL engine: uploads a RasterRdb and renders a view into a floating-point framebuffer in cd/m², then
+// tone-maps it to sRGB in a last pass (luminance stays linear until then; base/tone_map.h). Modes (the FLY
+// paper, §1, §3, §6):
+//   simple:    per-vertex Phong from the scene's lights plus the directional ambient term (rdb/raster_rdb.h)
+//   lightMap:  per-vertex luminance albedo · E / π from the baked vertex light maps (front or back by facing
+//              on two-sided meshes); meshes without a light map are shaded as in simple mode
+//   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
+//              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
+// Only the shader variants a scene's features call for are compiled, on first use. Needs a current context
+// (raster/gl_context.h) for its whole life.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "base/math.h"
+#include "base/tone_map.h"
+#include "rdb/raster_rdb.h"
+
+namespace fly::raster {
+
+enum class RenderMode { kSimple, kLightMap, kSunlight };
+
+const char* renderModeName(RenderMode m);  // "simple", "lightmap", "sunlight"
+
+// The modes `rdb` supports, best first: light maps (baked), sunlight (a sky or sun), simple (always).
+std::vector<RenderMode> supportedModes(const rdb::RasterRdb& rdb);
+
+// A camera's view of the scene.
+struct View {
+  mat4 worldFromCamera{1.0f};  // rigid; the camera looks down its −Z with +Y up
+  bool orthographic = false;
+  float yfovRad = 0.8726646f;        // perspective: vertical field of view, (0, π)
+  float znearM = 0.05f;              // > 0
+  float zfarM = 1e30f;               // > znear; ≥ 1e30 = infinite
+  float xmagM = 1.0f, ymagM = 1.0f;  // orthographic half extents (xmag is rescaled to the image's aspect)
+};
+
+View viewOfCamera(const rdb::RasterCamera& camera);
+
+// A perspective view (50° vertical) from above and to the side (along +X+Z, 30° up) that shows the whole of
+// `boundsM` in an image of aspect `aspect` (width / height).
+View framingView(const Bounds3& boundsM, float aspect);
+
+// How many times each piece of work ran, so tests can check that only what changed was redone.
+struct RendererStats {
+  int geometryUploads = 0;
+  int materialTableUploads = 0;
+  int materialBlockUploads = 0;
+  int lightUploads = 0;
+  int skyUploads = 0;
+  int scenePasses = 0;  // geometry (and sky) passes into the float framebuffer
+  int toneMapPasses = 0;
+  std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
+};
+
+class Renderer {
+ public:
+  Renderer();  // the context must be current
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Uploads all of `rdb` (kept by reference: it must outlive the renderer or the next upload).
+  void upload(const rdb::RasterRdb& rdb);
+  // Re-uploads what updateRasterRdb re-made.
+  void update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes);
+
+  // Renders `view` in `mode` into the float framebuffer, widthPx × heightPx (1..16384). std::invalid_argument
+  // for a mode the scene does not support (supportedModes) or a bad size.
+  void render(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
+  // The tone-map pass over the last render (no geometry is drawn).
+  void toneMap(const ToneMapSettings& settings);
+
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
+  // The last render: linear RGB luminance in cd/m², 3 floats per pixel, rows from the top.
+  std::vector<float> luminanceRgb() const;
+  // The last tone-map pass: sRGB-encoded RGB8, 3 bytes per pixel, rows from the top.
+  std::vector<uint8_t> srgb8() const;
+  // Copies the last tone-map pass into the default framebuffer (a window's back buffer), scaled to fill
+  // widthPx × heightPx.
+  void present(uint32_t widthPx, uint32_t heightPx) const;
+
+  // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
+  void finish() const;
+
+  const RendererStats& stats() const { return stats_; }
+
+ private:
+  struct Gpu;
+  struct SceneProgram;
+  // Compiles and links one program of (GL shader type, source) stages, each prefixed by `defines`.
+  unsigned compileProgram(const std::string& name, const std::string& defines,
+                          std::initializer_list<std::pair<unsigned, const char*>> stages);
+  const SceneProgram& sceneProgram(uint32_t variant);
+  void uploadGeometry();
+  void uploadMaterials();
+  void uploadLights();
+  void uploadSky();
+  void resize(uint32_t widthPx, uint32_t heightPx);
+
+  std::unique_ptr<Gpu> gpu_;
+  const rdb::RasterRdb* rdb_ = nullptr;
+  uint32_t width_ = 0, height_ = 0;
+  RendererStats stats_;
+};
+
+}  // namespace fly::raster

@@ -1,0 +1,489 @@
+#include "rdb/raster_rdb.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include "base/error.h"
+#include "rdb/trace_rdb_build.h"
+#include "sdb/features.h"
+#include "sdb/scene.h"
+
+namespace fly::rdb {
+
+bool RasterRdb::operator==(const RasterRdb& o) const {
+  auto sameSky = [](const std::optional<RasterSky>& a, const std::optional<RasterSky>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    if (!a) return true;
+    return a->width == b->width && a->height == b->height && a->radianceCdM2 == b->radianceCdM2 &&
+           a->hasSun == b->hasSun && a->sunDirWorld == b->sunDirWorld &&
+           a->sunRadianceCdM2 == b->sunRadianceCdM2 && a->sunHalfAngleRad == b->sunHalfAngleRad;
+  };
+  return positionsM == o.positionsM && normals == o.normals && cornerFactor == o.cornerFactor &&
+         indices == o.indices && meshes == o.meshes && materials == o.materials &&
+         boundsM.min == o.boundsM.min && boundsM.max == o.boundsM.max && frontLux == o.frontLux &&
+         backLux == o.backLux && lights == o.lights && goniometricCd == o.goniometricCd &&
+         ambient == o.ambient && daylightAmbient == o.daylightAmbient && cameras == o.cameras &&
+         sameSky(sky, o.sky) && variants == o.variants;
+}
+
+namespace {
+
+std::optional<vec3> unit(const dvec3& v) {
+  const double len = glm::length(v);
+  if (!(len > 1e-30) || !std::isfinite(len)) return std::nullopt;
+  return vec3(v / len);
+}
+
+RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
+  RasterMaterial r;
+  r.diffuse = m.effective().diffuse;
+  r.specular = glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f));
+  const double alpha = std::max(1e-4, double(m.reflectionGlossiness) * m.reflectionGlossiness);
+  r.phongExponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
+  r.emissionCdM2 = m.emissionLuminance;
+  r.sdbMaterialId = sdbMaterialId;
+  return r;
+}
+
+// Geometry and light maps: every placed (node, mesh) pair, vertices in SDB order.
+void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore* lightMaps) {
+  rdb.positionsM.clear();
+  rdb.normals.clear();
+  rdb.indices.clear();
+  rdb.meshes.clear();
+  rdb.frontLux.clear();
+  rdb.backLux.clear();
+  rdb.boundsM = Bounds3{};
+  std::vector<const MeshLightMap*> maps;
+  scene.forEachNode([&](sdb::NodeId nodeId, const mat4& worldFromLocal) {
+    for (sdb::MeshId meshId : scene.node(nodeId).meshes) {
+      const sdb::Mesh& mesh = scene.mesh(meshId);
+      RasterMesh rm;
+      rm.sdbNodeId = nodeId.value;
+      rm.sdbMeshId = meshId.value;
+      rm.firstVertex = uint32_t(rdb.positionsM.size());
+      rm.vertexCount = uint32_t(mesh.vertexCount());
+      rm.firstIndex = uint32_t(rdb.indices.size());
+      rm.twoSided = mesh.twoSided;
+      for (const vec3& p : mesh.positions) {
+        const vec3 world(worldFromLocal * vec4(p, 1.0f));
+        rdb.positionsM.push_back(world);
+        rdb.boundsM.extend(world);
+      }
+      const vec3* world = rdb.positionsM.data() + rm.firstVertex;
+      std::vector<dvec3> faceNormalSum(mesh.vertexCount(), dvec3(0.0));
+      for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const uint32_t* v = &mesh.indices[3 * t];
+        const dvec3 e1 = dvec3(world[v[1]]) - dvec3(world[v[0]]);
+        const dvec3 e2 = dvec3(world[v[2]]) - dvec3(world[v[0]]);
+        const dvec3 n = glm::cross(e1, e2);
+        if (!(glm::length(n) > 1e-7 * glm::length(e1) * glm::length(e2)))
+          continue;  // zero area (TraceRdb's rule)
+        for (int k = 0; k < 3; ++k) {
+          rdb.indices.push_back(rm.firstVertex + v[k]);
+          faceNormalSum[v[k]] += n;
+        }
+      }
+      rm.indexCount = uint32_t(rdb.indices.size()) - rm.firstIndex;
+      const glm::dmat3 linear(worldFromLocal);
+      const double det = glm::determinant(linear);
+      const glm::dmat3 normalFromLocal = det != 0.0 ? glm::transpose(glm::inverse(linear)) : glm::dmat3(0.0);
+      for (size_t i = 0; i < mesh.vertexCount(); ++i) {
+        std::optional<vec3> n;
+        if (!mesh.normals.empty()) n = unit(normalFromLocal * dvec3(mesh.normals[i]));
+        if (!n) n = unit(faceNormalSum[i]);
+        rdb.normals.push_back(n.value_or(vec3(0.0f, 1.0f, 0.0f)));
+      }
+      const MeshLightMap* map = lightMaps ? lightMaps->find(nodeId.value, meshId.value) : nullptr;
+      if (map) {
+        if (map->frontLux.size() != mesh.vertexCount() ||
+            (!map->backLux.empty() && map->backLux.size() != mesh.vertexCount())) {
+          throw InputError({scene.sourcePath.string()},
+                           "the light map of mesh \"" + mesh.name + "\" has " +
+                               std::to_string(map->frontLux.size()) + " values but the mesh has " +
+                               std::to_string(mesh.vertexCount()) + " vertices",
+                           "bake the scene again: it changed since the light maps were made");
+        }
+        rm.hasLightMap = true;
+      }
+      maps.push_back(map);
+      rdb.meshes.push_back(rm);
+    }
+  });
+  const bool anyMap =
+      std::any_of(maps.begin(), maps.end(), [](const MeshLightMap* m) { return m != nullptr; });
+  bool anyBack = false;
+  for (size_t i = 0; i < maps.size(); ++i)
+    anyBack |= maps[i] && rdb.meshes[i].twoSided && !maps[i]->backLux.empty();
+  if (anyMap) rdb.frontLux.assign(rdb.positionsM.size(), Rgb(0.0f));
+  if (anyBack) rdb.backLux.assign(rdb.positionsM.size(), Rgb(0.0f));
+  for (size_t i = 0; i < maps.size(); ++i) {
+    if (!maps[i]) continue;
+    const RasterMesh& rm = rdb.meshes[i];
+    std::copy(maps[i]->frontLux.begin(), maps[i]->frontLux.end(), rdb.frontLux.begin() + rm.firstVertex);
+    if (anyBack && rm.twoSided) {
+      // A two-sided mesh baked one-sided (no back values) shows its front values on both faces.
+      const std::vector<Rgb>& back = maps[i]->backLux.empty() ? maps[i]->frontLux : maps[i]->backLux;
+      std::copy(back.begin(), back.end(), rdb.backLux.begin() + rm.firstVertex);
+    }
+  }
+}
+
+// The corner factor of the directional ambient term (raster_rdb.h). Points closer than 10⁻⁵ of the scene's
+// diagonal are welded (quantised), so meshes that meet (walls, floor, ceiling) form one corner.
+void buildCornerFactors(RasterRdb& rdb) {
+  const size_t nv = rdb.positionsM.size();
+  rdb.cornerFactor.assign(nv, 0.0f);
+  if (nv == 0) return;
+  const double quantumM = std::max(1e-6, 1e-5 * double(glm::length(rdb.boundsM.size())));
+  struct Key {
+    int64_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return size_t(k.x * 73856093LL) ^ size_t(k.y * 19349663LL) ^ size_t(k.z * 83492791LL);
+    }
+  };
+  auto key = [&](const vec3& p) {
+    return Key{int64_t(std::llround(p.x / quantumM)), int64_t(std::llround(p.y / quantumM)),
+               int64_t(std::llround(p.z / quantumM))};
+  };
+  std::unordered_map<Key, uint32_t, KeyHash> groupOf;
+  std::vector<uint32_t> vertexGroup(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    vertexGroup[v] = groupOf.try_emplace(key(rdb.positionsM[v]), uint32_t(groupOf.size())).first->second;
+  }
+  struct Acc {
+    dvec3 normalSum{0.0};  // Σ wᵢ nᵢ
+    double weight = 0.0;   // Σ wᵢ
+    dvec3 edgeSum{0.0};    // Σ of unit edge directions away from the point
+    dvec3 position{0.0};
+  };
+  std::vector<Acc> acc(groupOf.size());
+  for (size_t t = 0; t + 2 < rdb.indices.size(); t += 3) {
+    const uint32_t* v = &rdb.indices[t];
+    const dvec3 p[3] = {dvec3(rdb.positionsM[v[0]]), dvec3(rdb.positionsM[v[1]]),
+                        dvec3(rdb.positionsM[v[2]])};
+    const std::optional<vec3> n = unit(glm::cross(p[1] - p[0], p[2] - p[0]));
+    if (!n) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::optional<vec3> a = unit(p[(k + 1) % 3] - p[k]);
+      const std::optional<vec3> b = unit(p[(k + 2) % 3] - p[k]);
+      if (!a || !b) continue;
+      const double angle = std::acos(std::clamp(double(glm::dot(*a, *b)), -1.0, 1.0));
+      Acc& g = acc[vertexGroup[v[k]]];
+      g.normalSum += angle * dvec3(*n);
+      g.weight += angle;
+      g.edgeSum += dvec3(*a) + dvec3(*b);
+    }
+  }
+  for (size_t v = 0; v < nv; ++v) {
+    const Acc& g = acc[vertexGroup[v]];
+    if (!(g.weight > 0.0)) continue;
+    const double spread = 1.0 - glm::length(g.normalSum) / g.weight;
+    // Concave: the edges leaving the point rise along the mean normal (a room's corner); convex corners (a
+    // box's outside) get nothing.
+    const bool concave = glm::dot(g.edgeSum, g.normalSum) > 1e-6 * g.weight;
+    rdb.cornerFactor[v] = concave ? float(std::clamp(spread, 0.0, 1.0)) : 0.0f;
+  }
+}
+
+// Material table: index 0 the default material, then the meshes' materials in first-use order.
+void buildMaterials(RasterRdb& rdb, const sdb::Scene& scene) {
+  rdb.materials.clear();
+  rdb.materials.push_back(lowerRasterMaterial(scene.material(sdb::MaterialId{}), 0));
+  std::map<uint32_t, uint32_t> index{{0u, 0u}};
+  for (RasterMesh& rm : rdb.meshes) {
+    const sdb::MaterialId id = scene.mesh(sdb::MeshId{rm.sdbMeshId}).material;
+    const auto [it, added] = index.try_emplace(id.value, uint32_t(rdb.materials.size()));
+    if (added) rdb.materials.push_back(lowerRasterMaterial(scene.material(id), id.value));
+    rm.material = it->second;
+  }
+}
+
+void buildLights(RasterRdb& rdb, const sdb::Scene& scene) {
+  rdb.lights.clear();
+  rdb.goniometricCd.clear();
+  scene.forEachNode([&](sdb::NodeId nodeId, const mat4& worldFromLocal) {
+    const sdb::Node& node = scene.node(nodeId);
+    if (!node.light) return;
+    const sdb::Light& light = scene.light(node.light);
+    RasterLight r;
+    r.sdbLightId = node.light.value;
+    r.positionM = vec3(worldFromLocal[3]);
+    const std::optional<vec3> dir = unit(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
+    const std::optional<vec3> cAxis = dir ? unit(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
+    if (!cAxis) {
+      throw InputError(
+          {scene.sourcePath.string()},
+          "node \"" + node.name + "\" places light \"" + light.name + "\" with a singular transform",
+          "give the node and its parents a non-zero scale");
+    }
+    r.directionWorld = *dir;
+    r.cAxisWorld = *cAxis;
+    r.intensity = light.color * light.intensity;
+    r.rangeM = light.rangeM;
+    switch (light.type) {
+      case sdb::LightType::kPoint:
+        r.type = RasterLightType::kPoint;
+        break;
+      case sdb::LightType::kDirectional:
+        r.type = RasterLightType::kDirectional;
+        break;
+      case sdb::LightType::kSpot:
+        r.type = RasterLightType::kSpot;
+        r.cosInner = std::cos(light.innerConeRad);
+        r.cosOuter = std::cos(light.outerConeRad);
+        break;
+      case sdb::LightType::kGoniometric: {
+        r.type = RasterLightType::kGoniometric;
+        r.goniometricOffset = uint32_t(rdb.goniometricCd.size());
+        const TraceGoniometricTable t =
+            tabulateGoniometric(*light.ies, kRasterGonioGammaSteps, kRasterGonioCSteps);
+        rdb.goniometricCd.insert(rdb.goniometricCd.end(), t.candelaCd.begin(), t.candelaCd.end());
+        break;
+      }
+    }
+    rdb.lights.push_back(r);
+  });
+}
+
+// The goniometric table's intensity towards `toSurface` (unit, light frame in world axes), bilinear; the same
+// lookup as the shader's flyGonioCd.
+float gonioCd(const RasterRdb& rdb, const RasterLight& l, const vec3& toSurface) {
+  const vec3 yAxis = glm::cross(l.directionWorld, l.cAxisWorld);
+  const float cosG = std::clamp(glm::dot(toSurface, l.directionWorld), -1.0f, 1.0f);
+  const float gamma = std::acos(cosG) / kPiF * float(kRasterGonioGammaSteps - 1);
+  float c = std::atan2(glm::dot(toSurface, yAxis), glm::dot(toSurface, l.cAxisWorld)) / (2.0f * kPiF);
+  if (c < 0.0f) c += 1.0f;
+  c *= float(kRasterGonioCSteps);
+  const uint32_t g0 = std::min(uint32_t(gamma), kRasterGonioGammaSteps - 2);
+  const float fg = std::clamp(gamma - float(g0), 0.0f, 1.0f);
+  const uint32_t c0 = std::min(uint32_t(c), kRasterGonioCSteps - 1);
+  const uint32_t c1 = (c0 + 1) % kRasterGonioCSteps;
+  const float fc = std::clamp(c - float(c0), 0.0f, 1.0f);
+  const float* t = rdb.goniometricCd.data() + l.goniometricOffset;
+  auto at = [&](uint32_t ci, uint32_t gi) { return t[ci * kRasterGonioGammaSteps + gi]; };
+  return (1 - fc) * ((1 - fg) * at(c0, g0) + fg * at(c0, g0 + 1)) +
+         fc * ((1 - fg) * at(c1, g0) + fg * at(c1, g0 + 1));
+}
+
+// Unshadowed direct illuminance (lux) from one light at a point with unit normal n (KHR_lights_punctual's
+// falloffs; the renderer's GLSL computes the same).
+Rgb directIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3& p, const vec3& n) {
+  if (l.type == RasterLightType::kDirectional)
+    return l.intensity * std::max(0.0f, -glm::dot(n, l.directionWorld));
+  const vec3 d = l.positionM - p;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 1e-12f)) return Rgb(0.0f);
+  const float dist = std::sqrt(dist2);
+  const vec3 toLight = d / dist;
+  const float cosSurface = std::max(0.0f, glm::dot(n, toLight));
+  float window = 1.0f;
+  if (std::isfinite(l.rangeM)) {
+    const float r = dist / l.rangeM;
+    window = std::max(0.0f, 1.0f - r * r * r * r);
+    window *= window;
+  }
+  float cd = 1.0f;
+  if (l.type == RasterLightType::kSpot) {
+    const float cosAngle = glm::dot(-toLight, l.directionWorld);
+    const float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
+    const float t = std::clamp((cosAngle - l.cosOuter) * scale, 0.0f, 1.0f);
+    cd = t * t;
+  } else if (l.type == RasterLightType::kGoniometric) {
+    cd = gonioCd(rdb, l, -toLight);
+  }
+  return l.intensity * (cd * cosSurface * window / dist2);
+}
+
+// Progressive radiosity's ambient term (raster_rdb.h) for the simple mode.
+void buildAmbient(RasterRdb& rdb) {
+  rdb.ambient = DirectionalAmbient{};
+  if (rdb.lights.empty() || rdb.indices.empty()) return;
+  std::vector<double> vertexArea(rdb.positionsM.size(), 0.0);
+  double areaSum = 0.0, albedoSum = 0.0;
+  for (const RasterMesh& rm : rdb.meshes) {
+    const float albedo = luminance(rdb.materials[rm.material].diffuse);
+    for (uint32_t i = rm.firstIndex; i + 2 < rm.firstIndex + rm.indexCount; i += 3) {
+      const uint32_t* v = &rdb.indices[i];
+      const double a =
+          0.5 * glm::length(glm::cross(dvec3(rdb.positionsM[v[1]]) - dvec3(rdb.positionsM[v[0]]),
+                                       dvec3(rdb.positionsM[v[2]]) - dvec3(rdb.positionsM[v[0]])));
+      for (int k = 0; k < 3; ++k) vertexArea[v[k]] += a / 3.0;
+      areaSum += a;
+      albedoSum += a * albedo;
+    }
+  }
+  if (!(areaSum > 0.0)) return;
+  dvec3 eSum(0.0);
+  for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
+    if (vertexArea[v] == 0.0) continue;
+    Rgb e(0.0f);
+    for (const RasterLight& l : rdb.lights)
+      e += directIlluminanceLux(rdb, l, rdb.positionsM[v], rdb.normals[v]);
+    eSum += vertexArea[v] * dvec3(e);
+  }
+  const double rho = std::min(0.9, albedoSum / areaSum);
+  const Rgb level(eSum / areaSum * (rho / (1.0 - rho)));
+  rdb.ambient.upLux = level;
+  rdb.ambient.downLux = level;
+}
+
+void buildSky(RasterRdb& rdb, const sdb::Scene& scene, const RasterBuildOptions& options) {
+  rdb.sky = buildRasterSky(scene, options.skyWidth, options.skyHeight);
+  rdb.daylightAmbient = DirectionalAmbient{};
+  if (!rdb.sky) return;
+  const RasterSky& s = *rdb.sky;
+  // Horizontal illuminance of the upper hemisphere: Σ L · ∫ cos θ dω over each pixel, exactly
+  // Δφ · (sin²θ₁ − sin²θ₀) / 2 for the rows above the horizon.
+  dvec3 eSky(0.0);
+  const double dPhi = 2.0 * kPi / s.width;
+  for (uint32_t j = 0; j < s.height; ++j) {
+    const double t0 = kPi * j / s.height;
+    const double t1 = std::min(kPi / 2.0, kPi * (j + 1) / s.height);
+    if (t0 >= kPi / 2.0) break;
+    const double w = dPhi * 0.5 * (std::sin(t1) * std::sin(t1) - std::sin(t0) * std::sin(t0));
+    for (uint32_t i = 0; i < s.width; ++i) eSky += w * dvec3(s.radianceCdM2[size_t(j) * s.width + i]);
+  }
+  dvec3 eSunHorizontal(0.0);
+  if (s.hasSun) {
+    const double solidAngle = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
+    eSunHorizontal = dvec3(s.sunRadianceCdM2) * solidAngle * std::max(0.0, double(s.sunDirWorld.y));
+  }
+  rdb.daylightAmbient.upLux = Rgb(eSky);
+  rdb.daylightAmbient.downLux = Rgb(double(kRasterGroundAlbedo) * (eSky + eSunHorizontal));
+}
+
+void buildCameras(RasterRdb& rdb, const sdb::Scene& scene) {
+  rdb.cameras.clear();
+  std::map<uint32_t, RasterCamera> byId;
+  scene.forEachNode([&](sdb::NodeId nodeId, const mat4& worldFromLocal) {
+    const sdb::Node& node = scene.node(nodeId);
+    if (!node.camera || byId.count(node.camera.value)) return;
+    const sdb::Camera& c = scene.camera(node.camera);
+    RasterCamera r;
+    r.name = c.name;
+    r.sdbCameraId = node.camera.value;
+    r.sdbNodeId = nodeId.value;
+    // Rigid part of the placement: orthonormalised axes (a scaled node does not scale the view).
+    const vec3 z = unit(dvec3(worldFromLocal[2])).value_or(vec3(0, 0, 1));
+    const vec3 x = unit(dvec3(glm::cross(vec3(worldFromLocal[1]), z))).value_or(vec3(1, 0, 0));
+    const vec3 y = glm::cross(z, x);
+    r.worldFromCamera = frameTransform(x, y, z, vec3(worldFromLocal[3]));
+    r.projection = c.projection == sdb::Projection::kOrthographic ? RasterProjection::kOrthographic
+                                                                  : RasterProjection::kPerspective;
+    r.yfovRad = c.yfovRad;
+    r.aspectRatio = c.aspectRatio;
+    r.znearM = c.znearM;
+    r.zfarM = c.zfarM;
+    r.xmagM = c.xmagM;
+    r.ymagM = c.ymagM;
+    byId.emplace(r.sdbCameraId, std::move(r));
+  });
+  for (auto& [id, c] : byId) rdb.cameras.push_back(std::move(c));
+}
+
+void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
+  const sdb::SceneFeatures f = sdb::computeFeatures(scene);
+  rdb.variants.lightMap = !rdb.frontLux.empty();
+  rdb.variants.twoSided =
+      std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [](const RasterMesh& m) { return m.twoSided; });
+  rdb.variants.sky = rdb.sky.has_value();
+  rdb.variants.sun = rdb.sky && rdb.sky->hasSun;
+  rdb.variants.goniometric = f.goniometricLights && !rdb.goniometricCd.empty();
+}
+
+void checkOptions(const RasterBuildOptions& o) {
+  if (o.skyWidth < 1 || o.skyHeight < 1 || o.skyWidth > 8192 || o.skyHeight > 8192) {
+    throw std::invalid_argument("buildRasterRdb: sky image size out of range ([1, 8192] pixels per side)");
+  }
+}
+
+}  // namespace
+
+RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps,
+                         const RasterBuildOptions& options) {
+  checkOptions(options);
+  RasterRdb rdb;
+  buildGeometry(rdb, scene, lightMaps);
+  buildCornerFactors(rdb);
+  buildMaterials(rdb, scene);
+  buildLights(rdb, scene);
+  buildAmbient(rdb);
+  buildSky(rdb, scene, options);
+  buildCameras(rdb, scene);
+  buildVariants(rdb, scene);
+  return rdb;
+}
+
+RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const sdb::ChangeSet& changes,
+                                 const LightMapStore* lightMaps, const RasterBuildOptions& options) {
+  checkOptions(options);
+  RasterRdbChanges r;
+  std::vector<uint32_t> editedMaterials;
+  for (const sdb::Change& c : changes.changes) {
+    switch (c.type) {
+      case sdb::EntityType::kNode:
+        r.geometry = true;
+        break;
+      case sdb::EntityType::kMesh:
+        if (c.kind == sdb::ChangeKind::kModified && c.aspect == sdb::Aspect::kMaterialAssignment) {
+          r.materials = true;
+        } else {
+          r.geometry = true;
+        }
+        break;
+      case sdb::EntityType::kMaterial:
+        if (c.kind != sdb::ChangeKind::kAdded)
+          editedMaterials.push_back(c.id);  // an added one is not used yet
+        break;
+      case sdb::EntityType::kLight:
+        r.lights = true;
+        break;
+      case sdb::EntityType::kCamera:
+        r.cameras = true;
+        break;
+      case sdb::EntityType::kSite:
+      case sdb::EntityType::kTime:
+      case sdb::EntityType::kSky:
+        r.sky = true;
+        break;
+      case sdb::EntityType::kTexture:  // the engine shades with material colours only
+      case sdb::EntityType::kBake:
+        break;
+    }
+  }
+  if (r.geometry) {
+    rdb = buildRasterRdb(scene, lightMaps, options);
+    return RasterRdbChanges{true, true, {}, true, true, true, true};
+  }
+  if (r.materials) {
+    buildMaterials(rdb, scene);
+  } else {
+    for (uint32_t id : editedMaterials) {
+      for (uint32_t i = 0; i < rdb.materials.size(); ++i) {
+        if (rdb.materials[i].sdbMaterialId != id) continue;
+        rdb.materials[i] = lowerRasterMaterial(scene.material(sdb::MaterialId{id}), id);
+        r.materialBlocks.push_back(i);
+      }
+    }
+  }
+  if (r.lights) buildLights(rdb, scene);
+  if (r.materials || !r.materialBlocks.empty() || r.lights) {
+    buildAmbient(rdb);
+    r.ambient = true;
+  }
+  if (r.sky) buildSky(rdb, scene, options);
+  if (r.cameras) buildCameras(rdb, scene);
+  if (r.lights || r.sky) buildVariants(rdb, scene);
+  return r;
+}
+
+}  // namespace fly::rdb

@@ -1,0 +1,193 @@
+// The RasterRdb: the scene lowered for the OpenGL engine (DESIGN.md, STYLE.md 2 and 4) as plain, GPU-ready
+// arrays: world-space vertices (one copy per placed (node, mesh) pair, in the SDB mesh's vertex order so the
+// vertex light maps index them directly), material blocks, lights for the simple mode's Phong, cameras, the
+// sky dome, and which shader variants the scene's features call for. World space is glTF's (+Y up, metres);
+// light in linear Rec.709 RGB with photometric luminance. The engine's own layouts (std430 blocks, buffers)
+// stay in raster/.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base/color.h"
+#include "base/math.h"
+#include "rdb/light_map_store.h"
+#include "rdb/raster_sky.h"
+
+namespace fly::sdb {
+class Scene;
+struct ChangeSet;
+}  // namespace fly::sdb
+
+namespace fly::rdb {
+
+// A material block: what the three modes shade with.
+struct RasterMaterial {
+  Rgb diffuse{0.8f};   // Lambertian albedo after the energy rule (sdb::Material::effective()), [0,1]
+  Rgb specular{0.0f};  // reflect input of the energy rule at normal incidence (reflectionAt(1)), [0,1]
+  // Blinn–Phong exponent of the reflection lobe, from the GGX width α = glossiness² by Walter et al. 2007,
+  // eq. 33 (s = 2/α² − 2), clamped to [1, 10⁴].
+  float phongExponent = 1.0f;
+  Rgb emissionCdM2{0.0f};  // emitted luminance, cd/m²
+  uint32_t sdbMaterialId = 0;
+
+  bool operator==(const RasterMaterial&) const = default;
+};
+
+// A placed mesh: contiguous vertex and index ranges in the flat arrays.
+struct RasterMesh {
+  uint32_t sdbNodeId = 0;
+  uint32_t sdbMeshId = 0;
+  uint32_t firstVertex = 0;
+  uint32_t vertexCount = 0;
+  uint32_t firstIndex = 0;  // into RasterRdb::indices
+  uint32_t indexCount = 0;
+  uint32_t material = 0;     // index into RasterRdb::materials
+  bool twoSided = false;     // both faces shaded (a light map has front and back values)
+  bool hasLightMap = false;  // RasterRdb::frontLux (and backLux when two-sided) hold this mesh's values
+
+  bool operator==(const RasterMesh&) const = default;
+};
+
+enum class RasterLightType : uint32_t { kPoint = 0, kSpot = 1, kDirectional = 2, kGoniometric = 3 };
+
+struct RasterLight {
+  RasterLightType type = RasterLightType::kPoint;
+  vec3 positionM{0.0f};           // world (unused for directional)
+  vec3 directionWorld{0, -1, 0};  // unit, where the light points (−Z of its node)
+  vec3 cAxisWorld{1, 0, 0};       // goniometric: unit, the C = 0° half-plane
+  // Point, spot: intensity in cd (colour × intensity); goniometric: colour × multiplier, times the table's
+  // cd; directional: illuminance in lux on a surface facing it.
+  Rgb intensity{0.0f};
+  float rangeM = std::numeric_limits<float>::infinity();  // KHR_lights_punctual window; ∞ = none
+  float cosInner = 1.0f;                                  // spot cone
+  float cosOuter = 0.0f;
+  uint32_t goniometricOffset = 0;  // goniometric: first value in RasterRdb::goniometricCd
+  uint32_t sdbLightId = 0;
+
+  bool operator==(const RasterLight&) const = default;
+};
+
+// Goniometric tables of RasterRdb::goniometricCd: γ from the photometric axis in kGonioGammaSteps steps over
+// [0°, 180°], C in kGonioCSteps steps over [0°, 360°) (rdb::tabulateGoniometric's grid and order).
+inline constexpr uint32_t kRasterGonioGammaSteps = 37;  // 5°
+inline constexpr uint32_t kRasterGonioCSteps = 24;      // 15°
+
+enum class RasterProjection : uint32_t { kPerspective, kOrthographic };
+
+struct RasterCamera {
+  std::string name;
+  uint32_t sdbCameraId = 0;
+  uint32_t sdbNodeId = 0;
+  mat4 worldFromCamera{1.0f};  // the camera looks down its −Z with +Y up; rigid (scale removed)
+  RasterProjection projection = RasterProjection::kPerspective;
+  float yfovRad = 0.8726646f;  // vertical field of view
+  float aspectRatio = 0.0f;    // width / height; 0 = the image's
+  float znearM = 0.05f;
+  float zfarM = std::numeric_limits<float>::infinity();
+  float xmagM = 1.0f, ymagM = 1.0f;  // orthographic half extents
+
+  bool operator==(const RasterCamera&) const = default;
+};
+
+// Which shader variants and passes the scene's features call for (DESIGN.md, "Leave out what a scene does not
+// need"): the engine compiles only these.
+struct RasterVariants {
+  bool lightMap = false;     // some mesh has a light map: light-map mode is possible
+  bool twoSided = false;     // two-sided meshes: the vertex shader's front/back choice
+  bool sky = false;          // a sky dome (sunlight mode's background)
+  bool sun = false;          // a sun disc and the sun as a directional light
+  bool goniometric = false;  // goniometric lights in the simple mode's Phong
+
+  bool operator==(const RasterVariants&) const = default;
+};
+
+// The empirical "directional ambient" term of the FLY paper (§3: it "simulates secondary diffuse illumination
+// by raising the luminance of corner vertices"), which the paper does not define. fly's form, per vertex with
+// world normal n and corner factor c ∈ [0, 1]:
+//   E_ambient = (upLux · (1 + n_y)/2 + downLux · (1 − n_y)/2) · (1 + kCornerGain · c)
+// (1 ± n_y)/2 is the view factor of a tilted plane to the upper / lower hemisphere. c is 1 − |Σ wᵢ nᵢ| / Σ wᵢ
+// over the faces meeting at a concave corner (angle-weighted unit face normals of every mesh touching the
+// point; 0 on a flat surface, 0.29 where two perpendicular faces meet, 0.42 at a room's three-face corner; 0
+// at convex corners). Levels: with daylight (sunlight mode), upLux = the sky's horizontal illuminance and
+// downLux = that of the ground (reflectance kRasterGroundAlbedo, rdb/raster_sky.h) lit by sky and sun; with
+// the scene's lights (simple mode) both are the ambient term of progressive radiosity (Cohen et al. 1988,
+// §4.2): ρ̄/(1 − ρ̄) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct illuminance at the
+// vertices and ρ̄ the area-weighted mean albedo (luminance), capped at 0.9.
+inline constexpr float kCornerGain = 1.0f;
+struct DirectionalAmbient {
+  Rgb upLux{0.0f};
+  Rgb downLux{0.0f};
+
+  bool operator==(const DirectionalAmbient&) const = default;
+};
+
+struct RasterRdb {
+  // Geometry: world positions, unit normals, the corner factor of the directional ambient term, per vertex;
+  // 3 indices per triangle (zero-area triangles left out).
+  std::vector<vec3> positionsM;
+  std::vector<vec3> normals;
+  std::vector<float> cornerFactor;
+  std::vector<uint32_t> indices;
+  std::vector<RasterMesh> meshes;
+  std::vector<RasterMaterial> materials;  // index 0: the default material (SDB id 0), then first use order
+  Bounds3 boundsM;
+
+  // Vertex light maps, irradiance in lux per vertex (aligned with positionsM; 0 for meshes without one).
+  // Empty when no mesh has a light map; backLux empty when no mesh with a light map is two-sided.
+  std::vector<Rgb> frontLux;
+  std::vector<Rgb> backLux;
+
+  std::vector<RasterLight> lights;
+  std::vector<float> goniometricCd;
+  DirectionalAmbient ambient;          // simple mode (the scene's lights)
+  DirectionalAmbient daylightAmbient;  // sunlight mode (sky and sun)
+
+  std::vector<RasterCamera> cameras;  // in id order
+
+  std::optional<RasterSky> sky;  // nullopt when the scene has neither sky nor sun
+
+  RasterVariants variants;
+
+  size_t triangleCount() const { return indices.size() / 3; }
+  bool operator==(const RasterRdb&) const;
+};
+
+// What RasterRdb::update re-made, so the engine re-uploads only that.
+struct RasterRdbChanges {
+  bool geometry = false;   // vertices, indices, meshes, light maps, corner factors: everything below too
+  bool materials = false;  // the whole material table (an assignment changed the table)
+  std::vector<uint32_t> materialBlocks;  // else: these blocks only
+  bool lights = false;                   // lights, goniometric tables
+  bool ambient = false;                  // the directional ambient levels
+  bool cameras = false;
+  bool sky = false;  // sky dome and sun (a new time of day, site or sky)
+
+  bool any() const {
+    return geometry || materials || !materialBlocks.empty() || lights || ambient || cameras || sky;
+  }
+};
+
+struct RasterBuildOptions {
+  uint32_t skyWidth = 256;  // sky dome image, pixels (rdb::buildRasterSky)
+  uint32_t skyHeight = 128;
+};
+
+// Builds the RasterRdb of `scene`, with the vertex light maps of `lightMaps` where it has them (matched by
+// (SDB node id, SDB mesh id); a light map whose vertex count differs from the mesh's is an InputError).
+// Errors: as buildTraceRdb (InputError from the site and weather file).
+RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps = nullptr,
+                         const RasterBuildOptions& options = {});
+
+// Brings `rdb` (built from the scene before `changes`) up to date with `scene`, re-making only what changed:
+// a material edit re-makes that block (and the ambient level), a time, site or sky change re-makes the sky
+// and daylight ambient, a light edit the lights and ambient, a camera edit the cameras; any change of
+// geometry, hierarchy or attachments rebuilds. The result equals buildRasterRdb(scene, lightMaps, options).
+RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const sdb::ChangeSet& changes,
+                                 const LightMapStore* lightMaps = nullptr,
+                                 const RasterBuildOptions& options = {});
+
+}  // namespace fly::rdb

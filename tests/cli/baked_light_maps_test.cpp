@@ -1,0 +1,281 @@
+#include "cli/baked_light_maps.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "base/error.h"
+#include "cli/baked_scene.h"
+#include "raytracer/baker.h"
+#include "raytracer/embree_scene.h"
+#include "rdb/trace_rdb_build.h"
+#include "sdb/scene.h"
+
+namespace fly::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+class BakedLightMapsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    parent_ = fs::temp_directory_path() /
+              ("fly_baked_light_maps_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+               "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(parent_);
+    fs::create_directories(parent_);
+    dir_ = parent_ / "bake";
+  }
+  void TearDown() override { fs::remove_all(parent_); }
+
+  fs::path parent_;
+  fs::path dir_;
+};
+
+sdb::Mesh quad(const vec3& origin, const vec3& u, const vec3& v, bool twoSided) {
+  sdb::Mesh m;
+  m.positions = {origin, origin + u, origin + u + v, origin + v};
+  m.normals.assign(4, glm::normalize(glm::cross(u, v)));
+  m.indices = {0, 1, 2, 0, 2, 3};
+  m.twoSided = twoSided;
+  return m;
+}
+
+// A 0.5 m cube of 8 shared corners with a generated light texture: its charts split the corners at seams, so
+// scene.gltf holds more vertices for it than the SDB mesh has.
+sdb::Mesh cube() {
+  sdb::Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.positions.emplace_back(0.5f * float(i & 1), 0.5f * float((i >> 1) & 1), 0.5f * float(i >> 2) - 1.5f);
+  m.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+               2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  for (const vec3& p : m.positions) m.normals.push_back(glm::normalize(p - vec3(0.25f, 0.25f, -1.25f)));
+  m.lightTexture.enabled = true;
+  m.lightTexture.texelsPerMetre = 8.0f;
+  return m;
+}
+
+struct Baked {
+  sdb::Scene scene;
+  rdb::TraceRdb rdb;
+  raytracer::VertexLightMaps maps;
+};
+
+// A floor, a two-sided wall, a light-textured cube, a mesh of only degenerate triangles and a 100 cd point
+// light, lowered and baked in-process with few samples (the values only need to be what the bake gives).
+Baked bakeTinyScene(const fs::path& dir) {
+  Baked b;
+  sdb::Scene& s = b.scene;
+  const auto place = [&s](const char* name, sdb::Mesh m) {
+    const sdb::MeshId mesh = s.addMesh(std::move(m)).id;
+    s.addNode({.name = name, .meshes = {mesh}});
+  };
+  place("floor", quad({-1, 0, 1}, {2, 0, 0}, {0, 0, -2}, false));
+  place("wall", quad({-1, 0, -1}, {2, 0, 0}, {0, 1, 0}, true));
+  place("cube", cube());
+  sdb::Mesh degenerate = quad({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, false);
+  degenerate.normals.assign(4, vec3(0, 1, 0));
+  place("degenerate", degenerate);
+  sdb::Light light;
+  light.intensity = 100.0f;
+  const sdb::LightId lightId = s.addLight(light).id;
+  s.addNode({.name = "lamp",
+             .parentFromLocal = frameTransform({1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.3f, 1.5f, 0.2f}),
+             .light = lightId});
+
+  b.rdb = rdb::buildTraceRdb(s);
+  const raytracer::EmbreeScene embree(b.rdb);
+  raytracer::BakeSettings settings;
+  settings.estimate.firstPassSamples = 8;
+  settings.estimate.maxSamples = 8;
+  settings.estimate.replicates = 8;
+  settings.estimate.threads = 2;
+  b.maps = raytracer::bakeVertexLightMaps(b.rdb, embree, settings);
+
+  BakeDescription d;
+  d.scenePath = "in-process";
+  d.settings = json::object();
+  d.timingsS = json::object();
+  d.meshNames.assign(b.rdb.meshes.size(), "");
+  d.nodeNames.assign(b.rdb.meshes.size(), "");
+  d.materialNames.assign(b.rdb.materials.size(), "");
+  writeDirectoryAtomic(dir, [&](const fs::path& tmp) { writeBakedScene(tmp, b.rdb, b.maps, d); });
+  return b;
+}
+
+void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStore& expected) {
+  ASSERT_EQ(actual.meshes.size(), expected.meshes.size());
+  for (size_t k = 0; k < expected.meshes.size(); ++k) {
+    const rdb::MeshLightMap& a = actual.meshes[k];
+    const rdb::MeshLightMap& e = expected.meshes[k];
+    EXPECT_EQ(a.sdbNodeId, e.sdbNodeId) << "mesh " << k;
+    EXPECT_EQ(a.sdbMeshId, e.sdbMeshId) << "mesh " << k;
+    EXPECT_TRUE(a.frontLux == e.frontLux) << "mesh " << k << " front";  // bit for bit
+    EXPECT_TRUE(a.backLux == e.backLux) << "mesh " << k << " back";
+  }
+}
+
+json readJson(const fs::path& p) {
+  std::ifstream in(p);
+  return json::parse(in);
+}
+void writeText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+TEST_F(BakedLightMapsTest, ReadBackEqualsTheBakeExactly) {
+  const Baked b = bakeTinyScene(dir_);
+  const rdb::LightMapStore fromBake = lightMapStoreFromBake(b.rdb, b.maps);
+  expectEqualStores(readBakedLightMaps(dir_), fromBake);
+
+  // Floor, wall and cube; the mesh of degenerate triangles has nothing to draw and no light map.
+  ASSERT_EQ(b.rdb.meshes.size(), 4u);
+  EXPECT_EQ(b.rdb.meshes[3].triangleCount, 0u);
+  ASSERT_EQ(fromBake.meshes.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    const rdb::TraceMesh& tm = b.rdb.meshes[k];
+    const rdb::MeshLightMap* m = fromBake.find(tm.sdbNodeId, tm.sdbMeshId);
+    ASSERT_EQ(m, &fromBake.meshes[k]);
+    const sdb::Mesh& sdbMesh = b.scene.mesh(sdb::MeshId{tm.sdbMeshId});
+    ASSERT_EQ(m->frontLux.size(), sdbMesh.vertexCount());
+    EXPECT_EQ(m->backLux.size(), sdbMesh.twoSided ? sdbMesh.vertexCount() : 0u);
+    // TraceMesh vertices are the SDB mesh's, in order (identity node transforms: the same positions).
+    for (size_t v = 0; v < sdbMesh.vertexCount(); ++v)
+      EXPECT_EQ(b.rdb.positionsM[tm.firstVertex + v], sdbMesh.positions[v]);
+  }
+  EXPECT_EQ(fromBake.find(b.rdb.meshes[3].sdbNodeId, b.rdb.meshes[3].sdbMeshId), nullptr);
+  EXPECT_EQ(fromBake.find(b.rdb.meshes[0].sdbNodeId, b.rdb.meshes[1].sdbMeshId), nullptr);
+  // The lamp lights the floor's front and the wall's front (it is in front of the wall), not the floor's
+  // back.
+  EXPECT_GT(luminance(fromBake.meshes[0].frontLux[0]), 0.0f);
+  EXPECT_GT(luminance(fromBake.meshes[1].frontLux[0]), 0.0f);
+  // The cube's seam-split copies follow its 8 vertices in scene.gltf, and are not part of the light map.
+  ASSERT_NE(b.rdb.meshes[2].lightTexture, rdb::TraceMesh::kNoLightTexture);
+  const json gltf = readJson(dir_ / "scene.gltf");
+  const int frontAccessor = gltf["meshes"][2]["primitives"][0]["attributes"]["_IRRADIANCE_FRONT"];
+  EXPECT_GT(gltf["accessors"][size_t(frontAccessor)]["count"].get<int>(), 8);
+}
+
+TEST_F(BakedLightMapsTest, FromBakeRejectsMapsOfAnotherRdb) {
+  const rdb::TraceRdb r;
+  raytracer::VertexLightMaps m;
+  m.frontLux.resize(3);
+  EXPECT_THROW(lightMapStoreFromBake(r, m), std::invalid_argument);
+}
+
+// Each damage must give an InputError whose text names `file` and `detail`.
+void expectInputError(const fs::path& dir, const std::string& file, const std::string& detail) {
+  try {
+    readBakedLightMaps(dir);
+    ADD_FAILURE() << "no error for damage to " << file << " (" << detail << ")";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(file), std::string::npos) << what;
+    EXPECT_NE(what.find(detail), std::string::npos) << what;
+  }
+}
+
+TEST_F(BakedLightMapsTest, DamagedDirectoriesGiveInputErrorsNamingTheFile) {
+  const fs::path good = parent_ / "good";
+  bakeTinyScene(good);
+  const json manifest = readJson(good / "manifest.json");
+  const json gltf = readJson(good / "scene.gltf");
+  const auto damaged = [&](const char* name) {
+    const fs::path d = parent_ / name;
+    fs::copy(good, d, fs::copy_options::recursive);
+    return d;
+  };
+  const auto editManifest = [&](const char* name, auto edit) {
+    const fs::path d = damaged(name);
+    json m = manifest;
+    edit(m);
+    writeText(d / "manifest.json", m.dump());
+    return d;
+  };
+  const auto editGltf = [&](const char* name, auto edit) {
+    const fs::path d = damaged(name);
+    json g = gltf;
+    edit(g);
+    writeText(d / "scene.gltf", g.dump());
+    return d;
+  };
+
+  expectInputError(parent_ / "nowhere", "manifest.json", "");
+  {
+    const fs::path d = damaged("no-gltf");
+    fs::remove(d / "scene.gltf");
+    expectInputError(d, "scene.gltf", "");
+  }
+  {
+    const fs::path d = damaged("garbage-gltf");
+    writeText(d / "scene.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [");
+    expectInputError(d, "scene.gltf", "cannot be loaded");
+  }
+  {
+    const fs::path d = damaged("truncated-bin");
+    fs::resize_file(d / "scene.bin", fs::file_size(d / "scene.bin") / 2);
+    expectInputError(d, "scene.bin", "");
+  }
+  {
+    const fs::path d = damaged("no-bin");
+    fs::remove(d / "scene.bin");
+    expectInputError(d, "scene.bin", "");
+  }
+  {
+    // A NaN in place of the floor's first front irradiance.
+    const fs::path d = damaged("nan");
+    const int accessor = gltf["meshes"][0]["primitives"][0]["attributes"]["_IRRADIANCE_FRONT"];
+    const json& view = gltf["bufferViews"][gltf["accessors"][size_t(accessor)]["bufferView"].get<size_t>()];
+    std::fstream bin(d / "scene.bin", std::ios::in | std::ios::out | std::ios::binary);
+    bin.seekp(std::streamoff(view["byteOffset"].get<size_t>()));
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    bin.write(reinterpret_cast<const char*>(&nan), sizeof nan);
+    bin.close();
+    expectInputError(d, "scene.bin", "not a finite number");
+  }
+  expectInputError(editManifest("more-vertices", [](json& m) { m["objects"][1]["vertices"] = 5000; }),
+                   "scene.gltf", "different bakes");
+  expectInputError(editManifest("bad-mesh", [](json& m) { m["objects"][0]["gltf_mesh"] = 99; }),
+                   "manifest.json", "/objects/0/gltf_mesh");
+  expectInputError(editManifest("no-id", [](json& m) { m["objects"][2].erase("sdb_node_id"); }),
+                   "manifest.json", "/objects/2/sdb_node_id");
+  expectInputError(editManifest("negative-id", [](json& m) { m["objects"][0]["sdb_mesh_id"] = -1; }),
+                   "manifest.json", "/objects/0/sdb_mesh_id");
+  expectInputError(editManifest("no-objects", [](json& m) { m.erase("objects"); }), "manifest.json",
+                   "/objects");
+  expectInputError(editManifest("not-two-sided", [](json& m) { m["objects"][0]["two_sided"] = true; }),
+                   "scene.gltf", "_IRRADIANCE_BACK");
+  expectInputError(editManifest("version", [](json& m) { m["format_version"] = 99; }), "manifest.json",
+                   "format version");
+  // Reading only the first `vertices` values, a longer accessor is fine; a view too short for them is not.
+  const auto frontView = [](json& g, int mesh) -> json& {
+    const int a = g["meshes"][mesh]["primitives"][0]["attributes"]["_IRRADIANCE_FRONT"];
+    return g["bufferViews"][g["accessors"][size_t(a)]["bufferView"].get<size_t>()];
+  };
+  expectInputError(editGltf("short-view", [&](json& g) { frontView(g, 1)["byteLength"] = 12; }), "scene.gltf",
+                   "does not fit in its buffer view");
+  expectInputError(editGltf("view-outside", [&](json& g) { frontView(g, 1)["byteOffset"] = 1 << 30; }),
+                   "scene.bin", "too short for buffer view");
+  expectInputError(editGltf("scalar-accessor",
+                            [](json& g) {
+                              const int a =
+                                  g["meshes"][0]["primitives"][0]["attributes"]["_IRRADIANCE_FRONT"];
+                              g["accessors"][size_t(a)]["type"] = "SCALAR";
+                            }),
+                   "scene.gltf", "VEC3 FLOAT");
+  expectInputError(
+      editGltf("no-front",
+               [](json& g) { g["meshes"][0]["primitives"][0]["attributes"].erase("_IRRADIANCE_FRONT"); }),
+      "scene.gltf", "_IRRADIANCE_FRONT");
+  expectInputError(editGltf("no-meshes", [](json& g) { g.erase("meshes"); }), "manifest.json", "gltf_mesh");
+  // The undamaged copy still reads.
+  EXPECT_EQ(readBakedLightMaps(good).meshes.size(), 3u);
+}
+
+}  // namespace
+}  // namespace fly::cli

@@ -1,0 +1,319 @@
+#include "raster/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "base/log.h"
+#include "base/tone_map.h"
+#include "raster/gl_context.h"
+#include "raster_test_scenes.h"
+#include "rdb/raster_rdb.h"
+#include "sdb/ies.h"
+#include "sdb/scene.h"
+
+namespace fly::raster {
+namespace {
+
+using test::context;
+
+TEST(GlContext, HeadlessIsOpenGl45CoreWithoutADisplay) {
+  const GlInfo& info = context().info();
+  EXPECT_TRUE(info.major > 4 || (info.major == 4 && info.minor >= 5)) << info.major << "." << info.minor;
+  EXPECT_TRUE(info.platform == "egl-device" || info.platform == "egl-surfaceless") << info.platform;
+  EXPECT_FALSE(info.renderer.empty());
+}
+
+TEST(GlContext, GlErrorsReachTheLogThroughKhrDebug) {
+  context();
+  std::vector<std::string> errors;
+  const log::Sink previous = log::setSink([&](log::Level level, std::string_view m) {
+    if (level == log::Level::kError) errors.emplace_back(m);
+  });
+  glBindBuffer(GL_ARRAY_BUFFER, 987654);  // not a buffer name: GL_INVALID_OPERATION
+  log::setSink(previous);
+  ASSERT_EQ(glGetError(), GLenum(GL_INVALID_OPERATION));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors.front().find("OpenGL"), std::string::npos) << errors.front();
+}
+
+// An orthographic camera at z = 5 looking down −Z (front view of quadXY) or at z = −5 looking down +Z (back).
+View orthoView(bool fromBehind) {
+  View v;
+  v.orthographic = true;
+  v.ymagM = 1.0f;  // x half extent = 1 · aspect
+  v.znearM = 0.1f;
+  v.zfarM = 10.0f;
+  v.worldFromCamera = fromBehind
+                          ? frameTransform(vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, 0, -1), vec3(0, 0, -5))
+                          : frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0, 0, 5));
+  return v;
+}
+
+// CPU expectation for quadXY seen through orthoView in a w × h image (aspect 2): Gouraud interpolation of the
+// per-vertex luminances over the triangles (0,1,2), (0,2,3); 0 outside. Pixel centres never lie on the
+// quad's border (it runs along pixel edges).
+std::vector<float> expectedQuad(uint32_t w, uint32_t h, const std::vector<Rgb>& vertexLum, bool fromBehind) {
+  std::vector<float> img(size_t(w) * h * 3, 0.0f);
+  const vec2 p[4] = {{-1, -0.5f}, {1, -0.5f}, {1, 0.5f}, {-1, 0.5f}};
+  const int tris[2][3] = {{0, 1, 2}, {0, 2, 3}};
+  for (uint32_t j = 0; j < h; ++j) {
+    for (uint32_t i = 0; i < w; ++i) {
+      const float sx = -2.0f + 4.0f * (float(i) + 0.5f) / float(w);  // image x in metres, left to right
+      const float y = 1.0f - 2.0f * (float(j) + 0.5f) / float(h);
+      const vec2 q(fromBehind ? -sx : sx, y);
+      for (const auto& t : tris) {
+        const vec2 a = p[t[0]], b = p[t[1]], c = p[t[2]];
+        const float area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        const float wa = ((b.x - q.x) * (c.y - q.y) - (b.y - q.y) * (c.x - q.x)) / area;
+        const float wb = ((c.x - q.x) * (a.y - q.y) - (c.y - q.y) * (a.x - q.x)) / area;
+        const float wc = 1.0f - wa - wb;
+        if (wa < -1e-6f || wb < -1e-6f || wc < -1e-6f) continue;
+        const Rgb l =
+            wa * vertexLum[size_t(t[0])] + wb * vertexLum[size_t(t[1])] + wc * vertexLum[size_t(t[2])];
+        for (int k = 0; k < 3; ++k) img[(size_t(j) * w + i) * 3 + size_t(k)] = l[k];
+        break;
+      }
+    }
+  }
+  return img;
+}
+
+void expectImageNear(const std::vector<float>& actual, const std::vector<float>& expected,
+                     float relTolerance) {
+  ASSERT_EQ(actual.size(), expected.size());
+  size_t bad = 0;
+  for (size_t i = 0; i < actual.size(); ++i) {
+    const float tol = relTolerance * std::max(1.0f, std::abs(expected[i]));
+    if (!(std::abs(actual[i] - expected[i]) <= tol)) {
+      if (++bad <= 5)
+        ADD_FAILURE() << "value " << i << " (pixel " << i / 3 << "): " << actual[i] << " vs " << expected[i];
+    }
+  }
+  EXPECT_EQ(bad, 0u);
+}
+
+struct QuadScene {
+  sdb::Scene scene;
+  sdb::NodeId node;
+  sdb::MeshId mesh;
+  sdb::MaterialId material;
+};
+
+QuadScene quadScene(bool twoSided) {
+  QuadScene q;
+  sdb::Material m;
+  m.name = "paint";
+  m.diffuseColor = Rgb(0.5f, 0.6f, 0.7f);
+  q.material = q.scene.addMaterial(m).id;
+  sdb::Mesh mesh = test::quadXY(q.material);
+  mesh.twoSided = twoSided;
+  q.mesh = q.scene.addMesh(mesh).id;
+  q.node = q.scene.addNode({.name = "quad", .meshes = {q.mesh}}).id;
+  return q;
+}
+
+// Per-vertex irradiance, different in every vertex and channel, lux.
+const std::vector<Rgb> kFrontLux = {{100, 200, 300}, {400, 250, 50}, {1000, 800, 600}, {30, 60, 90}};
+const std::vector<Rgb> kBackLux = {{5, 10, 20}, {40, 30, 20}, {7, 8, 9}, {100, 1, 10}};
+
+std::vector<Rgb> luminanceOf(const std::vector<Rgb>& lux, const Rgb& albedo) {
+  std::vector<Rgb> l;
+  for (const Rgb& e : lux) l.push_back(albedo * e / kPiF);
+  return l;
+}
+
+TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
+  context();
+  QuadScene q = quadScene(false);
+  rdb::LightMapStore store;
+  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  const Rgb albedo(0.5f, 0.6f, 0.7f);
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kFrontLux, albedo), false),
+                  1e-4f);
+  // The back of a one-sided surface shows black.
+  renderer.render(orthoView(true), RenderMode::kLightMap, 64, 32);
+  expectImageNear(renderer.luminanceRgb(), std::vector<float>(64 * 32 * 3, 0.0f), 1e-6f);
+  // Every mesh has a light map and none is two-sided: no Phong, no front/back choice is compiled.
+  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"scene+lightmap", "background"}));
+}
+
+TEST(Renderer, TwoSidedLightMapsPickTheFaceTheCameraSees) {
+  context();
+  QuadScene q = quadScene(true);
+  rdb::LightMapStore store;
+  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, kBackLux});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  ASSERT_TRUE(r.variants.twoSided);
+  Renderer renderer;
+  renderer.upload(r);
+  const Rgb albedo(0.5f, 0.6f, 0.7f);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kFrontLux, albedo), false),
+                  1e-4f);
+  renderer.render(orthoView(true), RenderMode::kLightMap, 64, 32);
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kBackLux, albedo), true), 1e-4f);
+}
+
+// Simple mode, analytic: a directional light of E = 1000 lx falling straight on a matte quad of albedo ρ =
+// 0.5 (grey). The directional ambient level is ρ/(1 − ρ) · Ē = E, so L = ρ/π · (E + E) everywhere on the
+// quad.
+TEST(Renderer, SimpleModeDirectionalLightPlusAmbientOnAMatteQuad) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.5f);
+  m.reflectionColor = Rgb(0.0f);
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  s.addNode({.name = "quad", .meshes = {s.addMesh(test::quadXY(mat)).id}});
+  sdb::Light sun;
+  sun.type = sdb::LightType::kDirectional;
+  sun.intensity = 1000.0f;
+  // The light's node looks down its −Z; place it at +Z looking towards −Z (onto the quad's front).
+  s.addNode({.name = "light", .light = s.addLight(sun).id});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+  ASSERT_EQ(r.lights.size(), 1u);
+  EXPECT_NEAR(r.ambient.upLux.g, 1000.0f, 1e-2f);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+  const float l = 0.5f / kPiF * 2000.0f;
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 1e-4f);
+}
+
+// Simple mode with a goniometric light, analytic: a rotationally symmetric type C profile falling linearly from
+// 1000 cd at nadir to 0 at zenith (I(γ) = 1000 · (1 − γ/180°), exact on the tabulated 5° grid), 2 m in front
+// of the quad's centre and aimed at it. Its four vertices are alike, so L = ρ/π · (E + E) as above, with
+// E = I(γ) cos γ / d², cos γ = 2/d.
+TEST(Renderer, SimpleModeGoniometricLight) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.5f);
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  s.addNode({.name = "quad", .meshes = {s.addMesh(test::quadXY(mat)).id}});
+  auto profile = std::make_shared<sdb::IesProfile>();
+  profile->verticalDeg = {0.0, 90.0, 180.0};
+  profile->horizontalDeg = {0.0};
+  profile->candela = {{1000.0, 500.0, 0.0}};
+  sdb::Light lamp;
+  lamp.type = sdb::LightType::kGoniometric;
+  lamp.ies = profile;
+  lamp.iesPath = "linear.ies";
+  s.addNode({.name = "lamp",
+             .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0, 0, 2)),
+             .light = s.addLight(lamp).id});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+  ASSERT_TRUE(r.variants.goniometric);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+  const double d = std::sqrt(1.0 + 0.25 + 4.0);
+  const double gammaDeg = radToDeg(std::acos(2.0 / d));
+  const double e = 1000.0 * (1.0 - gammaDeg / 180.0) * (2.0 / d) / (d * d);
+  const float l = float(0.5 / kPi * 2.0 * e);
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 1e-4f);
+  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"scene+phong+gonio", "background"}));
+}
+
+TEST(Renderer, ExposureOrOperatorChangesReRunOnlyTheToneMapPass) {
+  context();
+  QuadScene q = quadScene(false);
+  rdb::LightMapStore store;
+  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  const std::vector<float> lum = renderer.luminanceRgb();
+  const std::vector<ToneMapSettings> settings = {{ToneOperator::kLinear, 4.0},
+                                                 {ToneOperator::kLinear, 6.0},
+                                                 {ToneOperator::kReinhard, 4.0, 2.0f},
+                                                 {ToneOperator::kFilmic, 5.0}};
+  std::vector<std::vector<uint8_t>> images;
+  for (const ToneMapSettings& t : settings) {
+    renderer.toneMap(t);
+    images.push_back(renderer.srgb8());
+    // The GPU pass computes what the CPU functions compute (contract A), to 8-bit rounding.
+    int worst = 0;
+    for (size_t i = 0; i < lum.size(); i += 3) {
+      const Rgb display = fly::toneMap(Rgb(lum[i], lum[i + 1], lum[i + 2]), t);
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::abs(int(images.back()[i + size_t(c)]) - int(encodeSrgb8(display[c]))));
+    }
+    EXPECT_LE(worst, 1) << "operator " << int(t.op) << " EV100 " << t.ev100;
+  }
+  EXPECT_EQ(renderer.stats().scenePasses, 1);
+  EXPECT_EQ(renderer.stats().toneMapPasses, 4);
+  EXPECT_EQ(renderer.stats().geometryUploads, 1);
+  EXPECT_NE(images[0], images[1]);
+  EXPECT_NE(images[0], images[2]);
+  EXPECT_NE(images[0], images[3]);
+}
+
+TEST(Renderer, CompilesOnlyTheVariantsTheSceneNeeds) {
+  context();
+  QuadScene q = quadScene(false);
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene);
+  EXPECT_FALSE(r.variants.sky);
+  EXPECT_FALSE(r.variants.lightMap);
+  EXPECT_EQ(supportedModes(r), std::vector<RenderMode>{RenderMode::kSimple});
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSimple, 32, 16);
+  EXPECT_THROW(renderer.render(orthoView(false), RenderMode::kSunlight, 32, 16), std::invalid_argument);
+  EXPECT_THROW(renderer.render(orthoView(false), RenderMode::kLightMap, 32, 16), std::invalid_argument);
+  renderer.toneMap({ToneOperator::kReinhard, 0.0});
+  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"scene+phong", "background", "tonemap"}));
+}
+
+TEST(Renderer, RejectsBadImageSizes) {
+  context();
+  QuadScene q = quadScene(false);
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene);
+  Renderer renderer;
+  renderer.upload(r);
+  EXPECT_THROW(renderer.render(orthoView(false), RenderMode::kSimple, 0, 16), std::invalid_argument);
+  EXPECT_THROW(renderer.render(orthoView(false), RenderMode::kSimple, 16, 20000), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fly::raster
+
+namespace fly::raster {
+namespace {
+
+// The window twin of the headless path: CTest runs this under xvfb-run (tests/CMakeLists.txt,
+// raster.glfw_window); without an X display it has nothing to open.
+TEST(GlfwWindow, OpensA45CoreContextAndRendersLikeHeadless) {
+  if (!std::getenv("DISPLAY"))
+    GTEST_SKIP() << "no X display; CTest's raster.glfw_window runs this under xvfb-run";
+  GlfwWindowContext window(64, 32, "fly test");
+  EXPECT_EQ(window.info().platform, "glfw");
+  EXPECT_TRUE(window.info().major > 4 || (window.info().major == 4 && window.info().minor >= 5));
+  QuadScene q = quadScene(false);
+  rdb::LightMapStore store;
+  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  expectImageNear(renderer.luminanceRgb(),
+                  expectedQuad(64, 32, luminanceOf(kFrontLux, Rgb(0.5f, 0.6f, 0.7f)), false), 1e-4f);
+  window.swapBuffers();
+  window.pollEvents();
+}
+
+}  // namespace
+}  // namespace fly::raster

@@ -1,0 +1,272 @@
+#include "rdb/raster_rdb.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "base/error.h"
+#include "sdb/scene.h"
+
+namespace fly::rdb {
+namespace {
+
+using sdb::Scene;
+
+// A unit quad in the local XZ plane (y = 0), counter-clockwise seen from +Y, normals +Y.
+sdb::Mesh quadXZ(sdb::MaterialId material) {
+  sdb::Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+  m.normals.assign(4, vec3(0, 1, 0));
+  m.indices = {0, 2, 1, 0, 3, 2};
+  m.material = material;
+  return m;
+}
+
+// A unit quad in the local YZ plane (x = 0), counter-clockwise seen from +X, normals +X.
+sdb::Mesh quadYZ(sdb::MaterialId material) {
+  sdb::Mesh m;
+  m.positions = {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};
+  m.normals.assign(4, vec3(1, 0, 0));
+  m.indices = {0, 1, 2, 0, 2, 3};
+  m.material = material;
+  return m;
+}
+
+// A room corner: floor (normal +Y), wall x = 0 (normal +X) and wall z = 0 (normal +Z), each a separate mesh.
+struct Corner {
+  Scene scene;
+  sdb::MaterialId paint, wood;
+  sdb::NodeId floor, wallX, wallZ;
+  sdb::LightId lamp;
+  sdb::CameraId camera;
+};
+
+Corner corner() {
+  Corner c;
+  sdb::Material paint;
+  paint.name = "paint";
+  paint.diffuseColor = Rgb(0.7f);
+  c.paint = c.scene.addMaterial(paint).id;
+  sdb::Material wood;
+  wood.name = "wood";
+  wood.diffuseColor = Rgb(0.4f, 0.25f, 0.1f);
+  wood.reflectionColor = Rgb(1.0f);
+  wood.reflectionGlossiness = 0.3f;
+  c.wood = c.scene.addMaterial(wood).id;
+  c.floor = c.scene.addNode({.name = "floor", .meshes = {c.scene.addMesh(quadXZ(c.wood)).id}}).id;
+  c.wallX = c.scene.addNode({.name = "wallX", .meshes = {c.scene.addMesh(quadYZ(c.paint)).id}}).id;
+  // Wall z = 0: the YZ quad turned −90° about +Y (x → z, z → −x), facing +Z, spanning x ∈ [0, 1].
+  c.wallZ = c.scene
+                .addNode({.name = "wallZ",
+                          .parentFromLocal =
+                              frameTransform(vec3(0, 0, 1), vec3(0, 1, 0), vec3(-1, 0, 0), vec3(1, 0, 0)),
+                          .meshes = {c.scene.addMesh(quadYZ(c.paint)).id}})
+                .id;
+  sdb::Light lamp;
+  lamp.type = sdb::LightType::kPoint;
+  lamp.intensity = 100.0f;
+  c.lamp = c.scene.addLight(lamp).id;
+  c.scene.addNode(
+      {.name = "lamp",
+       .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0.5f, 0.8f, 0.5f)),
+       .light = c.lamp});
+  sdb::Camera cam;
+  cam.name = "view";
+  c.camera = c.scene.addCamera(cam).id;
+  c.scene.addNode({.name = "eye",
+                   .parentFromLocal = sdb::lookAtTransform(vec3(2, 1.5f, 2), vec3(0), vec3(0, 1, 0)),
+                   .camera = c.camera});
+  return c;
+}
+
+// The vertex of the RasterRdb at `p` in mesh `meshIndex`.
+size_t vertexAt(const RasterRdb& r, size_t meshIndex, const vec3& p) {
+  const RasterMesh& m = r.meshes.at(meshIndex);
+  for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) {
+    if (glm::length(r.positionsM[v] - p) < 1e-6f) return v;
+  }
+  ADD_FAILURE() << "no vertex at (" << p.x << ", " << p.y << ", " << p.z << ")";
+  return 0;
+}
+
+TEST(RasterRdbCorners, CornerFactorIsTheSpreadOfTheFaceNormalsAtConcaveCorners) {
+  Corner c = corner();
+  const RasterRdb r = buildRasterRdb(c.scene);
+  ASSERT_EQ(r.meshes.size(), 3u);
+  // Three perpendicular faces: 1 − |(1,1,1)|/3 = 1 − 1/√3; two (an edge): 1 − 1/√2; one: 0.
+  EXPECT_NEAR(r.cornerFactor[vertexAt(r, 0, vec3(0, 0, 0))], 1.0 - 1.0 / std::sqrt(3.0), 1e-6);
+  EXPECT_NEAR(r.cornerFactor[vertexAt(r, 1, vec3(0, 0, 0))], 1.0 - 1.0 / std::sqrt(3.0), 1e-6);
+  EXPECT_NEAR(r.cornerFactor[vertexAt(r, 0, vec3(0, 0, 1))], 1.0 - 1.0 / std::sqrt(2.0), 1e-6);
+  EXPECT_NEAR(r.cornerFactor[vertexAt(r, 2, vec3(1, 0, 0))], 1.0 - 1.0 / std::sqrt(2.0), 1e-6);
+  EXPECT_EQ(r.cornerFactor[vertexAt(r, 0, vec3(1, 0, 1))], 0.0f);
+}
+
+TEST(RasterRdbCorners, ConvexCornersGetNoAmbientRaise) {
+  // The outside of a box: the floor quad and a wall facing away from it (−X) meet at a convex edge.
+  Scene s;
+  s.addNode({.name = "top", .meshes = {s.addMesh(quadXZ({})).id}});
+  sdb::Mesh side = quadYZ({});
+  side.positions = {{0, 0, 0}, {0, 0, 1}, {0, -1, 1}, {0, -1, 0}};
+  side.normals.assign(4, vec3(-1, 0, 0));
+  side.indices = {0, 1, 2, 0, 2, 3};
+  s.addNode({.name = "side", .meshes = {s.addMesh(side).id}});
+  const RasterRdb r = buildRasterRdb(s);
+  for (float f : r.cornerFactor) EXPECT_EQ(f, 0.0f);
+}
+
+TEST(RasterRdbBuild, MaterialsLightsCamerasAndVariants) {
+  Corner c = corner();
+  const RasterRdb r = buildRasterRdb(c.scene);
+  ASSERT_EQ(r.materials.size(), 3u);  // default, wood (first used), paint
+  EXPECT_EQ(r.materials[1].sdbMaterialId, c.wood.value);
+  EXPECT_EQ(r.materials[2].sdbMaterialId, c.paint.value);
+  // Wood: white Fresnel reflection takes F0(1.5) = 4 % first (the energy rule), diffuse 0.96 · 0.4.
+  EXPECT_NEAR(r.materials[1].diffuse.r, 0.96f * 0.4f, 1e-5f);
+  EXPECT_NEAR(r.materials[1].specular.r, 0.04f, 1e-5f);
+  // Glossiness 0.3: α = 0.09, s = 2/α² − 2.
+  EXPECT_NEAR(r.materials[1].phongExponent, 2.0f / (0.09f * 0.09f) - 2.0f, 0.05f);
+  ASSERT_EQ(r.lights.size(), 1u);
+  EXPECT_EQ(r.lights[0].positionM, vec3(0.5f, 0.8f, 0.5f));
+  ASSERT_EQ(r.cameras.size(), 1u);
+  EXPECT_EQ(r.cameras[0].name, "view");
+  EXPECT_FALSE(r.variants.sky);
+  EXPECT_FALSE(r.variants.lightMap);
+  EXPECT_FALSE(r.sky.has_value());
+  // Progressive radiosity's ambient level ρ̄/(1 − ρ̄) · Ē, computed here independently: Ē over the three unit
+  // quads with vertex weights area/3 per triangle, E = I · cos θ / d² from the 100 cd lamp; ρ̄ the mean
+  // albedo.
+  double eSum = 0.0, areaSum = 0.0;
+  for (const RasterMesh& m : r.meshes) {
+    for (uint32_t i = m.firstIndex; i < m.firstIndex + m.indexCount; i += 3) {
+      const dvec3 p0(r.positionsM[r.indices[i]]), p1(r.positionsM[r.indices[i + 1]]),
+          p2(r.positionsM[r.indices[i + 2]]);
+      const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+      areaSum += area;
+      for (const dvec3& p : {p0, p1, p2}) {
+        const dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        const dvec3 d = dvec3(0.5, 0.8, 0.5) - p;
+        eSum += area / 3.0 * 100.0 * std::max(0.0, glm::dot(n, d)) / std::pow(glm::length(d), 3.0);
+      }
+    }
+  }
+  const double rhoWood = luminance(Rgb(0.96f * 0.4f, 0.96f * 0.25f, 0.96f * 0.1f));
+  const double rho = (rhoWood + 2.0 * 0.7) / 3.0;
+  const double level = rho / (1.0 - rho) * eSum / areaSum;
+  EXPECT_NEAR(r.ambient.upLux.r, level, 1e-4 * level);
+  EXPECT_NEAR(r.ambient.downLux.g, level, 1e-4 * level);
+}
+
+TEST(RasterRdbBuild, LightMapsAreMatchedByNodeAndMeshAndChecked) {
+  Corner c = corner();
+  RasterRdb plain = buildRasterRdb(c.scene);
+  LightMapStore store;
+  const RasterMesh& floor = plain.meshes[0];
+  store.meshes.push_back({floor.sdbNodeId, floor.sdbMeshId, std::vector<Rgb>(4, Rgb(100.0f)), {}});
+  const RasterRdb r = buildRasterRdb(c.scene, &store);
+  EXPECT_TRUE(r.meshes[0].hasLightMap);
+  EXPECT_FALSE(r.meshes[1].hasLightMap);
+  EXPECT_TRUE(r.variants.lightMap);
+  ASSERT_EQ(r.frontLux.size(), r.positionsM.size());
+  EXPECT_TRUE(r.backLux.empty());
+  EXPECT_EQ(r.frontLux[0], Rgb(100.0f));
+  EXPECT_EQ(r.frontLux[4], Rgb(0.0f));
+  store.meshes[0].frontLux.pop_back();
+  EXPECT_THROW(buildRasterRdb(c.scene, &store), InputError);
+}
+
+// update == rebuild, and only the named part is re-made.
+void expectUpdateEqualsRebuild(Corner& c, const sdb::ChangeSet& changes, RasterRdb& before,
+                               const LightMapStore* maps = nullptr) {
+  updateRasterRdb(before, c.scene, changes, maps);
+  EXPECT_TRUE(before == buildRasterRdb(c.scene, maps));
+}
+
+TEST(RasterRdbUpdate, MaterialEditReMakesOneBlock) {
+  Corner c = corner();
+  RasterRdb r = buildRasterRdb(c.scene);
+  sdb::Material paint = c.scene.material(c.paint);
+  paint.diffuseColor = Rgb(0.2f, 0.5f, 0.3f);
+  const sdb::ChangeSet cs = c.scene.setMaterial(c.paint, paint);
+  const RasterRdb old = r;
+  const RasterRdbChanges ch = updateRasterRdb(r, c.scene, cs);
+  EXPECT_FALSE(ch.geometry);
+  EXPECT_FALSE(ch.materials);
+  EXPECT_EQ(ch.materialBlocks, std::vector<uint32_t>{2});
+  EXPECT_FALSE(ch.sky);
+  EXPECT_FALSE(ch.lights);
+  EXPECT_TRUE(ch.ambient);  // ρ̄ changed
+  EXPECT_NE(r.materials[2], old.materials[2]);
+  EXPECT_EQ(r.materials[1], old.materials[1]);
+  EXPECT_TRUE(r == buildRasterRdb(c.scene));
+}
+
+TEST(RasterRdbUpdate, EachKindOfChangeEqualsARebuild) {
+  Corner c = corner();
+  RasterRdb r = buildRasterRdb(c.scene);
+  {  // a light
+    sdb::Light lamp = c.scene.light(c.lamp);
+    lamp.color = Rgb(1.0f, 0.5f, 0.2f);
+    expectUpdateEqualsRebuild(c, c.scene.setLight(c.lamp, lamp), r);
+  }
+  {  // a camera
+    sdb::Camera cam = c.scene.camera(c.camera);
+    cam.yfovRad = 1.0f;
+    const sdb::ChangeSet cs = c.scene.setCamera(c.camera, cam);
+    RasterRdb copy = r;
+    const RasterRdbChanges ch = updateRasterRdb(copy, c.scene, cs);
+    EXPECT_TRUE(ch.cameras);
+    EXPECT_FALSE(ch.geometry || ch.materials || ch.lights || ch.sky);
+    expectUpdateEqualsRebuild(c, cs, r);
+  }
+  {  // a mesh's material assignment re-makes the table
+    const sdb::MeshId floorMesh = c.scene.node(c.floor).meshes[0];
+    const sdb::ChangeSet cs = c.scene.setMeshMaterial(floorMesh, c.paint);
+    RasterRdb copy = r;
+    const RasterRdbChanges ch = updateRasterRdb(copy, c.scene, cs);
+    EXPECT_TRUE(ch.materials);
+    EXPECT_FALSE(ch.geometry);
+    expectUpdateEqualsRebuild(c, cs, r);
+    EXPECT_EQ(r.materials.size(), 2u);
+  }
+  {  // a node transform rebuilds the geometry
+    const sdb::ChangeSet cs = c.scene.setNodeTransform(
+        c.wallX, frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0.1f, 0, 0)));
+    RasterRdb copy = r;
+    EXPECT_TRUE(updateRasterRdb(copy, c.scene, cs).geometry);
+    expectUpdateEqualsRebuild(c, cs, r);
+  }
+}
+
+// A new time of day re-makes the sky (dawn and noon differ) and nothing else.
+TEST(RasterRdbUpdate, TimeOfDayReMakesOnlyTheSky) {
+  Corner c = corner();
+  sdb::Site site;
+  site.latitudeDeg = 60.17;
+  site.longitudeDeg = 24.94;
+  site.timeZone = "Europe/Helsinki";
+  c.scene.setSite(site);
+  c.scene.setTime({"2026-06-21T12:00"});
+  sdb::SkySettings sky;
+  sky.model = sdb::SkyModel::kClear;
+  sky.sun = true;
+  c.scene.setSky(sky);
+  RasterRdb r = buildRasterRdb(c.scene);
+  ASSERT_TRUE(r.sky.has_value());
+  EXPECT_TRUE(r.variants.sky);
+  EXPECT_TRUE(r.variants.sun);
+  EXPECT_GT(luminance(r.daylightAmbient.upLux), 1000.0f);
+  const RasterRdb noon = r;
+  const sdb::ChangeSet cs = c.scene.setTime({"2026-06-21T05:00"});
+  const RasterRdbChanges ch = updateRasterRdb(r, c.scene, cs);
+  EXPECT_TRUE(ch.sky);
+  EXPECT_FALSE(ch.geometry || ch.materials || !ch.materialBlocks.empty() || ch.lights || ch.cameras);
+  EXPECT_TRUE(r == buildRasterRdb(c.scene));
+  ASSERT_TRUE(r.sky.has_value());
+  EXPECT_TRUE(r.sky->radianceCdM2 != noon.sky->radianceCdM2);
+  EXPECT_NE(r.sky->sunDirWorld, noon.sky->sunDirWorld);
+  EXPECT_LT(luminance(r.daylightAmbient.upLux), luminance(noon.daylightAmbient.upLux));
+  EXPECT_EQ(r.positionsM, noon.positionsM);
+}
+
+}  // namespace
+}  // namespace fly::rdb
