@@ -21,8 +21,9 @@ constexpr uint32_t kOneRingGroup = 1u << 20;
 // F = u reads 4x³ − 3x = 1 − 2u, and Viète's trigonometric solution (sin 3φ = 3 sin φ − 4 sin³ φ) gives its
 // root in [−1/2, 1/2] as x = sin(asin(2u − 1) / 3). Given b the density is constant on the segment of
 // constant b, so the other two coordinates split 1 − b uniformly.
+// asin(2u − 1) / 3 lies in [−π/6, π/6], where sinCosQuarterPi needs no range reduction.
 float sampleHatBarycentric(float u) {
-  return 0.5f + std::sin(std::asin(2.0f * u - 1.0f) / 3.0f);
+  return 0.5f + sinCosQuarterPi(asinApprox(2.0f * u - 1.0f) / 3.0f).x;
 }
 
 // The baker's points: every vertex with a valid one-ring, on its front, then on its back where its mesh is

@@ -99,6 +99,10 @@ class Bsdf {
   Rgb albedo(float cosO) const;
 
   bool isBlack() const { return !hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  // Diffuse only (no reflection, no transmission): then f = lambertAlbedo() / π, sample() draws cos θ / π,
+  // its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the common case.
+  bool isLambertian() const { return hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  const Rgb& lambertAlbedo() const { return diffuseKd_; }
   // Whether eval() can be non-zero: light sampling is pointless otherwise.
   bool hasNonDelta() const { return hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission(); }
   // Whether non-delta light arrives from below the surface (frosted transmission).

@@ -30,34 +30,17 @@ Distribution1D::Distribution1D(std::span<const float> weights) : func_(weights.b
     running += func_[i];
   }
   cdf_.back() = 1.0f;
-}
-
-Distribution1D::Sample Distribution1D::sampleContinuous(float u) const {
-  const uint32_t i = findBin(u);
-  float x = std::min((static_cast<float>(i) + remap(u, i)) / static_cast<float>(size()), kOneMinusEpsilon);
-  // Rounding can carry x across an edge of bin i; keep it inside, as binOf() sees it, so that its density is
-  // that of bin i (a neighbour's may be 0).
-  while (binOf(x) > i) x = std::nextafter(x, 0.0f);
-  while (binOf(x) < i) x = std::nextafter(x, 1.0f);
-  return {x, func_[i] * pdfScale_, i};
+  invWidth_.resize(func_.size());
+  for (size_t i = 0; i < func_.size(); ++i) {
+    const float width = cdf_[i + 1] - cdf_[i];
+    invWidth_[i] = width > 0.0f ? 1.0f / width : 0.0f;
+  }
+  invSize_ = static_cast<float>(1.0 / n);
 }
 
 Distribution1D::DiscreteSample Distribution1D::sampleDiscrete(float u) const {
   const uint32_t i = findBin(u);
   return {i, func_[i] * pdfScale_ / static_cast<float>(size()), remap(u, i)};
-}
-
-uint32_t Distribution1D::findBin(float u) const {
-  // The largest i < n with cdf[i] ≤ u (cdf[0] = 0 ≤ u), by a binary search whose step is a conditional move
-  // rather than a branch (Khuong & Morin, "Array layouts for comparison-based searching", JEA 22, 2017):
-  // about twice as fast on random u. Then cdf[i+1] > u, so bin i has a probability above 0.
-  const float* first = cdf_.data();
-  for (uint32_t length = size(); length > 1;) {
-    const uint32_t half = length / 2;
-    first = first[half] <= u ? first + half : first;
-    length -= half;
-  }
-  return static_cast<uint32_t>(first - cdf_.data());
 }
 
 namespace {

@@ -32,8 +32,9 @@
 // vertex's shadow rays find through the pane), and the passage is not a reflection (maxBounces). When the
 // TraceRdb has no clear glass, shadow rays are plain occlusion queries.
 //
-// Russian roulette from the second vertex on, with survival probability q = min(1, max component of the
-// path's throughput times the vertex's albedo, relative to the sensor's) and weight 1/q (as pbrt-v4's
+// Russian roulette from the fourth path vertex on (the sensor is the first; earlier it made most of the noise
+// of daylight bakes, integrator.cpp), with survival probability q = min(1, max component of the path's
+// throughput times the vertex's albedo, relative to the sensor's) and weight 1/q (as pbrt-v4's
 // PathIntegrator): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
 // each bounce with probability ρ, so the variance stays bounded even at ρ = 0.99. (A survival probability
 // capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than paths die: infinite
@@ -92,7 +93,8 @@ class Integrator {
 
   // One sample of the irradiance in lux at p (world, metres) on the side of unit normal n. The caller starts
   // the sample (sampler.startSample); this uses 3 groups of dimensions per path vertex from group 0: (sun,
-  // sky), (emitter, continuation), (Russian roulette, punctual light choice, BSDF lobe choice). `rays`
+  // sky), (continuation, emitter), (Russian roulette, BSDF lobe choice, punctual light choice), and computes
+  // only the dimensions it needs (no lobe choice on a Lambertian surface, no emitter without emitters). `rays`
   // grows by the rays traced. Finite and ≥ 0 for finite input. When p lies on a triangle, pass the triangle's
   // EmbreeScene::triangleMagnitudeM as surfaceMagnitudeM so that rays leave it far enough (rayOffsetM); a
   // free sensor needs none.
@@ -126,10 +128,9 @@ class Integrator {
   Rgb visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const;
   // The point of a hit from its barycentrics, more precise than origin + t·d (Wächter & Binder 2019).
   vec3 hitPoint(const Hit& hit) const;
-  // Sky radiance towards world direction d (black below the horizon), and the density per steradian with
-  // which directLight samples d.
-  Rgb skyRadiance(const vec3& d) const;
-  float skyPdf(const vec3& d) const;
+  // The sky table's cell towards world direction d with d.y ≥ 0: an index into rdb.sky.radianceCdM2 and
+  // skyPdfPerSr_.
+  uint32_t skyCell(const vec3& d) const;
   // Density per steradian with which directLight samples the point at distance distM on emissive triangle t,
   // seen at |cos θ_light| = absCosLight.
   float emitterPdf(uint32_t t, float distM, float absCosLight) const;
@@ -138,9 +139,11 @@ class Integrator {
   const EmbreeScene& scene_;
   IntegratorSettings settings_;
   std::optional<Distribution2D> skyDistribution_;      // over (φ / 2π, 1 − μ); none without a sky
+  std::vector<float> skyPdfPerSr_;  // per sky cell: the density per steradian of directLight's sky samples
   std::optional<Distribution1D> emitterDistribution_;  // over rdb.emissiveTriangles; none without emitters
   std::vector<float> emitterPmfOfTriangle_;            // per triangle, 0 when not emissive
   Rgb sunRadianceCdM2_{0.0f};
+  Onb sunFrame_{};  // around the sun's direction
   float sunOneMinusCos_ = 0.0f;
   std::vector<Bsdf> frontBsdfs_;  // per material: front face (either face when double-sided)
   std::vector<Bsdf> backBsdfs_;   // per material: back face (transmission only when one-sided)

@@ -48,6 +48,7 @@ concept Sampler = requires(S s, uint32_t n) {
   s.startGroup(n);                        // continue at dimension 4n
   { s.next1D() } -> std::same_as<float>;  // in [0, 1)
   { s.next2D() } -> std::same_as<vec2>;   // in [0, 1)²
+  s.skip(n);                              // pass over n dimensions of the group, as n next1D() would
 };
 
 // Dimensions per group.
@@ -106,9 +107,12 @@ class SobolSampler {
   // pointSeed identifies the integration point (vertex, texel, sensor); any 64-bit value, e.g. an id.
   explicit SobolSampler(uint64_t pointSeed) : pointHash_(detail::mix64(pointSeed)) {}
 
+  // Group 0 is hashed only when its first dimension is asked for (callers that begin with startGroup()
+  // skip that work): group_ + 1 wraps to 0.
   void startSample(uint32_t sampleIndex) {
-    sampleIndex_ = sampleIndex;
-    startGroup(0);
+    reversedSample_ = detail::reverseBits(sampleIndex);
+    group_ = ~0u;
+    component_ = kGroupDimensions;
   }
 
   void startGroup(uint32_t group) {
@@ -118,7 +122,7 @@ class SobolSampler {
     // The index shuffled by an Owen scramble of its own (Burley 2020), kept bit-reversed (see
     // kSobolNibbles).
     reversedIndex_ =
-        detail::laineKarrasPermutation(detail::reverseBits(sampleIndex_), static_cast<uint32_t>(groupHash));
+        detail::laineKarrasPermutation(reversedSample_, static_cast<uint32_t>(groupHash));
     // A scrambling seed per dimension: both halves of two more hashes.
     const uint64_t a = detail::mix64(groupHash + 1);
     const uint64_t b = detail::mix64(groupHash + 2);
@@ -130,6 +134,9 @@ class SobolSampler {
     if (component_ == kGroupDimensions) startGroup(group_ + 1);
     return coordinate(component_++);
   }
+
+  // Within the group (component + n ≤ 4): a dimension's value does not depend on which were computed.
+  void skip(uint32_t n) { component_ += n; }
 
   vec2 next2D() {
     component_ += component_ & 1u;
@@ -150,7 +157,7 @@ class SobolSampler {
   }
 
   uint64_t pointHash_;
-  uint32_t sampleIndex_ = 0;
+  uint32_t reversedSample_ = 0;  // the sample index, bit-reversed
   uint32_t group_ = 0;
   uint32_t component_ = 0;  // next dimension within the group, 0 … 4
   uint32_t reversedIndex_ = 0;
@@ -188,9 +195,11 @@ class RandomSampler {
  public:
   explicit RandomSampler(uint64_t pointSeed) : pointHash_(detail::mix64(pointSeed)) {}
 
+  // As SobolSampler's: group 0 starts at the first dimension asked for.
   void startSample(uint32_t sampleIndex) {
     sampleIndex_ = sampleIndex;
-    startGroup(0);
+    group_ = ~0u;
+    component_ = kGroupDimensions;
   }
 
   void startGroup(uint32_t group) {
@@ -203,6 +212,10 @@ class RandomSampler {
     if (component_ == kGroupDimensions) startGroup(group_ + 1);
     ++component_;
     return detail::toUnitFloat(rng_.next());
+  }
+
+  void skip(uint32_t n) {
+    for (uint32_t i = 0; i < n; ++i) next1D();
   }
 
   vec2 next2D() {

@@ -36,6 +36,71 @@ inline Onb onb(const vec3& n) {
              n};
 }
 
+// (sin x, cos x) for x ∈ [−π/4, π/4] by the minimax polynomials of Cephes' sinf and cosf (Moshier, "Methods
+// and Programs for Mathematical Functions", 1989): within a float ulp or two. Several times cheaper than
+// libm's sincosf, which must also reduce arbitrary arguments; the warps below call it once per sample.
+inline vec2 sinCosQuarterPi(float x) {
+  const float z = x * x;
+  const float s = x + x * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
+  const float c =
+      1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+  return vec2(s, c);
+}
+
+// (sin 2πu, cos 2πu) for u ∈ [0, 1]: the quadrant q = round(4u), then the series on 2π (u − q/4) ∈
+// [−π/4, π/4] (u − q/4 is exact in float) and a rotation by q quarter turns.
+inline vec2 sinCosTwoPi(float u) {
+  const float q = std::nearbyint(4.0f * u);
+  const vec2 sc = sinCosQuarterPi(2.0f * kPiF * (u - 0.25f * q));
+  switch (static_cast<int>(q) & 3) {
+    case 0:
+      return sc;
+    case 1:
+      return vec2(sc.y, -sc.x);
+    case 2:
+      return vec2(-sc.x, -sc.y);
+    default:
+      return vec2(-sc.y, sc.x);
+  }
+}
+
+// asin y for y ∈ [−1, 1], by Cephes' asinf polynomial (Moshier 1989) on |y| ≤ 1/2 and asin y = π/2 − 2 asin
+// √((1 − y) / 2) above: within a few float ulps, without libm's call.
+inline float asinApprox(float y) {
+  const float a = std::abs(y);
+  const bool large = a > 0.5f;
+  const float x = large ? std::sqrt(0.5f * (1.0f - a)) : a;
+  const float z = x * x;
+  const float p =
+      x + x * z * (1.6666752422e-1f +
+                   z * (7.4953002686e-2f + z * (4.5470025998e-2f + z * (2.4181311049e-2f + z * 4.2163199048e-2f))));
+  return std::copysign(large ? 0.5f * kPiF - 2.0f * p : p, y);
+}
+
+// atan2(y, x) in (−π, π], by Cephes' atanf polynomial (Moshier 1989) after reducing |y/x| or |x/y| to
+// [0, tan(π/8)]: within a few float ulps, without libm's call.
+inline float atan2Approx(float y, float x) {
+  const float ax = std::abs(x);
+  const float ay = std::abs(y);
+  // θ ∈ [0, π/2] for (ax, ay), reduced by the octant.
+  const bool steep = ay > ax;
+  const float num = steep ? ax : ay;
+  const float den = steep ? ay : ax;
+  if (den == 0.0f) return std::atan2(y, x);  // the origin (and signed zeros) as libm has them
+  float t = num / den;                        // [0, 1]
+  float base = 0.0f;
+  if (t > 0.41421356f) {  // tan(π/8): atan t = π/4 + atan((t − 1) / (t + 1))
+    t = (t - 1.0f) / (t + 1.0f);
+    base = 0.25f * kPiF;
+  }
+  const float z = t * t;
+  const float p = -3.33329491539e-1f + z * (1.99777106478e-1f + z * (-1.38776856032e-1f + z * 8.05374449538e-2f));
+  float theta = base + t + t * z * p;
+  if (steep) theta = 0.5f * kPiF - theta;
+  if (x < 0.0f) theta = kPiF - theta;
+  return std::copysign(theta, y);
+}
+
 // 1 − cos θ for an angle θ in radians, as 2 sin²(θ/2): no cancellation for small θ (the sun's half-angle of
 // 0.2665° gives 1.0817·10⁻⁵, which 1 − cos θ in float would get wrong by up to 0.3 %).
 inline float oneMinusCos(float angleRad) {
@@ -50,16 +115,12 @@ inline vec2 sampleConcentricDisk(const vec2& u) {
   const float a = 2.0f * u.x - 1.0f;
   const float b = 2.0f * u.y - 1.0f;
   if (a == 0.0f && b == 0.0f) return vec2(0.0f);
-  float r;
-  float phi;
+  // φ = π/4 · b/a, or π/2 − π/4 · a/b, whose cosine and sine are the sine and cosine of π/4 · a/b.
   if (a * a > b * b) {
-    r = a;
-    phi = 0.25f * kPiF * (b / a);
-  } else {
-    r = b;
-    phi = 0.5f * kPiF - 0.25f * kPiF * (a / b);
+    const vec2 sc = sinCosQuarterPi(0.25f * kPiF * (b / a));
+    return a * vec2(sc.y, sc.x);
   }
-  return r * vec2(std::cos(phi), std::sin(phi));
+  return b * sinCosQuarterPi(0.25f * kPiF * (a / b));
 }
 
 // Per unit area on the unit disk.
@@ -69,8 +130,8 @@ inline constexpr float kUniformDiskPdf = 1.0f / kPiF;
 inline vec3 sampleUniformHemisphere(const vec2& u) {
   const float z = u.x;
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPiF * u.y;
-  return vec3(r * std::cos(phi), r * std::sin(phi), z);
+  const vec2 sc = sinCosTwoPi(u.y);
+  return vec3(r * sc.y, r * sc.x, z);
 }
 
 inline constexpr float kUniformHemispherePdf = 1.0f / (2.0f * kPiF);
@@ -79,8 +140,8 @@ inline constexpr float kUniformHemispherePdf = 1.0f / (2.0f * kPiF);
 inline vec3 sampleUniformSphere(const vec2& u) {
   const float z = 1.0f - 2.0f * u.x;
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPiF * u.y;
-  return vec3(r * std::cos(phi), r * std::sin(phi), z);
+  const vec2 sc = sinCosTwoPi(u.y);
+  return vec3(r * sc.y, r * sc.x, z);
 }
 
 inline constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPiF);
@@ -103,8 +164,8 @@ inline float cosineHemispherePdf(float cosTheta) {
 inline vec3 sampleUniformCone(const vec2& u, float oneMinusCosThetaMax) {
   const float w = u.x * oneMinusCosThetaMax;
   const float sinTheta = std::sqrt(std::max(0.0f, w * (2.0f - w)));
-  const float phi = 2.0f * kPiF * u.y;
-  return vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), 1.0f - w);
+  const vec2 sc = sinCosTwoPi(u.y);
+  return vec3(sinTheta * sc.y, sinTheta * sc.x, 1.0f - w);
 }
 
 // 1 / (2π (1 − cos θmax)) inside the cone: the reciprocal of its solid angle.

@@ -97,6 +97,29 @@ TEST(Bsdf, LambertianAlbedoIsTheDiffuseColour) {
   }
 }
 
+// The integrator's fast path for diffuse-only materials relies on these: eval() is ρ/π at every angle, and
+// sample() draws cos θ / π with weight ρ, whatever uLobe.
+TEST(Bsdf, LambertianFastPathAgreesWithEvalAndSample) {
+  const Rgb diffuse(0.8f, 0.5f, 0.2f);
+  const Bsdf b(material(diffuse, Rgb(0.0f), 0.0f), true);
+  ASSERT_TRUE(b.isLambertian());
+  EXPECT_EQ(b.lambertAlbedo(), diffuse);
+  EXPECT_FALSE(Bsdf(material(diffuse, Rgb(0.04f), 0.0f), true).isLambertian());
+  EXPECT_FALSE(Bsdf(material(diffuse, Rgb(0.0f), 0.0f, Rgb(0.5f), 0.3f), true).isLambertian());
+  EXPECT_FALSE(Bsdf(material(Rgb(0.0f), Rgb(0.0f), 0.0f), true).isLambertian());  // black
+  const vec3 wo = outgoing(0.3f);
+  for (float uLobe : {0.0f, 0.5f, 0.999f}) {
+    Bsdf::Sample s;
+    ASSERT_TRUE(b.sample(wo, uLobe, vec2(0.3f, 0.7f), s));
+    EXPECT_EQ(s.lobe, Bsdf::Lobe::kNonDelta);
+    EXPECT_NEAR(s.pdf, s.wi.z / kPiF, 1e-6f);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(s.weight[c], diffuse[c], 1e-6f);
+      EXPECT_NEAR(b.eval(wo, s.wi)[c], diffuse[c] / kPiF, 1e-7f);
+    }
+  }
+}
+
 // A white Fresnel mirror over diffuse d: R(θ) = F(θ), D(θ) = (1 − F(θ)) (1 − t) d at every angle, and at
 // normal incidence D equals TraceMaterial::diffuse, which holds the rule at normal incidence.
 TEST(Bsdf, MirrorAndDiffuseFollowTheEnergyRuleAtEveryAngle) {

@@ -103,6 +103,25 @@ TEST(Distribution, SamplesAtBinEdgesStayInTheirBin) {
   }
 }
 
+// Distribution2D::sample's cell is the cell that holds its point, row-major, and has the density it reports:
+// the integrator reads the sky's radiance from it.
+TEST(Distribution, SampleReportsTheCellOfItsPoint) {
+  std::vector<float> values(5 * 3);
+  for (size_t i = 0; i < values.size(); ++i) values[i] = i % 4 == 1 ? 0.0f : 1.0f + static_cast<float>(i);
+  const Distribution2D dist(values, 5, 3);
+  for (uint32_t k = 0; k < 64; ++k) {
+    for (uint32_t l = 0; l < 64; ++l) {
+      const vec2 u((static_cast<float>(k) + 0.5f) / 64.0f, (static_cast<float>(l) + 0.5f) / 64.0f);
+      const Distribution2D::Sample s = dist.sample(u);
+      const auto col = static_cast<uint32_t>(s.p.x * 5.0f);
+      const auto row = static_cast<uint32_t>(s.p.y * 3.0f);
+      ASSERT_EQ(s.cell, row * 5 + col) << u.x << " " << u.y;
+      EXPECT_GT(values[s.cell], 0.0f);
+      EXPECT_EQ(dist.pdf(s.p), s.pdf);
+    }
+  }
+}
+
 TEST(Distribution, AllZeroSamplesUniformly) {
   const std::vector<float> zeros(5, 0.0f);
   const Distribution1D dist(zeros);

@@ -258,6 +258,36 @@ TEST(Sampler, RandomValuesDependOnlyOnPointSampleAndDimension) {
   EXPECT_NE(dimension<RandomSampler>(99, 0, 0), dimension<RandomSampler>(99, 0, 4));
 }
 
+// skip(n) passes over dimensions without computing them: what follows is what n next1D() calls would leave.
+// And a sample's group 0, which startSample() no longer hashes up front, is the same whether reached by the
+// first next1D() or by startGroup(0).
+TEST(Sampler, SkipAndLazyGroupZeroKeepEveryDimension) {
+  for (uint32_t i : {0u, 3u, 17u}) {
+    for (uint32_t n = 0; n <= 3; ++n) {
+      SobolSampler sobol(42);
+      sobol.startSample(i);
+      sobol.startGroup(5);
+      sobol.skip(n);
+      EXPECT_EQ(sobol.next1D(), dimension<SobolSampler>(42, i, 20 + n)) << n;
+      RandomSampler random(42);
+      random.startSample(i);
+      random.startGroup(5);
+      random.skip(n);
+      EXPECT_EQ(random.next1D(), dimension<RandomSampler>(42, i, 20 + n)) << n;
+    }
+    SobolSampler lazy(7);
+    SobolSampler eager(7);
+    lazy.startSample(i);
+    eager.startSample(i);
+    eager.startGroup(0);
+    for (uint32_t d = 0; d < 6; ++d) EXPECT_EQ(lazy.next1D(), eager.next1D()) << d;
+    lazy.startSample(i);
+    eager.startSample(i);
+    eager.startGroup(0);
+    EXPECT_EQ(lazy.next2D(), eager.next2D());
+  }
+}
+
 TEST(Sampler, ValuesLieInTheUnitInterval) {
   for (uint64_t seed : kSeeds) {
     SobolSampler sobol(seed);
