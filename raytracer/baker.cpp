@@ -28,7 +28,9 @@ float sampleHatBarycentric(float u) {
 
 // The baker's points: every vertex with a valid one-ring, on its front, then on its back where its mesh is
 // two-sided.
-class OneRingSource final : public SampleSource {
+class OneRingSource final : public SampleSourceOf<OneRingSource> {
+  friend SampleSourceOf<OneRingSource>;
+
  public:
   OneRingSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator)
       : rdb_(rdb), scene_(scene), integrator_(integrator) {
@@ -78,12 +80,6 @@ class OneRingSource final : public SampleSource {
   }
 
   size_t pointCount() const override { return pointVertex_.size(); }
-  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
-    return sampleAt(point, sampler, rays);
-  }
-  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
-    return sampleAt(point, sampler, rays);
-  }
 
   bool hasRing(uint32_t v) const { return ringOffsets_[v + 1] > ringOffsets_[v]; }
   bool isTwoSided(uint32_t v) const { return twoSided_[v]; }
@@ -195,20 +191,16 @@ size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source,
 }
 
 // The vertex sides, then the texels: one set of points for one progressive run.
-class JoinedSource final : public SampleSource {
+class JoinedSource final : public SampleSourceOf<JoinedSource> {
+  friend SampleSourceOf<JoinedSource>;
+
  public:
   JoinedSource(const SampleSource& first, const SampleSource& second) : first_(first), second_(second) {}
   size_t pointCount() const override { return first_.pointCount() + second_.pointCount(); }
-  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
-    return at(point, sampler, rays);
-  }
-  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
-    return at(point, sampler, rays);
-  }
 
  private:
   template <class S>
-  Rgb at(size_t point, S& sampler, uint64_t& rays) const {
+  Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const {
     const size_t n = first_.pointCount();
     return point < n ? first_.sample(point, sampler, rays) : second_.sample(point - n, sampler, rays);
   }

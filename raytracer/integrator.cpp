@@ -495,19 +495,15 @@ template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSample
 namespace {
 
 // estimateIrradiance's sensors.
-class SensorSource final : public SampleSource {
+class SensorSource final : public SampleSourceOf<SensorSource> {
+  friend SampleSourceOf<SensorSource>;
+
  public:
   SensorSource(const Integrator& integrator, std::span<const vec3> points, std::span<const vec3> normals,
                std::span<const float> magnitudesM)
       : integrator_(integrator), points_(points), normals_(normals), magnitudesM_(magnitudesM) {}
 
   size_t pointCount() const override { return points_.size(); }
-  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
-    return sampleAt(point, sampler, rays);
-  }
-  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
-    return sampleAt(point, sampler, rays);
-  }
 
  private:
   template <class S>

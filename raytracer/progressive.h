@@ -66,6 +66,20 @@ class SampleSource {
   virtual Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
 };
 
+// A SampleSource whose two overloads are one template: Derived provides
+// `template <class S> Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const` (public, or with this
+// class as a friend), so both samplers compute the same function by construction.
+template <class Derived>
+class SampleSourceOf : public SampleSource {
+ public:
+  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const final {
+    return static_cast<const Derived&>(*this).sampleAt(point, sampler, rays);
+  }
+  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const final {
+    return static_cast<const Derived&>(*this).sampleAt(point, sampler, rays);
+  }
+};
+
 // Called after every pass (from the calling thread) with the estimates so far (seconds: since the start) and
 // the pass's rays and seconds; return false to stop after it.
 using PassCallback = std::function<bool(const EstimateResult& soFar, uint64_t passRays, double passSeconds)>;

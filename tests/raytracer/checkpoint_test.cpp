@@ -20,20 +20,16 @@ namespace {
 
 // A point's samples: a smooth function of the sampler's first 2D pair and the point index, different per
 // channel, so that every sum and every replicate differs.
-class SmoothSource final : public SampleSource {
+class SmoothSource final : public SampleSourceOf<SmoothSource> {
+  friend SampleSourceOf<SmoothSource>;
+
  public:
   explicit SmoothSource(size_t points) : points_(points) {}
   size_t pointCount() const override { return points_; }
-  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override {
-    return at(point, sampler, rays);
-  }
-  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override {
-    return at(point, sampler, rays);
-  }
 
  private:
   template <class S>
-  Rgb at(size_t point, S& sampler, uint64_t& rays) const {
+  Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const {
     sampler.startGroup(0);
     const vec2 u = sampler.next2D();
     ++rays;
