@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "base/log.h"
 #include "rdb/lightmap_uv.h"
+#include "rdb/placed_mesh.h"
 #include "rdb/site_lowering.h"
 
 namespace fly::rdb {
@@ -79,12 +80,6 @@ TraceSky tabulateSky(const sunsky::Sky& sky, const sunsky::SiteFrame& frame, uin
 namespace {
 
 // Unit vector along `v`, or nullopt when it has no direction (zero, denormal or not finite).
-std::optional<vec3> unit(const dvec3& v) {
-  const double len = glm::length(v);
-  if (!(len > 1e-30) || !std::isfinite(len)) return std::nullopt;
-  return vec3(v / len);
-}
-
 class Builder {
  public:
   Builder(const sdb::Scene& scene, const TraceBuildOptions& options) : scene_(scene), options_(options) {
@@ -121,45 +116,19 @@ class Builder {
     tm.firstTriangle = uint32_t(rdb_.triangleCount());
     tm.twoSided = mesh.twoSided;
 
-    for (const vec3& p : mesh.positions) {
-      const vec3 world(worldFromLocal * vec4(p, 1.0f));
-      rdb_.positionsM.push_back(world);
-      rdb_.boundsM.extend(world);
+    const PlacedMesh placed = placeMesh(mesh, worldFromLocal);
+    for (const vec3& p : placed.positionsM) {
+      rdb_.positionsM.push_back(p);
+      rdb_.boundsM.extend(p);
     }
-    const vec3* world = rdb_.positionsM.data() + tm.firstVertex;
-
-    // Per-vertex sum of the adjacent faces' area-weighted normals, for vertices without a usable normal.
-    std::vector<dvec3> faceNormalSum(mesh.vertexCount(), dvec3(0.0));
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-      const uint32_t* v = &mesh.indices[3 * t];
-      const dvec3 e1 = dvec3(world[v[1]]) - dvec3(world[v[0]]);
-      const dvec3 e2 = dvec3(world[v[2]]) - dvec3(world[v[0]]);
-      const dvec3 n = glm::cross(e1, e2);  // length = twice the area
-      // Zero area, up to the rounding of float positions: the edges are parallel within ~float epsilon.
-      if (!(glm::length(n) > 1e-7 * glm::length(e1) * glm::length(e2))) {
-        ++rdb_.skippedTriangles;
-        continue;
-      }
+    rdb_.normals.insert(rdb_.normals.end(), placed.normals.begin(), placed.normals.end());
+    rdb_.skippedTriangles += placed.skippedTriangles;
+    for (size_t k = 0; k < placed.sdbTriangle.size(); ++k) {
       if (emissive) rdb_.emissiveTriangles.push_back(uint32_t(rdb_.triangleCount()));
-      for (int k = 0; k < 3; ++k) {
-        rdb_.indices.push_back(tm.firstVertex + v[k]);
-        faceNormalSum[v[k]] += n;
-      }
+      for (size_t c = 0; c < 3; ++c) rdb_.indices.push_back(tm.firstVertex + placed.indices[3 * k + c]);
       rdb_.triangleMaterial.push_back(material);
     }
     tm.triangleCount = uint32_t(rdb_.triangleCount()) - tm.firstTriangle;
-
-    // Normals transform by the inverse transpose (a singular transform leaves only the face normals).
-    const glm::dmat3 linear(worldFromLocal);
-    const double det = glm::determinant(linear);
-    const glm::dmat3 normalFromLocal = det != 0.0 ? glm::transpose(glm::inverse(linear)) : glm::dmat3(0.0);
-    for (size_t i = 0; i < mesh.vertexCount(); ++i) {
-      std::optional<vec3> n;
-      if (!mesh.normals.empty()) n = unit(normalFromLocal * dvec3(mesh.normals[i]));
-      if (!n) n = unit(faceNormalSum[i]);
-      // A vertex of no triangle with area has no surface to face; +Y (up) keeps the array unit-length.
-      rdb_.normals.push_back(n.value_or(vec3(0.0f, 1.0f, 0.0f)));
-    }
     addLightTexture(mesh, tm);
     rdb_.meshes.push_back(tm);
   }
@@ -177,7 +146,7 @@ class Builder {
     }
     double area = 0.0;
     for (const dvec3& n : faceNormals) area += 0.5 * glm::length(n);
-    const std::optional<vec3> mean = unit(sum);
+    const std::optional<vec3> mean = unitOrNone(sum);
     const double cosMax = std::cos(degToRad(double(options_.autoLightTextureMaxAngleDeg)));
     bool flat = mean.has_value();
     for (const dvec3& n : faceNormals) flat = flat && glm::dot(n, dvec3(*mean)) >= cosMax * glm::length(n);
@@ -253,9 +222,9 @@ class Builder {
     TracePunctualLight t;
     t.sdbLightId = node.light.value;
     t.positionM = vec3(worldFromLocal[3]);
-    const std::optional<vec3> dir = unit(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    const std::optional<vec3> dir = unitOrNone(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
     const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
-    const std::optional<vec3> cAxis = dir ? unit(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
+    const std::optional<vec3> cAxis = dir ? unitOrNone(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
     if (!cAxis) {
       throw InputError({scene_.sourcePath.string()},
                        "node \"" + node.name + "\" places light \"" + light.name + "\" with a singular transform",

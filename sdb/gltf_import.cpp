@@ -58,6 +58,8 @@
 
 #include <tiny_gltf.h>
 
+#include "sdb/gltf_files.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -151,37 +153,6 @@ uint32_t readU32(const std::string& bytes, size_t offset) {
   return v;
 }
 
-// --- File access for tinygltf. tinygltf looks for a relative URI in the glTF file's folder and then in the
-// current directory; glTF resolves URIs against the file's own location only (glTF 2.0, "URIs"), so files
-// outside that folder's tree are reported as missing rather than silently taken from wherever the program
-// runs.
-struct FsContext {
-  std::string baseDir;  // absolute folder of the glTF file, ending in '/'
-};
-
-bool fsFileExists(const std::string& path, void* user) {
-  const auto* ctx = static_cast<const FsContext*>(user);
-  std::error_code ec;
-  return path.rfind(ctx->baseDir, 0) == 0 && fs::is_regular_file(path, ec);
-}
-
-std::string fsExpandFilePath(const std::string& path, void*) {
-  return path;
-}
-
-bool fsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *err = std::strerror(errno);
-    return false;
-  }
-  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) {
-    *err = "read error";
-    return false;
-  }
-  return true;
-}
 
 // Keeps an image's encoded bytes instead of decoding them while tinygltf parses. Images are decoded later,
 // only when a material uses them, after their buffer view has been checked against its buffer: tinygltf hands
@@ -259,9 +230,9 @@ class Importer {
     if (bytes.size() > UINT_MAX) fail("", "the file is larger than 4 GiB, which tinygltf cannot read");
     std::error_code ec;
     baseDir_ = fs::absolute(file_, ec).parent_path();
-    FsContext fsContext{baseDir_.string() + "/"};
+    const GltfFolderFiles files(baseDir_);
     tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, nullptr, &fsContext});
+    loader.SetFsCallbacks(files.callbacks());
     loader.SetImageLoader(&keepEncodedImage, nullptr);
 
     std::string err;

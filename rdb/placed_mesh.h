@@ -1,0 +1,32 @@
+// An SDB mesh placed in world space by its node, lowered the same way for both RDBs (TraceRdb and RasterRdb
+// must agree vertex for vertex and triangle for triangle: the light maps of one are shown by the other).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "base/math.h"
+#include "sdb/mesh.h"
+
+namespace fly::rdb {
+
+struct PlacedMesh {
+  std::vector<vec3> positionsM;  // the mesh's vertices in SDB order, world space
+  // Unit normals per vertex: the mesh's own, transformed by the inverse transpose of worldFromLocal; where
+  // there is none or it is degenerate (or the transform is singular), the normalised sum of the adjacent
+  // kept faces' area-weighted normals; for a vertex of no kept triangle, +Y (up).
+  std::vector<vec3> normals;
+  // The triangles of non-zero area, in SDB order: local vertex indices, 3 each, and the SDB triangle each
+  // came from. Zero area is decided up to the rounding of float positions: |e1 × e2| ≤ 1e-7 |e1| |e2|.
+  std::vector<uint32_t> indices;
+  std::vector<uint32_t> sdbTriangle;
+  size_t skippedTriangles = 0;
+};
+
+PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal);
+
+// v / |v| in float, or nullopt for a zero, tiny or non-finite v.
+std::optional<vec3> unitOrNone(const dvec3& v);
+
+}  // namespace fly::rdb
