@@ -1,12 +1,12 @@
 // fly-bench-raster: frames per second of the OpenGL engine in each mode, as a ratio against a baseline
 // measured in the same run, the same way (DESIGN.md, "Performance figures"; results in docs/benchmarks.md):
-// the empty frame, i.e. clearing the float framebuffer and running the tone-map pass over it, which every
-// frame also pays.
+// the empty frame, i.e. clearing depth, filling the float image with the (black) background and running the
+// tone-map pass over it, which every frame also pays.
 //
 // Scenes: a 40 m square ground of 2·n² triangles with a 4 × 4 array of 1 m boxes, sized to 100k, 300k and 1M
 // triangles; a 400 cd lamp; Helsinki at 2026-06-21 15:00 with a clear sky and the sun; synthetic vertex light
-// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so ../shared/gpu/pack.sh can carry
-// it to a GPU machine.
+// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so ../shared/gpu/pack.sh can
+// carry it to a GPU machine.
 //
 // A frame is Renderer::render (clear, scene, sky) + Renderer::toneMap into the sRGB8 target; nothing is read
 // back. After 3 untimed frames (they compile the programs), each scene and mode is timed three ways:
@@ -19,7 +19,8 @@
 //              (what the application and the driver cost the CPU; excludes the fence waits).
 //   GPU        a separate pipelined loop (≥ 0.5 s) with a GL_TIME_ELAPSED query around the render call
 //              ("scene") and one around the toneMap call ("tone"); the mean over its frames. Only where the
-//              queries are meaningful: not on Mesa's llvmpipe/softpipe (BUILD-NOTES.md), where "-" is printed.
+//              queries are meaningful: not on Mesa's llvmpipe/softpipe (BUILD-NOTES.md), where "-" is
+//              printed.
 //   finish     latency: glFinish after every frame, wall-clock per frame (≥ 0.5 s, ≥ 3 frames); the way the
 //              first version of this benchmark timed frames, kept for comparison.
 // "mean L" is the mean luminance (cd/m²) of the last frame's float image, to compare devices' output.
@@ -253,9 +254,9 @@ void printRow(const char* triangles, const char* mode, const FrameTimes& t, doub
     std::snprintf(scene, sizeof scene, "%.3f", t.gpuSceneMs);
     std::snprintf(tone, sizeof tone, "%.3f", t.gpuToneMs);
   }
-  std::printf("%-9s %-9s %9.1f %9.3f %7.2f %9s %8s %8.3f %9.3f %11.4g\n", triangles, mode, 1e3 / t.pipelinedMs,
-              t.pipelinedMs, t.pipelinedMs / baselineMs, scene, tone, t.cpuMs, t.finishMs,
-              t.meanLuminanceCdM2);
+  std::printf("%-9s %-9s %9.1f %9.3f %7.2f %9s %8s %8.3f %9.3f %11.4g\n", triangles, mode,
+              1e3 / t.pipelinedMs, t.pipelinedMs, t.pipelinedMs / baselineMs, scene, tone, t.cpuMs,
+              t.finishMs, t.meanLuminanceCdM2);
   std::fflush(stdout);
 }
 
@@ -279,14 +280,16 @@ int run(int argc, char** argv) {
   std::printf("fly-bench-raster: OpenGL %d.%d, %s, %s (%s), GL_VERSION %s, %u×%u\n", info.major, info.minor,
               info.vendor.c_str(), info.renderer.c_str(), info.platform.c_str(),
               reinterpret_cast<const char*>(glGetString(GL_VERSION)), w, h);
-  std::printf("pipelined: ≤ 2 frames in flight; GPU: GL_TIME_ELAPSED%s; finish: glFinish after every frame\n\n",
-              gpuTimers ? "" : " (not meaningful on this renderer: not measured)");
+  std::printf(
+      "pipelined: ≤ 2 frames in flight; GPU: GL_TIME_ELAPSED%s; finish: glFinish after every frame\n\n",
+      gpuTimers ? "" : " (not meaningful on this renderer: not measured)");
   std::printf("%-9s %-9s %9s %9s %7s %9s %8s %8s %9s %11s\n", "", "", "pipelined", "", "", "GPU ms", "",
               "CPU", "finish", "");
-  std::printf("%-9s %-9s %9s %9s %7s %9s %8s %8s %9s %11s\n", "triangles", "mode", "fps", "ms/frame", "× base",
-              "scene", "tone", "ms", "ms/frame", "mean L cd/m²");
+  // %8s for "× base": × takes 2 bytes in UTF-8.
+  std::printf("%-9s %-9s %9s %9s %8s %9s %8s %8s %9s %11s\n", "triangles", "mode", "fps", "ms/frame",
+              "× base", "scene", "tone", "ms", "ms/frame", "mean L cd/m²");
 
-  // Baseline: the empty frame (clear + tone map) of a scene with no triangles.
+  // Baseline: the empty frame (depth clear, background, tone map) of a scene with no triangles.
   sdb::Scene empty;
   const rdb::RasterRdb emptyRdb = rdb::buildRasterRdb(empty);
   Renderer baselineRenderer;

@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -14,7 +15,9 @@
 
 #include "base/error.h"
 #include "base/file_io.h"
+#include "base/image_io.h"
 #include "cli/baked_scene.h"
+#include "sdb/gltf_files.h"
 
 namespace fly::cli {
 
@@ -26,35 +29,6 @@ namespace {
 constexpr const char* kHintRebake =
     "the baked scene is damaged or incomplete: bake the scene again with fly bake";
 
-// --- File access for tinygltf: a relative URI resolves in the glTF file's folder only (glTF 2.0, "URIs"),
-// never in the current directory, and paths are taken as they are (no shell-style expansion).
-struct FolderContext {
-  std::string folder;  // ending in '/'
-};
-
-bool fileExists(const std::string& path, void* user) {
-  const auto* ctx = static_cast<const FolderContext*>(user);
-  std::error_code ec;
-  return path.rfind(ctx->folder, 0) == 0 && fs::is_regular_file(path, ec);
-}
-
-std::string expandFilePath(const std::string& path, void*) {
-  return path;
-}
-
-bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *err = path + ": " + std::strerror(errno);
-    return false;
-  }
-  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) {
-    *err = path + ": read error";
-    return false;
-  }
-  return true;
-}
 
 tinygltf::Model loadSceneGltf(const fs::path& gltfPath) {
   const std::string text = readInputFile(gltfPath, "baked scene glTF");
@@ -63,9 +37,9 @@ tinygltf::Model loadSceneGltf(const fs::path& gltfPath) {
   }
   std::error_code ec;
   const fs::path folder = fs::absolute(gltfPath, ec).parent_path();
-  FolderContext ctx{folder.string() + "/"};
+  const sdb::GltfFolderFiles files(folder);
   tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, nullptr, &ctx});
+  loader.SetFsCallbacks(files.callbacks());
   tinygltf::Model model;
   std::string err, warn;
   if (!loader.LoadASCIIFromString(&model, &err, &warn, text.data(), static_cast<unsigned int>(text.size()),
@@ -88,9 +62,17 @@ uint32_t manifestUint(const json& object, const char* key, const fs::path& manif
   return it->get<uint32_t>();
 }
 
-// Reads the first `count` values of a VEC3 FLOAT accessor of `model`, checked against its buffer.
-std::vector<Rgb> readIrradiance(const tinygltf::Model& model, int accessor, size_t count, const fs::path& dir,
-                                const std::string& what) {
+// The first `count` elements of an accessor of `model`, checked against its buffer: where they start and the
+// bytes from one to the next. `type` and `componentType` are the only ones accepted (not normalised, not
+// sparse); `typeName` names them in the message.
+struct AccessorBytes {
+  const unsigned char* base = nullptr;
+  size_t stride = 0;
+  fs::path bufferFile;  // the file that holds them, for messages
+};
+AccessorBytes checkedAccessor(const tinygltf::Model& model, int accessor, size_t count, int type,
+                              int componentType, const char* typeName, const fs::path& dir,
+                              const std::string& what) {
   const fs::path gltfPath = dir / "scene.gltf";
   const std::string path = "/accessors/" + std::to_string(accessor);
   if (accessor < 0 || size_t(accessor) >= model.accessors.size()) {
@@ -98,16 +80,15 @@ std::vector<Rgb> readIrradiance(const tinygltf::Model& model, int accessor, size
                      kHintRebake);
   }
   const tinygltf::Accessor& a = model.accessors[size_t(accessor)];
-  if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.normalized ||
-      a.sparse.isSparse) {
-    throw InputError({gltfPath.string(), 0, 0, path}, what + " is not a plain VEC3 FLOAT accessor",
+  if (a.type != type || a.componentType != componentType || a.normalized || a.sparse.isSparse) {
+    throw InputError({gltfPath.string(), 0, 0, path}, what + " is not a plain " + typeName + " accessor",
                      kHintRebake);
   }
   if (a.count < count) {
     throw InputError(
         {gltfPath.string(), 0, 0, path + "/count"},
         what + " has " + std::to_string(a.count) + " values, but manifest.json lists " +
-            std::to_string(count) + " vertices",
+            std::to_string(count) + (type == TINYGLTF_TYPE_SCALAR ? "" : " vertices"),
         "manifest.json and scene.gltf are from different bakes: bake the scene again with fly bake");
   }
   if (a.bufferView < 0 || size_t(a.bufferView) >= model.bufferViews.size()) {
@@ -120,36 +101,143 @@ std::vector<Rgb> readIrradiance(const tinygltf::Model& model, int accessor, size
                      what + "'s buffer view refers to a missing buffer", kHintRebake);
   }
   const tinygltf::Buffer& buffer = model.buffers[size_t(view.buffer)];
-  const fs::path bufferFile = buffer.uri.empty() ? gltfPath : dir / buffer.uri;
-  const size_t element = 3 * sizeof(float);
-  const size_t stride = view.byteStride == 0 ? element : view.byteStride;
+  AccessorBytes r;
+  r.bufferFile = buffer.uri.empty() ? gltfPath : dir / buffer.uri;
+  const size_t element = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(componentType))) *
+                         size_t(tinygltf::GetNumComponentsInType(uint32_t(type)));
+  r.stride = view.byteStride == 0 ? element : view.byteStride;
   // Bytes the first `count` elements need, within the view and the view within the buffer; every size here
   // comes from a JSON number, so guard the arithmetic against overflow.
-  const bool fitsView = count == 0 || (stride >= element && a.byteOffset <= view.byteLength &&
+  const bool fitsView = count == 0 || (r.stride >= element && a.byteOffset <= view.byteLength &&
                                        view.byteLength - a.byteOffset >= element &&
-                                       (count - 1) <= (view.byteLength - a.byteOffset - element) / stride);
+                                       (count - 1) <= (view.byteLength - a.byteOffset - element) / r.stride);
   const bool viewFitsBuffer =
       view.byteOffset <= buffer.data.size() && view.byteLength <= buffer.data.size() - view.byteOffset;
   if (!viewFitsBuffer) {
-    throw InputError({bufferFile.string()},
+    throw InputError({r.bufferFile.string()},
                      "is too short for buffer view " + std::to_string(a.bufferView) + " of scene.gltf",
                      kHintRebake);
   }
   if (!fitsView) {
     throw InputError({gltfPath.string(), 0, 0, path}, what + " does not fit in its buffer view", kHintRebake);
   }
+  r.base = buffer.data.data() + view.byteOffset + a.byteOffset;
+  return r;
+}
+
+// Reads the first `count` values of a VEC3 FLOAT accessor of `model`, checked against its buffer.
+std::vector<Rgb> readIrradiance(const tinygltf::Model& model, int accessor, size_t count, const fs::path& dir,
+                                const std::string& what) {
+  const AccessorBytes bytes = checkedAccessor(model, accessor, count, TINYGLTF_TYPE_VEC3,
+                                              TINYGLTF_COMPONENT_TYPE_FLOAT, "VEC3 FLOAT", dir, what);
   std::vector<Rgb> values(count);
-  const unsigned char* base = buffer.data.data() + view.byteOffset + a.byteOffset;
   for (size_t v = 0; v < count; ++v) {
-    std::memcpy(&values[v], base + v * stride, element);
+    std::memcpy(&values[v], bytes.base + v * bytes.stride, sizeof(Rgb));
     if (!isFinite(values[v])) {
       throw InputError(
-          {bufferFile.string()},
+          {bytes.bufferFile.string()},
           "holds a value that is not a finite number in " + what + ", vertex " + std::to_string(v),
           kHintRebake);
     }
   }
   return values;
+}
+
+// The light-map UV of every triangle corner of a light-textured baked mesh: TEXCOORD_1 of the vertex each
+// index of its primitives names (writeBakedScene: one primitive per material; an SDB mesh has one material,
+// so the primitive's triangles are the mesh's triangles with area, in order). `triangles` is the manifest's
+// count.
+std::vector<vec2> readCornerUvs(const tinygltf::Model& model, uint32_t meshIndex, size_t triangles,
+                                const fs::path& dir) {
+  const fs::path gltfPath = dir / "scene.gltf";
+  const tinygltf::Mesh& mesh = model.meshes[meshIndex];
+  const std::string meshPath = "/meshes/" + std::to_string(meshIndex);
+  const std::string what = "mesh " + std::to_string(meshIndex) + "'s TEXCOORD_1";
+  const auto uvAttribute = mesh.primitives[0].attributes.find("TEXCOORD_1");
+  if (uvAttribute == mesh.primitives[0].attributes.end()) {
+    throw InputError({gltfPath.string(), 0, 0, meshPath + "/primitives/0/attributes"},
+                     "has no TEXCOORD_1 attribute, but manifest.json gives the mesh a light texture",
+                     kHintRebake);
+  }
+  const int uvAccessor = uvAttribute->second;
+  const size_t uvCount = uvAccessor >= 0 && size_t(uvAccessor) < model.accessors.size()
+                             ? model.accessors[size_t(uvAccessor)].count
+                             : 0;
+  const AccessorBytes uvBytes = checkedAccessor(model, uvAccessor, uvCount, TINYGLTF_TYPE_VEC2,
+                                                TINYGLTF_COMPONENT_TYPE_FLOAT, "VEC2 FLOAT", dir, what);
+  std::vector<vec2> corners;
+  for (size_t k = 0; k < mesh.primitives.size(); ++k) {
+    const tinygltf::Primitive& primitive = mesh.primitives[k];
+    const std::string primitivePath = meshPath + "/primitives/" + std::to_string(k);
+    if (primitive.mode != TINYGLTF_MODE_TRIANGLES || primitive.indices < 0 ||
+        size_t(primitive.indices) >= model.accessors.size()) {
+      throw InputError({gltfPath.string(), 0, 0, primitivePath}, "is not an indexed triangle list",
+                       kHintRebake);
+    }
+    const size_t count = model.accessors[size_t(primitive.indices)].count;
+    const std::string indicesWhat = "mesh " + std::to_string(meshIndex) + "'s indices";
+    const AccessorBytes indexBytes =
+        checkedAccessor(model, primitive.indices, count, TINYGLTF_TYPE_SCALAR,
+                        TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, "SCALAR UNSIGNED_INT", dir, indicesWhat);
+    for (size_t c = 0; c < count; ++c) {
+      uint32_t vertex = 0;
+      std::memcpy(&vertex, indexBytes.base + c * indexBytes.stride, sizeof vertex);
+      if (vertex >= uvCount) {
+        throw InputError({gltfPath.string(), 0, 0, primitivePath + "/indices"},
+                         "index " + std::to_string(vertex) + " is beyond the mesh's " +
+                             std::to_string(uvCount) + " vertices",
+                         kHintRebake);
+      }
+      vec2 uv;
+      std::memcpy(&uv, uvBytes.base + vertex * uvBytes.stride, sizeof uv);
+      if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
+        throw InputError(
+            {uvBytes.bufferFile.string()},
+            "holds a value that is not a finite number in " + what + ", vertex " + std::to_string(vertex),
+            kHintRebake);
+      }
+      corners.push_back(uv);
+    }
+  }
+  if (corners.size() != 3 * triangles) {
+    throw InputError(
+        {gltfPath.string(), 0, 0, meshPath},
+        "has " + std::to_string(corners.size()) + " triangle corners, but manifest.json lists " +
+            std::to_string(triangles) + " triangles",
+        "manifest.json and scene.gltf are from different bakes: bake the scene again with fly bake");
+  }
+  return corners;
+}
+
+// One side of a light texture: the EXR file `relative` (manifest.json's entry at `at`) of width × height
+// texels, finite (readExr checks), as Rgb values row-major from the top row.
+std::vector<Rgb> readLightTextureSide(const fs::path& dir, const json& entry, const char* side,
+                                      uint32_t width, uint32_t height, const std::string& at) {
+  const fs::path manifestPath = dir / "manifest.json";
+  const auto file = entry.find(side);
+  if (file == entry.end() || !file->is_string() || file->get<std::string>().empty()) {
+    throw InputError({manifestPath.string(), 0, 0, at + "/" + side},
+                     std::string("needs \"") + side + "\", the path of the light texture's EXR file",
+                     kHintRebake);
+  }
+  const fs::path relative = file->get<std::string>();
+  if (relative.is_absolute() ||
+      std::any_of(relative.begin(), relative.end(), [](const fs::path& part) { return part == ".."; })) {
+    throw InputError({manifestPath.string(), 0, 0, at + "/" + side},
+                     "names " + relative.string() + ", which is outside the baked directory", kHintRebake);
+  }
+  const fs::path path = dir / relative;
+  const ImageRgbF image = readExr(path);  // InputError naming the file: missing, corrupt, NaN or Inf
+  if (image.width != int(width) || image.height != int(height)) {
+    throw InputError({path.string()},
+                     "is " + std::to_string(image.width) + "×" + std::to_string(image.height) +
+                         " texels, but manifest.json gives the light texture " + std::to_string(width) + "×" +
+                         std::to_string(height),
+                     kHintRebake);
+  }
+  std::vector<Rgb> texels(size_t(width) * height);
+  std::memcpy(texels.data(), image.rgb.data(), texels.size() * sizeof(Rgb));
+  return texels;
 }
 
 }  // namespace
@@ -170,6 +258,17 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
     if (m.twoSided) {
       const auto back = maps.backLux.begin() + m.firstVertex;
       map.backLux.assign(back, back + m.vertexCount);
+    }
+    if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
+      const rdb::TraceLightTexture& lt = rdb.lightTextures.at(m.lightTexture);
+      const raytracer::LightTexture& baked = maps.lightTextures.at(m.lightTexture);
+      if (baked.width != lt.width || baked.height != lt.height ||
+          baked.frontLux.size() != size_t(lt.width) * lt.height ||
+          lt.cornerUv.size() != 3 * size_t(m.triangleCount)) {
+        throw std::invalid_argument("lightMapStoreFromBake: a light texture does not match its mesh");
+      }
+      map.lightTexture = rdb::MeshLightTexture{lt.width, lt.height, baked.frontLux,
+                                               m.twoSided ? baked.backLux : std::vector<Rgb>{}, lt.cornerUv};
     }
     store.meshes.push_back(std::move(map));
   }
@@ -229,6 +328,29 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
       }
       (back ? map.backLux : map.frontLux) = readIrradiance(
           model, attribute->second, vertices, bakedDir, "mesh " + std::to_string(meshIndex) + "'s " + name);
+    }
+    const auto texture = o.find("light_texture");
+    if (texture != o.end()) {
+      const std::string textureAt = at + "/light_texture";
+      if (!texture->is_object()) {
+        throw InputError({manifestPath.string(), 0, 0, textureAt}, "is not an object", kHintRebake);
+      }
+      rdb::MeshLightTexture t;
+      t.width = manifestUint(*texture, "width", manifestPath, textureAt);
+      t.height = manifestUint(*texture, "height", manifestPath, textureAt);
+      if (t.width < 1 || t.height < 1 || uint64_t(t.width) * t.height > (uint64_t(1) << 28)) {
+        throw InputError({manifestPath.string(), 0, 0, textureAt},
+                         "gives the light texture " + std::to_string(t.width) + "×" +
+                             std::to_string(t.height) +
+                             " texels (each side must be ≥ 1, at most 2^28 texels in all)",
+                         kHintRebake);
+      }
+      t.frontLux = readLightTextureSide(bakedDir, *texture, "front", t.width, t.height, textureAt);
+      if (twoSided->get<bool>()) {
+        t.backLux = readLightTextureSide(bakedDir, *texture, "back", t.width, t.height, textureAt);
+      }
+      t.cornerUv = readCornerUvs(model, meshIndex, manifestUint(o, "triangles", manifestPath, at), bakedDir);
+      map.lightTexture = std::move(t);
     }
     store.meshes.push_back(std::move(map));
   }

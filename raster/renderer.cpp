@@ -113,7 +113,8 @@ enum VariantBit : uint32_t {
   kVariantSun = 1u << 2,
   kVariantTwoSided = 1u << 3,
   kVariantGonio = 1u << 4,
-  kVariantCount = 1u << 5,
+  kVariantLightTexture = 1u << 5,
+  kVariantCount = 1u << 6,
 };
 
 // Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
@@ -125,6 +126,16 @@ struct ToneMapProgram {
   GLuint program = 0;
   GLint op = -1, exposureScale = -1, whitePoint = -1;
 };
+
+// A light texture's place in the array texture (kSceneFragment's LightRect): rect = x, y, width, height in
+// texels of the layer; layer = the layer's index, 1 / layer width, 1 / layer height.
+struct GpuLightRect {
+  vec4 rect, layer;
+};
+// aLightSlot of kSceneVertex: the slot of the mesh's front light texture, kLightSlotHasBack when the back's
+// follows it; kNoLightSlot for a mesh without one.
+constexpr uint32_t kNoLightSlot = 0xffffffffu;
+constexpr uint32_t kLightSlotHasBack = 0x80000000u;
 
 // aSurface of kSceneVertex: bits 0–29 the material's index, bit 30 two-sided, bit 31 has a light map.
 uint32_t surfaceBits(const rdb::RasterMesh& m) {
@@ -143,11 +154,18 @@ void storeBuffer(GLuint& buffer, const std::vector<T>& data, GLbitfield flags = 
 
 // Runs the bound compute program (8 × 8 work groups, kBackgroundCompute, kToneMapCompute) over every pixel,
 // then makes its image stores visible to what reads them next: texture fetches (the tone-map pass),
-// framebuffer access (the next frame, present) and read-backs (luminanceRgb, srgb8).
+// framebuffer access (the scene drawn over the background, present) and read-backs (luminanceRgb, srgb8).
 void dispatchPerPixel(uint32_t widthPx, uint32_t heightPx) {
   glDispatchCompute((widthPx + 7) / 8, (heightPx + 7) / 8, 1);
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                  GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                  GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+// shaders::kLuminanceEncoding's flyDecodeLuminance on the CPU: a pixel's two words → linear RGB in cd/m².
+void decodeLuminance(uint32_t x, uint32_t y, float* rgb) {
+  const uint32_t q[3] = {x & 0x7ffffu, (x >> 19) | ((y & 0x3fu) << 13), (y >> 6) & 0x7ffffu};
+  const int exponent = int(y >> 25) - 64;
+  for (int c = 0; c < 3; ++c) rgb[c] = std::ldexp(float(q[c]), exponent - 19);
 }
 
 }  // namespace
@@ -163,25 +181,30 @@ struct Renderer::Gpu {
   GLuint positions = 0, normals = 0, corners = 0, surfaces = 0, frontLux = 0, backLux = 0, indices = 0;
   GLuint materials = 0, lights = 0, gonio = 0;
   GLuint skyTexture = 0;
-  GLuint floatFbo = 0, floatColor = 0, depth = 0;  // depth: a texture, read by the background pass
-  GLuint clearDepthTex = 0;
+  // Light textures (uploadLightTextures): per vertex the light-map UV and the slot; the slots' rectangles;
+  // every slot's texels in one RGBA32F array texture.
+  GLuint lightMapUv = 0, lightSlots = 0, lightRects = 0, lightTextures = 0;
+  GLuint floatFbo = 0, floatColor = 0, depth = 0;
   GLuint srgbFbo = 0, srgbColor = 0;
   SceneProgram scene[kVariantCount];
   BackgroundProgram background, sky;
   ToneMapProgram toneMap;
-  GLint maxImageSizePx = 0;     // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
-  GLsizei indexCount = 0;       // of the whole scene (every mesh's indices, in one draw)
+  GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
+  GLsizei indexCount = 0;    // of the whole scene (every mesh's indices, in one draw)
   bool everyMeshLightMapped = false;
 
   ~Gpu() {
-    const GLuint buffers[] = {positions, normals, corners, surfaces, frontLux,
-                              backLux,   indices, materials, lights, gonio};
+    const GLuint buffers[] = {positions, normals, corners,   surfaces, frontLux,
+                              backLux,   indices, materials, lights,   gonio};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteVertexArrays(1, &vao);
     glDeleteTextures(1, &skyTexture);
+    const GLuint lightBuffers[] = {lightMapUv, lightSlots, lightRects};
+    glDeleteBuffers(GLsizei(std::size(lightBuffers)), lightBuffers);
+    glDeleteTextures(1, &lightTextures);
     glDeleteTextures(1, &floatColor);
     glDeleteTextures(1, &srgbColor);
-    glDeleteTextures(1, &depth);
+    glDeleteRenderbuffers(1, &depth);
     glDeleteFramebuffers(1, &floatFbo);
     glDeleteFramebuffers(1, &srgbFbo);
     for (const SceneProgram& p : scene) glDeleteProgram(p.program);
@@ -236,8 +259,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   if (sp.program) return sp;
   std::string name = "scene";
   std::string defines = "#define FLY_CORNER_GAIN " + std::to_string(rdb::kCornerGain) + "\n" +
-                        "#define FLY_GONIO_GAMMA_STEPS " + std::to_string(rdb::kRasterGonioGammaSteps) + "\n" +
-                        "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n";
+                        "#define FLY_GONIO_GAMMA_STEPS " + std::to_string(rdb::kRasterGonioGammaSteps) +
+                        "\n" + "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n";
   const struct {
     uint32_t bit;
     const char* tag;
@@ -246,15 +269,16 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantPhong, "phong", "FLY_PHONG"},
                    {kVariantSun, "sun", "FLY_SUN"},
                    {kVariantTwoSided, "twosided", "FLY_TWO_SIDED"},
-                   {kVariantGonio, "gonio", "FLY_GONIO"}};
+                   {kVariantGonio, "gonio", "FLY_GONIO"},
+                   {kVariantLightTexture, "lighttexture", "FLY_LIGHT_TEXTURE"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
-  const GLuint p = compileProgram(name, defines,
-                                 {{GL_VERTEX_SHADER, shaders::kSceneVertex},
-                                  {GL_FRAGMENT_SHADER, shaders::kSceneFragment}});
+  const std::string fragment = std::string(shaders::kLuminanceEncoding) + shaders::kSceneFragment;
+  const GLuint p = compileProgram(
+      name, defines, {{GL_VERTEX_SHADER, shaders::kSceneVertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
   sp.clipFromWorld = loc("uClipFromWorld");
   sp.eye = loc("uEyeM");
@@ -328,9 +352,103 @@ void Renderer::uploadGeometry() {
   glVertexArrayElementBuffer(vao, gpu_->indices);
   // The meshes' index ranges follow each other (rdb/raster_rdb.h), so one draw covers them all.
   gpu_->indexCount = GLsizei(r.indices.size());
-  gpu_->everyMeshLightMapped = std::all_of(r.meshes.begin(), r.meshes.end(),
-                                           [](const rdb::RasterMesh& m) { return m.hasLightMap; });
+  gpu_->everyMeshLightMapped =
+      std::all_of(r.meshes.begin(), r.meshes.end(), [](const rdb::RasterMesh& m) { return m.hasLightMap; });
+  uploadLightTextures();
   ++stats_.geometryUploads;
+}
+
+// The light textures of rdb::RasterRdb::lightTextures, front then (when baked) back of each, are "slots",
+// shelf-packed in order into the layers of one GL_TEXTURE_2D_ARRAY as large as the largest texture (one draw
+// samples them all). Per slot a GpuLightRect; per vertex aLightMapUv and aLightSlot (kSceneVertex).
+void Renderer::uploadLightTextures() {
+  const rdb::RasterRdb& r = *rdb_;
+  glDeleteTextures(1, &gpu_->lightTextures);
+  gpu_->lightTextures = 0;
+  if (r.lightTextures.empty()) {
+    glDisableVertexArrayAttrib(gpu_->vao, 6);
+    glDisableVertexArrayAttrib(gpu_->vao, 7);
+    return;
+  }
+  struct Slot {
+    const std::vector<Rgb>* texels;
+    uint32_t width, height;
+  };
+  std::vector<Slot> slots;
+  std::vector<uint32_t> firstSlot;  // per light texture
+  uint32_t layerW = 1, layerH = 1;
+  for (const rdb::RasterLightTexture& t : r.lightTextures) {
+    firstSlot.push_back(uint32_t(slots.size()));
+    slots.push_back({&t.frontLux, t.width, t.height});
+    if (!t.backLux.empty()) slots.push_back({&t.backLux, t.width, t.height});
+    layerW = std::max(layerW, t.width);
+    layerH = std::max(layerH, t.height);
+  }
+  GLint maxSizePx = 0, maxLayers = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSizePx);
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  if (layerW > uint32_t(maxSizePx) || layerH > uint32_t(maxSizePx)) {
+    throw std::runtime_error("a light texture of " + std::to_string(layerW) + "×" + std::to_string(layerH) +
+                             " texels exceeds the OpenGL driver's limit of " + std::to_string(maxSizePx) +
+                             " per side: bake with a lower light-texture density");
+  }
+  // Shelves: left to right, a new shelf below the tallest so far when a row is full, a new layer when the
+  // layer is full. Every slot fits into an empty layer.
+  std::vector<GpuLightRect> rects;
+  uint32_t x = 0, y = 0, shelfH = 0, layer = 0;
+  for (const Slot& s : slots) {
+    if (x + s.width > layerW) {
+      x = 0;
+      y += shelfH;
+      shelfH = 0;
+    }
+    if (y + s.height > layerH) {
+      x = y = shelfH = 0;
+      ++layer;
+    }
+    rects.push_back({vec4(float(x), float(y), float(s.width), float(s.height)),
+                     vec4(float(layer), 1.0f / float(layerW), 1.0f / float(layerH), 0.0f)});
+    x += s.width;
+    shelfH = std::max(shelfH, s.height);
+  }
+  if (layer + 1 > uint32_t(maxLayers)) {
+    throw std::runtime_error("the light textures need " + std::to_string(layer + 1) +
+                             " layers, more than the OpenGL driver's " + std::to_string(maxLayers));
+  }
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &gpu_->lightTextures);
+  glTextureStorage3D(gpu_->lightTextures, 1, GL_RGBA32F, GLsizei(layerW), GLsizei(layerH),
+                     GLsizei(layer + 1));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (size_t k = 0; k < slots.size(); ++k) {
+    // Row 0 (v ∈ [0, 1/height)) goes first, at t = 0: the shader samples at t = v.
+    glTextureSubImage3D(gpu_->lightTextures, 0, GLint(rects[k].rect.x), GLint(rects[k].rect.y),
+                        GLint(rects[k].layer.x), GLsizei(slots[k].width), GLsizei(slots[k].height), 1, GL_RGB,
+                        GL_FLOAT, slots[k].texels->data());
+  }
+  glTextureParameteri(gpu_->lightTextures, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(gpu_->lightTextures, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(gpu_->lightTextures, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(gpu_->lightTextures, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  storeBuffer(gpu_->lightRects, rects);
+
+  std::vector<uint32_t> vertexSlots(r.positionsM.size(), kNoLightSlot);
+  for (const rdb::RasterMesh& m : r.meshes) {
+    if (m.lightTexture == rdb::RasterMesh::kNoLightTexture) continue;
+    const bool back = !r.lightTextures[m.lightTexture].backLux.empty();
+    std::fill_n(vertexSlots.begin() + std::ptrdiff_t(m.firstVertex), m.vertexCount,
+                firstSlot[m.lightTexture] | (back ? kLightSlotHasBack : 0u));
+  }
+  storeBuffer(gpu_->lightMapUv, r.lightMapUv);
+  storeBuffer(gpu_->lightSlots, vertexSlots);
+  const GLuint vao = gpu_->vao;
+  glVertexArrayVertexBuffer(vao, 6, gpu_->lightMapUv, 0, sizeof(vec2));
+  glVertexArrayAttribFormat(vao, 6, 2, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao, 6, 6);
+  glEnableVertexArrayAttrib(vao, 6);
+  glVertexArrayVertexBuffer(vao, 7, gpu_->lightSlots, 0, sizeof(uint32_t));
+  glVertexArrayAttribIFormat(vao, 7, 1, GL_UNSIGNED_INT, 0);
+  glVertexArrayAttribBinding(vao, 7, 7);
+  glEnableVertexArrayAttrib(vao, 7);
 }
 
 // The material table and each vertex's aSurface (its mesh's material index and flags), which an assignment
@@ -394,30 +512,15 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   glDeleteFramebuffers(1, &gpu_->srgbFbo);
   glDeleteTextures(1, &gpu_->floatColor);
   glDeleteTextures(1, &gpu_->srgbColor);
-  glDeleteTextures(1, &gpu_->depth);
+  glDeleteRenderbuffers(1, &gpu_->depth);
   const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
   glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->floatColor);
-  glTextureStorage2D(gpu_->floatColor, 1, GL_RGBA32F, w, h);
-  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->depth);
-#if FLY_EXP_DEPTH == 2
-  glTextureStorage2D(gpu_->depth, 1, GL_DEPTH_COMPONENT32F, w, h);
-#else
-  glTextureStorage2D(gpu_->depth, 1, GL_DEPTH24_STENCIL8, w, h);
-#endif
-#if FLY_EXP_DEPTH == 1
-  glDeleteTextures(1, &gpu_->clearDepthTex);
-  glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->clearDepthTex);
-  glTextureStorage2D(gpu_->clearDepthTex, 1, GL_DEPTH24_STENCIL8, w, h);
-  const GLuint cleared = 0xffffff00u;
-  glClearTexImage(gpu_->clearDepthTex, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, &cleared);
-#endif
+  glTextureStorage2D(gpu_->floatColor, 1, GL_RG32UI, w, h);  // shaders::kLuminanceEncoding
+  glCreateRenderbuffers(1, &gpu_->depth);
+  glNamedRenderbufferStorage(gpu_->depth, GL_DEPTH24_STENCIL8, w, h);
   glCreateFramebuffers(1, &gpu_->floatFbo);
   glNamedFramebufferTexture(gpu_->floatFbo, GL_COLOR_ATTACHMENT0, gpu_->floatColor, 0);
-#if FLY_EXP_DEPTH == 2
-  glNamedFramebufferTexture(gpu_->floatFbo, GL_DEPTH_ATTACHMENT, gpu_->depth, 0);
-#else
-  glNamedFramebufferTexture(gpu_->floatFbo, GL_DEPTH_STENCIL_ATTACHMENT, gpu_->depth, 0);
-#endif
+  glNamedFramebufferRenderbuffer(gpu_->floatFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, gpu_->depth);
   glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->srgbColor);
   glTextureStorage2D(gpu_->srgbColor, 1, GL_RGBA8, w, h);
   glCreateFramebuffers(1, &gpu_->srgbFbo);
@@ -425,7 +528,7 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   for (GLuint fbo : {gpu_->floatFbo, gpu_->srgbFbo}) {
     if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       throw std::runtime_error("the OpenGL driver cannot render into a " + std::to_string(widthPx) + "×" +
-                               std::to_string(heightPx) + " RGBA32F framebuffer");
+                               std::to_string(heightPx) + " RG32UI framebuffer");
     }
   }
   width_ = widthPx;
@@ -452,30 +555,53 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   const float aspect = float(widthPx) / float(heightPx);
   const mat4 clipFromWorld = projection(view, aspect) * glm::inverse(view.worldFromCamera);
 
-  // Only depth is cleared: the background pass fills every pixel the scene leaves empty.
+  // The background in every pixel (black, or in sunlight mode the sky and the sun), in place of a colour
+  // clear; the scene is drawn over it.
+  const bool sunlight = mode == RenderMode::kSunlight;
+  const bool sky = sunlight && v.sky;
+  BackgroundProgram& bg = sky ? gpu_->sky : gpu_->background;
+  if (!bg.program) {
+    bg.program = compileProgram(sky ? "sky" : "background",
+                                std::string(sky ? "#define FLY_SKY\n" : "") + shaders::kLuminanceEncoding,
+                                {{GL_COMPUTE_SHADER, shaders::kBackgroundCompute}});
+    auto loc = [&](const char* n) { return glGetUniformLocation(bg.program, n); };
+    bg.worldFromCamera = loc("uWorldFromCamera");
+    bg.tanHalfFov = loc("uTanHalfFov");
+    bg.sunDir = loc("uSunDirWorld");
+    bg.sunRadiance = loc("uSunRadianceCdM2");
+    bg.sunCosHalfAngle = loc("uSunCosHalfAngle");
+  }
+  glUseProgram(bg.program);
+  if (sky) {
+    const mat3 rotation(view.worldFromCamera);
+    glUniformMatrix3fv(bg.worldFromCamera, 1, GL_FALSE, &rotation[0][0]);
+    const float tanY = view.orthographic ? 0.0f : std::tan(0.5f * view.yfovRad);
+    glUniform2f(bg.tanHalfFov, tanY * aspect, tanY);
+    const rdb::RasterSky& s = *r.sky;
+    glUniform3fv(bg.sunDir, 1, &s.sunDirWorld[0]);
+    glUniform3fv(bg.sunRadiance, 1, &s.sunRadianceCdM2[0]);
+    glUniform1f(bg.sunCosHalfAngle, s.hasSun ? std::cos(s.sunHalfAngleRad) : 2.0f);
+    glBindTextureUnit(0, gpu_->skyTexture);
+  }
+  glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32UI);
+  dispatchPerPixel(widthPx, heightPx);
+
   glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
   glViewport(0, 0, GLsizei(widthPx), GLsizei(heightPx));
-#if FLY_EXP_DEPTH == 1
-  glCopyImageSubData(gpu_->clearDepthTex, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->depth, GL_TEXTURE_2D, 0, 0, 0, 0,
-                     GLsizei(widthPx), GLsizei(heightPx), 1);
-#elif FLY_EXP_DEPTH == 2
-  const float one = 1.0f;
-  glClearNamedFramebufferfv(gpu_->floatFbo, GL_DEPTH, 0, &one);
-#else
   glClearNamedFramebufferfi(gpu_->floatFbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
-#endif
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
 
   // The scene, in one draw, with the program of this mode and the scene's features (modes that need the
   // same variant share it: simple mode and sunlight mode without a sun differ only in uniforms).
-  const bool sunlight = mode == RenderMode::kSunlight;
   if (gpu_->indexCount > 0) {
     const bool lightMaps = mode != RenderMode::kSimple && v.lightMap;
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
     const uint32_t variant = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
                              (phong && sunlight && v.sun ? kVariantSun : 0u) |
-                             (v.twoSided ? kVariantTwoSided : 0u) | (phong && v.goniometric ? kVariantGonio : 0u);
+                             (v.twoSided ? kVariantTwoSided : 0u) |
+                             (phong && v.goniometric ? kVariantGonio : 0u) |
+                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
     const SceneProgram& p = sceneProgram(variant);
     glUseProgram(p.program);
     glDepthFunc(GL_LESS);
@@ -499,42 +625,17 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     }
     const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
+    if (variant & kVariantLightTexture) {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
+      glBindTextureUnit(2, gpu_->lightTextures);
+    }
     glBindVertexArray(gpu_->vao);
     if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
     if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
     glDrawElements(GL_TRIANGLES, gpu_->indexCount, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
   }
 
-  glBindVertexArray(0);
-
-  // The background (black, or in sunlight mode the sky and the sun) where the depth is still clear.
-  const bool sky = sunlight && v.sky;
-  BackgroundProgram& bg = sky ? gpu_->sky : gpu_->background;
-  if (!bg.program) {
-    bg.program = compileProgram(sky ? "sky" : "background", sky ? "#define FLY_SKY\n" : "",
-                                {{GL_COMPUTE_SHADER, shaders::kBackgroundCompute}});
-    auto loc = [&](const char* n) { return glGetUniformLocation(bg.program, n); };
-    bg.worldFromCamera = loc("uWorldFromCamera");
-    bg.tanHalfFov = loc("uTanHalfFov");
-    bg.sunDir = loc("uSunDirWorld");
-    bg.sunRadiance = loc("uSunRadianceCdM2");
-    bg.sunCosHalfAngle = loc("uSunCosHalfAngle");
-  }
-  glUseProgram(bg.program);
-  if (sky) {
-    const mat3 rotation(view.worldFromCamera);
-    glUniformMatrix3fv(bg.worldFromCamera, 1, GL_FALSE, &rotation[0][0]);
-    const float tanY = view.orthographic ? 0.0f : std::tan(0.5f * view.yfovRad);
-    glUniform2f(bg.tanHalfFov, tanY * aspect, tanY);
-    const rdb::RasterSky& s = *r.sky;
-    glUniform3fv(bg.sunDir, 1, &s.sunDirWorld[0]);
-    glUniform3fv(bg.sunRadiance, 1, &s.sunRadianceCdM2[0]);
-    glUniform1f(bg.sunCosHalfAngle, s.hasSun ? std::cos(s.sunHalfAngleRad) : 2.0f);
-    glBindTextureUnit(1, gpu_->skyTexture);
-  }
-  glBindTextureUnit(0, gpu_->depth);
-  glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  dispatchPerPixel(widthPx, heightPx);
   ++stats_.scenePasses;
 }
 
@@ -542,7 +643,7 @@ void Renderer::toneMap(const ToneMapSettings& settings) {
   if (!gpu_->floatFbo) throw std::logic_error("Renderer::toneMap before render");
   ToneMapProgram& tone = gpu_->toneMap;
   if (!tone.program) {
-    tone.program = compileProgram("tonemap", std::string(toneMapGlsl()) + "\n",
+    tone.program = compileProgram("tonemap", std::string(toneMapGlsl()) + "\n" + shaders::kLuminanceEncoding,
                                   {{GL_COMPUTE_SHADER, shaders::kToneMapCompute}});
     tone.op = glGetUniformLocation(tone.program, "uOperator");
     tone.exposureScale = glGetUniformLocation(tone.program, "uExposureScale");
@@ -552,7 +653,7 @@ void Renderer::toneMap(const ToneMapSettings& settings) {
   glUniform1i(tone.op, GLint(settings.op));
   glUniform1f(tone.exposureScale, exposureScale(settings.ev100));
   glUniform1f(tone.whitePoint, settings.whitePoint);
-  glBindTextureUnit(0, gpu_->floatColor);
+  glBindImageTexture(1, gpu_->floatColor, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
   glBindImageTexture(0, gpu_->srgbColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   dispatchPerPixel(width_, height_);
   ++stats_.toneMapPasses;
@@ -570,16 +671,16 @@ void Renderer::finish() const {
 }
 
 std::vector<float> Renderer::luminanceRgb() const {
-  std::vector<float> rgba(size_t(width_) * height_ * 4);
-  glGetTextureImage(gpu_->floatColor, 0, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)),
-                    rgba.data());
+  std::vector<uint32_t> encoded(size_t(width_) * height_ * 2);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(gpu_->floatColor, 0, GL_RG_INTEGER, GL_UNSIGNED_INT,
+                    GLsizei(encoded.size() * sizeof(uint32_t)), encoded.data());
   std::vector<float> rgb(size_t(width_) * height_ * 3);
   for (uint32_t y = 0; y < height_; ++y) {
-    const float* src = rgba.data() + size_t(height_ - 1 - y) * width_ * 4;  // GL rows start at the bottom
+    // GL rows start at the bottom.
+    const uint32_t* src = encoded.data() + size_t(height_ - 1 - y) * width_ * 2;
     float* dst = rgb.data() + size_t(y) * width_ * 3;
-    for (uint32_t x = 0; x < width_; ++x) {
-      for (int c = 0; c < 3; ++c) dst[3 * x + c] = src[4 * x + c];
-    }
+    for (uint32_t x = 0; x < width_; ++x) decodeLuminance(src[2 * x], src[2 * x + 1], dst + 3 * x);
   }
   return rgb;
 }

@@ -3,11 +3,18 @@
 // paper, §1, §3, §6):
 //   simple:    per-vertex Phong from the scene's lights plus the directional ambient term (rdb/raster_rdb.h)
 //   lightMap:  per-vertex luminance albedo · E / π from the baked vertex light maps (front or back by facing
-//              on two-sided meshes); meshes without a light map are shaded as in simple mode
+//              on two-sided meshes); meshes with a light texture: albedo · E / π per fragment from its texels
+//              (bilinear); meshes without a light map are shaded as in simple mode
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
 // Only the shader variants a scene's features call for are compiled, on first use. Needs a current context
 // (raster/gl_context.h) for its whole life.
+// A frame's GPU work, kept lean for GPUs whose graphics pipeline is a small part of the chip (the H100: see
+// docs/benchmarks.md, fly-bench-raster): a compute pass writes the background (black, or the sky) into every
+// pixel in place of a colour clear; the whole scene is one indexed draw (per-mesh material and flags come per
+// vertex); the tone-map pass is a compute pass. Per frame the CPU only sets uniforms of cached programs. The
+// float image takes 8 bytes a pixel, not RGBA32F's 16: RGB with a shared exponent in an RG32UI target
+// (shaders::kLuminanceEncoding: full float range, each channel within 1.9·10⁻⁶ of the pixel's largest).
 #pragma once
 
 #include <cstdint>
@@ -79,7 +86,8 @@ class Renderer {
 
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
-  // The last render: linear RGB luminance in cd/m², 3 floats per pixel, rows from the top.
+  // The last render: linear RGB luminance in cd/m², 3 floats per pixel, rows from the top (decoded from
+  // shaders::kLuminanceEncoding: each channel within 1.9·10⁻⁶ of the pixel's largest channel).
   std::vector<float> luminanceRgb() const;
   // The last tone-map pass: sRGB-encoded RGB8, 3 bytes per pixel, rows from the top.
   std::vector<uint8_t> srgb8() const;
@@ -100,6 +108,7 @@ class Renderer {
                           std::initializer_list<std::pair<unsigned, const char*>> stages);
   const SceneProgram& sceneProgram(uint32_t variant);
   void uploadGeometry();
+  void uploadLightTextures();
   void uploadMaterials();
   void uploadLights();
   void uploadSky();

@@ -4,11 +4,28 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "base/color.h"
+#include "base/math.h"
 
 namespace fly::rdb {
+
+// A mesh's light texture (issue 4): irradiance per texel of its light-map atlas. UV convention as in
+// rdb/lightmap_uv.h: texel (i, j) covers u ∈ [i/width, (i+1)/width), v ∈ [j/height, (j+1)/height); row j = 0
+// (v = 0) is the top row of the baked EXR file and the first row here.
+struct MeshLightTexture {
+  uint32_t width = 0, height = 0;  // texels, ≥ 1
+  // Irradiance, lux per channel, per texel, row-major from row 0: width·height values. backLux (the side of
+  // −normal) only for a two-sided mesh, else empty.
+  std::vector<Rgb> frontLux, backLux;
+  // The light-map UV of every triangle corner: 3 per triangle of the SDB mesh that has area, in the SDB
+  // mesh's triangle order. Triangles of zero area (TraceRdb's and RasterRdb's rule: |e1 × e2| ≤
+  // 10⁻⁷·|e1|·|e2| in world space) have no corners here, as in TraceMesh and RasterRdb. The corners of one
+  // vertex differ where the atlas's charts meet (seams).
+  std::vector<vec2> cornerUv;
+};
 
 // The baked irradiance of one placed mesh: SDB node `sdbNodeId` holding SDB mesh `sdbMeshId`.
 struct MeshLightMap {
@@ -17,6 +34,8 @@ struct MeshLightMap {
   // surface, per vertex of the SDB mesh, in the SDB mesh's vertex order. backLux is empty for a one-sided
   // mesh.
   std::vector<Rgb> frontLux, backLux;
+  // The light texture, for a mesh baked with one; the engine draws it instead of the vertex values.
+  std::optional<MeshLightTexture> lightTexture;
 };
 
 struct LightMapStore {

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "base/error.h"
+#include "rdb/placed_mesh.h"
 #include "rdb/trace_rdb_build.h"
 #include "sdb/features.h"
 #include "sdb/scene.h"
@@ -25,18 +26,13 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
   return positionsM == o.positionsM && normals == o.normals && cornerFactor == o.cornerFactor &&
          indices == o.indices && meshes == o.meshes && materials == o.materials &&
          boundsM.min == o.boundsM.min && boundsM.max == o.boundsM.max && frontLux == o.frontLux &&
-         backLux == o.backLux && lights == o.lights && goniometricCd == o.goniometricCd &&
+         backLux == o.backLux && lightMapUv == o.lightMapUv && lightTextures == o.lightTextures &&
+         lights == o.lights && goniometricCd == o.goniometricCd &&
          ambient == o.ambient && daylightAmbient == o.daylightAmbient && cameras == o.cameras &&
          sameSky(sky, o.sky) && variants == o.variants;
 }
 
 namespace {
-
-std::optional<vec3> unit(const dvec3& v) {
-  const double len = glm::length(v);
-  if (!(len > 1e-30) || !std::isfinite(len)) return std::nullopt;
-  return vec3(v / len);
-}
 
 RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   RasterMaterial r;
@@ -49,7 +45,55 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   return r;
 }
 
-// Geometry and light maps: every placed (node, mesh) pair, vertices in SDB order.
+// Splits the vertices of light-textured mesh `rm` (its SDB vertices and kept triangles already in `rdb`)
+// where the atlas's charts meet, as the baked scene.gltf does (cli/baked_scene.h): each SDB vertex keeps the
+// UV of its first corner ((0, 0) for a vertex of no triangle), a copy is appended for every further UV, and
+// the triangles' indices are redirected to the copies. Fills `copySource` (per copy: its SDB vertex) and `uv`
+// (per vertex of the split mesh) and extends rm.vertexCount. InputError when the texture does not match the
+// mesh (a bake of an edited scene).
+void splitAtSeams(RasterRdb& rdb, RasterMesh& rm, const sdb::Mesh& mesh, const MeshLightTexture& texture,
+                  const sdb::Scene& scene, std::vector<uint32_t>& copySource, std::vector<vec2>& uv) {
+  const size_t texels = size_t(texture.width) * texture.height;
+  const bool finite = std::all_of(texture.cornerUv.begin(), texture.cornerUv.end(),
+                                  [](const vec2& c) { return std::isfinite(c.x) && std::isfinite(c.y); });
+  if (texture.cornerUv.size() != rm.indexCount || texels == 0 || texture.frontLux.size() != texels ||
+      (!texture.backLux.empty() && texture.backLux.size() != texels) || !finite) {
+    throw InputError({scene.sourcePath.string()},
+                     "the light texture of mesh \"" + mesh.name + "\" has " +
+                         std::to_string(texture.cornerUv.size() / 3) + " triangles but the mesh has " +
+                         std::to_string(rm.indexCount / 3) + " with area (or its texels do not match its " +
+                         std::to_string(texture.width) + "×" + std::to_string(texture.height) + " size)",
+                     "bake the scene again: it changed since the light maps were made");
+  }
+  uv.assign(rm.vertexCount, vec2(0.0f));
+  std::vector<bool> assigned(rm.vertexCount, false);
+  std::vector<std::vector<uint32_t>> copies(rm.vertexCount);  // local vertices holding each SDB vertex
+  for (uint32_t c = 0; c < rm.indexCount; ++c) {
+    uint32_t& index = rdb.indices[rm.firstIndex + c];
+    const uint32_t v = index - rm.firstVertex;
+    const vec2 cornerUv = texture.cornerUv[c];
+    if (!assigned[v]) {
+      assigned[v] = true;
+      uv[v] = cornerUv;
+      copies[v].push_back(v);
+      continue;
+    }
+    auto same =
+        std::find_if(copies[v].begin(), copies[v].end(), [&](uint32_t o) { return uv[o] == cornerUv; });
+    if (same == copies[v].end()) {
+      same = copies[v].insert(copies[v].end(), uint32_t(uv.size()));
+      copySource.push_back(v);
+      uv.push_back(cornerUv);
+      rdb.positionsM.push_back(rdb.positionsM[rm.firstVertex + v]);
+      rdb.normals.push_back(rdb.normals[rm.firstVertex + v]);
+    }
+    index = rm.firstVertex + *same;
+  }
+  rm.vertexCount = uint32_t(uv.size());
+}
+
+// Geometry and light maps: every placed (node, mesh) pair, vertices in SDB order (light-textured meshes:
+// followed by their seam copies).
 void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore* lightMaps) {
   rdb.positionsM.clear();
   rdb.normals.clear();
@@ -57,8 +101,12 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
   rdb.meshes.clear();
   rdb.frontLux.clear();
   rdb.backLux.clear();
+  rdb.lightMapUv.clear();
+  rdb.lightTextures.clear();
   rdb.boundsM = Bounds3{};
   std::vector<const MeshLightMap*> maps;
+  std::vector<std::vector<uint32_t>> copySource;  // per mesh: the source (SDB) vertex of each seam copy
+  std::vector<std::vector<vec2>> meshUv;          // per mesh: light-map UV per vertex, or empty
   scene.forEachNode([&](sdb::NodeId nodeId, const mat4& worldFromLocal) {
     for (sdb::MeshId meshId : scene.node(nodeId).meshes) {
       const sdb::Mesh& mesh = scene.mesh(meshId);
@@ -69,35 +117,14 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
       rm.vertexCount = uint32_t(mesh.vertexCount());
       rm.firstIndex = uint32_t(rdb.indices.size());
       rm.twoSided = mesh.twoSided;
-      for (const vec3& p : mesh.positions) {
-        const vec3 world(worldFromLocal * vec4(p, 1.0f));
-        rdb.positionsM.push_back(world);
-        rdb.boundsM.extend(world);
+      const PlacedMesh placed = placeMesh(mesh, worldFromLocal);
+      for (const vec3& p : placed.positionsM) {
+        rdb.positionsM.push_back(p);
+        rdb.boundsM.extend(p);
       }
-      const vec3* world = rdb.positionsM.data() + rm.firstVertex;
-      std::vector<dvec3> faceNormalSum(mesh.vertexCount(), dvec3(0.0));
-      for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const uint32_t* v = &mesh.indices[3 * t];
-        const dvec3 e1 = dvec3(world[v[1]]) - dvec3(world[v[0]]);
-        const dvec3 e2 = dvec3(world[v[2]]) - dvec3(world[v[0]]);
-        const dvec3 n = glm::cross(e1, e2);
-        if (!(glm::length(n) > 1e-7 * glm::length(e1) * glm::length(e2)))
-          continue;  // zero area (TraceRdb's rule)
-        for (int k = 0; k < 3; ++k) {
-          rdb.indices.push_back(rm.firstVertex + v[k]);
-          faceNormalSum[v[k]] += n;
-        }
-      }
+      for (uint32_t v : placed.indices) rdb.indices.push_back(rm.firstVertex + v);
       rm.indexCount = uint32_t(rdb.indices.size()) - rm.firstIndex;
-      const glm::dmat3 linear(worldFromLocal);
-      const double det = glm::determinant(linear);
-      const glm::dmat3 normalFromLocal = det != 0.0 ? glm::transpose(glm::inverse(linear)) : glm::dmat3(0.0);
-      for (size_t i = 0; i < mesh.vertexCount(); ++i) {
-        std::optional<vec3> n;
-        if (!mesh.normals.empty()) n = unit(normalFromLocal * dvec3(mesh.normals[i]));
-        if (!n) n = unit(faceNormalSum[i]);
-        rdb.normals.push_back(n.value_or(vec3(0.0f, 1.0f, 0.0f)));
-      }
+      rdb.normals.insert(rdb.normals.end(), placed.normals.begin(), placed.normals.end());
       const MeshLightMap* map = lightMaps ? lightMaps->find(nodeId.value, meshId.value) : nullptr;
       if (map) {
         if (map->frontLux.size() != mesh.vertexCount() ||
@@ -110,7 +137,18 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
         }
         rm.hasLightMap = true;
       }
+      std::vector<uint32_t> copies;
+      std::vector<vec2> uv;
+      if (map && map->lightTexture) {
+        splitAtSeams(rdb, rm, mesh, *map->lightTexture, scene, copies, uv);
+        rm.lightTexture = uint32_t(rdb.lightTextures.size());
+        rdb.lightTextures.push_back({map->lightTexture->width, map->lightTexture->height,
+                                     map->lightTexture->frontLux,
+                                     mesh.twoSided ? map->lightTexture->backLux : std::vector<Rgb>{}});
+      }
       maps.push_back(map);
+      copySource.push_back(std::move(copies));
+      meshUv.push_back(std::move(uv));
       rdb.meshes.push_back(rm);
     }
   });
@@ -121,15 +159,25 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
     anyBack |= maps[i] && rdb.meshes[i].twoSided && !maps[i]->backLux.empty();
   if (anyMap) rdb.frontLux.assign(rdb.positionsM.size(), Rgb(0.0f));
   if (anyBack) rdb.backLux.assign(rdb.positionsM.size(), Rgb(0.0f));
+  // A mesh's seam copies (after its SDB vertices) carry their source vertex's values.
+  const auto place = [&](std::vector<Rgb>& out, const std::vector<Rgb>& values, size_t i) {
+    const RasterMesh& rm = rdb.meshes[i];
+    std::copy(values.begin(), values.end(), out.begin() + rm.firstVertex);
+    for (size_t k = 0; k < copySource[i].size(); ++k)
+      out[rm.firstVertex + values.size() + k] = values[copySource[i][k]];
+  };
   for (size_t i = 0; i < maps.size(); ++i) {
     if (!maps[i]) continue;
-    const RasterMesh& rm = rdb.meshes[i];
-    std::copy(maps[i]->frontLux.begin(), maps[i]->frontLux.end(), rdb.frontLux.begin() + rm.firstVertex);
-    if (anyBack && rm.twoSided) {
+    place(rdb.frontLux, maps[i]->frontLux, i);
+    if (anyBack && rdb.meshes[i].twoSided) {
       // A two-sided mesh baked one-sided (no back values) shows its front values on both faces.
-      const std::vector<Rgb>& back = maps[i]->backLux.empty() ? maps[i]->frontLux : maps[i]->backLux;
-      std::copy(back.begin(), back.end(), rdb.backLux.begin() + rm.firstVertex);
+      place(rdb.backLux, maps[i]->backLux.empty() ? maps[i]->frontLux : maps[i]->backLux, i);
     }
+  }
+  if (!rdb.lightTextures.empty()) {
+    rdb.lightMapUv.assign(rdb.positionsM.size(), vec2(0.0f));
+    for (size_t i = 0; i < meshUv.size(); ++i)
+      std::copy(meshUv[i].begin(), meshUv[i].end(), rdb.lightMapUv.begin() + rdb.meshes[i].firstVertex);
   }
 }
 
@@ -169,11 +217,11 @@ void buildCornerFactors(RasterRdb& rdb) {
     const uint32_t* v = &rdb.indices[t];
     const dvec3 p[3] = {dvec3(rdb.positionsM[v[0]]), dvec3(rdb.positionsM[v[1]]),
                         dvec3(rdb.positionsM[v[2]])};
-    const std::optional<vec3> n = unit(glm::cross(p[1] - p[0], p[2] - p[0]));
+    const std::optional<vec3> n = unitOrNone(glm::cross(p[1] - p[0], p[2] - p[0]));
     if (!n) continue;
     for (int k = 0; k < 3; ++k) {
-      const std::optional<vec3> a = unit(p[(k + 1) % 3] - p[k]);
-      const std::optional<vec3> b = unit(p[(k + 2) % 3] - p[k]);
+      const std::optional<vec3> a = unitOrNone(p[(k + 1) % 3] - p[k]);
+      const std::optional<vec3> b = unitOrNone(p[(k + 2) % 3] - p[k]);
       if (!a || !b) continue;
       const double angle = std::acos(std::clamp(double(glm::dot(*a, *b)), -1.0, 1.0));
       Acc& g = acc[vertexGroup[v[k]]];
@@ -216,9 +264,9 @@ void buildLights(RasterRdb& rdb, const sdb::Scene& scene) {
     RasterLight r;
     r.sdbLightId = node.light.value;
     r.positionM = vec3(worldFromLocal[3]);
-    const std::optional<vec3> dir = unit(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    const std::optional<vec3> dir = unitOrNone(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
     const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
-    const std::optional<vec3> cAxis = dir ? unit(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
+    const std::optional<vec3> cAxis = dir ? unitOrNone(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
     if (!cAxis) {
       throw InputError(
           {scene.sourcePath.string()},
@@ -373,8 +421,8 @@ void buildCameras(RasterRdb& rdb, const sdb::Scene& scene) {
     r.sdbCameraId = node.camera.value;
     r.sdbNodeId = nodeId.value;
     // Rigid part of the placement: orthonormalised axes (a scaled node does not scale the view).
-    const vec3 z = unit(dvec3(worldFromLocal[2])).value_or(vec3(0, 0, 1));
-    const vec3 x = unit(dvec3(glm::cross(vec3(worldFromLocal[1]), z))).value_or(vec3(1, 0, 0));
+    const vec3 z = unitOrNone(dvec3(worldFromLocal[2])).value_or(vec3(0, 0, 1));
+    const vec3 x = unitOrNone(dvec3(glm::cross(vec3(worldFromLocal[1]), z))).value_or(vec3(1, 0, 0));
     const vec3 y = glm::cross(z, x);
     r.worldFromCamera = frameTransform(x, y, z, vec3(worldFromLocal[3]));
     r.projection = c.projection == sdb::Projection::kOrthographic ? RasterProjection::kOrthographic
@@ -393,6 +441,7 @@ void buildCameras(RasterRdb& rdb, const sdb::Scene& scene) {
 void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   const sdb::SceneFeatures f = sdb::computeFeatures(scene);
   rdb.variants.lightMap = !rdb.frontLux.empty();
+  rdb.variants.lightTexture = !rdb.lightTextures.empty();
   rdb.variants.twoSided =
       std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [](const RasterMesh& m) { return m.twoSided; });
   rdb.variants.sky = rdb.sky.has_value();

@@ -37,7 +37,8 @@ struct RasterMaterial {
   bool operator==(const RasterMaterial&) const = default;
 };
 
-// A placed mesh: contiguous vertex and index ranges in the flat arrays.
+// A placed mesh: contiguous vertex and index ranges in the flat arrays. Its vertices are the SDB mesh's in
+// order; a light-textured mesh's are followed by seam copies (see RasterRdb::lightMapUv).
 struct RasterMesh {
   uint32_t sdbNodeId = 0;
   uint32_t sdbMeshId = 0;
@@ -48,8 +49,20 @@ struct RasterMesh {
   uint32_t material = 0;     // index into RasterRdb::materials
   bool twoSided = false;     // both faces shaded (a light map has front and back values)
   bool hasLightMap = false;  // RasterRdb::frontLux (and backLux when two-sided) hold this mesh's values
+  static constexpr uint32_t kNoLightTexture = std::numeric_limits<uint32_t>::max();
+  uint32_t lightTexture = kNoLightTexture;  // index into RasterRdb::lightTextures, or none
 
   bool operator==(const RasterMesh&) const = default;
+};
+
+// A mesh's baked light texture (rdb/light_map_store.h, MeshLightTexture, without its corner UVs, which became
+// RasterRdb::lightMapUv): irradiance in lux per texel, row-major from row 0 (v ∈ [0, 1/height)).
+struct RasterLightTexture {
+  uint32_t width = 0, height = 0;  // texels, ≥ 1
+  std::vector<Rgb> frontLux;       // width·height
+  std::vector<Rgb> backLux;        // two-sided meshes baked on both sides, else empty (front on both faces)
+
+  bool operator==(const RasterLightTexture&) const = default;
 };
 
 enum class RasterLightType : uint32_t { kPoint = 0, kSpot = 1, kDirectional = 2, kGoniometric = 3 };
@@ -97,6 +110,7 @@ struct RasterCamera {
 // need"): the engine compiles only these.
 struct RasterVariants {
   bool lightMap = false;     // some mesh has a light map: light-map mode is possible
+  bool lightTexture = false; // some mesh has a light texture: light-map modes sample it per fragment
   bool twoSided = false;     // two-sided meshes: the vertex shader's front/back choice
   bool sky = false;          // a sky dome (sunlight mode's background)
   bool sun = false;          // a sun disc and the sun as a directional light
@@ -141,6 +155,15 @@ struct RasterRdb {
   std::vector<Rgb> frontLux;
   std::vector<Rgb> backLux;
 
+  // Light textures. A light-textured mesh's vertices are split where its atlas's charts meet, as in the baked
+  // scene.gltf (cli/baked_scene.h): each SDB vertex keeps the UV of its first triangle corner ((0, 0) for a
+  // vertex of no triangle) and a copy (same position, normal, light-map values) follows the mesh's SDB
+  // vertices for every further UV; its indices use the copies. lightMapUv: per vertex (aligned with
+  // positionsM), the light-map UV (rdb/lightmap_uv.h's convention), (0, 0) for meshes without a light
+  // texture; empty when no mesh has one.
+  std::vector<vec2> lightMapUv;
+  std::vector<RasterLightTexture> lightTextures;  // in mesh order
+
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;
   DirectionalAmbient ambient;          // simple mode (the scene's lights)
@@ -176,8 +199,9 @@ struct RasterBuildOptions {
   uint32_t skyHeight = 128;
 };
 
-// Builds the RasterRdb of `scene`, with the vertex light maps of `lightMaps` where it has them (matched by
-// (SDB node id, SDB mesh id); a light map whose vertex count differs from the mesh's is an InputError).
+// Builds the RasterRdb of `scene`, with the vertex light maps and light textures of `lightMaps` where it has
+// them (matched by (SDB node id, SDB mesh id); a light map whose vertex count differs from the mesh's, or a
+// light texture whose corner UVs do not match the mesh's triangles with area, is an InputError).
 // Errors: as buildTraceRdb (InputError from the site and weather file).
 RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps = nullptr,
                          const RasterBuildOptions& options = {});

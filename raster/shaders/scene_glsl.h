@@ -5,6 +5,8 @@
 //   FLY_SUN        the sun as a directional light (sunlight mode)
 //   FLY_TWO_SIDED  two-sided meshes: the vertex shader picks the front or back value by facing
 //   FLY_GONIO      goniometric lights' tables
+//   FLY_LIGHT_TEXTURE  light textures (with FLY_LIGHT_MAP): L = albedo · E_texel / π per fragment, bilinear, for
+//                  meshes that have one
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
@@ -20,6 +22,15 @@ layout(location = 2) in float aCorner;
 layout(location = 3) in vec3 aFrontLux;
 layout(location = 4) in vec3 aBackLux;
 layout(location = 5) in uint aSurface;
+#ifdef FLY_LIGHT_TEXTURE
+layout(location = 6) in vec2 aLightMapUv;  // rdb/lightmap_uv.h's convention
+// The slot of the mesh's front light texture (raster/renderer.cpp, uploadLightTextures); bit 31: the back's
+// slot follows it; 0xffffffff: no light texture.
+layout(location = 7) in uint aLightSlot;
+out vec2 vLightMapUv;
+flat out uint vLightSlot;      // the slot of the side this vertex faces, 0xffffffff: none
+flat out vec3 vAlbedoOverPi;   // sr⁻¹
+#endif
 
 struct Material {
   vec4 diffuse;   // rgb albedo
@@ -152,6 +163,16 @@ void main() {
 #endif
   }
 #endif
+#ifdef FLY_LIGHT_TEXTURE
+  // The fragment shader adds albedo · E_texel / π in place of the vertex value.
+  vLightMapUv = aLightMapUv;
+  vAlbedoOverPi = m.diffuse.rgb / kPi;
+  vLightSlot = 0xffffffffu;
+  if (useLightMap && aLightSlot != 0xffffffffu) {
+    vLightSlot = (aLightSlot & 0x7fffffffu) + ((back && (aLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
+    l = vec3(0.0);
+  }
+#endif
 #ifdef FLY_PHONG
   if (!useLightMap) l = phong(m, aPositionM, back ? -n : n, toEye, aCorner);
 #endif
@@ -160,28 +181,79 @@ void main() {
 }
 )GLSL";
 
+// The luminance image's encoding, prepended to the passes that write or read it (raster/renderer.cpp): an
+// RG32UI target, 8 bytes a pixel where RGBA32F takes 16 (the H100 writes pixels through its raster back end
+// at a fixed rate in bytes: docs/benchmarks.md, fly-bench-raster). Linear RGB in cd/m² as three 19-bit
+// mantissas with a shared 7-bit exponent: GL's RGB9E5 (EXT_texture_shared_exponent) widened to 64 bits.
+// Range: a pixel's largest channel from 2⁻⁶⁴ ≈ 5.4·10⁻²⁰ to 9·10¹⁸ cd/m² (the sun's disc is ~1.6·10⁹); below
+// that the pixel reads 0, above it is clamped. Accuracy: each channel within 2⁻¹⁹ ≈ 1.9·10⁻⁶ of the pixel's
+// largest channel (round to nearest); 0 stays 0. Layout: x = r | g << 19 (g's low 13 bits), y = g >> 13 |
+// b << 6 | (exponent + 64) << 25; decoded channel = mantissa · 2^(exponent − 19). Decoded on the CPU by
+// Renderer::luminanceRgb (raster/renderer.cpp, decodeLuminance) the same way.
+inline constexpr const char* kLuminanceEncoding = R"GLSL(
+uvec2 flyEncodeLuminance(vec3 l) {
+  vec3 c = min(max(l, vec3(0.0)), vec3(9.0e18));
+  float m = max(c.r, max(c.g, c.b));
+  if (!(m >= 5.421010862e-20)) return uvec2(0u);  // 2⁻⁶⁴; also NaN
+  // m < 2^e ≤ 2m, e ∈ [−63, 63]; 2^(19 − e) built from its bits (exact, unlike exp2 on some GPUs).
+  int e = int(floatBitsToUint(m) >> 23) - 126;
+  float scale = uintBitsToFloat(uint(146 - e) << 23);
+  uvec3 q = uvec3(c * scale + 0.5);
+  if (max(q.r, max(q.g, q.b)) > 0x7ffffu) {  // m rounded up to 2^19: one more bit of exponent
+    ++e;
+    q = uvec3(c * (0.5 * scale) + 0.5);
+  }
+  return uvec2(q.r | (q.g << 19), (q.g >> 13) | (q.b << 6) | (uint(e + 64) << 25));
+}
+vec3 flyDecodeLuminance(uvec2 p) {
+  uvec3 q = uvec3(p.x & 0x7ffffu, (p.x >> 19) | ((p.y & 0x3fu) << 13), (p.y >> 6) & 0x7ffffu);
+  return vec3(q) * uintBitsToFloat(((p.y >> 25) + 44u) << 23);  // 2^(exponent + 64 − 83)
+}
+)GLSL";
+
 // The back of a one-sided surface has no light value: it shows black (it still hides what is behind it).
 inline constexpr const char* kSceneFragment = R"GLSL(
 in vec3 vLuminance;
 flat in uint vTwoSided;
-layout(location = 0) out vec4 oLuminance;
+layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
+#ifdef FLY_LIGHT_TEXTURE
+in vec2 vLightMapUv;
+flat in uint vLightSlot;
+flat in vec3 vAlbedoOverPi;
+// A slot's place in the array texture: rect = x, y, width, height (texels of the layer); layer = its index,
+// 1 / layer width, 1 / layer height.
+struct LightRect {
+  vec4 rect;
+  vec4 layer;
+};
+layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[]; };
+layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
+#endif
 void main() {
-  oLuminance = vec4((gl_FrontFacing || vTwoSided != 0u) ? vLuminance : vec3(0.0), 1.0);
+  vec3 l = vLuminance;
+#ifdef FLY_LIGHT_TEXTURE
+  if (vLightSlot != 0xffffffffu) {
+    LightRect r = lightRects[vLightSlot];
+    // Bilinear, clamped to the edge of the slot's own texels (its neighbours in the layer are never read).
+    vec2 t = clamp(vLightMapUv * r.rect.zw, vec2(0.5), r.rect.zw - vec2(0.5));
+    l += vAlbedoOverPi * texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
+  }
+#endif
+  oLuminance = flyEncodeLuminance((gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0));
 }
 )GLSL";
 
-// The full-screen passes are compute shaders, one invocation per pixel: on GPUs whose graphics pipeline runs on
-// a few of their processors (the H100's), they run on all of them and stay off the raster back end.
+// The full-screen passes are compute shaders, one invocation per pixel: on GPUs whose graphics pipeline runs
+// on a few of their processors (the H100's), they run on all of them and stay off the raster back end.
 
-// The background: every pixel the scene left empty (depth still 1, the cleared value) gets black, or with
-// FLY_SKY the sky dome (rdb/raster_sky.h: equirectangular over world directions, row 0 at the zenith) and the
-// sun's disc in that pixel's direction. So the colour target needs no clear.
+// The background in every pixel, before the scene is drawn over it (so the colour target needs no clear):
+// black, or with FLY_SKY the sky dome (rdb/raster_sky.h: equirectangular over world directions, row 0 at the
+// zenith) and the sun's disc in that pixel's direction.
 inline constexpr const char* kBackgroundCompute = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D uDepth;
-layout(binding = 0, rgba32f) uniform writeonly image2D uLuminance;
+layout(binding = 0, rg32ui) uniform writeonly uimage2D uLuminance;  // kLuminanceEncoding
 #ifdef FLY_SKY
-layout(binding = 1) uniform sampler2D uSky;
+layout(binding = 0) uniform sampler2D uSky;
 uniform mat3 uWorldFromCamera;  // rotation
 uniform vec2 uTanHalfFov;       // perspective: tan of the half angles in x and y; orthographic: 0
 uniform vec3 uSunDirWorld;
@@ -192,7 +264,7 @@ const float kPi = 3.14159265358979;
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = imageSize(uLuminance);
-  if (p.x >= size.x || p.y >= size.y || texelFetch(uDepth, p, 0).r < 1.0) return;
+  if (p.x >= size.x || p.y >= size.y) return;
   vec3 l = vec3(0.0);
 #ifdef FLY_SKY
   vec2 ndc = (vec2(p) + 0.5) / vec2(size) * 2.0 - 1.0;  // the pixel's centre
@@ -203,14 +275,14 @@ void main() {
   l = textureLod(uSky, vec2(phi / (2.0 * kPi), theta / kPi), 0.0).rgb;
   if (dot(d, uSunDirWorld) >= uSunCosHalfAngle) l += uSunRadianceCdM2;
 #endif
-  imageStore(uLuminance, p, vec4(l, 1.0));
+  imageStore(uLuminance, p, uvec4(flyEncodeLuminance(l), 0u, 0u));
 }
 )GLSL";
 
 // Luminance (cd/m²) → display value → sRGB, with base/tone_map.h's GLSL (flyToneMap, flyEncodeSrgb).
 inline constexpr const char* kToneMapCompute = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D uLuminance;
+layout(binding = 1, rg32ui) uniform readonly uimage2D uLuminance;  // kLuminanceEncoding
 layout(binding = 0, rgba8) uniform writeonly image2D uDisplay;
 uniform int uOperator;
 uniform float uExposureScale;
@@ -219,7 +291,7 @@ void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = imageSize(uDisplay);
   if (p.x >= size.x || p.y >= size.y) return;
-  vec3 l = texelFetch(uLuminance, p, 0).rgb;
+  vec3 l = flyDecodeLuminance(imageLoad(uLuminance, p).xy);
   imageStore(uDisplay, p, vec4(flyEncodeSrgb(flyToneMap(l, uOperator, uExposureScale, uWhitePoint)), 1.0));
 }
 )GLSL";

@@ -2,18 +2,24 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "base/error.h"
+#include "base/image_io.h"
 #include "cli/baked_scene.h"
+#include "raster/gl_context.h"
+#include "raster/renderer.h"
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
 #include "rdb/trace_rdb_build.h"
 #include "sdb/scene.h"
+#include "sdb/scene_load.h"
 
 namespace fly::cli {
 namespace {
@@ -117,6 +123,13 @@ void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStor
     EXPECT_EQ(a.sdbMeshId, e.sdbMeshId) << "mesh " << k;
     EXPECT_TRUE(a.frontLux == e.frontLux) << "mesh " << k << " front";  // bit for bit
     EXPECT_TRUE(a.backLux == e.backLux) << "mesh " << k << " back";
+    ASSERT_EQ(a.lightTexture.has_value(), e.lightTexture.has_value()) << "mesh " << k;
+    if (!e.lightTexture) continue;
+    EXPECT_EQ(a.lightTexture->width, e.lightTexture->width) << "mesh " << k;
+    EXPECT_EQ(a.lightTexture->height, e.lightTexture->height) << "mesh " << k;
+    EXPECT_TRUE(a.lightTexture->frontLux == e.lightTexture->frontLux) << "mesh " << k << " front texels";
+    EXPECT_TRUE(a.lightTexture->backLux == e.lightTexture->backLux) << "mesh " << k << " back texels";
+    EXPECT_TRUE(a.lightTexture->cornerUv == e.lightTexture->cornerUv) << "mesh " << k << " corner UVs";
   }
 }
 
@@ -159,6 +172,86 @@ TEST_F(BakedLightMapsTest, ReadBackEqualsTheBakeExactly) {
   const json gltf = readJson(dir_ / "scene.gltf");
   const int frontAccessor = gltf["meshes"][2]["primitives"][0]["attributes"]["_IRRADIANCE_FRONT"];
   EXPECT_GT(gltf["accessors"][size_t(frontAccessor)]["count"].get<int>(), 8);
+  // Light textures where the TraceRdb has them (the cube asks for one; the floor may get one automatically):
+  // the cube's texels and the UVs of its 12 triangles' corners, with seams.
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(fromBake.meshes[k].lightTexture.has_value(),
+              b.rdb.meshes[k].lightTexture != rdb::TraceMesh::kNoLightTexture)
+        << "mesh " << k;
+  }
+  ASSERT_TRUE(fromBake.meshes[2].lightTexture);
+  const rdb::MeshLightTexture& t = *fromBake.meshes[2].lightTexture;
+  EXPECT_EQ(t.frontLux.size(), size_t(t.width) * t.height);
+  EXPECT_TRUE(t.backLux.empty());
+  ASSERT_EQ(t.cornerUv.size(), 36u);
+  EXPECT_NE(t.cornerUv[0], t.cornerUv[6]);  // vertex 0 in two charts (its −Z and −Y faces)
+  EXPECT_TRUE(
+      std::any_of(t.frontLux.begin(), t.frontLux.end(), [](const Rgb& e) { return luminance(e) > 0.0f; }));
+}
+
+// A real scene with light textures (the one cli.bake.light_textures bakes: the floor, the tall block and the
+// two-sided short block), baked in-process with few samples: the directory reads back as the bake, and the
+// light textures change what the GL engine draws in light-map mode (only where there are light textures).
+TEST_F(BakedLightMapsTest, CornellLightTexturesReadBackAndReachTheScreen) {
+  const sdb::Scene scene = sdb::loadScene(fs::path(FLY_TEST_DATA_DIR) / "bake/cornell-light-textures.json");
+  const rdb::TraceRdb trace = rdb::buildTraceRdb(scene);
+  ASSERT_EQ(trace.lightTextures.size(), 3u);
+  const raytracer::EmbreeScene embree(trace);
+  raytracer::BakeSettings settings;
+  settings.estimate.firstPassSamples = 4;
+  settings.estimate.maxSamples = 4;
+  settings.estimate.replicates = 4;
+  settings.estimate.threads = 2;
+  const raytracer::VertexLightMaps maps = raytracer::bakeVertexLightMaps(trace, embree, settings);
+  BakeDescription d;
+  d.scenePath = "in-process";
+  d.settings = json::object();
+  d.timingsS = json::object();
+  d.meshNames.assign(trace.meshes.size(), "");
+  d.nodeNames.assign(trace.meshes.size(), "");
+  d.materialNames.assign(trace.materials.size(), "");
+  writeDirectoryAtomic(dir_, [&](const fs::path& tmp) { writeBakedScene(tmp, trace, maps, d); });
+  const rdb::LightMapStore store = lightMapStoreFromBake(trace, maps);
+  expectEqualStores(readBakedLightMaps(dir_), store);
+  size_t twoSidedTextures = 0;
+  for (const rdb::MeshLightMap& m : store.meshes)
+    twoSidedTextures += m.lightTexture && !m.lightTexture->backLux.empty();
+  EXPECT_EQ(twoSidedTextures, 1u);  // the short block
+
+  // Light-map mode with the light textures and with them left out (vertex values everywhere).
+  rdb::LightMapStore vertexOnly = store;
+  for (rdb::MeshLightMap& m : vertexOnly.meshes) m.lightTexture.reset();
+  const auto render = [&](const rdb::LightMapStore& s) {
+    const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &s);
+    raster::Renderer renderer;
+    renderer.upload(r);
+    raster::View view;  // the classic Cornell-box camera (scenes/cornell-box/cornell-box.json)
+    view.worldFromCamera =
+        sdb::lookAtTransform(vec3(0.278f, 0.273f, -0.8f), vec3(0.278f, 0.273f, 0.0f), vec3(0.0f, 1.0f, 0.0f));
+    view.yfovRad = float(degToRad(39.3));
+    view.znearM = 0.01f;
+    view.zfarM = 10.0f;
+    renderer.render(view, raster::RenderMode::kLightMap, 160, 120);
+    return renderer.luminanceRgb();
+  };
+  const std::unique_ptr<raster::GlContext> context = raster::createHeadlessContext();
+  context->makeCurrent();
+  const std::vector<float> textured = render(store), vertexLit = render(vertexOnly);
+  ASSERT_EQ(textured.size(), vertexLit.size());
+  size_t equal = 0, different = 0;
+  for (size_t i = 0; i < textured.size(); i += 3) {
+    ASSERT_TRUE(std::isfinite(textured[i]) && std::isfinite(textured[i + 1]) &&
+                std::isfinite(textured[i + 2]));
+    const float a = textured[i] + textured[i + 1] + textured[i + 2];
+    const float b = vertexLit[i] + vertexLit[i + 1] + vertexLit[i + 2];
+    if (a == b) ++equal;
+    if (std::abs(a - b) > 0.05f * std::max(a, b)) ++different;
+  }
+  const size_t pixels = textured.size() / 3;
+  // The walls and the ceiling have no light texture: drawn the same, bit for bit. The floor and the blocks'
+  // texels carry detail (shadows, the light's falloff) that their few vertices cannot.
+  EXPECT_GT(equal, pixels / 10) << different << " of " << pixels << " differ";
+  EXPECT_GT(different, pixels / 20) << equal << " of " << pixels << " are equal";
 }
 
 TEST_F(BakedLightMapsTest, FromBakeRejectsMapsOfAnotherRdb) {
@@ -273,6 +366,51 @@ TEST_F(BakedLightMapsTest, DamagedDirectoriesGiveInputErrorsNamingTheFile) {
                [](json& g) { g["meshes"][0]["primitives"][0]["attributes"].erase("_IRRADIANCE_FRONT"); }),
       "scene.gltf", "_IRRADIANCE_FRONT");
   expectInputError(editGltf("no-meshes", [](json& g) { g.erase("meshes"); }), "manifest.json", "gltf_mesh");
+  // The cube's light texture (object 2).
+  {
+    const fs::path d = damaged("no-exr");
+    fs::remove(d / "lightmaps/object2_front.exr");
+    expectInputError(d, "object2_front.exr", "");
+  }
+  {
+    const fs::path d = damaged("small-exr");
+    writeExr(d / "lightmaps/object2_front.exr", ImageRgbF{2, 1, std::vector<float>(6, 1.0f)});
+    expectInputError(d, "object2_front.exr", "2×1 texels");
+  }
+  {
+    // A 1 × 1 image is stored uncompressed (ZIP would only make it longer): a marker value is found in the
+    // file and turned into a NaN.
+    const fs::path d = damaged("nan-exr");
+    const fs::path exr = d / "lightmaps/object2_front.exr";
+    const float marker = 1234.5f, nan = std::numeric_limits<float>::quiet_NaN();
+    writeExr(exr, ImageRgbF{1, 1, {marker, marker, marker}});
+    std::string bytes;
+    {
+      std::ifstream in(exr, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const size_t at = bytes.find(std::string(reinterpret_cast<const char*>(&marker), sizeof marker));
+    ASSERT_NE(at, std::string::npos);
+    bytes.replace(at, sizeof nan, reinterpret_cast<const char*>(&nan), sizeof nan);
+    writeText(exr, bytes);
+    expectInputError(d, "object2_front.exr", "NaN or infinite value");
+  }
+  {
+    const fs::path d = damaged("corrupt-exr");
+    writeText(d / "lightmaps/object2_front.exr", "not an EXR");
+    expectInputError(d, "object2_front.exr", "");
+  }
+  expectInputError(
+      editManifest("exr-outside", [](json& m) { m["objects"][2]["light_texture"]["front"] = "../x.exr"; }),
+      "manifest.json", "outside the baked directory");
+  expectInputError(
+      editManifest("texture-size", [](json& m) { m["objects"][2]["light_texture"]["width"] = 0; }),
+      "manifest.json", "/objects/2/light_texture");
+  expectInputError(
+      editGltf("no-uv", [](json& g) { g["meshes"][2]["primitives"][0]["attributes"].erase("TEXCOORD_1"); }),
+      "scene.gltf", "TEXCOORD_1");
+  expectInputError(editManifest("fewer-triangles", [](json& m) { m["objects"][2]["triangles"] = 11; }),
+                   "scene.gltf", "different bakes");
   // The undamaged copy still reads.
   EXPECT_EQ(readBakedLightMaps(good).meshes.size(), 3u);
 }

@@ -146,7 +146,7 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   renderer.render(orthoView(true), RenderMode::kLightMap, 64, 32);
   expectImageNear(renderer.luminanceRgb(), std::vector<float>(64 * 32 * 3, 0.0f), 1e-6f);
   // Every mesh has a light map and none is two-sided: no Phong, no front/back choice is compiled.
-  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"scene+lightmap", "background"}));
+  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+lightmap"}));
 }
 
 TEST(Renderer, TwoSidedLightMapsPickTheFaceTheCameraSees) {
@@ -164,6 +164,111 @@ TEST(Renderer, TwoSidedLightMapsPickTheFaceTheCameraSees) {
                   1e-4f);
   renderer.render(orthoView(true), RenderMode::kLightMap, 64, 32);
   expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kBackLux, albedo), true), 1e-4f);
+}
+
+// GL's bilinear lookup with clamp-to-edge in a width × height texture (row 0 at v = 0) at `uv`.
+Rgb bilinear(const std::vector<Rgb>& texels, int width, int height, const vec2& uv) {
+  const float tx = uv.x * float(width) - 0.5f, ty = uv.y * float(height) - 0.5f;
+  const int x0 = int(std::floor(tx)), y0 = int(std::floor(ty));
+  const float fx = tx - float(x0), fy = ty - float(y0);
+  const auto at = [&](int x, int y) {
+    return texels[size_t(std::clamp(y, 0, height - 1) * width + std::clamp(x, 0, width - 1))];
+  };
+  return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx),
+                  fy);
+}
+
+// A light-textured quadXY as placed: world rectangle lo–hi in z = 0, UV u = (x − lo.x)/(hi.x − lo.x) left to
+// right and v = (hi.y − y)/(hi.y − lo.y) (v = 0 along the top edge, the texture's row 0).
+struct TexturedQuad {
+  vec2 lo, hi;
+  rdb::MeshLightTexture texture;
+};
+
+// CPU expectation of light-textured quads seen through orthoView in a w × h image (aspect 2): albedo ·
+// bilinear(E) / π at each pixel centre's UV, the back texture from behind (black for a one-sided quad).
+std::vector<float> expectedTexturedQuads(uint32_t w, uint32_t h, const std::vector<TexturedQuad>& quads,
+                                         const Rgb& albedo, bool fromBehind) {
+  std::vector<float> img(size_t(w) * h * 3, 0.0f);
+  for (uint32_t j = 0; j < h; ++j) {
+    for (uint32_t i = 0; i < w; ++i) {
+      const float sx = -2.0f + 4.0f * (float(i) + 0.5f) / float(w);
+      const vec2 p(fromBehind ? -sx : sx, 1.0f - 2.0f * (float(j) + 0.5f) / float(h));
+      for (const TexturedQuad& q : quads) {
+        if (p.x < q.lo.x || p.x > q.hi.x || p.y < q.lo.y || p.y > q.hi.y) continue;
+        const vec2 uv((p.x - q.lo.x) / (q.hi.x - q.lo.x), (q.hi.y - p.y) / (q.hi.y - q.lo.y));
+        const std::vector<Rgb>& texels = fromBehind ? q.texture.backLux : q.texture.frontLux;
+        if (texels.empty()) continue;
+        const Rgb l = albedo * bilinear(texels, int(q.texture.width), int(q.texture.height), uv) / kPiF;
+        for (int k = 0; k < 3; ++k) img[(size_t(j) * w + i) * 3 + size_t(k)] = l[k];
+      }
+    }
+  }
+  return img;
+}
+
+// Light-map mode with light textures: a two-sided quadXY with a 4 × 4 checker of two irradiances on the
+// front and a 4 × 4 gradient (every texel different) on the back, and two small one-sided quads (0.5 × 0.25
+// m) with 2 × 2 and 3 × 1 textures, which share one layer of the array texture. The vertex light values
+// (kFrontLux, kBackLux) must not show: the textures replace them.
+TEST(Renderer, LightTexturesAreSampledBilinearlyPerFragment) {
+  context();
+  QuadScene q = quadScene(true);
+  const sdb::MeshId small = q.scene.addMesh(test::quadXY(q.material)).id;
+  const auto placeSmall = [&](const char* name, const vec2& centre) {
+    mat4 m(0.25f);
+    m[3] = vec4(centre, 0.0f, 1.0f);
+    return q.scene.addNode({.name = name, .parentFromLocal = m, .meshes = {small}}).id;
+  };
+  const sdb::NodeId smallA = placeSmall("smallA", {1.6f, 0.8f});
+  const sdb::NodeId smallB = placeSmall("smallB", {-1.6f, -0.8f});
+
+  std::vector<vec2> cornerUv;
+  const vec2 uv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  for (uint32_t v : {0u, 1u, 2u, 0u, 2u, 3u}) cornerUv.push_back(uv[v]);
+  std::vector<TexturedQuad> quads(3);
+  quads[0] = {{-1.0f, -0.5f}, {1.0f, 0.5f}, {4, 4, {}, {}, cornerUv}};
+  const Rgb luxA(1000, 1200, 800), luxB(3000, 2500, 3500);
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      quads[0].texture.frontLux.push_back((i + j) % 2 ? luxB : luxA);
+      quads[0].texture.backLux.push_back(Rgb(100.0f + 50.0f * float(i), 200.0f + 300.0f * float(j), 500.0f));
+    }
+  }
+  quads[1] = {{1.35f, 0.675f}, {1.85f, 0.925f}, {2, 2, {}, {}, cornerUv}};
+  quads[1].texture.frontLux = {{400, 0, 0}, {0, 400, 0}, {0, 0, 400}, {400, 400, 400}};
+  quads[2] = {{-1.85f, -0.925f}, {-1.35f, -0.675f}, {3, 1, {}, {}, cornerUv}};
+  quads[2].texture.frontLux = {{2000, 100, 100}, {100, 2000, 100}, {100, 100, 2000}};
+  rdb::LightMapStore store;
+  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, kBackLux, quads[0].texture});
+  store.meshes.push_back({smallA.value, small.value, kFrontLux, {}, quads[1].texture});
+  store.meshes.push_back({smallB.value, small.value, kFrontLux, {}, quads[2].texture});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  ASSERT_TRUE(r.variants.lightTexture);
+  ASSERT_EQ(r.lightTextures.size(), 3u);
+
+  Renderer renderer;
+  renderer.upload(r);
+  const Rgb albedo(0.5f, 0.6f, 0.7f);
+  // GPUs weight bilinear taps with a few bits (8 on NVIDIA and llvmpipe): allow 1% of the checker's contrast.
+  const float tolerance = 0.01f * albedo.g * (luxB.r - luxA.r) / kPiF;
+  const auto expectNear = [&](const std::vector<float>& actual, const std::vector<float>& expected) {
+    ASSERT_EQ(actual.size(), expected.size());
+    size_t bad = 0, lit = 0;
+    for (size_t i = 0; i < actual.size(); ++i) {
+      lit += expected[i] > 0.0f;
+      if (!(std::abs(actual[i] - expected[i]) <= tolerance) && ++bad <= 5)
+        ADD_FAILURE() << "value " << i << " (pixel " << i / 3 << "): " << actual[i] << " vs " << expected[i];
+    }
+    EXPECT_EQ(bad, 0u);
+    EXPECT_GT(lit, actual.size() / 8);  // the quads fill a good part of the image
+  };
+  renderer.render(orthoView(false), RenderMode::kLightMap, 128, 64);
+  expectNear(renderer.luminanceRgb(), expectedTexturedQuads(128, 64, quads, albedo, false));
+  renderer.render(orthoView(true), RenderMode::kLightMap, 128, 64);
+  expectNear(renderer.luminanceRgb(), expectedTexturedQuads(128, 64, quads, albedo, true));
+  EXPECT_EQ(renderer.stats().programs,
+            (std::vector<std::string>{"background", "scene+lightmap+twosided+lighttexture"}));
 }
 
 // Simple mode, analytic: a directional light of E = 1000 lx falling straight on a matte quad of albedo ρ =
@@ -224,7 +329,7 @@ TEST(Renderer, SimpleModeGoniometricLight) {
   const double e = 1000.0 * (1.0 - gammaDeg / 180.0) * (2.0 / d) / (d * d);
   const float l = float(0.5 / kPi * 2.0 * e);
   expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 1e-4f);
-  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"scene+phong+gonio", "background"}));
+  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+phong+gonio"}));
 }
 
 TEST(Renderer, ExposureOrOperatorChangesReRunOnlyTheToneMapPass) {
@@ -275,7 +380,7 @@ TEST(Renderer, CompilesOnlyTheVariantsTheSceneNeeds) {
   EXPECT_THROW(renderer.render(orthoView(false), RenderMode::kSunlight, 32, 16), std::invalid_argument);
   EXPECT_THROW(renderer.render(orthoView(false), RenderMode::kLightMap, 32, 16), std::invalid_argument);
   renderer.toneMap({ToneOperator::kReinhard, 0.0});
-  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"scene+phong", "background", "tonemap"}));
+  EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+phong", "tonemap"}));
 }
 
 TEST(Renderer, RejectsBadImageSizes) {

@@ -174,6 +174,72 @@ TEST(RasterRdbBuild, LightMapsAreMatchedByNodeAndMeshAndChecked) {
   EXPECT_THROW(buildRasterRdb(c.scene, &store), InputError);
 }
 
+// The floor (quadXZ: triangles (0,2,1), (0,3,2)) with a 2 × 3 light texture whose two triangles lie in
+// separate charts: vertices 0 and 2 have a second UV and get seam copies.
+LightMapStore floorLightTexture(const RasterRdb& plain) {
+  LightMapStore store;
+  const RasterMesh& floor = plain.meshes[0];
+  MeshLightMap map{floor.sdbNodeId, floor.sdbMeshId, {Rgb(10), Rgb(11), Rgb(12), Rgb(13)}, {}, {}};
+  MeshLightTexture t;
+  t.width = 2;
+  t.height = 3;
+  for (int k = 0; k < 6; ++k) t.frontLux.push_back(Rgb(100.0f * float(k + 1)));
+  t.cornerUv = {{0.1f, 0.1f}, {0.4f, 0.4f}, {0.4f, 0.1f}, {0.6f, 0.1f}, {0.6f, 0.4f}, {0.9f, 0.4f}};
+  map.lightTexture = t;
+  store.meshes.push_back(map);
+  return store;
+}
+
+TEST(RasterRdbBuild, LightTexturedMeshesAreSplitAtSeams) {
+  Corner c = corner();
+  const RasterRdb plain = buildRasterRdb(c.scene);
+  EXPECT_FALSE(plain.variants.lightTexture);
+  EXPECT_TRUE(plain.lightMapUv.empty());
+  LightMapStore store = floorLightTexture(plain);
+  const RasterRdb r = buildRasterRdb(c.scene, &store);
+  ASSERT_EQ(r.meshes.size(), 3u);
+  const RasterMesh& floor = r.meshes[0];
+  EXPECT_TRUE(r.variants.lightMap);
+  EXPECT_TRUE(r.variants.lightTexture);
+  ASSERT_EQ(floor.lightTexture, 0u);
+  EXPECT_EQ(r.meshes[1].lightTexture, RasterMesh::kNoLightTexture);
+  ASSERT_EQ(r.lightTextures.size(), 1u);
+  EXPECT_EQ(r.lightTextures[0].width, 2u);
+  EXPECT_EQ(r.lightTextures[0].height, 3u);
+  EXPECT_EQ(r.lightTextures[0].frontLux, store.meshes[0].lightTexture->frontLux);
+  EXPECT_TRUE(r.lightTextures[0].backLux.empty());
+  // 4 SDB vertices, then copies of vertex 0 (UV (0.6, 0.1)) and vertex 2 (UV (0.9, 0.4)); the later meshes
+  // move up by 2.
+  ASSERT_EQ(floor.vertexCount, 6u);
+  EXPECT_EQ(r.meshes[1].firstVertex, 6u);
+  EXPECT_EQ(r.positionsM.size(), 6u + 4u + 4u);
+  ASSERT_EQ(r.lightMapUv.size(), r.positionsM.size());
+  const std::vector<uint32_t> expectedIndices = {0, 2, 1, 4, 3, 5};
+  EXPECT_EQ(std::vector<uint32_t>(r.indices.begin(), r.indices.begin() + 6), expectedIndices);
+  // Every corner reads its own UV; copies repeat their source's position, normal and vertex light value.
+  for (size_t k = 0; k < 6; ++k)
+    EXPECT_EQ(r.lightMapUv[r.indices[k]], store.meshes[0].lightTexture->cornerUv[k]) << "corner " << k;
+  EXPECT_EQ(r.positionsM[4], r.positionsM[0]);
+  EXPECT_EQ(r.positionsM[5], r.positionsM[2]);
+  EXPECT_EQ(r.normals[5], r.normals[2]);
+  EXPECT_EQ(r.frontLux[4], Rgb(10.0f));
+  EXPECT_EQ(r.frontLux[5], Rgb(12.0f));
+  EXPECT_EQ(r.cornerFactor[4], r.cornerFactor[0]);  // welded by position
+  EXPECT_EQ(r.lightMapUv[6], vec2(0.0f));          // the wall has no light texture
+  EXPECT_EQ(r.indices[6], 6u);
+
+  // Corner UVs of another triangle count, or texels of another size: a bake of an edited scene.
+  LightMapStore wrong = store;
+  wrong.meshes[0].lightTexture->cornerUv.pop_back();
+  EXPECT_THROW(buildRasterRdb(c.scene, &wrong), InputError);
+  wrong = store;
+  wrong.meshes[0].lightTexture->frontLux.pop_back();
+  EXPECT_THROW(buildRasterRdb(c.scene, &wrong), InputError);
+  wrong = store;
+  wrong.meshes[0].lightTexture->cornerUv[0].x = std::nanf("");
+  EXPECT_THROW(buildRasterRdb(c.scene, &wrong), InputError);
+}
+
 // update == rebuild, and only the named part is re-made.
 void expectUpdateEqualsRebuild(Corner& c, const sdb::ChangeSet& changes, RasterRdb& before,
                                const LightMapStore* maps = nullptr) {
@@ -235,6 +301,24 @@ TEST(RasterRdbUpdate, EachKindOfChangeEqualsARebuild) {
     EXPECT_TRUE(updateRasterRdb(copy, c.scene, cs).geometry);
     expectUpdateEqualsRebuild(c, cs, r);
   }
+}
+
+TEST(RasterRdbUpdate, LightTexturesSurviveUpdatesAsARebuild) {
+  Corner c = corner();
+  const LightMapStore store = floorLightTexture(buildRasterRdb(c.scene));
+  RasterRdb r = buildRasterRdb(c.scene, &store);
+  {  // a material edit keeps the split geometry
+    sdb::Material paint = c.scene.material(c.paint);
+    paint.diffuseColor = Rgb(0.3f);
+    expectUpdateEqualsRebuild(c, c.scene.setMaterial(c.paint, paint), r, &store);
+  }
+  {  // a moved wall rebuilds it, split again
+    const sdb::ChangeSet cs = c.scene.setNodeTransform(
+        c.wallX, frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0.1f, 0, 0)));
+    expectUpdateEqualsRebuild(c, cs, r, &store);
+  }
+  EXPECT_EQ(r.meshes[0].vertexCount, 6u);
+  EXPECT_TRUE(r.variants.lightTexture);
 }
 
 // A new time of day re-makes the sky (dawn and noon differ) and nothing else.
