@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "base/error.h"
+
 namespace fly::rdb {
 
 std::optional<vec3> unitOrNone(const dvec3& v) {
@@ -47,6 +49,23 @@ PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal) {
     placed.normals.push_back(n.value_or(vec3(0.0f, 1.0f, 0.0f)));
   }
   return placed;
+}
+
+LightFrame placeLight(const sdb::Scene& scene, const sdb::Node& node, const mat4& worldFromLocal) {
+  LightFrame f;
+  f.positionM = vec3(worldFromLocal[3]);
+  const std::optional<vec3> dir = unitOrNone(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+  const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  const std::optional<vec3> cAxis = dir ? unitOrNone(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
+  if (!cAxis) {
+    throw InputError({scene.sourcePath.string()},
+                     "node \"" + node.name + "\" places light \"" + scene.light(node.light).name +
+                         "\" with a singular transform",
+                     "give the node and its parents a non-zero scale");
+  }
+  f.directionWorld = *dir;
+  f.cAxisWorld = *cAxis;
+  return f;
 }
 
 }  // namespace fly::rdb

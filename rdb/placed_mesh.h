@@ -1,5 +1,6 @@
-// An SDB mesh placed in world space by its node, lowered the same way for both RDBs (TraceRdb and RasterRdb
-// must agree vertex for vertex and triangle for triangle: the light maps of one are shown by the other).
+// SDB meshes and lights placed in world space by their nodes, lowered the same way for both RDBs (TraceRdb and
+// RasterRdb must agree vertex for vertex and triangle for triangle, and light for light: the light maps of one
+// are shown by the other).
 #pragma once
 
 #include <cstdint>
@@ -8,6 +9,7 @@
 
 #include "base/math.h"
 #include "sdb/mesh.h"
+#include "sdb/scene.h"
 
 namespace fly::rdb {
 
@@ -25,6 +27,16 @@ struct PlacedMesh {
 };
 
 PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal);
+
+// A light's placement: its node's origin, its photometric axis (the node's −Z) and the C = 0° half-plane
+// direction (the node's +X made perpendicular to the axis), world space, unit. InputError naming the scene
+// file, the node and the light when the node's transform is singular.
+struct LightFrame {
+  vec3 positionM{0.0f};
+  vec3 directionWorld{0.0f, -1.0f, 0.0f};
+  vec3 cAxisWorld{1.0f, 0.0f, 0.0f};
+};
+LightFrame placeLight(const sdb::Scene& scene, const sdb::Node& node, const mat4& worldFromLocal);
 
 // v / |v| in float, or nullopt for a zero, tiny or non-finite v.
 std::optional<vec3> unitOrNone(const dvec3& v);

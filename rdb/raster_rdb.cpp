@@ -263,18 +263,10 @@ void buildLights(RasterRdb& rdb, const sdb::Scene& scene) {
     const sdb::Light& light = scene.light(node.light);
     RasterLight r;
     r.sdbLightId = node.light.value;
-    r.positionM = vec3(worldFromLocal[3]);
-    const std::optional<vec3> dir = unitOrNone(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
-    const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
-    const std::optional<vec3> cAxis = dir ? unitOrNone(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
-    if (!cAxis) {
-      throw InputError(
-          {scene.sourcePath.string()},
-          "node \"" + node.name + "\" places light \"" + light.name + "\" with a singular transform",
-          "give the node and its parents a non-zero scale");
-    }
-    r.directionWorld = *dir;
-    r.cAxisWorld = *cAxis;
+    const LightFrame frame = placeLight(scene, node, worldFromLocal);
+    r.positionM = frame.positionM;
+    r.directionWorld = frame.directionWorld;
+    r.cAxisWorld = frame.cAxisWorld;
     r.intensity = light.color * light.intensity;
     r.rangeM = light.rangeM;
     switch (light.type) {

@@ -221,17 +221,10 @@ class Builder {
     const sdb::Light& light = scene_.light(node.light);
     TracePunctualLight t;
     t.sdbLightId = node.light.value;
-    t.positionM = vec3(worldFromLocal[3]);
-    const std::optional<vec3> dir = unitOrNone(dvec3(worldFromLocal * vec4(0.0f, 0.0f, -1.0f, 0.0f)));
-    const dvec3 x(worldFromLocal * vec4(1.0f, 0.0f, 0.0f, 0.0f));
-    const std::optional<vec3> cAxis = dir ? unitOrNone(x - glm::dot(x, dvec3(*dir)) * dvec3(*dir)) : std::nullopt;
-    if (!cAxis) {
-      throw InputError({scene_.sourcePath.string()},
-                       "node \"" + node.name + "\" places light \"" + light.name + "\" with a singular transform",
-                       "give the node and its parents a non-zero scale");
-    }
-    t.directionWorld = *dir;
-    t.cAxisWorld = *cAxis;
+    const LightFrame frame = placeLight(scene_, node, worldFromLocal);
+    t.positionM = frame.positionM;
+    t.directionWorld = frame.directionWorld;
+    t.cAxisWorld = frame.cAxisWorld;
     t.intensity = light.color * light.intensity;
     t.rangeM = light.rangeM;
     switch (light.type) {

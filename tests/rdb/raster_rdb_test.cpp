@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_meshes.h"
+
 #include <cmath>
 
 #include "base/error.h"
@@ -11,26 +13,8 @@ namespace fly::rdb {
 namespace {
 
 using sdb::Scene;
-
-// A unit quad in the local XZ plane (y = 0), counter-clockwise seen from +Y, normals +Y.
-sdb::Mesh quadXZ(sdb::MaterialId material) {
-  sdb::Mesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
-  m.normals.assign(4, vec3(0, 1, 0));
-  m.indices = {0, 2, 1, 0, 3, 2};
-  m.material = material;
-  return m;
-}
-
-// A unit quad in the local YZ plane (x = 0), counter-clockwise seen from +X, normals +X.
-sdb::Mesh quadYZ(sdb::MaterialId material) {
-  sdb::Mesh m;
-  m.positions = {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};
-  m.normals.assign(4, vec3(1, 0, 0));
-  m.indices = {0, 1, 2, 0, 2, 3};
-  m.material = material;
-  return m;
-}
+using test::quadXZ;
+using test::quadYZ;
 
 // A room corner: floor (normal +Y), wall x = 0 (normal +X) and wall z = 0 (normal +Z), each a separate mesh.
 struct Corner {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_meshes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,16 +23,8 @@ namespace fly::rdb {
 namespace {
 
 using sdb::Scene;
-
-// A unit quad in the local XZ plane (y = 0), counter-clockwise seen from +Y, with normals +Y.
-sdb::Mesh quadXZ(sdb::MaterialId material) {
-  sdb::Mesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
-  m.normals.assign(4, vec3(0, 1, 0));
-  m.indices = {0, 2, 1, 0, 3, 2};
-  m.material = material;
-  return m;
-}
+using test::quadXZ;
+using test::quadYZ;
 
 void expectVec(const vec3& actual, const vec3& expected, float tolerance = 1e-6f) {
   EXPECT_NEAR(actual.x, expected.x, tolerance) << "expected (" << expected.x << ", " << expected.y << ", " << expected.z << ")";
