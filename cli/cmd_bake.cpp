@@ -69,7 +69,13 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
 // (error / target)² times as long as it took so far). Infinite when no rule bounds it.
 double secondsLeft(const raytracer::ConvergencePoint& p, const raytracer::EstimateSettings& s) {
   double left = p.seconds * (double(s.maxSamples) / double(p.samples) - 1.0);
-  if (std::isfinite(s.timeLimitS)) left = std::min(left, s.timeLimitS - p.seconds);
+  if (std::isfinite(s.timeLimitS)) {
+    // Passes double the samples, so each lasts about as long as all before it, and none starts that would end
+    // after the limit: the bake ends at the last of T, 2T, 4T … within it.
+    double end = p.seconds;
+    while (end > 0.0 && 2.0 * end <= s.timeLimitS) end *= 2.0;
+    left = std::min(left, end - p.seconds);
+  }
   if (s.targetRelativeError > 0.0f) {
     const double ratio = double(p.relativeErrorP95) / double(s.targetRelativeError);
     left = std::min(left, p.seconds * std::max(ratio * ratio - 1.0, 0.0));

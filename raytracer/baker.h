@@ -24,7 +24,7 @@ struct BakeSettings {
 struct ConvergencePoint {
   double seconds = 0.0;          // since the bake started
   uint32_t samples = 0;          // per vertex (and side)
-  float relativeErrorP95 = 0.0f; // 95th percentile over vertices of the relative standard error of luminance
+  float relativeErrorP95 = 0.0f; // 95th percentile over vertex sides and texels of the relative standard error of luminance
   double raysPerSecond = 0.0;    // over the pass
 };
 

@@ -197,7 +197,9 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       const uint32_t total = state.samplesPerPoint;
       const uint32_t passSamples = total == 0 ? settings.firstPassSamples : total;
       if (uint64_t{total} + passSamples > settings.maxSamples) break;
-      if (total > 0 && elapsed() + state.lastPassS * passSamples / static_cast<double>(total) > settings.timeLimitS)
+      if (total > 0 && state.lastPassSamples > 0 &&
+          elapsed() + state.lastPassS * passSamples / static_cast<double>(state.lastPassSamples) >
+              settings.timeLimitS)
         break;
       state.passSamples = passSamples;
       state.passPointsDone = 0;
@@ -224,6 +226,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     }
     state.samplesPerPoint = total + state.passSamples;
     state.lastPassS = state.passSeconds;
+    state.lastPassSamples = state.passSamples;
     const uint64_t passRays = state.passRays;
     state.passSamples = 0;
     state.passPointsDone = 0;
@@ -281,6 +284,7 @@ std::string serializeProgressState(const ProgressState& s) {
   put(out, s.seconds);
   put(out, s.passSeconds);
   put(out, s.lastPassS);
+  put(out, s.lastPassSamples);
   put(out, static_cast<uint64_t>(s.sums.size()));
   for (const dvec3& v : s.sums) {
     put(out, v.x);
@@ -319,6 +323,7 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
   get(s.seconds);
   get(s.passSeconds);
   get(s.lastPassS);
+  get(s.lastPassSamples);
   uint64_t count = 0;
   get(count);
   const size_t perPoint = s.replicates == 1 ? 2 : s.replicates;

@@ -107,6 +107,7 @@ struct ProgressState {
   double seconds = 0.0;          // run time so far, summed over every process that worked on it
   double passSeconds = 0.0;      // run time of the pass in progress so far
   double lastPassS = 0.0;        // duration of the last complete pass (predicts the next one's)
+  uint32_t lastPassSamples = 0;  // samples per point of the last complete pass
   // replicates ≥ 2: per point and replicate, the sum of its samples (point-major). replicates = 1: per point,
   // Welford's mean and sum of squared deviations (2 entries).
   std::vector<dvec3> sums;
