@@ -130,12 +130,17 @@ std::vector<Rgb> luminanceOf(const std::vector<Rgb>& lux, const Rgb& albedo) {
   return l;
 }
 
-TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
-  context();
-  QuadScene q = quadScene(false);
+// The one-sided quad with kFrontLux as its vertex light map.
+rdb::RasterRdb lightMappedQuad() {
+  const QuadScene q = quadScene(false);
   rdb::LightMapStore store;
   store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
-  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  return rdb::buildRasterRdb(q.scene, &store);
+}
+
+TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
+  context();
+  const rdb::RasterRdb r = lightMappedQuad();
   Renderer renderer;
   renderer.upload(r);
   renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
@@ -334,10 +339,7 @@ TEST(Renderer, SimpleModeGoniometricLight) {
 
 TEST(Renderer, ExposureOrOperatorChangesReRunOnlyTheToneMapPass) {
   context();
-  QuadScene q = quadScene(false);
-  rdb::LightMapStore store;
-  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
-  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  const rdb::RasterRdb r = lightMappedQuad();
   Renderer renderer;
   renderer.upload(r);
   renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
@@ -407,10 +409,7 @@ TEST(GlfwWindow, OpensA45CoreContextAndRendersLikeHeadless) {
   GlfwWindowContext window(64, 32, "fly test");
   EXPECT_EQ(window.info().platform, "glfw");
   EXPECT_TRUE(window.info().major > 4 || (window.info().major == 4 && window.info().minor >= 5));
-  QuadScene q = quadScene(false);
-  rdb::LightMapStore store;
-  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
-  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  const rdb::RasterRdb r = lightMappedQuad();
   Renderer renderer;
   renderer.upload(r);
   renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
