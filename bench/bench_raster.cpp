@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "base/tone_map.h"
+#include "../tests/support/helsinki_daylight.h"
 #include "raster/gl_context.h"
 #include "raster/renderer.h"
 #include "rdb/raster_rdb.h"
@@ -114,16 +115,7 @@ sdb::Scene makeScene(uint32_t cells) {
   s.addNode({.name = "eye",
              .parentFromLocal = sdb::lookAtTransform(vec3(-22, 12, 26), vec3(0, 0, 0), vec3(0, 1, 0)),
              .camera = s.addCamera(cam).id});
-  sdb::Site site;
-  site.latitudeDeg = 60.17;
-  site.longitudeDeg = 24.94;
-  site.timeZone = "Europe/Helsinki";
-  s.setSite(site);
-  s.setTime({"2026-06-21T15:00"});
-  sdb::SkySettings sky;
-  sky.model = sdb::SkyModel::kClear;
-  sky.sun = true;
-  s.setSky(sky);
+  fly::test::setHelsinkiClearSky(s, "2026-06-21T15:00");
   return s;
 }
 

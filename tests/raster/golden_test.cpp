@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/image_io.h"
+#include "../support/helsinki_daylight.h"
 #include "base/tone_map.h"
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
@@ -74,16 +75,7 @@ Yard yard() {
       {.name = "eye",
        .parentFromLocal = sdb::lookAtTransform(vec3(-2.5f, 1.6f, 3.5f), vec3(0.3f, 0.6f, 0), vec3(0, 1, 0)),
        .camera = y.scene.addCamera(cam).id});
-  sdb::Site site;
-  site.latitudeDeg = 60.17;
-  site.longitudeDeg = 24.94;
-  site.timeZone = "Europe/Helsinki";
-  y.scene.setSite(site);
-  y.scene.setTime({"2026-06-21T18:00"});
-  sdb::SkySettings sky;
-  sky.model = sdb::SkyModel::kClear;
-  sky.sun = true;
-  y.scene.setSky(sky);
+  fly::test::setHelsinkiClearSky(y.scene, "2026-06-21T18:00");
   return y;
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/helsinki_daylight.h"
 #include "test_meshes.h"
 
 #include <cmath>
@@ -308,16 +309,7 @@ TEST(RasterRdbUpdate, LightTexturesSurviveUpdatesAsARebuild) {
 // A new time of day re-makes the sky (dawn and noon differ) and nothing else.
 TEST(RasterRdbUpdate, TimeOfDayReMakesOnlyTheSky) {
   Corner c = corner();
-  sdb::Site site;
-  site.latitudeDeg = 60.17;
-  site.longitudeDeg = 24.94;
-  site.timeZone = "Europe/Helsinki";
-  c.scene.setSite(site);
-  c.scene.setTime({"2026-06-21T12:00"});
-  sdb::SkySettings sky;
-  sky.model = sdb::SkyModel::kClear;
-  sky.sun = true;
-  c.scene.setSky(sky);
+  fly::test::setHelsinkiClearSky(c.scene, "2026-06-21T12:00");
   RasterRdb r = buildRasterRdb(c.scene);
   ASSERT_TRUE(r.sky.has_value());
   EXPECT_TRUE(r.variants.sky);
