@@ -9,10 +9,12 @@
 //   3. Scaling: bake time for 10k, 100k and 1M triangles, 1 thread against all.
 //   4. Memory: peak resident set size after the largest bake.
 //
-// Usage: fly-bench-baker [--quick]   (--quick: 10k triangles only, a smaller QMC reference)
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling]...   (--quick: 10k triangles only, a
+// smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -96,7 +98,7 @@ uint32_t cellsFor(uint32_t triangles) {
 }
 
 VertexLightMaps bake(const rdb::TraceRdb& rdb, const EmbreeScene& scene, uint32_t samples, uint32_t threads,
-                     SamplerKind sampler = SamplerKind::kSobol, uint32_t replicates = 8, uint64_t seed = 0,
+                     SamplerKind sampler = SamplerKind::kSobol, uint32_t replicates = EstimateSettings{}.replicates, uint64_t seed = 0,
                      uint32_t maxBounces = kPathLengthGuard) {
   BakeSettings settings;
   settings.integrator.maxBounces = maxBounces;
@@ -185,9 +187,9 @@ void benchThroughput(uint32_t maxThreads) {
   const EmbreeScene scene(rdb);
   const std::vector<Ray> rays = baselineRays(rdb, kSamples);
   std::printf(
-      "1. Throughput: %zu triangles, %zu vertices, %u samples per vertex (Sobol, 8 replicates), best of "
+      "1. Throughput: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best of "
       "%d\n",
-      rdb.triangleCount(), rdb.positionsM.size(), kSamples, kRepetitions);
+      rdb.triangleCount(), rdb.positionsM.size(), kSamples, EstimateSettings{}.replicates, kRepetitions);
   for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
     double raw = 0.0;
     double baker = 0.0;
@@ -246,26 +248,32 @@ void benchQmc(uint32_t threads, bool quick, uint32_t maxBounces) {
   double meanReference = 0.0;
   for (double y : reference) meanReference += y / static_cast<double>(reference.size());
   std::printf("   mean vertex illuminance %.0f lx\n", meanReference);
-  std::printf("   %8s %12s %14s %14s %13s %13s\n", "samples", "RMSE MC", "RMSE QMC K=8", "RMSE QMC K=1",
-              "MC/QMC K=8", "MC/QMC K=1");
+  constexpr std::array<uint32_t, 4> kReplicates = {8, 4, 2, 1};
+  std::printf("   %8s %10s", "samples", "RMSE MC");
+  for (uint32_t k : kReplicates) std::printf("   QMC K=%u", k);
+  for (uint32_t k : kReplicates) std::printf("  MC/QMC K=%u", k);
+  std::printf("\n");
   const std::vector<uint32_t> counts =
       quick ? std::vector<uint32_t>{16, 64} : std::vector<uint32_t>{16, 64, 256};
   for (uint32_t samples : counts) {
     const double mc =
         rmse(rdb, scene, reference, samples, threads, SamplerKind::kRandom, 1, kSeeds, maxBounces);
-    const double qmc8 =
-        rmse(rdb, scene, reference, samples, threads, SamplerKind::kSobol, 8, kSeeds, maxBounces);
-    const double qmc1 =
-        rmse(rdb, scene, reference, samples, threads, SamplerKind::kSobol, 1, kSeeds, maxBounces);
-    std::printf("   %8u %9.1f lx %11.1f lx %11.1f lx %13.2f %13.2f\n", samples, mc, qmc8, qmc1, mc / qmc8,
-                mc / qmc1);
+    std::array<double, kReplicates.size()> qmc{};
+    for (size_t i = 0; i < kReplicates.size(); ++i) {
+      qmc[i] = rmse(rdb, scene, reference, samples, threads, SamplerKind::kSobol, kReplicates[i], kSeeds,
+                    maxBounces);
+    }
+    std::printf("   %8u %7.1f lx", samples, mc);
+    for (double q : qmc) std::printf(" %7.1f lx", q);
+    for (double q : qmc) std::printf(" %11.2f", mc / q);
+    std::printf("\n");
   }
 }
 
 void benchScaling(uint32_t maxThreads, bool quick) {
   constexpr uint32_t kSamples = 16;
-  std::printf("\n3. Scaling: %u samples per vertex (Sobol, 8 replicates); bake time without the BVH build\n",
-              kSamples);
+  std::printf("\n3. Scaling: %u samples per vertex (Sobol, %u replicates); bake time without the BVH build\n",
+              kSamples, EstimateSettings{}.replicates);
   std::printf("   %10s %10s %10s %12s %12s %9s\n", "triangles", "vertices", "BVH build", "1 thread",
               (std::to_string(maxThreads) + " threads").c_str(), "speed-up");
   const std::vector<uint32_t> sizes =
@@ -292,19 +300,41 @@ void benchScaling(uint32_t maxThreads, bool quick) {
 
 int main(int argc, char** argv) {
   bool quick = false;
+  // Which parts to run: all unless --part names some.
+  bool throughput = false;
+  bool qmc = false;
+  bool scaling = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--part") == 0 && i + 1 < argc) {
+      const std::string part = argv[++i];
+      if (part == "throughput") {
+        throughput = true;
+      } else if (part == "qmc") {
+        qmc = true;
+      } else if (part == "scaling") {
+        scaling = true;
+      } else {
+        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc or scaling\n",
+                     part.c_str());
+        return 2;
+      }
     } else {
-      std::fprintf(stderr, "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick]\n",
+      std::fprintf(stderr,
+                   "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick] "
+                   "[--part throughput|qmc|scaling]...\n",
                    argv[i]);
       return 2;
     }
   }
+  if (!throughput && !qmc && !scaling) throughput = qmc = scaling = true;
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
-  fly::raytracer::benchThroughput(threads);
-  fly::raytracer::benchQmc(threads, quick, fly::raytracer::kPathLengthGuard);
-  fly::raytracer::benchQmc(threads, quick, 0);
-  fly::raytracer::benchScaling(threads, quick);
+  if (throughput) fly::raytracer::benchThroughput(threads);
+  if (qmc) {
+    fly::raytracer::benchQmc(threads, quick, fly::raytracer::kPathLengthGuard);
+    fly::raytracer::benchQmc(threads, quick, 0);
+  }
+  if (scaling) fly::raytracer::benchScaling(threads, quick);
   return 0;
 }

@@ -16,9 +16,14 @@
 namespace fly::raytracer {
 namespace {
 
-// Every point's running statistics, kept in a ProgressState's sums. replicates = 1: Welford's running mean
-// and sum of squared deviations per channel, in double (Welford, "Note on a method for calculating corrected
-// sums of squares and products", Technometrics 4(3), 1962). replicates ≥ 2: each replicate's sum.
+// Every point's running statistics, kept in a ProgressState's sums (sumsPerPoint entries a point). Always
+// Welford's running mean and sum of squared deviations over all the point's samples, per channel, in double
+// (Welford, "Note on a method for calculating corrected sums of squares and products", Technometrics 4(3),
+// 1962); with replicates ≥ 2, each replicate's sum after them.
+size_t sumsPerPoint(uint32_t replicates) {
+  return replicates == 1 ? 2 : 2 + size_t{replicates};
+}
+
 class Accumulators {
  public:
   explicit Accumulators(ProgressState& state) : state_(state) {}
@@ -27,41 +32,85 @@ class Accumulators {
 
   // Welford's update with the point's count-th sample (count ≥ 1).
   void addWelford(size_t point, uint32_t count, const Rgb& x) {
-    dvec3& mean = state_.sums[2 * point];
-    dvec3& m2 = state_.sums[2 * point + 1];
-    const dvec3 delta = dvec3(x) - mean;
-    mean += delta / static_cast<double>(count);
-    m2 += delta * (dvec3(x) - mean);
+    dvec3* sums = &state_.sums[point * sumsPerPoint(state_.replicates)];
+    const dvec3 delta = dvec3(x) - sums[0];
+    sums[0] += delta / static_cast<double>(count);
+    sums[1] += delta * (dvec3(x) - sums[0]);
   }
-  dvec3& replicateSum(size_t point, uint32_t r) { return state_.sums[point * state_.replicates + r]; }
+  dvec3& replicateSum(size_t point, uint32_t r) {
+    return state_.sums[point * sumsPerPoint(state_.replicates) + 2 + r];
+  }
 
-  // samples: per point, all replicates together.
-  IrradianceEstimate estimate(size_t point, uint32_t samples) const {
-    IrradianceEstimate e;
-    e.samples = samples;
+  // The variances of a point's mean after `samples` samples: from the spread of its samples (naive: the
+  // error of independent samples) and, with replicates ≥ 2, from the spread of its replicates' means (honest
+  // for scrambled nets too, with K − 1 degrees of freedom).
+  struct Variances {
+    dvec3 mean{0.0};
+    dvec3 naive{0.0};
+    dvec3 replicate{0.0};
+  };
+  Variances variances(size_t point, uint32_t samples) const {
+    const dvec3* sums = &state_.sums[point * sumsPerPoint(state_.replicates)];
+    Variances v;
+    v.mean = sums[0];
+    if (samples > 1) v.naive = sums[1] / (static_cast<double>(samples) * (samples - 1));
     const uint32_t k = state_.replicates;
-    if (k == 1) {
-      e.meanLux = Rgb(state_.sums[2 * point]);
-      if (samples > 1) {
-        e.stdErrorLux =
-            Rgb(glm::sqrt(state_.sums[2 * point + 1] / (static_cast<double>(samples) * (samples - 1))));
-      }
-      return e;
-    }
-    // The replicates' means are independent and identically distributed; the standard error of their mean is
-    // their sample standard deviation over √K.
+    if (k == 1) return v;
     const double perReplicate = static_cast<double>(samples) / k;
     dvec3 mean(0.0);
-    for (uint32_t r = 0; r < k; ++r) mean += state_.sums[point * k + r] / perReplicate;
+    for (uint32_t r = 0; r < k; ++r) mean += sums[2 + r] / perReplicate;
     mean /= static_cast<double>(k);
     dvec3 squares(0.0);
     for (uint32_t r = 0; r < k; ++r) {
-      const dvec3 d = state_.sums[point * k + r] / perReplicate - mean;
+      const dvec3 d = sums[2 + r] / perReplicate - mean;
       squares += d * d;
     }
-    e.meanLux = Rgb(mean);
-    e.stdErrorLux = Rgb(glm::sqrt(squares / (static_cast<double>(k) * (k - 1))));
-    return e;
+    v.replicate = squares / (static_cast<double>(k) * (k - 1));
+    return v;
+  }
+
+  // Every point's estimate after `samples` samples (all replicates together).
+  //
+  // replicates = 1: the standard error is the naive one, honest for plain Monte Carlo only.
+  //
+  // replicates ≥ 2: a moderated variance (Smyth, "Linear models and empirical Bayes methods for assessing
+  // differential expression in microarray experiments", Stat. Appl. Genet. Mol. Biol. 3(1), 2004, eq. 8):
+  //   σ̂²_i = (d₀ η² w_i + (K − 1) v_i) / (d₀ + K − 1),
+  // v_i the point's replicate variance (unbiased, K − 1 degrees of freedom, noisy for few replicates), w_i its
+  // naive variance (many degrees of freedom, but scrambled nets converge faster than it says), and η² = Σ v /
+  // Σ w over all points per channel: how much faster the nets converge than independent samples here,
+  // measured by the replicates of all points together. Each term is an unbiased estimate of Var(mean_i) when
+  // a point's η is the common one, so the sum over points of σ̂² is unbiased whatever the η_i (ΣE[η² w_i] =
+  // ΣE[v_i]). The prior weight d₀ = max(0, kModeratedDegreesOfFreedom − (K − 1)) tops few replicates up to
+  // the steadiness of 8 (7 degrees of freedom), and leaves 8 or more to themselves: pooling assumes that all
+  // points gain alike from the nets, which holds only roughly (a point in smooth light gains more than one
+  // on a shadow edge), so it is used no more than the replicates need.
+  void estimates(uint32_t samples, std::vector<IrradianceEstimate>& out) const {
+    const size_t count = state_.pointCount;
+    out.assign(count, IrradianceEstimate{});
+    const uint32_t k = state_.replicates;
+    dvec3 sumNaive(0.0);
+    dvec3 sumReplicate(0.0);
+    if (k > 1 && k - 1 < kModeratedDegreesOfFreedom) {
+      for (size_t i = 0; i < count; ++i) {
+        const Variances v = variances(i, samples);
+        sumNaive += v.naive;
+        sumReplicate += v.replicate;
+      }
+    }
+    dvec3 eta2(0.0);
+    for (int c = 0; c < 3; ++c) eta2[c] = sumNaive[c] > 0.0 ? sumReplicate[c] / sumNaive[c] : 0.0;
+    const double dof = static_cast<double>(k - 1);
+    const double priorDof = std::max(0.0, kModeratedDegreesOfFreedom - dof);
+    for (size_t i = 0; i < count; ++i) {
+      const Variances v = variances(i, samples);
+      IrradianceEstimate& e = out[i];
+      e.samples = samples;
+      e.meanLux = Rgb(v.mean);
+      const dvec3 variance =
+          k == 1 ? v.naive : (priorDof * eta2 * v.naive + dof * v.replicate) / (priorDof + dof);
+      e.stdErrorLux = Rgb(glm::sqrt(variance));
+    }
   }
 
  private:
@@ -104,13 +153,18 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
           }
           continue;
         }
+        // The point's samples in a fixed order (replicate by replicate), so that its running statistics are
+        // the same whichever thread adds them.
+        uint32_t count = firstSample;
         for (uint32_t r = 0; r < k; ++r) {
           // An independent randomisation per replicate.
           S sampler(detail::mix64(settings.seed + i) + r);
           dvec3& sum = acc.replicateSum(i, r);
           for (uint32_t s = firstSample / k; s < (firstSample + sampleCount) / k; ++s) {
             sampler.startSample(s);
-            sum += dvec3(source.sample(i, sampler, threadRays));
+            const Rgb x = source.sample(i, sampler, threadRays);
+            sum += dvec3(x);
+            acc.addWelford(i, ++count, x);
           }
         }
       }
@@ -148,14 +202,14 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
                                 ") must be powers of two, firstPassSamples >= replicates");
   }
   const size_t pointCount = source.pointCount();
-  const size_t sumsPerPoint = settings.replicates == 1 ? 2 : settings.replicates;
+  const size_t perPoint = sumsPerPoint(settings.replicates);
   if (!state.started()) {
     state = ProgressState{};
     state.pointCount = pointCount;
     state.replicates = settings.replicates;
-    state.sums.assign(pointCount * sumsPerPoint, dvec3(0.0));
+    state.sums.assign(pointCount * perPoint, dvec3(0.0));
   } else if (state.pointCount != pointCount || state.replicates != settings.replicates ||
-             state.sums.size() != pointCount * sumsPerPoint || state.passPointsDone > pointCount) {
+             state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount) {
     throw std::invalid_argument("estimateProgressively: the state to continue has " +
                                 std::to_string(state.pointCount) + " points and " +
                                 std::to_string(state.replicates) + " replicates, the estimate " +
@@ -171,9 +225,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
   EstimateResult result;
   result.rays = state.rays;
   auto fillResult = [&](uint32_t total) {
-    result.points.clear();
-    result.points.reserve(pointCount);
-    for (size_t i = 0; i < pointCount; ++i) result.points.push_back(acc.estimate(i, total));
+    acc.estimates(total, result.points);
     result.relativeErrorP95 = relativeErrorP95(result.points);
     result.samplesPerPoint = total;
   };
@@ -260,7 +312,7 @@ uint64_t fnv1a(const std::string& bytes, size_t count) {
   return h;
 }
 
-constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '1'};
+constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '2'};
 
 template <class T>
 void put(std::string& out, const T& value) {
@@ -326,7 +378,7 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
   get(s.lastPassSamples);
   uint64_t count = 0;
   get(count);
-  const size_t perPoint = s.replicates == 1 ? 2 : s.replicates;
+  const size_t perPoint = sumsPerPoint(s.replicates);
   if (s.replicates == 0 || count != s.pointCount * perPoint || count > (bytes.size() - at) / 24)
     throw bad("its sizes do not agree");
   s.sums.resize(count);

@@ -25,6 +25,10 @@ struct IrradianceEstimate {
 
 enum class SamplerKind { kSobol, kRandom };
 
+// With fewer than 8 replicates, a point's variance is moderated with the variance pooled over all points up to
+// this many degrees of freedom, those of 8 replicates (EstimateSettings::replicates).
+inline constexpr double kModeratedDegreesOfFreedom = 7.0;
+
 struct EstimateSettings {
   uint32_t firstPassSamples =
       16;                      // per point, a power of two ≥ replicates; every later pass doubles the total
@@ -40,10 +44,13 @@ struct EstimateSettings {
   // for plain Monte Carlo only — scrambled Sobol' points converge faster than their variance says, and it
   // overstates their error 2.5–5× (the ReportedStandardErrorIsHonest test). K ≥ 2: the samples are split into
   // K independently randomised sequences (randomised quasi-Monte Carlo replicates: L'Ecuyer & Lemieux,
-  // "Recent advances in randomized quasi-Monte Carlo methods", 2002), and the error is the standard
-  // deviation of their K means over √K: honest for either sampler, at the cost of K shorter nets. K = 8
-  // estimates it with 7 degrees of freedom.
-  uint32_t replicates = 8;
+  // "Recent advances in randomized quasi-Monte Carlo methods", 2002), whose spread measures the error
+  // honestly for either sampler, at the cost of K shorter nets; the variance of a point's mean is moderated
+  // with the naive one scaled by the nets' gain measured over all points (progressive.cpp,
+  // Accumulators::estimates) up to kModeratedDegreesOfFreedom. The default, 2, keeps nets long (at 64
+  // samples QMC's error is 15 % lower than with 8 replicates: docs/benchmarks.md) and, moderated, has the
+  // 7 degrees of freedom of 8 plain replicates.
+  uint32_t replicates = 2;
   uint64_t seed = 0;  // point i's samplers are seeded from seed + i
 };
 
@@ -108,8 +115,8 @@ struct ProgressState {
   double passSeconds = 0.0;      // run time of the pass in progress so far
   double lastPassS = 0.0;        // duration of the last complete pass (predicts the next one's)
   uint32_t lastPassSamples = 0;  // samples per point of the last complete pass
-  // replicates ≥ 2: per point and replicate, the sum of its samples (point-major). replicates = 1: per point,
-  // Welford's mean and sum of squared deviations (2 entries).
+  // Per point (point-major): Welford's mean and sum of squared deviations over all its samples, then with
+  // replicates ≥ 2 each replicate's sum of its samples (2 + replicates entries).
   std::vector<dvec3> sums;
 
   bool started() const { return samplesPerPoint > 0 || passPointsDone > 0; }
