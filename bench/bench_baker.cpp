@@ -111,42 +111,23 @@ VertexLightMaps bake(const rdb::TraceRdb& rdb, const EmbreeScene& scene, uint32_
   return bakeVertexLightMaps(rdb, scene, settings);
 }
 
-struct Ray {
-  vec3 origin;
-  vec3 dir;
-  bool occlusion;  // occluded() to infinity, else intersect()
-};
-
-// The baseline's rays: from every vertex, moved off its surface as the integrator moves its points, per
-// sample one sun shadow ray (uniform in the sun's cone, where it lies above the surface), one sky shadow ray
-// and one continuation ray (both cosine-distributed about the normal) — the rays the integrator traces at a
-// path's first vertex. Unlike the baker's, the rays leave from the vertex itself rather than a point of its
-// one-ring, the sky ray is cosine- rather than luminance-distributed, and no ray leaves from a bounce.
-std::vector<Ray> baselineRays(const rdb::TraceRdb& rdb, uint32_t samples) {
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<float> uniform(0.0f, 0x1.fffffep-1f);
-  auto u2 = [&] { return vec2(uniform(rng), uniform(rng)); };
-  const Onb sunFrame = onb(rdb.sun.directionWorld);
-  const float sunOneMinusCos = oneMinusCos(rdb.sun.halfAngleRad);
-  std::vector<Ray> rays;
-  rays.reserve(rdb.positionsM.size() * samples * 3);
-  for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
-    const vec3& n = rdb.normals[v];
-    const vec3 origin = offsetRayOrigin(rdb.positionsM[v], n, maxAbs(rdb.positionsM[v]));
-    const Onb frame = onb(n);
-    for (uint32_t s = 0; s < samples; ++s) {
-      const vec3 sun = sunFrame.toWorld(sampleUniformCone(u2(), sunOneMinusCos));
-      if (glm::dot(sun, n) > 0.0f) rays.push_back({origin, sun, true});
-      rays.push_back({origin, frame.toWorld(sampleCosineHemisphere(u2())), true});
-      rays.push_back({origin, frame.toWorld(sampleCosineHemisphere(u2())), false});
-    }
+// The baseline's rays: exactly those the baker traces, logged from a one-thread bake of the same settings
+// (EmbreeScene::logRaysOfThisThread), in the order it traced them.
+std::vector<LoggedRay> bakerRays(const rdb::TraceRdb& rdb, const EmbreeScene& scene, uint32_t samples) {
+  std::vector<LoggedRay> rays;
+  EmbreeScene::logRaysOfThisThread(&rays);
+  const VertexLightMaps maps = bake(rdb, scene, samples, 1);
+  EmbreeScene::logRaysOfThisThread(nullptr);
+  if (rays.size() != maps.rays) {
+    std::printf("  (logged %zu rays, the bake counted %llu: the baseline is not the baker's rays)\n", rays.size(),
+                static_cast<unsigned long long>(maps.rays));
   }
   return rays;
 }
 
 // Rays per second of tracing `rays` on `threads` threads, each taking a contiguous share, over as many passes
 // as make at least half a second (one pass of 16 threads is too short to time).
-double rawRaysPerSecond(const EmbreeScene& scene, const std::vector<Ray>& rays, uint32_t threads) {
+double rawRaysPerSecond(const EmbreeScene& scene, const std::vector<LoggedRay>& rays, uint32_t threads) {
   // One counter per thread, written once at the end: incrementing adjacent counters in the loop would share
   // a cache line between threads. Read afterwards so that no query can be optimised away.
   std::vector<uint64_t> hits(threads, 0);
@@ -158,12 +139,11 @@ double rawRaysPerSecond(const EmbreeScene& scene, const std::vector<Ray>& rays, 
       workers.emplace_back([&, t] {
         const size_t begin = rays.size() * t / threads;
         const size_t end = rays.size() * (t + 1) / threads;
-        const float inf = std::numeric_limits<float>::infinity();
         uint64_t local = 0;
         for (size_t i = begin; i < end; ++i) {
-          const Ray& r = rays[i];
-          local += r.occlusion ? scene.occluded(r.origin, r.dir, inf)
-                               : scene.intersect(r.origin, r.dir, inf).has_value();
+          const LoggedRay& r = rays[i];
+          local += r.occlusion ? scene.occluded(r.origin, r.dir, r.tMaxM)
+                               : scene.intersect(r.origin, r.dir, r.tMaxM).has_value();
         }
         hits[t] += local;
       });
@@ -185,7 +165,7 @@ void benchThroughput(uint32_t maxThreads) {
   constexpr int kRepetitions = 3;
   const rdb::TraceRdb rdb = makeScene(cellsFor(10000));
   const EmbreeScene scene(rdb);
-  const std::vector<Ray> rays = baselineRays(rdb, kSamples);
+  const std::vector<LoggedRay> rays = bakerRays(rdb, scene, kSamples);
   std::printf(
       "1. Throughput: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best of "
       "%d\n",

@@ -17,6 +17,8 @@ void logEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
              (message ? message : "(no message)"));
 }
 
+thread_local std::vector<LoggedRay>* tRayLog = nullptr;
+
 RTCRay makeRay(const vec3& origin, const vec3& dir, float tMaxM) {
   RTCRay ray{};
   ray.org_x = origin.x;
@@ -119,7 +121,12 @@ void EmbreeScene::rejectHitsLeavingOrigin(const RTCFilterFunctionNArguments* arg
   }
 }
 
+void EmbreeScene::logRaysOfThisThread(std::vector<LoggedRay>* log) {
+  tRayLog = log;
+}
+
 bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) const {
+  if (tRayLog != nullptr) [[unlikely]] tRayLog->push_back({origin, dir, tMaxM, true});
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = makeRay(origin, dir, tMaxM);
@@ -128,6 +135,7 @@ bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) con
 }
 
 std::optional<Hit> EmbreeScene::intersect(const vec3& origin, const vec3& dir, float tMaxM) const {
+  if (tRayLog != nullptr) [[unlikely]] tRayLog->push_back({origin, dir, tMaxM, false});
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rayHit{};

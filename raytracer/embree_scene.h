@@ -46,6 +46,15 @@ inline vec3 offsetRayOrigin(const vec3& p, const vec3& n, float magnitudeM) {
   return p + rayOffsetM(magnitudeM) * n;
 }
 
+// A query as it was made, for benchmarks that time Embree alone on the integrator's own rays
+// (bench/bench_baker.cpp).
+struct LoggedRay {
+  vec3 origin;
+  vec3 dir;
+  float tMaxM = 0.0f;
+  bool occlusion = false;  // occluded() rather than intersect()
+};
+
 class EmbreeScene {
  public:
   // Builds and commits one triangle geometry from rdb's positions and indices. Degenerate triangles (zero
@@ -66,6 +75,10 @@ class EmbreeScene {
   bool occluded(const vec3& origin, const vec3& dir, float tMaxM) const;
   // The nearest hit before tMaxM, if any. dir is unit. Safe to call from many threads.
   std::optional<Hit> intersect(const vec3& origin, const vec3& dir, float tMaxM) const;
+
+  // While `log` is set (not null), every query made on the calling thread is appended to it; null stops.
+  // For benchmarks: one pointer test per query otherwise.
+  static void logRaysOfThisThread(std::vector<LoggedRay>* log);
 
   // Per TraceRdb triangle: its unit geometric normal (zero for a degenerate one), its area in m², and the
   // largest absolute coordinate of its vertices (for rayOffsetM()).
