@@ -2,8 +2,8 @@
 // same run, because the machine is shared and noisy (DESIGN.md, "Performance figures"; results in
 // docs/benchmarks.md).
 //
-//   1. Throughput: the baker's rays/s (sampling and shading included) against raw EmbreeScene queries on rays
-//      of the same kind, traced from precomputed arrays.
+//   1. Throughput: the baker's rays/s (sampling and shading included) against raw EmbreeScene queries on the
+//      baker's own rays, logged from a bake and traced again from an array.
 //   2. QMC against plain MC: RMSE of vertex irradiance at equal samples against a many-sample reference,
 //      with all bounces and with direct light only.
 //   3. Scaling: bake time for 10k, 100k and 1M triangles, 1 thread against all.
@@ -169,7 +169,8 @@ void benchThroughput(uint32_t maxThreads) {
   std::printf(
       "1. Throughput: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best of "
       "%d\n",
-      rdb.triangleCount(), rdb.positionsM.size(), kSamples, EstimateSettings{}.replicates, kRepetitions);
+      rdb.triangleCount(), rdb.positionsM.size(), kSamples,
+      replicatesFor(EstimateSettings{}, rdb.positionsM.size()), kRepetitions);
   for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
     double raw = 0.0;
     double baker = 0.0;
@@ -253,7 +254,7 @@ void benchQmc(uint32_t threads, bool quick, uint32_t maxBounces) {
 void benchScaling(uint32_t maxThreads, bool quick) {
   constexpr uint32_t kSamples = 16;
   std::printf("\n3. Scaling: %u samples per vertex (Sobol, %u replicates); bake time without the BVH build\n",
-              kSamples, EstimateSettings{}.replicates);
+              kSamples, replicatesFor(EstimateSettings{}, cellsFor(10000) * cellsFor(10000)));
   std::printf("   %10s %10s %10s %12s %12s %9s\n", "triangles", "vertices", "BVH build", "1 thread",
               (std::to_string(maxThreads) + " threads").c_str(), "speed-up");
   const std::vector<uint32_t> sizes =

@@ -191,7 +191,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"target_relative_error", e.targetRelativeError},
       {"time_limit_s", std::isfinite(e.timeLimitS) ? nlohmann::json(e.timeLimitS) : nlohmann::json()},
       {"sampler", o.sampling.sampler},
-      {"replicates", e.replicates},
+      {"replicates", maps.replicates},
       {"seed", e.seed},
       {"threads", e.threads},
       {"max_bounces", settings.integrator.maxBounces}};

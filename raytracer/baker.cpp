@@ -257,6 +257,7 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
   maps.lightTextures =
       texelSource.finish(std::span<const IrradianceEstimate>(result.points).subspan(vertexPoints));
   maps.samplesPerVertex = result.samplesPerPoint;
+  maps.replicates = result.replicates;
   maps.rays = result.rays;
   maps.seconds = result.seconds;
   return maps;

@@ -40,6 +40,7 @@ struct VertexLightMaps {
   std::vector<Rgb> backLux;
   std::vector<Rgb> backStdErrorLux;
   uint32_t samplesPerVertex = 0;
+  uint32_t replicates = 0;  // of the error estimate (EstimateSettings::replicates; replicatesFor())
   std::vector<ConvergencePoint> history;
   uint64_t rays = 0;
   double seconds = 0.0;

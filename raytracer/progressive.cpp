@@ -186,6 +186,11 @@ bool isPowerOfTwo(uint32_t x) {
 
 }  // namespace
 
+uint32_t replicatesFor(const EstimateSettings& settings, size_t pointCount) {
+  if (settings.replicates != 0) return settings.replicates;
+  return std::min(settings.firstPassSamples, pointCount >= kMinPointsToPool ? 2u : 8u);
+}
+
 EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
                                      const PassCallback& afterPass) {
   ProgressState state;
@@ -195,25 +200,26 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
 EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
                                      const PassCallback& afterPass, ProgressState& state,
                                      const Checkpointing& checkpointing) {
-  if (!isPowerOfTwo(settings.replicates) || !isPowerOfTwo(settings.firstPassSamples) ||
-      settings.firstPassSamples < settings.replicates) {
+  if ((settings.replicates != 0 && !isPowerOfTwo(settings.replicates)) ||
+      !isPowerOfTwo(settings.firstPassSamples) || settings.firstPassSamples < settings.replicates) {
     throw std::invalid_argument("estimateProgressively: replicates (" + std::to_string(settings.replicates) +
                                 ") and firstPassSamples (" + std::to_string(settings.firstPassSamples) +
-                                ") must be powers of two, firstPassSamples >= replicates");
+                                ") must be powers of two (replicates may be 0), firstPassSamples >= replicates");
   }
   const size_t pointCount = source.pointCount();
-  const size_t perPoint = sumsPerPoint(settings.replicates);
+  const uint32_t replicates = replicatesFor(settings, pointCount);
+  const size_t perPoint = sumsPerPoint(replicates);
   if (!state.started()) {
     state = ProgressState{};
     state.pointCount = pointCount;
-    state.replicates = settings.replicates;
+    state.replicates = replicates;
     state.sums.assign(pointCount * perPoint, dvec3(0.0));
-  } else if (state.pointCount != pointCount || state.replicates != settings.replicates ||
+  } else if (state.pointCount != pointCount || state.replicates != replicates ||
              state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount) {
     throw std::invalid_argument("estimateProgressively: the state to continue has " +
                                 std::to_string(state.pointCount) + " points and " +
                                 std::to_string(state.replicates) + " replicates, the estimate " +
-                                std::to_string(pointCount) + " and " + std::to_string(settings.replicates));
+                                std::to_string(pointCount) + " and " + std::to_string(replicates));
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -224,6 +230,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
   Accumulators acc(state);
   EstimateResult result;
   result.rays = state.rays;
+  result.replicates = replicates;
   auto fillResult = [&](uint32_t total) {
     acc.estimates(total, result.points);
     result.relativeErrorP95 = relativeErrorP95(result.points);

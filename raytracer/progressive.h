@@ -25,6 +25,11 @@ struct IrradianceEstimate {
 
 enum class SamplerKind { kSobol, kRandom };
 
+// EstimateSettings::replicates = 0 takes 2 replicates for at least this many points, else 8: pooling the
+// nets' gain needs many points, and with few (a handful of sensors) each point's error must stand on its own
+// replicates.
+inline constexpr size_t kMinPointsToPool = 64;
+
 // With fewer than 8 replicates, a point's variance is moderated with the variance pooled over all points up to
 // this many degrees of freedom, those of 8 replicates (EstimateSettings::replicates).
 inline constexpr double kModeratedDegreesOfFreedom = 7.0;
@@ -47,15 +52,20 @@ struct EstimateSettings {
   // "Recent advances in randomized quasi-Monte Carlo methods", 2002), whose spread measures the error
   // honestly for either sampler, at the cost of K shorter nets; the variance of a point's mean is moderated
   // with the naive one scaled by the nets' gain measured over all points (progressive.cpp,
-  // Accumulators::estimates) up to kModeratedDegreesOfFreedom. The default, 2, keeps nets long (at 64
-  // samples QMC's error is 15 % lower than with 8 replicates: docs/benchmarks.md) and, moderated, has the
-  // 7 degrees of freedom of 8 plain replicates.
-  uint32_t replicates = 2;
+  // Accumulators::estimates) up to kModeratedDegreesOfFreedom. 0 (the default): automatic,
+  // automaticReplicates() — 2 when there are enough points to pool over (at 64 samples QMC's error is then
+  // 17 % lower than with 8 replicates: docs/benchmarks.md), else 8.
+  uint32_t replicates = 0;
   uint64_t seed = 0;  // point i's samplers are seeded from seed + i
 };
 
+// The replicates an estimate of pointCount points takes with these settings (settings.replicates unless 0),
+// at most settings.firstPassSamples.
+uint32_t replicatesFor(const EstimateSettings& settings, size_t pointCount);
+
 struct EstimateResult {
   std::vector<IrradianceEstimate> points;
+  uint32_t replicates = 0;  // as replicatesFor()
   uint32_t samplesPerPoint = 0;
   float relativeErrorP95 = 0.0f;  // of luminance, after the last pass
   uint64_t rays = 0;

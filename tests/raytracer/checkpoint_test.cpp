@@ -131,6 +131,20 @@ TEST(ProgressStateTest, RoundTripsAndRefusesDamage) {
   EXPECT_TRUE(refused("FLYPROG1" + bytes.substr(8)));  // the format before Welford sums with replicates
 }
 
+// Automatic replicates: 2 where the nets' gain can be pooled over many points, 8 for a handful (each point's
+// error then stands on its own replicates), never more than the first pass's samples.
+TEST(ProgressStateTest, AutomaticReplicatesFollowThePointCount) {
+  EstimateSettings settings;
+  settings.maxSamples = 16;
+  EXPECT_EQ(settings.replicates, 0u);
+  EXPECT_EQ(estimateProgressively(SmoothSource(kMinPointsToPool), settings).replicates, 2u);
+  EXPECT_EQ(estimateProgressively(SmoothSource(kMinPointsToPool - 1), settings).replicates, 8u);
+  settings.firstPassSamples = 4;
+  EXPECT_EQ(replicatesFor(settings, 4), 4u);
+  settings.replicates = 16;
+  EXPECT_EQ(replicatesFor(settings, 1000), 16u);
+}
+
 TEST(ProgressStateTest, AStateOfAnotherEstimateIsRefused) {
   EstimateSettings settings;
   settings.maxSamples = 16;
