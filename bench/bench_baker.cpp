@@ -44,6 +44,8 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+void addSunAndSky(rdb::TraceRdb& rdb);
+
 // The benchmark scene: a square ground of 2·cells² triangles, 40 m wide, with a 4 × 4 array of boxes (five
 // faces of two triangles each) that cast shadows under a sun at 35° elevation and a sky brighter at the
 // zenith. Ground albedo 0.5, boxes 0.7, so indirect light matters too.
@@ -72,7 +74,14 @@ rdb::TraceRdb makeScene(uint32_t cells) {
     }
   }
 
-  rdb::TraceRdb& rdb = b.rdb;
+  addSunAndSky(b.rdb);
+  for (const vec3& p : b.rdb.positionsM) b.rdb.boundsM.extend(p);
+  return std::move(b.rdb);
+}
+
+// The sun at 35° elevation and 60° azimuth, and a sky rising from 2000 cd/m² at the horizon to 5000 cd/m² at
+// the zenith, bluish.
+void addSunAndSky(rdb::TraceRdb& rdb) {
   const float elevation = glm::radians(35.0f);
   const float azimuth = glm::radians(60.0f);
   rdb.hasSun = true;
@@ -88,8 +97,38 @@ rdb::TraceRdb makeScene(uint32_t cells) {
       rdb.sky.radianceCdM2.push_back(Rgb(0.75f, 0.9f, 1.2f) * (2000.0f + 3000.0f * mu));
     }
   }
-  for (const vec3& p : rdb.positionsM) rdb.boundsM.extend(p);
-  return std::move(rdb);
+}
+
+// The interior scene: a closed room 8 × 3 × 6 m (floor albedo 0.4, walls 0.6, ceiling 0.8, all facing in)
+// with a 3 × 1.5 m window opening in the wall towards the sun, on a 100 m ground below it outside, under the
+// same sun and sky: daylight through a window, the architect's everyday case. The room's surfaces are grids
+// of about `triangles` triangles in all; the sun falls through the opening onto the floor.
+rdb::TraceRdb makeRoomScene(uint32_t triangles) {
+  rdb::TraceRdbBuilder b;
+  const uint32_t floorMaterial = b.material(Rgb(0.4f));
+  const uint32_t wallMaterial = b.material(Rgb(0.6f));
+  const uint32_t ceilingMaterial = b.material(Rgb(0.8f));
+  const uint32_t groundMaterial = b.material(Rgb(0.3f));
+  // Cells per metre so that the room's 2·(48 + 18 + 24) m² hold about `triangles` triangles.
+  const float perM = std::sqrt(static_cast<float>(triangles) / (2.0f * 180.0f));
+  auto cells = [perM](float lengthM) { return std::max(1u, static_cast<uint32_t>(std::lround(lengthM * perM))); };
+  auto grid = [&](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t material) {
+    b.grid(origin, edgeU, edgeV, cells(std::max(glm::length(edgeU), glm::length(edgeV))), material);
+  };
+  grid(vec3(-4, 0, -3), vec3(0, 0, 6), vec3(8, 0, 0), floorMaterial);     // floor, +Y
+  grid(vec3(-4, 3, -3), vec3(8, 0, 0), vec3(0, 0, 6), ceilingMaterial);   // ceiling, −Y
+  grid(vec3(-4, 0, -3), vec3(0, 3, 0), vec3(0, 0, 6), wallMaterial);      // x = −4, +X
+  grid(vec3(4, 0, -3), vec3(0, 0, 6), vec3(0, 3, 0), wallMaterial);       // x = 4, −X
+  grid(vec3(-4, 0, -3), vec3(8, 0, 0), vec3(0, 3, 0), wallMaterial);      // z = −3, +Z
+  // z = 3, facing −Z, around the opening x ∈ [−1.5, 1.5], y ∈ [0.8, 2.3].
+  grid(vec3(-4, 0, 3), vec3(0, 3, 0), vec3(2.5f, 0, 0), wallMaterial);
+  grid(vec3(1.5f, 0, 3), vec3(0, 3, 0), vec3(2.5f, 0, 0), wallMaterial);
+  grid(vec3(-1.5f, 0, 3), vec3(0, 0.8f, 0), vec3(3, 0, 0), wallMaterial);
+  grid(vec3(-1.5f, 2.3f, 3), vec3(0, 0.7f, 0), vec3(3, 0, 0), wallMaterial);
+  b.grid(vec3(-50, -0.05f, -50), vec3(0, 0, 100), vec3(100, 0, 0), 1, groundMaterial);  // outside, +Y
+  addSunAndSky(b.rdb);
+  for (const vec3& p : b.rdb.positionsM) b.rdb.boundsM.extend(p);
+  return std::move(b.rdb);
 }
 
 // Ground cells for about `triangles` triangles (the boxes add 160).
@@ -158,19 +197,17 @@ double rawRaysPerSecond(const EmbreeScene& scene, const std::vector<LoggedRay>& 
   return static_cast<double>(traced) / seconds;
 }
 
-void benchThroughput(uint32_t maxThreads) {
+void benchThroughput(uint32_t maxThreads, const char* name, const rdb::TraceRdb& rdb) {
   constexpr uint32_t kSamples = 64;
   // Baker and baseline alternate, and each keeps its best run: the one least slowed by the machine's other
   // load.
   constexpr int kRepetitions = 3;
-  const rdb::TraceRdb rdb = makeScene(cellsFor(10000));
   const EmbreeScene scene(rdb);
   const std::vector<LoggedRay> rays = bakerRays(rdb, scene, kSamples);
-  std::printf(
-      "1. Throughput: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best of "
-      "%d\n",
-      rdb.triangleCount(), rdb.positionsM.size(), kSamples,
-      replicatesFor(EstimateSettings{}, rdb.positionsM.size()), kRepetitions);
+  std::printf("1. Throughput, %s: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best "
+              "of %d\n",
+              name, rdb.triangleCount(), rdb.positionsM.size(), kSamples,
+              replicatesFor(EstimateSettings{}, rdb.positionsM.size()), kRepetitions);
   for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
     double raw = 0.0;
     double baker = 0.0;
@@ -311,7 +348,11 @@ int main(int argc, char** argv) {
   }
   if (!throughput && !qmc && !scaling) throughput = qmc = scaling = true;
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
-  if (throughput) fly::raytracer::benchThroughput(threads);
+  if (throughput) {
+    fly::raytracer::benchThroughput(threads, "open ground with boxes",
+                                    fly::raytracer::makeScene(fly::raytracer::cellsFor(10000)));
+    fly::raytracer::benchThroughput(threads, "room lit through a window", fly::raytracer::makeRoomScene(10000));
+  }
   if (qmc) {
     fly::raytracer::benchQmc(threads, quick, fly::raytracer::kPathLengthGuard);
     fly::raytracer::benchQmc(threads, quick, 0);

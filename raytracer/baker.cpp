@@ -11,8 +11,9 @@ namespace fly::raytracer {
 namespace {
 
 // The sampler group that places a sample in its vertex's one-ring, far above the integrator's groups
-// (3 per path vertex from group 0, at most 3 · kPathLengthGuard of them).
-constexpr uint32_t kOneRingGroup = 1u << 20;
+// (3 per path vertex from group 0, at most 3 · kPathLengthGuard of them), and ≡ 31 mod 32: the sampler keeps
+// its seeds in a slot that only a path's 11th vertex shares (SobolSampler's group cache).
+constexpr uint32_t kOneRingGroup = (1u << 20) + 31;
 
 // The barycentric coordinate b of a triangle's corner under the density 3b / A (the hat function of that
 // corner, normalised: ∫ b dA = A / 3), by inversion. A uniform point on a triangle is Dirichlet(1, 1, 1) in

@@ -118,16 +118,14 @@ class SobolSampler {
   void startGroup(uint32_t group) {
     group_ = group;
     component_ = 0;
-    const uint64_t groupHash = detail::mix64(pointHash_ + group);
+    // The group's seeds do not depend on the sample: they are hashed once and kept in a direct-mapped cache
+    // by group mod kCachedGroups, which a point's samples reuse (a sampler serves one point).
+    CachedGroup& slot = cache_[group % kCachedGroups];
+    if (slot.group != group) slot = {group, groupSeeds(group)};
     // The index shuffled by an Owen scramble of its own (Burley 2020), kept bit-reversed (see
     // kSobolNibbles).
-    reversedIndex_ =
-        detail::laineKarrasPermutation(reversedSample_, static_cast<uint32_t>(groupHash));
-    // A scrambling seed per dimension: both halves of two more hashes.
-    const uint64_t a = detail::mix64(groupHash + 1);
-    const uint64_t b = detail::mix64(groupHash + 2);
-    seeds_ = {static_cast<uint32_t>(a), static_cast<uint32_t>(a >> 32), static_cast<uint32_t>(b),
-              static_cast<uint32_t>(b >> 32)};
+    reversedIndex_ = detail::laineKarrasPermutation(reversedSample_, slot.seeds.shuffle);
+    seeds_ = slot.seeds.scramble;
   }
 
   float next1D() {
@@ -156,12 +154,36 @@ class SobolSampler {
     return detail::toUnitFloat(detail::reverseBits(detail::laineKarrasPermutation(reversed, seeds_[d])));
   }
 
+  // A group's hashed seeds: of its index shuffle, and of each dimension's scramble.
+  struct GroupSeeds {
+    uint32_t shuffle;
+    std::array<uint32_t, kGroupDimensions> scramble;
+  };
+  struct CachedGroup {
+    uint32_t group = ~0u;  // none: ~0u is never started (startSample's "before group 0")
+    GroupSeeds seeds{};
+  };
+  // Groups kept: those of the first ten path vertices (3 a vertex), and callers' own groups that are
+  // ≡ 31 mod 32 (raytracer/baker.cpp).
+  static constexpr uint32_t kCachedGroups = 32;
+
+  GroupSeeds groupSeeds(uint32_t group) const {
+    const uint64_t groupHash = detail::mix64(pointHash_ + group);
+    // A scrambling seed per dimension: both halves of two more hashes.
+    const uint64_t a = detail::mix64(groupHash + 1);
+    const uint64_t b = detail::mix64(groupHash + 2);
+    return {static_cast<uint32_t>(groupHash),
+            {static_cast<uint32_t>(a), static_cast<uint32_t>(a >> 32), static_cast<uint32_t>(b),
+             static_cast<uint32_t>(b >> 32)}};
+  }
+
   uint64_t pointHash_;
   uint32_t reversedSample_ = 0;  // the sample index, bit-reversed
   uint32_t group_ = 0;
   uint32_t component_ = 0;  // next dimension within the group, 0 … 4
   uint32_t reversedIndex_ = 0;
   std::array<uint32_t, kGroupDimensions> seeds_{};
+  std::array<CachedGroup, kCachedGroups> cache_{};
 };
 
 // PCG32 (O'Neill, "PCG: A family of simple fast space-efficient statistically good algorithms for random

@@ -15,8 +15,9 @@ namespace fly::raytracer {
 namespace {
 
 // The sampler group that places a sample in its texel's footprint, far above the integrator's groups (3 per
-// path vertex from group 0, at most 3 · kPathLengthGuard of them).
-constexpr uint32_t kFootprintGroup = 1u << 20;
+// path vertex from group 0, at most 3 · kPathLengthGuard of them), and ≡ 31 mod 32 for the sampler's group
+// cache (as the baker's one-ring group).
+constexpr uint32_t kFootprintGroup = (1u << 20) + 31;
 
 // Seam sweeps (Kaczmarz); each projects onto every seam point's constraint once.
 constexpr int kSeamSweeps = 64;

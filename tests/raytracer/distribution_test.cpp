@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -33,6 +34,45 @@ TEST(Distribution, DiscreteChi2) {
   std::vector<double> expected;
   for (float w : kWeights) expected.push_back(kSampleCount * w / sum);
   test::expectFits("discrete 1D", test::chi2Test(observed, expected, test::kChi2Significance));
+}
+
+// The guide table only narrows the search: every u must get the bin whose cumulative interval holds it, with
+// positive weight, on tables made to stress it — empty bins, one bin holding almost everything next to
+// thousands of tiny ones (long runs inside one guide interval), geometric weights, one bin — and at every
+// guide interval's edges (k / n and the floats beside it).
+TEST(Distribution, GuideTableFindsTheBinOfEveryU) {
+  std::vector<std::vector<float>> tables = {kWeights, {5.0f}};
+  std::vector<float> spike(10000, 1e-3f);
+  spike[4321] = 1e6f;
+  tables.push_back(spike);
+  std::vector<float> geometric;
+  for (int i = 0; i < 64; ++i) geometric.push_back(std::ldexp(1.0f, -i));
+  tables.push_back(geometric);
+  for (const std::vector<float>& weights : tables) {
+    const Distribution1D dist(weights);
+    std::vector<double> cdf = {0.0};
+    for (float w : weights) cdf.push_back(cdf.back() + w);
+    for (double& c : cdf) c /= cdf.back();
+    std::vector<float> us;
+    RandomSampler random(17);
+    for (uint32_t i = 0; i < 20000; ++i) {
+      random.startSample(i);
+      us.push_back(random.next1D());
+    }
+    const auto n = static_cast<float>(weights.size());
+    for (size_t k = 0; k <= weights.size(); ++k) {
+      const float edge = std::min(static_cast<float>(k) / n, 0x1.fffffep-1f);
+      us.insert(us.end(), {edge, std::nextafter(edge, 0.0f), std::min(std::nextafter(edge, 1.0f), 0x1.fffffep-1f)});
+    }
+    for (float u : us) {
+      const uint32_t i = dist.sampleDiscrete(u).index;
+      ASSERT_LT(i, weights.size());
+      ASSERT_GT(weights[i], 0.0f) << "u " << u;
+      // Within the float rounding of the stored cumulative table.
+      EXPECT_LE(cdf[i], u + 1e-6) << "u " << u << ", bin " << i << " of " << weights.size();
+      EXPECT_GT(cdf[i + 1], u - 1e-6) << "u " << u << ", bin " << i << " of " << weights.size();
+    }
+  }
 }
 
 TEST(Distribution, ContinuousChi2) {
