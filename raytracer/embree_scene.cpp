@@ -19,18 +19,21 @@ void logEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
 
 thread_local std::vector<LoggedRay>* tRayLog = nullptr;
 
-RTCRay makeRay(const vec3& origin, const vec3& dir, float tMaxM) {
-  RTCRay ray{};
+// Fills the ray in place: built in a temporary and copied, its scalar stores would be read back by the copy's
+// vector loads, which stalls on store forwarding.
+void setRay(RTCRay& ray, const vec3& origin, const vec3& dir, float tMaxM) {
   ray.org_x = origin.x;
   ray.org_y = origin.y;
   ray.org_z = origin.z;
+  ray.tnear = 0.0f;
   ray.dir_x = dir.x;
   ray.dir_y = dir.y;
   ray.dir_z = dir.z;
-  ray.tnear = 0.0f;
+  ray.time = 0.0f;
   ray.tfar = tMaxM;
   ray.mask = 0xffffffffu;
-  return ray;
+  ray.id = 0;
+  ray.flags = 0;
 }
 
 }  // namespace
@@ -129,7 +132,8 @@ bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) con
   if (tRayLog != nullptr) [[unlikely]] tRayLog->push_back({origin, dir, tMaxM, true});
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray = makeRay(origin, dir, tMaxM);
+  RTCRay ray;
+  setRay(ray, origin, dir, tMaxM);
   rtcOccluded1(scene_, &context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
@@ -138,9 +142,10 @@ std::optional<Hit> EmbreeScene::intersect(const vec3& origin, const vec3& dir, f
   if (tRayLog != nullptr) [[unlikely]] tRayLog->push_back({origin, dir, tMaxM, false});
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rayHit{};
-  rayHit.ray = makeRay(origin, dir, tMaxM);
+  RTCRayHit rayHit;
+  setRay(rayHit.ray, origin, dir, tMaxM);
   rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rayHit);
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const uint32_t triangle = triangleOfPrimitive_[rayHit.hit.primID];
