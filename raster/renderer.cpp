@@ -69,14 +69,15 @@ namespace {
 
 // The shader's std430 blocks (raster/shaders/scene_glsl.h).
 struct GpuMaterial {
-  vec4 diffuse, specular, emission;
+  vec4 diffuse, specular, emission, transmission, reflection;
 };
 struct GpuLight {
   vec4 positionType, directionRange, cAxisOffset, intensity, cone;
 };
 
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
-  return {vec4(m.diffuse, 0.0f), vec4(m.specular, m.phongExponent), vec4(m.emissionCdM2, 0.0f)};
+  return {vec4(m.diffuse, 0.0f), vec4(m.specular, m.phongExponent), vec4(m.emissionCdM2, 0.0f),
+          vec4(m.transmission, m.fresnelF0), vec4(m.reflection, 0.0f)};
 }
 
 unsigned compileStage(GLenum type, const std::string& source, const std::string& name) {
@@ -114,7 +115,8 @@ enum VariantBit : uint32_t {
   kVariantTwoSided = 1u << 3,
   kVariantGonio = 1u << 4,
   kVariantLightTexture = 1u << 5,
-  kVariantCount = 1u << 6,
+  kVariantGlass = 1u << 6,
+  kVariantCount = 1u << 7,
 };
 
 // Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
@@ -173,7 +175,7 @@ void decodeLuminance(uint32_t x, uint32_t y, float* rgb) {
 struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
-        ambientDown = -1, sunDir = -1, sunNormalLux = -1;
+        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1;
 };
 
 struct Renderer::Gpu {
@@ -185,6 +187,9 @@ struct Renderer::Gpu {
   // every slot's texels in one RGBA32F array texture.
   GLuint lightMapUv = 0, lightSlots = 0, lightRects = 0, lightTextures = 0;
   GLuint floatFbo = 0, floatColor = 0, depth = 0;
+  // Scenes with clear glass: a copy of the float image before the glass is drawn, which the glass shows
+  // through itself (render). Made at the first such render of a size.
+  GLuint behindColor = 0;
   GLuint srgbFbo = 0, srgbColor = 0;
   SceneProgram scene[kVariantCount];
   BackgroundProgram background, sky;
@@ -203,6 +208,7 @@ struct Renderer::Gpu {
     glDeleteBuffers(GLsizei(std::size(lightBuffers)), lightBuffers);
     glDeleteTextures(1, &lightTextures);
     glDeleteTextures(1, &floatColor);
+    glDeleteTextures(1, &behindColor);
     glDeleteTextures(1, &srgbColor);
     glDeleteRenderbuffers(1, &depth);
     glDeleteFramebuffers(1, &floatFbo);
@@ -270,7 +276,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantSun, "sun", "FLY_SUN"},
                    {kVariantTwoSided, "twosided", "FLY_TWO_SIDED"},
                    {kVariantGonio, "gonio", "FLY_GONIO"},
-                   {kVariantLightTexture, "lighttexture", "FLY_LIGHT_TEXTURE"}};
+                   {kVariantLightTexture, "lighttexture", "FLY_LIGHT_TEXTURE"},
+                   {kVariantGlass, "glass", "FLY_GLASS"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -289,6 +296,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.ambientDown = loc("uAmbientDownLux");
   sp.sunDir = loc("uSunDirWorld");
   sp.sunNormalLux = loc("uSunNormalLux");
+  sp.glassPass = loc("uGlassPass");
   sp.program = p;
   return sp;
 }
@@ -512,6 +520,8 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   glDeleteFramebuffers(1, &gpu_->srgbFbo);
   glDeleteTextures(1, &gpu_->floatColor);
   glDeleteTextures(1, &gpu_->srgbColor);
+  glDeleteTextures(1, &gpu_->behindColor);
+  gpu_->behindColor = 0;
   glDeleteRenderbuffers(1, &gpu_->depth);
   const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
   glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->floatColor);
@@ -601,7 +611,8 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
                              (phong && sunlight && v.sun ? kVariantSun : 0u) |
                              (v.twoSided ? kVariantTwoSided : 0u) |
                              (phong && v.goniometric ? kVariantGonio : 0u) |
-                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
+                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u) |
+                             (v.glass ? kVariantGlass : 0u);
     const SceneProgram& p = sceneProgram(variant);
     glUseProgram(p.program);
     glDepthFunc(GL_LESS);
@@ -632,7 +643,26 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     glBindVertexArray(gpu_->vao);
     if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
     if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
+    if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
     glDrawElements(GL_TRIANGLES, gpu_->indexCount, GL_UNSIGNED_INT, nullptr);
+    if (variant & kVariantGlass) {
+      // The glass over a copy of that image, which it shows through itself times T(θ) (kSceneFragment). The
+      // nearest pane wins where panes overlap (its depth hides the farther one's): what lies behind a pane
+      // is seen through that pane alone.
+      const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
+      if (!gpu_->behindColor) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->behindColor);
+        glTextureStorage2D(gpu_->behindColor, 1, GL_RG32UI, w, h);
+        // An integer texture is complete only with nearest filtering (texelFetch reads 0 otherwise).
+        glTextureParameteri(gpu_->behindColor, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(gpu_->behindColor, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      }
+      glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0, 0,
+                         0, w, h, 1);
+      glBindTextureUnit(4, gpu_->behindColor);
+      glUniform1i(p.glassPass, 1);
+      glDrawElements(GL_TRIANGLES, gpu_->indexCount, GL_UNSIGNED_INT, nullptr);
+    }
     glBindVertexArray(0);
   }
 

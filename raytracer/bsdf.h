@@ -53,7 +53,8 @@ namespace fly::raytracer {
 
 // GGX α below which a lobe is a delta (mirror or clear transmission): at α = 10⁻³ (glossiness 0.032) the lobe
 // is 0.06° wide, far narrower than the sun (0.53°), and its density overflows float precision (pbrt-v4's
-// TrowbridgeReitzDistribution::EffectivelySmooth uses the same bound).
+// TrowbridgeReitzDistribution::EffectivelySmooth uses the same bound). sdb::kSmoothAlpha, which the raster
+// engine's clear glass follows, is the same (raytracer/ may not include sdb/; bsdf_test.cpp checks).
 inline constexpr float kSmoothAlpha = 1e-3f;
 
 // Schlick's approximation, cos θ clamped to [0, 1].

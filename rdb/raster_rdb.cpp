@@ -41,6 +41,11 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   const double alpha = std::max(1e-4, double(m.reflectionGlossiness) * m.reflectionGlossiness);
   r.phongExponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
   r.emissionCdM2 = m.emissionLuminance;
+  if (m.hasClearTransmission()) {
+    r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
+    r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
+    r.fresnelF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
+  }
   r.sdbMaterialId = sdbMaterialId;
   return r;
 }
@@ -439,6 +444,9 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   rdb.variants.sky = rdb.sky.has_value();
   rdb.variants.sun = rdb.sky && rdb.sky->hasSun;
   rdb.variants.goniometric = f.goniometricLights && !rdb.goniometricCd.empty();
+  rdb.variants.glass = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
+    return maxComponent(rdb.materials[m.material].transmission) > 0.0f;
+  });
 }
 
 void checkOptions(const RasterBuildOptions& o) {
@@ -523,7 +531,7 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
   }
   if (r.sky) buildSky(rdb, scene, options);
   if (r.cameras) buildCameras(rdb, scene);
-  if (r.lights || r.sky) buildVariants(rdb, scene);
+  if (r.lights || r.sky || r.materials || !r.materialBlocks.empty()) buildVariants(rdb, scene);
   return r;
 }
 

@@ -32,6 +32,13 @@ struct RasterMaterial {
   // eq. 33 (s = 2/α² − 2), clamped to [1, 10⁴].
   float phongExponent = 1.0f;
   Rgb emissionCdM2{0.0f};  // emitted luminance, cd/m²
+  // Clear glass (sdb::Material::hasClearTransmission): a thin-walled pane that shows what lies behind it
+  // times T(θ) = transmission · (1 − reflection · F(θ)) — the energy rule's transmittance at the angle it is
+  // seen, as the baker's shadow rays cross it (raytracer/bsdf.h) — with F Schlick's of fresnelF0, or 1 for
+  // uniform reflection (fresnelF0 < 0). transmission is 0 for other materials.
+  Rgb transmission{0.0f};  // transmissionColor, [0,1]
+  Rgb reflection{0.0f};    // reflectionColor, [0,1]
+  float fresnelF0 = -1.0f;
   uint32_t sdbMaterialId = 0;
 
   bool operator==(const RasterMaterial&) const = default;
@@ -115,6 +122,7 @@ struct RasterVariants {
   bool sky = false;          // a sky dome (sunlight mode's background)
   bool sun = false;          // a sun disc and the sun as a directional light
   bool goniometric = false;  // goniometric lights in the simple mode's Phong
+  bool glass = false;        // a mesh of clear glass: a second pass shows what lies behind it
 
   bool operator==(const RasterVariants&) const = default;
 };

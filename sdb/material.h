@@ -35,6 +35,12 @@ float fresnelF0(float ior);
 // Schlick's approximation (Schlick 1994, eq. 24): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵, cos θ clamped to [0,1].
 float schlickFresnel(float cosTheta, float f0);
 
+// GGX α below which a lobe is a delta (a mirror, clear transmission): at α = 10⁻³ (glossiness 0.032) the lobe
+// is 0.06° wide, far narrower than the sun (0.53°), and its density overflows float precision (pbrt-v4's
+// TrowbridgeReitzDistribution::EffectivelySmooth uses the same bound). Both engines use it (raytracer/bsdf.h
+// keeps a copy, checked equal by its test).
+inline constexpr float kSmoothAlpha = 1e-3f;
+
 struct Material {
   std::string name;
 
@@ -115,6 +121,12 @@ struct Material {
   EffectiveComponents effective() const { return effectiveAt(1.0f); }
   bool isEmissive() const { return maxComponent(emissionLuminance) > 0.0f; }
   bool isTransmissive() const { return maxComponent(effective().transmission) > 0.0f || bool(transmissionTexture); }
+  // Clear glass: transmission through a delta lobe (transmission glossiness² below kSmoothAlpha), which both
+  // engines treat as a thin-walled pane that light passes straight through, with the energy rule's
+  // transmittance at the angle it crosses (effectiveAt(cos θ).transmission).
+  bool hasClearTransmission() const {
+    return maxComponent(effective().transmission) > 0.0f && transmissionGlossiness * transmissionGlossiness < kSmoothAlpha;
+  }
   bool isAnisotropic() const { return anisotropyU != anisotropyV || bool(anisotropyTexture); }
   bool isMeasured() const { return !measuredBrdfPath.empty(); }
   // A mirror-like reflector: strong reflection at normal incidence (luminance ≥ 0.5) and a narrow lobe

@@ -7,6 +7,8 @@
 //   FLY_GONIO      goniometric lights' tables
 //   FLY_LIGHT_TEXTURE  light textures (with FLY_LIGHT_MAP): L = albedo · E_texel / π per fragment, bilinear, for
 //                  meshes that have one
+//   FLY_GLASS      clear glass: drawn in a second pass over a copy of the first, adding T(θ) times what lies
+//                  behind it (rdb/raster_rdb.h, RasterMaterial::transmission)
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
@@ -33,9 +35,11 @@ flat out vec3 vAlbedoOverPi;   // sr⁻¹
 #endif
 
 struct Material {
-  vec4 diffuse;   // rgb albedo
-  vec4 specular;  // rgb reflectance at normal incidence, w Blinn–Phong exponent
-  vec4 emission;  // rgb cd/m²
+  vec4 diffuse;       // rgb albedo
+  vec4 specular;      // rgb reflectance at normal incidence, w Blinn–Phong exponent
+  vec4 emission;      // rgb cd/m²
+  vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
+  vec4 reflection;    // rgb reflection colour
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 
@@ -63,6 +67,10 @@ uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun
 
 out vec3 vLuminance;
 flat out uint vTwoSided;
+#ifdef FLY_GLASS
+out vec3 vTransmittance;  // T(θ) towards the eye
+flat out uint vGlass;
+#endif
 
 const float kPi = 3.14159265358979;
 const float kCornerGain = FLY_CORNER_GAIN;
@@ -178,6 +186,22 @@ void main() {
 #endif
   vLuminance = l + m.emission.rgb;
   vTwoSided = twoSided ? 1u : 0u;
+#ifdef FLY_GLASS
+  // The energy rule's transmittance at the angle the pane is seen (sdb::Material::effectiveAt): T(θ) =
+  // t · (1 − clamp(r · F(θ))), F Schlick's, from either face.
+  vGlass = 0u;
+  vTransmittance = vec3(0.0);
+  if (max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0) {
+    float f = 1.0;
+    if (m.transmission.w >= 0.0) {
+      float x = 1.0 - clamp(abs(dot(n, toEye)), 0.0, 1.0);
+      float x2 = x * x;
+      f = m.transmission.w + (1.0 - m.transmission.w) * x2 * x2 * x;
+    }
+    vTransmittance = m.transmission.rgb * (vec3(1.0) - clamp(m.reflection.rgb * f, 0.0, 1.0));
+    vGlass = 1u;
+  }
+#endif
 }
 )GLSL";
 
@@ -211,11 +235,18 @@ vec3 flyDecodeLuminance(uvec2 p) {
 }
 )GLSL";
 
-// The back of a one-sided surface has no light value: it shows black (it still hides what is behind it).
+// The back of a one-sided surface has no light value: it shows black (it still hides what is behind it, unless
+// it is clear glass, whose both faces pass light).
 inline constexpr const char* kSceneFragment = R"GLSL(
 in vec3 vLuminance;
 flat in uint vTwoSided;
 layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
+#ifdef FLY_GLASS
+in vec3 vTransmittance;
+flat in uint vGlass;
+uniform int uGlassPass;                         // 0: all but the glass; 1: the glass alone
+layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLuminanceEncoding)
+#endif
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
 flat in uint vLightSlot;
@@ -230,6 +261,9 @@ layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[];
 layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
 #endif
 void main() {
+#ifdef FLY_GLASS
+  if ((vGlass != 0u) != (uGlassPass != 0)) discard;
+#endif
   vec3 l = vLuminance;
 #ifdef FLY_LIGHT_TEXTURE
   if (vLightSlot != 0xffffffffu) {
@@ -239,7 +273,12 @@ void main() {
     l += vAlbedoOverPi * texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
   }
 #endif
-  oLuminance = flyEncodeLuminance((gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0));
+  l = (gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0);
+#ifdef FLY_GLASS
+  // Either face of a pane passes light.
+  if (vGlass != 0u) l += vTransmittance * flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
+#endif
+  oLuminance = flyEncodeLuminance(l);
 }
 )GLSL";
 

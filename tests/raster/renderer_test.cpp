@@ -154,6 +154,53 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+lightmap"}));
 }
 
+// Clear glass shows what lies behind it times T(θ) = t · (1 − r · F(θ)) (rdb/raster_rdb.h): a pane of
+// transmission (0.9, 0.8, 0.7), white Fresnel reflection at ior 1.5 and no diffuse over the left half of the
+// light-mapped quad, 1 m in front of it, seen head-on (orthographic: cos θ = 1, F = F0 = 0.04), with its front
+// and then its back towards the camera (either face passes light). Everything else is as without the pane.
+TEST(Renderer, ClearGlassShowsWhatLiesBehindItTimesItsTransmittance) {
+  context();
+  for (bool backTowardsCamera : {false, true}) {
+    QuadScene q = quadScene(false);
+    sdb::Material glass;
+    glass.name = "glass";
+    glass.diffuseColor = Rgb(0.0f);
+    glass.reflectionColor = Rgb(1.0f);
+    glass.reflectionModel = sdb::ReflectionModel::kFresnel;
+    glass.ior = 1.5f;
+    glass.reflectionGlossiness = 0.0f;
+    glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
+    glass.transmissionGlossiness = 0.0f;
+    const sdb::MaterialId glassId = q.scene.addMaterial(glass).id;
+    sdb::Mesh pane;
+    pane.name = "pane";
+    pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
+    pane.normals.assign(4, vec3(0, 0, backTowardsCamera ? -1.0f : 1.0f));
+    pane.indices = backTowardsCamera ? std::vector<uint32_t>{0, 2, 1, 0, 3, 2} : std::vector<uint32_t>{0, 1, 2, 0, 2, 3};
+    pane.material = glassId;
+    const sdb::MeshId paneMesh = q.scene.addMesh(pane).id;
+    q.scene.addNode({.name = "window", .meshes = {paneMesh}});
+    rdb::LightMapStore store;
+    store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
+    const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+    ASSERT_TRUE(r.variants.glass);
+    Renderer renderer;
+    renderer.upload(r);
+    renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+    std::vector<float> expected = expectedQuad(64, 32, luminanceOf(kFrontLux, Rgb(0.5f, 0.6f, 0.7f)), false);
+    const Rgb transmittance = Rgb(0.9f, 0.8f, 0.7f) * (1.0f - 0.04f);
+    for (uint32_t j = 0; j < 32; ++j) {
+      for (uint32_t i = 0; i < 32; ++i) {  // image x < 0: behind the pane
+        for (int k = 0; k < 3; ++k) expected[(size_t(j) * 64 + i) * 3 + size_t(k)] *= transmittance[k];
+      }
+    }
+    expectImageNear(renderer.luminanceRgb(), expected, 1e-4f);
+    // The pane has no light map: the light-map program with the Phong fallback, and the glass pass.
+    EXPECT_EQ(renderer.stats().programs,
+              (std::vector<std::string>{"background", "scene+lightmap+phong+glass"}));
+  }
+}
+
 TEST(Renderer, TwoSidedLightMapsPickTheFaceTheCameraSees) {
   context();
   QuadScene q = quadScene(true);

@@ -12,6 +12,10 @@
 #include "chi2.h"
 #include "raytracer/sampler.h"
 #include "raytracer/warp.h"
+#include "sdb/material.h"
+
+// The baker's bound for a delta lobe is the SDB's, which the raster engine's clear glass follows.
+static_assert(fly::raytracer::kSmoothAlpha == fly::sdb::kSmoothAlpha);
 
 namespace fly::raytracer {
 namespace {
