@@ -7,6 +7,8 @@
 //              (bilinear); meshes without a light map are shaded as in simple mode
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
+// In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
+// is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Only the shader variants a scene's features call for are compiled, on first use. Needs a current context
 // (raster/gl_context.h) for its whole life.
 // A frame's GPU work, kept lean for GPUs whose graphics pipeline is a small part of the chip (the H100: see
