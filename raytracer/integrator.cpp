@@ -463,7 +463,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     const uint32_t t = hit->triangle;
     const uint32_t mi = rdb_.triangleMaterial[t];
     const rdb::TraceMaterial& m = rdb_.materials[mi];
-    if (emitterPmfOfTriangle_[t] > 0.0f && (front || m.doubleSided)) {
+    if (emitterDistribution_ && emitterPmfOfTriangle_[t] > 0.0f && (front || m.doubleSided)) {
       sum += beta * m.emissionCdM2 *
              (specular ? 1.0f : powerHeuristic(pdfLast, emitterPdf(t, travelledM, std::abs(cosLight))));
     }
