@@ -8,8 +8,8 @@ fly=$1 scene=$2 work=$3
 rm -rf "$work"
 mkdir -p "$work"
 out=$work/bake
-"$fly" bake "$scene" --out "$out" --export-gltf 2> "$work/stderr"
 fail() { echo "FAIL: $*"; cat "$work/stderr"; exit 1; }
+"$fly" bake "$scene" --out "$out" --export-gltf 2> "$work/stderr" || fail "fly bake exited with $?"
 grep -q 'light texture: object 0 "Floor"' "$work/stderr" || fail "no light-texture line for the floor"
 # The scene asks for light textures on the floor (object 0), the two-sided short block (5) and the tall block (6).
 for f in object0_front object0_front_stderr object5_front object5_front_stderr object5_back object5_back_stderr \
