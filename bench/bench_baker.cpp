@@ -5,7 +5,7 @@
 //   1. Throughput: the baker's rays/s (sampling and shading included) against raw EmbreeScene queries on the
 //      baker's own rays, logged from a bake and traced again from an array.
 //   2. QMC against plain MC: RMSE of vertex irradiance at equal samples against a many-sample reference,
-//      with all bounces and with direct light only.
+//      with all bounces, one bounce and direct light only.
 //   3. Scaling: bake time for 10k, 100k and 1M triangles, 1 thread against all.
 //   4. Memory: peak resident set size after the largest bake.
 //
@@ -248,8 +248,8 @@ double rmse(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const std::vecto
   return std::sqrt(sum / static_cast<double>(reference.size() * seeds));
 }
 
-// Run with all bounces (what the baker does) and with direct light only (maxBounces = 0), which shows how
-// much of QMC's advantage the high-dimensional indirect paths take away.
+// Run with all bounces (what the baker does), with one bounce and with direct light only (maxBounces = 1, 0),
+// which shows how much of QMC's advantage the high-dimensional indirect paths take away.
 void benchQmc(uint32_t threads, bool quick, uint32_t maxBounces) {
   const uint32_t referenceSamples = quick ? 2048 : 16384;
   constexpr uint32_t kSeeds = 4;
@@ -261,7 +261,10 @@ void benchQmc(uint32_t threads, bool quick, uint32_t maxBounces) {
   std::printf(
       "\n2. QMC against MC, %s: %zu vertices, reference %u Sobol samples (1 replicate, %.1f s); RMSE "
       "of vertex luminance over %u seeds\n",
-      maxBounces == 0 ? "direct light only" : "all bounces", rdb.positionsM.size(), referenceSamples,
+      maxBounces == 0   ? "direct light only"
+      : maxBounces == 1 ? "direct light and one bounce"
+                        : "all bounces",
+      rdb.positionsM.size(), referenceSamples,
       secondsSince(start), kSeeds);
   double meanReference = 0.0;
   for (double y : reference) meanReference += y / static_cast<double>(reference.size());
@@ -355,6 +358,7 @@ int main(int argc, char** argv) {
   }
   if (qmc) {
     fly::raytracer::benchQmc(threads, quick, fly::raytracer::kPathLengthGuard);
+    fly::raytracer::benchQmc(threads, quick, 1);
     fly::raytracer::benchQmc(threads, quick, 0);
   }
   if (scaling) fly::raytracer::benchScaling(threads, quick);

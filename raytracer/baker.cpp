@@ -15,6 +15,10 @@ namespace {
 // its seeds in a slot that only a path's 11th vertex shares (SobolSampler's group cache).
 constexpr uint32_t kOneRingGroup = (1u << 20) + 31;
 
+// In OneRingSource's ring entries: the triangle's two corners other than the vertex's, c + 1 and c + 2 mod 3,
+// turn against the ring's order, so that sampling takes them as (c + 2, c + 1).
+constexpr uint8_t kReversedCorners = 4;
+
 // The barycentric coordinate b of a triangle's corner under the density 3b / A (the hat function of that
 // corner, normalised: ∫ b dA = A / 3), by inversion. A uniform point on a triangle is Dirichlet(1, 1, 1) in
 // its barycentrics; weighting by b makes it Dirichlet(2, 1, 1), whose b is Beta(2, 2) (Devroye, "Non-Uniform
@@ -55,6 +59,10 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
         ringCorners_[slot] = c;
       }
     }
+    // Each ring in order of angle around its vertex, and each triangle's other two corners in the same turning
+    // sense (sampleAt: the first sample coordinate then walks once around the vertex, continuously across the
+    // edges that neighbouring triangles share).
+    orderRingsAroundVertices();
     // Cumulative areas per ring, to pick a triangle by area: one flat array for all rings rather than a
     // Distribution1D (and its vectors) per vertex.
     for (size_t v = 0; v < vertexCount; ++v) {
@@ -88,6 +96,57 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   bool isBack(size_t point) const { return point >= frontCount_; }
 
  private:
+  // Sorts every ring's entries by the angle of their triangle's centroid around the vertex, in the plane
+  // normal to the sum of the ring's (area-weighted) triangle normals, and marks the entries whose two other
+  // corners, taken in the order (c + 1, c + 2), turn the other way (kReversedCorners). Any order samples the
+  // same density; this one makes sampleAt's map from the unit square onto the ring continuous across shared
+  // edges, so that stratified samples stay stratified on the ring.
+  void orderRingsAroundVertices() {
+    std::vector<std::pair<float, uint32_t>> order;
+    std::vector<uint32_t> triangles;
+    std::vector<uint8_t> corners;
+    for (size_t v = 0; v < rdb_.positionsM.size(); ++v) {
+      const uint32_t begin = ringOffsets_[v];
+      const uint32_t end = ringOffsets_[v + 1];
+      if (end - begin < 2) continue;
+      const vec3& pv = rdb_.positionsM[v];
+      auto corner = [&](uint32_t t, uint32_t k) { return rdb_.positionsM[rdb_.indices[3 * size_t{t} + k % 3]]; };
+      vec3 axis(0.0f);
+      for (uint32_t j = begin; j < end; ++j) {
+        const uint32_t t = ringTriangles_[j];
+        axis += glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
+      }
+      // A fold whose normals cancel: any axis orders it (the order only affects stratification).
+      const Onb frame = onb(glm::dot(axis, axis) > 0.0f ? glm::normalize(axis) : vec3(0.0f, 0.0f, 1.0f));
+      auto angle = [&](const vec3& p) {
+        const vec3 local = frame.toLocal(p - pv);
+        return std::atan2(local.y, local.x);
+      };
+      order.clear();
+      for (uint32_t j = begin; j < end; ++j) {
+        const uint32_t t = ringTriangles_[j];
+        const uint32_t c = ringCorners_[j];
+        const vec3 centroid = (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0f;
+        order.emplace_back(angle(centroid), j);
+        // From corner c + 1 to c + 2 should turn the way the angle grows.
+        float turn = angle(corner(t, c + 2)) - angle(corner(t, c + 1));
+        if (turn > kPiF) turn -= 2.0f * kPiF;
+        if (turn < -kPiF) turn += 2.0f * kPiF;
+        if (turn < 0.0f) ringCorners_[j] = static_cast<uint8_t>(c | kReversedCorners);
+      }
+      std::stable_sort(order.begin(), order.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      triangles.clear();
+      corners.clear();
+      for (const auto& [unused, j] : order) {
+        triangles.push_back(ringTriangles_[j]);
+        corners.push_back(ringCorners_[j]);
+      }
+      std::copy(triangles.begin(), triangles.end(), ringTriangles_.begin() + begin);
+      std::copy(corners.begin(), corners.end(), ringCorners_.begin() + begin);
+    }
+  }
+
   bool isValid(uint32_t t) const {
     const float area = scene_.triangleAreaM2(t);
     return area > 0.0f && std::isfinite(area) &&
@@ -110,16 +169,21 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     for (uint32_t k = begin; k + 1 < end; ++k) j += ringCdfM2_[k] <= x ? 1u : 0u;
     // The remainder of u.x within the chosen triangle's interval, uniform again: it places the point.
     const float below = j == begin ? 0.0f : ringCdfM2_[j - 1];
-    const float uHat = std::clamp((x - below) / (ringCdfM2_[j] - below), 0.0f, 0x1.fffffep-1f);
+    const float s = std::clamp((x - below) / (ringCdfM2_[j] - below), 0.0f, 1.0f);
     const uint32_t t = ringTriangles_[j];
-    const uint32_t c = ringCorners_[j];
+    const uint32_t c = ringCorners_[j] & 3u;
+    const bool reversed = (ringCorners_[j] & kReversedCorners) != 0;
 
-    const float bV = sampleHatBarycentric(uHat);
-    const float bA = (1.0f - bV) * u.y;
+    // In the triangle (V, A, B), the point V + r ((1 − s)(A − V) + s (B − V)) has b_V = 1 − r, and dA ∝ r dr ds:
+    // under the hat density ∝ b_V dA, s is uniform and b_V is Beta(2, 2) (sampleHatBarycentric). s runs along
+    // the edge opposite V from one neighbour of the ring to the next (the angle around V), b_V from the rim to
+    // V (the radius).
+    const float bV = sampleHatBarycentric(u.y);
+    const float bB = (1.0f - bV) * s;
     float b[3];
     b[c] = bV;
-    b[(c + 1) % 3] = bA;
-    b[(c + 2) % 3] = std::max(0.0f, 1.0f - bV - bA);
+    b[(c + (reversed ? 2 : 1)) % 3] = std::max(0.0f, 1.0f - bV - bB);
+    b[(c + (reversed ? 1 : 2)) % 3] = bB;
     vec3 p(0.0f);
     vec3 n(0.0f);
     for (size_t k = 0; k < 3; ++k) {
@@ -142,7 +206,8 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   const Integrator& integrator_;
   std::vector<uint32_t> ringOffsets_;  // vertex v's ring: entries ringOffsets_[v] … ringOffsets_[v + 1] − 1
   std::vector<uint32_t> ringTriangles_;
-  std::vector<uint8_t> ringCorners_;   // which corner of the triangle the vertex is
+  // Which corner of the triangle the vertex is (bits 0–1), and kReversedCorners.
+  std::vector<uint8_t> ringCorners_;
   std::vector<float> ringCdfM2_;       // the ring's areas summed up to and including this entry
   std::vector<bool> twoSided_;         // per vertex: of a two-sided mesh
   std::vector<uint32_t> pointVertex_;  // per point: the fronts, then the backs

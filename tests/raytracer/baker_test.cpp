@@ -110,9 +110,7 @@ TEST(Baker, UniformSkyOverPlaneIsPiLAtEveryVertex) {
 }
 
 // E(x) = I cos θ / d² = I h / d³, averaged over each one-ring with the hat weight by quadrature.
-TEST(Baker, PointLightOverPlaneIsTheHatWeightedOneRingAverage) {
-  MeshBuilder b;
-  b.ground(2.0f, 4, b.material(Rgb(0.0f)));
+void expectPointLightOverPlane(const char* what, MeshBuilder& b) {
   const vec3 light(0.3f, 0.7f, -0.2f);
   const Rgb intensity(10.0f, 20.0f, 5.0f);
   b.pointLight(light, intensity);
@@ -124,12 +122,34 @@ TEST(Baker, PointLightOverPlaneIsTheHatWeightedOneRingAverage) {
   for (double a : average) exact.push_back(intensity * static_cast<float>(a));
   const VertexLightMaps maps = bake(b.rdb, 4096);
   expectAllFinite(maps);
-  expectAgrees("point light", maps.frontLux, maps.frontStdErrorLux, exact, 0.01f);
+  expectAgrees(what, maps.frontLux, maps.frontStdErrorLux, exact, 0.01f);
   // The one-ring average differs from the value at the vertex (E is not linear): the test can tell them
   // apart.
   const vec3 centre = b.rdb.positionsM[12];
   const double atCentre = light.y / std::pow(glm::length(light - centre), 3.0f);
   EXPECT_GT(std::abs(average[12] - atCentre), 10.0 * maps.frontStdErrorLux[12].g / intensity.g);
+}
+
+TEST(Baker, PointLightOverPlaneIsTheHatWeightedOneRingAverage) {
+  MeshBuilder b;
+  b.ground(2.0f, 4, b.material(Rgb(0.0f)));
+  expectPointLightOverPlane("point light", b);
+}
+
+// The same on rings of unequal triangles wound either way: the baker orders each ring around its vertex and
+// each triangle's corners by their turning sense (baker.cpp), which must not change the density it samples.
+TEST(Baker, PointLightOverAnIrregularMixedWindingPlaneIsTheHatWeightedOneRingAverage) {
+  MeshBuilder b;
+  b.ground(2.0f, 4, b.material(Rgb(0.0f)));
+  // Inner vertices moved by up to 0.15 m within their 1 m cells, the rim kept: no triangle folds over.
+  for (vec3& p : b.rdb.positionsM) {
+    if (std::abs(p.x) < 1.99f && std::abs(p.z) < 1.99f) {
+      p.x += 0.15f * std::sin(7.0f * p.z + 1.0f);
+      p.z += 0.12f * std::cos(5.0f * p.x + 2.0f);
+    }
+  }
+  for (size_t t = 1; t < b.rdb.triangleCount(); t += 2) std::swap(b.rdb.indices[3 * t + 1], b.rdb.indices[3 * t + 2]);
+  expectPointLightOverPlane("irregular point light", b);
 }
 
 TEST(Baker, TwoSidedQuadIsLitOnTheSideOfTheLight) {
