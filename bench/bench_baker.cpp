@@ -3,7 +3,8 @@
 // docs/benchmarks.md).
 //
 //   1. Throughput: the baker's rays/s (sampling and shading included) against raw EmbreeScene queries on the
-//      baker's own rays, logged from a bake and traced again from an array.
+//      baker's own rays, logged from a bake and traced again from an array; and, as a floor, a minimal path
+//      tracer (no light sampling, materials or statistics) against the same baseline on its own rays.
 //   2. QMC against plain MC: RMSE of vertex irradiance at equal samples against a many-sample reference,
 //      with all bounces, one bounce and direct light only.
 //   3. Scaling: bake time for 10k, 100k and 1M triangles, 1 thread against all.
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -31,6 +33,7 @@
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
+#include "raytracer/sampler.h"
 #include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
 #include "rdb/trace_rdb_builder.h"
@@ -111,15 +114,17 @@ rdb::TraceRdb makeRoomScene(uint32_t triangles) {
   const uint32_t groundMaterial = b.material(Rgb(0.3f));
   // Cells per metre so that the room's 2·(48 + 18 + 24) m² hold about `triangles` triangles.
   const float perM = std::sqrt(static_cast<float>(triangles) / (2.0f * 180.0f));
-  auto cells = [perM](float lengthM) { return std::max(1u, static_cast<uint32_t>(std::lround(lengthM * perM))); };
+  auto cells = [perM](float lengthM) {
+    return std::max(1u, static_cast<uint32_t>(std::lround(lengthM * perM)));
+  };
   auto grid = [&](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t material) {
     b.grid(origin, edgeU, edgeV, cells(std::max(glm::length(edgeU), glm::length(edgeV))), material);
   };
-  grid(vec3(-4, 0, -3), vec3(0, 0, 6), vec3(8, 0, 0), floorMaterial);     // floor, +Y
-  grid(vec3(-4, 3, -3), vec3(8, 0, 0), vec3(0, 0, 6), ceilingMaterial);   // ceiling, −Y
-  grid(vec3(-4, 0, -3), vec3(0, 3, 0), vec3(0, 0, 6), wallMaterial);      // x = −4, +X
-  grid(vec3(4, 0, -3), vec3(0, 0, 6), vec3(0, 3, 0), wallMaterial);       // x = 4, −X
-  grid(vec3(-4, 0, -3), vec3(8, 0, 0), vec3(0, 3, 0), wallMaterial);      // z = −3, +Z
+  grid(vec3(-4, 0, -3), vec3(0, 0, 6), vec3(8, 0, 0), floorMaterial);    // floor, +Y
+  grid(vec3(-4, 3, -3), vec3(8, 0, 0), vec3(0, 0, 6), ceilingMaterial);  // ceiling, −Y
+  grid(vec3(-4, 0, -3), vec3(0, 3, 0), vec3(0, 0, 6), wallMaterial);     // x = −4, +X
+  grid(vec3(4, 0, -3), vec3(0, 0, 6), vec3(0, 3, 0), wallMaterial);      // x = 4, −X
+  grid(vec3(-4, 0, -3), vec3(8, 0, 0), vec3(0, 3, 0), wallMaterial);     // z = −3, +Z
   // z = 3, facing −Z, around the opening x ∈ [−1.5, 1.5], y ∈ [0.8, 2.3].
   grid(vec3(-4, 0, 3), vec3(0, 3, 0), vec3(2.5f, 0, 0), wallMaterial);
   grid(vec3(1.5f, 0, 3), vec3(0, 3, 0), vec3(2.5f, 0, 0), wallMaterial);
@@ -137,7 +142,8 @@ uint32_t cellsFor(uint32_t triangles) {
 }
 
 VertexLightMaps bake(const rdb::TraceRdb& rdb, const EmbreeScene& scene, uint32_t samples, uint32_t threads,
-                     SamplerKind sampler = SamplerKind::kSobol, uint32_t replicates = EstimateSettings{}.replicates, uint64_t seed = 0,
+                     SamplerKind sampler = SamplerKind::kSobol,
+                     uint32_t replicates = EstimateSettings{}.replicates, uint64_t seed = 0,
                      uint32_t maxBounces = kPathLengthGuard) {
   BakeSettings settings;
   settings.integrator.maxBounces = maxBounces;
@@ -158,8 +164,8 @@ std::vector<LoggedRay> bakerRays(const rdb::TraceRdb& rdb, const EmbreeScene& sc
   const VertexLightMaps maps = bake(rdb, scene, samples, 1);
   EmbreeScene::logRaysOfThisThread(nullptr);
   if (rays.size() != maps.rays) {
-    std::printf("  (logged %zu rays, the bake counted %llu: the baseline is not the baker's rays)\n", rays.size(),
-                static_cast<unsigned long long>(maps.rays));
+    std::printf("  (logged %zu rays, the bake counted %llu: the baseline is not the baker's rays)\n",
+                rays.size(), static_cast<unsigned long long>(maps.rays));
   }
   return rays;
 }
@@ -197,6 +203,56 @@ double rawRaysPerSecond(const EmbreeScene& scene, const std::vector<LoggedRay>& 
   return static_cast<double>(traced) / seconds;
 }
 
+// A floor for the ratio: the least work that makes rays of the same kind. Every vertex (at the vertex itself,
+// no one-ring), 64 paths of PCG32 numbers: a shadow ray to the sun's centre when it is above the surface, one
+// to a cosine-distributed direction (standing in for the sky's), and a cosine-distributed continuation,
+// from the hit point on (its geometric normal facing the ray) while a coin toss after the first bounce
+// allows; no radiance, materials, MIS, statistics or Sobol' points. Returns its rays per second on one
+// thread, and logs its rays into `log` when given.
+double minimalTracerRaysPerSecond(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
+                                  std::vector<LoggedRay>* log, uint64_t& rayCount) {
+  constexpr uint32_t kSamples = 64;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const vec3 sun = rdb.sun.directionWorld;
+  EmbreeScene::logRaysOfThisThread(log);
+  const Clock::time_point start = Clock::now();
+  uint64_t rays = 0;
+  uint64_t hits = 0;
+  for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
+    Pcg32 rng(v, 7);
+    auto u01 = [&rng] { return static_cast<float>(rng.next() >> 8) * 0x1p-24f; };
+    for (uint32_t s = 0; s < kSamples; ++s) {
+      vec3 p = rdb.positionsM[v];
+      vec3 n = rdb.normals[v];
+      for (uint32_t depth = 0; depth < 64; ++depth) {
+        const float magnitude = maxAbs(p);
+        const vec3 origin = offsetRayOrigin(p, n, magnitude);
+        const Onb frame = onb(n);
+        if (glm::dot(n, sun) > 0.0f) {
+          ++rays;
+          hits += scene.occluded(origin, sun, kInf);
+        }
+        ++rays;
+        hits += scene.occluded(origin, frame.toWorld(sampleCosineHemisphere(vec2(u01(), u01()))), kInf);
+        const vec3 d = frame.toWorld(sampleCosineHemisphere(vec2(u01(), u01())));
+        ++rays;
+        const std::optional<Hit> hit = scene.intersect(origin, d, kInf);
+        if (!hit || (depth > 0 && u01() < 0.5f)) break;
+        const uint32_t t = hit->triangle;
+        p = (1.0f - hit->barycentric.x - hit->barycentric.y) * rdb.positionsM[rdb.indices[3 * t]] +
+            hit->barycentric.x * rdb.positionsM[rdb.indices[3 * t + 1]] +
+            hit->barycentric.y * rdb.positionsM[rdb.indices[3 * t + 2]];
+        n = glm::dot(hit->geometricNormal, d) < 0.0f ? hit->geometricNormal : -hit->geometricNormal;
+      }
+    }
+  }
+  const double seconds = secondsSince(start);
+  EmbreeScene::logRaysOfThisThread(nullptr);
+  if (hits == 0) std::printf("  (the minimal tracer's rays hit nothing)\n");
+  rayCount = rays;
+  return static_cast<double>(rays) / seconds;
+}
+
 void benchThroughput(uint32_t maxThreads, const char* name, const rdb::TraceRdb& rdb) {
   constexpr uint32_t kSamples = 64;
   // Baker and baseline alternate, and each keeps its best run: the one least slowed by the machine's other
@@ -204,10 +260,11 @@ void benchThroughput(uint32_t maxThreads, const char* name, const rdb::TraceRdb&
   constexpr int kRepetitions = 3;
   const EmbreeScene scene(rdb);
   const std::vector<LoggedRay> rays = bakerRays(rdb, scene, kSamples);
-  std::printf("1. Throughput, %s: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best "
-              "of %d\n",
-              name, rdb.triangleCount(), rdb.positionsM.size(), kSamples,
-              replicatesFor(EstimateSettings{}, rdb.positionsM.size()), kRepetitions);
+  std::printf(
+      "1. Throughput, %s: %zu triangles, %zu vertices, %u samples per vertex (Sobol, %u replicates), best "
+      "of %d\n",
+      name, rdb.triangleCount(), rdb.positionsM.size(), kSamples,
+      replicatesFor(EstimateSettings{}, rdb.positionsM.size()), kRepetitions);
   for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
     double raw = 0.0;
     double baker = 0.0;
@@ -225,6 +282,20 @@ void benchThroughput(uint32_t maxThreads, const char* name, const rdb::TraceRdb&
         static_cast<double>(bakerRays) / static_cast<double>(rdb.positionsM.size() * kSamples), raw,
         rays.size(), baker / raw);
   }
+  std::vector<LoggedRay> minimalRays;
+  uint64_t minimalCount = 0;
+  minimalTracerRaysPerSecond(rdb, scene, &minimalRays, minimalCount);
+  double minimal = 0.0;
+  double minimalRaw = 0.0;
+  for (int r = 0; r < kRepetitions; ++r) {
+    minimalRaw = std::max(minimalRaw, rawRaysPerSecond(scene, minimalRays, 1));
+    minimal = std::max(minimal, minimalTracerRaysPerSecond(rdb, scene, nullptr, minimalCount));
+  }
+  std::printf(
+      "   floor, a minimal path tracer on 1 thread: %.3g rays/s (%.2f rays per vertex sample), raw %.3g "
+      "rays/s on its rays: ratio %.2f\n",
+      minimal, static_cast<double>(minimalCount) / static_cast<double>(rdb.positionsM.size() * 64),
+      minimalRaw, minimal / minimalRaw);
 }
 
 std::vector<double> frontLuminance(const VertexLightMaps& maps) {
@@ -264,8 +335,7 @@ void benchQmc(uint32_t threads, bool quick, uint32_t maxBounces) {
       maxBounces == 0   ? "direct light only"
       : maxBounces == 1 ? "direct light and one bounce"
                         : "all bounces",
-      rdb.positionsM.size(), referenceSamples,
-      secondsSince(start), kSeeds);
+      rdb.positionsM.size(), referenceSamples, secondsSince(start), kSeeds);
   double meanReference = 0.0;
   for (double y : reference) meanReference += y / static_cast<double>(reference.size());
   std::printf("   mean vertex illuminance %.0f lx\n", meanReference);
@@ -354,7 +424,8 @@ int main(int argc, char** argv) {
   if (throughput) {
     fly::raytracer::benchThroughput(threads, "open ground with boxes",
                                     fly::raytracer::makeScene(fly::raytracer::cellsFor(10000)));
-    fly::raytracer::benchThroughput(threads, "room lit through a window", fly::raytracer::makeRoomScene(10000));
+    fly::raytracer::benchThroughput(threads, "room lit through a window",
+                                    fly::raytracer::makeRoomScene(10000));
   }
   if (qmc) {
     fly::raytracer::benchQmc(threads, quick, fly::raytracer::kPathLengthGuard);

@@ -59,9 +59,9 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
         ringCorners_[slot] = c;
       }
     }
-    // Each ring in order of angle around its vertex, and each triangle's other two corners in the same turning
-    // sense (sampleAt: the first sample coordinate then walks once around the vertex, continuously across the
-    // edges that neighbouring triangles share).
+    // Each ring in order of angle around its vertex, and each triangle's other two corners in the same
+    // turning sense (sampleAt: the first sample coordinate then walks once around the vertex, continuously
+    // across the edges that neighbouring triangles share).
     orderRingsAroundVertices();
     // Cumulative areas per ring, to pick a triangle by area: one flat array for all rings rather than a
     // Distribution1D (and its vectors) per vertex.
@@ -110,7 +110,9 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
       const uint32_t end = ringOffsets_[v + 1];
       if (end - begin < 2) continue;
       const vec3& pv = rdb_.positionsM[v];
-      auto corner = [&](uint32_t t, uint32_t k) { return rdb_.positionsM[rdb_.indices[3 * size_t{t} + k % 3]]; };
+      auto corner = [&](uint32_t t, uint32_t k) {
+        return rdb_.positionsM[rdb_.indices[3 * size_t{t} + k % 3]];
+      };
       vec3 axis(0.0f);
       for (uint32_t j = begin; j < end; ++j) {
         const uint32_t t = ringTriangles_[j];
@@ -174,10 +176,10 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     const uint32_t c = ringCorners_[j] & 3u;
     const bool reversed = (ringCorners_[j] & kReversedCorners) != 0;
 
-    // In the triangle (V, A, B), the point V + r ((1 − s)(A − V) + s (B − V)) has b_V = 1 − r, and dA ∝ r dr ds:
-    // under the hat density ∝ b_V dA, s is uniform and b_V is Beta(2, 2) (sampleHatBarycentric). s runs along
-    // the edge opposite V from one neighbour of the ring to the next (the angle around V), b_V from the rim to
-    // V (the radius).
+    // In the triangle (V, A, B), the point V + r ((1 − s)(A − V) + s (B − V)) has b_V = 1 − r, and dA ∝ r dr
+    // ds: under the hat density ∝ b_V dA, s is uniform and b_V is Beta(2, 2) (sampleHatBarycentric). s runs
+    // along the edge opposite V from one neighbour of the ring to the next (the angle around V), b_V from the
+    // rim to V (the radius).
     const float bV = sampleHatBarycentric(u.y);
     const float bB = (1.0f - bV) * s;
     float b[3];

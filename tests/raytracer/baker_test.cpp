@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "raytracer/sampler.h"
-#include "rdb/trace_rdb_builder.h"
 #include "raytracer/warp.h"
+#include "rdb/trace_rdb_builder.h"
 
 namespace fly::raytracer {
 namespace {
@@ -148,7 +148,8 @@ TEST(Baker, PointLightOverAnIrregularMixedWindingPlaneIsTheHatWeightedOneRingAve
       p.z += 0.12f * std::cos(5.0f * p.x + 2.0f);
     }
   }
-  for (size_t t = 1; t < b.rdb.triangleCount(); t += 2) std::swap(b.rdb.indices[3 * t + 1], b.rdb.indices[3 * t + 2]);
+  for (size_t t = 1; t < b.rdb.triangleCount(); t += 2)
+    std::swap(b.rdb.indices[3 * t + 1], b.rdb.indices[3 * t + 2]);
   expectPointLightOverPlane("irregular point light", b);
 }
 
@@ -278,16 +279,18 @@ TEST(Baker, DefaultErrorIsHonestOnShadowEdges) {
       b.rdb,
       [&](const vec3& p) {
         const double d = glm::length(dvec3(light) - dvec3(p));
-        return intensity * double{light.y - p.y} / (d * d * d) + (lit(p) ? sunLux * double{towardsSun.y} : 0.0);
+        return intensity * double{light.y - p.y} / (d * d * d) +
+               (lit(p) ? sunLux * double{towardsSun.y} : 0.0);
       },
       100);
   const uint32_t groundVertices = b.rdb.meshes[0].vertexCount;
   // Shadow-edge vertices: their one-ring average is neither fully lit nor fully shaded by the sun.
   std::vector<bool> edge(groundVertices);
   {
-    const std::vector<double> litFraction =
-        hatAverages(b.rdb, [&](const vec3& p) { return lit(p) ? 1.0 : 0.0; }, 100);
-    for (uint32_t v = 0; v < groundVertices; ++v) edge[v] = litFraction[v] > 1e-3 && litFraction[v] < 1 - 1e-3;
+    const std::vector<double> litFraction = hatAverages(
+        b.rdb, [&](const vec3& p) { return lit(p) ? 1.0 : 0.0; }, 100);
+    for (uint32_t v = 0; v < groundVertices; ++v)
+      edge[v] = litFraction[v] > 1e-3 && litFraction[v] < 1 - 1e-3;
   }
   const EmbreeScene scene(b.rdb);
   for (uint32_t samples : {16u, 64u, 256u, 1024u}) {
@@ -313,8 +316,8 @@ TEST(Baker, DefaultErrorIsHonestOnShadowEdges) {
     for (int part = 0; part < 2; ++part) {
       const double ratio = std::sqrt(squaredError[part] / reported[part]);
       std::cout << "[ baker    ] default replicates, " << samples << " samples, "
-                << (part == 0 ? "all vertices" : "shadow edge") << ": RMS error / RMS reported error = " << ratio
-                << "\n";
+                << (part == 0 ? "all vertices" : "shadow edge")
+                << ": RMS error / RMS reported error = " << ratio << "\n";
       EXPECT_GE(ratio, 0.5) << samples << " samples, part " << part;
       EXPECT_LE(ratio, 2.0) << samples << " samples, part " << part;
     }
