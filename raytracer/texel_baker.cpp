@@ -19,6 +19,11 @@ namespace {
 // cache (as the baker's one-ring group).
 constexpr uint32_t kFootprintGroup = (1u << 20) + 31;
 
+// A texel whose pieces' areas sum to 1 texel² within this is covered whole (Texel::fullSquare): the
+// clipped pieces' areas are exact to float rounding, ~10⁻⁶, and charts that overlap in UV, whose sum
+// exceeds 1, are not covered whole.
+constexpr float kFullSquareTolerance = 1e-4f;
+
 // Seam sweeps (Kaczmarz); each projects onto every seam point's constraint once.
 constexpr int kSeamSweeps = 64;
 
@@ -221,6 +226,8 @@ TexelSource::TexelSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, con
         pieceCdf_.push_back(sum);
       }
       texel.endPiece = uint32_t(pieces_.size());
+      texel.fullSquare = std::abs(sum - 1.0f) <= kFullSquareTolerance;
+      texel.cornerTexels = vec2(float(texel.index % lt.width), float(texel.index / lt.width));
       placeAnchor(texel);
       texels_.push_back(texel);
     }
@@ -322,16 +329,36 @@ Rgb TexelSource::sampleAt(size_t point, S& sampler, uint64_t& rays) const {
   const Texel& texel = texels_[pt.texel];
   sampler.startGroup(kFootprintGroup);
   const vec2 u = sampler.next2D();
-  // A piece by area, then the remainder of u.x (uniform again) and u.y place the point in it uniformly.
-  const float total = pieceCdf_[texel.endPiece - 1];
-  const float x = u.x * total;
+  vec2 q;
   uint32_t j = texel.firstPiece;
-  while (j + 1 < texel.endPiece && pieceCdf_[j] <= x) ++j;
-  const float below = j == texel.firstPiece ? 0.0f : pieceCdf_[j - 1];
-  const float r = std::clamp((x - below) / (pieceCdf_[j] - below), 0.0f, 0x1.fffffep-1f);
-  const float s = std::sqrt(r);
+  if (texel.fullSquare) {
+    // Uniform in the square, in the piece under the point: the one it is most inside of (the pieces tile
+    // the square; a point on a shared edge may round to either).
+    q = texel.cornerTexels + u;
+    float best = -std::numeric_limits<float>::infinity();
+    for (uint32_t k = texel.firstPiece; k < texel.endPiece; ++k) {
+      const Piece& c = pieces_[k];
+      const float orientation = cross2(c.b - c.a, c.c - c.a) > 0.0f ? 1.0f : -1.0f;
+      const float inside =
+          std::min({orientation * cross2(c.b - c.a, q - c.a), orientation * cross2(c.c - c.b, q - c.b),
+                    orientation * cross2(c.a - c.c, q - c.c)});
+      if (inside > best) {
+        best = inside;
+        j = k;
+      }
+    }
+  } else {
+    // A piece by area, then the remainder of u.x (uniform again) and u.y place the point in it uniformly.
+    const float total = pieceCdf_[texel.endPiece - 1];
+    const float x = u.x * total;
+    while (j + 1 < texel.endPiece && pieceCdf_[j] <= x) ++j;
+    const float below = j == texel.firstPiece ? 0.0f : pieceCdf_[j - 1];
+    const float r = std::clamp((x - below) / (pieceCdf_[j] - below), 0.0f, 0x1.fffffep-1f);
+    const float s = std::sqrt(r);
+    const Piece& c = pieces_[j];
+    q = (1.0f - s) * c.a + s * (1.0f - u.y) * c.b + s * u.y * c.c;
+  }
   const Piece& piece = pieces_[j];
-  const vec2 q = (1.0f - s) * piece.a + s * (1.0f - u.y) * piece.b + s * u.y * piece.c;
   vec3 p, n;
   surfaceAt(texel.texture, piece.triangle, q, p, n);
   const vec3& ng = scene_.triangleNormal(piece.triangle);

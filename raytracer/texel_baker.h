@@ -104,6 +104,11 @@ class TexelSource final : public SampleSource {
     uint32_t endPiece = 0;
     vec3 anchorM{0.0f};  // front side; the back uses the same point
     uint32_t anchorTriangle = 0;
+    // The pieces cover the whole texel square (to kFullSquareTolerance of its area): sampleAt then places
+    // its point in the square directly and finds the piece under it, which keeps stratified samples
+    // stratified (the same uniform density as choosing a piece by area).
+    bool fullSquare = false;
+    vec2 cornerTexels{0.0f};  // the square's lower corner in texel space: (i, j)
   };
   struct Point {
     uint32_t texel = 0;  // index into texels_
