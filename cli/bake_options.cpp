@@ -24,6 +24,10 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
   sub.add_option("--max-bounces", o.maxBounces,
                  "interreflections before the path ends (default: the scene's bake.maxBounces, 8)");
   sub.add_option("--threads", o.threads, "worker threads (default 0: all cores)")->capture_default_str();
+  sub.add_option("--seed", o.seed,
+                 "seed of the sample scrambling; runs with different seeds are independent estimates, "
+                 "whose differences check the reported errors")
+      ->capture_default_str();
 }
 
 double parseRelativeError(const std::string& s) {
@@ -71,6 +75,7 @@ raytracer::EstimateSettings estimateSettings(const SamplingOptions& o, const sdb
   const double timeLimit = !o.time.empty() ? parseDuration(o.time) : bake.timeLimitS;
   if (timeLimit > 0.0) settings.timeLimitS = timeLimit;
   settings.threads = o.threads;
+  settings.seed = o.seed;
   settings.sampler = o.sampler == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
   return settings;
 }

@@ -19,6 +19,7 @@ struct SamplingOptions {
   std::string sampler = "sobol";       // sobol or random
   uint32_t threads = 0;                // 0 = all cores
   std::optional<uint32_t> maxBounces;  // none = the scene's bake.maxBounces
+  uint64_t seed = 0;                   // scrambling / random-number seed (EstimateSettings::seed)
 };
 
 // Adds the options to `sub`; `per` names what a sample count counts ("sensor", "vertex").
