@@ -162,6 +162,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"seed", e.seed},
         {"threads", e.threads},
         {"max_bounces", job.settings.integrator.maxBounces},
+        {"sun_caustics", job.settings.integrator.sunCaustics},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
       {"trace_rdb_fingerprint", hex(fingerprint)},
@@ -201,7 +202,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
   try {
     const nlohmann::json j = nlohmann::json::parse(text);
     if (j.at("format") != kFormat) throw bad("its format is not " + std::string(kFormat));
-    if (j.at("version") != kVersion) throw bad("format version " + j.at("version").dump() + ", this fly reads 1");
+    if (j.at("version") != kVersion)
+      throw bad("format version " + j.at("version").dump() + ", this fly reads 1");
     c.job.scenePath = j.at("scene").get<std::string>();
     c.job.outDir = outDir.string();
     const nlohmann::json& s = j.at("settings");
@@ -212,11 +214,14 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     if (!s.at("time_limit_s").is_null()) e.timeLimitS = s.at("time_limit_s").get<double>();
     c.job.samplerName = s.at("sampler").get<std::string>();
     if (c.job.samplerName != "sobol" && c.job.samplerName != "random") throw bad("unknown sampler");
-    e.sampler = c.job.samplerName == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
+    e.sampler =
+        c.job.samplerName == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
     e.replicates = s.at("replicates").get<uint32_t>();
     e.seed = s.at("seed").get<uint64_t>();
     e.threads = s.at("threads").get<uint32_t>();
     c.job.settings.integrator.maxBounces = s.at("max_bounces").get<uint32_t>();
+    // Checkpoints from before the setting existed baked without sun caustics.
+    c.job.settings.integrator.sunCaustics = s.value("sun_caustics", false);
     c.job.exportGltf = s.at("export_gltf").get<bool>();
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);

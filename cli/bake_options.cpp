@@ -28,6 +28,9 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
                  "seed of the sample scrambling; runs with different seeds are independent estimates, "
                  "whose differences check the reported errors")
       ->capture_default_str();
+  sub.add_flag("--sun-caustics", o.sunCaustics,
+               "also the sun seen in mirrors and window panes (caustics); off by default: paths find the "
+               "sun's image so rarely that it makes fireflies and errors that cannot be estimated");
 }
 
 double parseRelativeError(const std::string& s) {
@@ -83,6 +86,7 @@ raytracer::EstimateSettings estimateSettings(const SamplingOptions& o, const sdb
 raytracer::IntegratorSettings integratorSettings(const SamplingOptions& o, const sdb::BakeSettings& bake) {
   raytracer::IntegratorSettings settings;
   settings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces;
+  settings.sunCaustics = o.sunCaustics;
   return settings;
 }
 

@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <system_error>
 #include <string>
+#include <system_error>
 
 #include "base/error.h"
 #include "cli/bake_checkpoint.h"
@@ -53,8 +53,9 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
   for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
                            "--max-bounces", "--export-gltf"}) {
     if (sub.count(name) > 0) {
-      throw UsageError(std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") +
-                       name + " cannot change them (only --threads and --checkpoint can be given)");
+      throw UsageError(
+          std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
+          " cannot change them (only --threads and --checkpoint can be given)");
     }
   }
   loaded = loadBakeCheckpoint(o.resume);
@@ -149,10 +150,10 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   raytracer::BakeCheckpointing checkpointing;
   if (loaded) {
     if (loaded->fingerprint != fingerprint) {
-      throw InputError(SourceLocation{o.scene},
-                       "the scene changed since the checkpoint in " + checkpointDirFor(o.out).string() +
-                           " was saved",
-                       "start the bake afresh without --resume (the checkpoint is replaced)");
+      throw InputError(
+          SourceLocation{o.scene},
+          "the scene changed since the checkpoint in " + checkpointDirFor(o.out).string() + " was saved",
+          "start the bake afresh without --resume (the checkpoint is replaced)");
     }
     checkpointState = std::move(loaded->state);
     checkpointing.state = &checkpointState;
@@ -160,8 +161,10 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
                  checkpointDirFor(o.out).c_str(), checkpointState.progress.samplesPerPoint,
                  formatSeconds(checkpointState.progress.seconds).c_str());
   } else if (std::filesystem::exists(checkpointDirFor(o.out))) {
-    std::fprintf(stderr, "warning: %s holds the checkpoint of an earlier bake; starting afresh (use --resume %s "
-                 "to continue it instead)\n", checkpointDirFor(o.out).c_str(), o.out.c_str());
+    std::fprintf(stderr,
+                 "warning: %s holds the checkpoint of an earlier bake; starting afresh (use --resume %s "
+                 "to continue it instead)\n",
+                 checkpointDirFor(o.out).c_str(), o.out.c_str());
     std::filesystem::remove_all(checkpointDirFor(o.out));
   }
   if (job.checkpointIntervalS > 0.0) {
@@ -194,7 +197,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"replicates", maps.replicates},
       {"seed", e.seed},
       {"threads", e.threads},
-      {"max_bounces", settings.integrator.maxBounces}};
+      {"max_bounces", settings.integrator.maxBounces},
+      {"sun_caustics", settings.integrator.sunCaustics}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
     d.meshNames.push_back(scene.mesh(sdb::MeshId{m.sdbMeshId}).name);
@@ -243,24 +247,26 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
 
 Command addBakeCommand(CLI::App& app) {
   auto o = std::make_shared<BakeOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "bake",
-      "Bake vertex light maps and light textures (irradiance in lux, with standard errors) into a baked scene "
-      "directory");
+  CLI::App* sub = app.add_subcommand("bake",
+                                     "Bake vertex light maps and light textures (irradiance in lux, with "
+                                     "standard errors) into a baked scene "
+                                     "directory");
   sub->add_option("SCENE", o->scene, "scene file (.json) or glTF model (.gltf, .glb)");
   sub->add_option(
-         "--out", o->out,
-         "output directory: manifest.json, scene.gltf + scene.bin, lightmaps/*.exr (light textures), "
-         "convergence.csv, convergence.png; "
-         "created atomically; an earlier bake there is replaced, any other existing path refused "
-         "(exit 2)");
+      "--out", o->out,
+      "output directory: manifest.json, scene.gltf + scene.bin, lightmaps/*.exr (light textures), "
+      "convergence.csv, convergence.png; "
+      "created atomically; an earlier bake there is replaced, any other existing path refused "
+      "(exit 2)");
   addSamplingOptions(*sub, o->sampling, "vertex");
-  sub->add_flag("--export-gltf", o->exportGltf,
-                "also write export/scene.gltf with tone-mapped vertex colours and PNG light maps for any glTF "
-                "viewer");
-  sub->add_option("--checkpoint", o->checkpoint,
-                  "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
-                  "can continue with --resume DIR; deleted when the bake completes");
+  sub->add_flag(
+      "--export-gltf", o->exportGltf,
+      "also write export/scene.gltf with tone-mapped vertex colours and PNG light maps for any glTF "
+      "viewer");
+  sub->add_option(
+      "--checkpoint", o->checkpoint,
+      "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
+      "can continue with --resume DIR; deleted when the bake completes");
   sub->add_option("--resume", o->resume,
                   "continue the interrupted bake into DIR from DIR.checkpoint/ with its saved settings; the "
                   "result equals an uninterrupted bake with the same samples");

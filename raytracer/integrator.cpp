@@ -23,11 +23,11 @@ float powerHeuristic(float a, float b) {
 // choice, punctual light choice). The continuation takes the group's first pair, a (0, m, 2)-net.
 constexpr uint32_t kGroupsPerVertex = 3;
 
-// The first path vertex at which Russian roulette may end a path (the sensor is vertex 0). From vertex 2 on it
-// ended most paths at the second surface they reached (q ≈ ρ₁ρ₂, weights ≈ 1 / ρ₁ρ₂), and in daylight scenes,
-// where sunlit ground lights the walls, that second bounce carries much light: on bench/bench_baker.cpp's
-// sun-and-sky scene at 64 samples, starting at vertex 3 cut the RMSE by 8 % (MC) and 17 % (QMC) for 2.4 %
-// more rays per sample (docs/benchmarks.md).
+// The first path vertex at which Russian roulette may end a path (the sensor is vertex 0). From vertex 2 on
+// it ended most paths at the second surface they reached (q ≈ ρ₁ρ₂, weights ≈ 1 / ρ₁ρ₂), and in daylight
+// scenes, where sunlit ground lights the walls, that second bounce carries much light: on
+// bench/bench_baker.cpp's sun-and-sky scene at 64 samples, starting at vertex 3 cut the RMSE by 8 % (MC) and
+// 17 % (QMC) for 2.4 % more rays per sample (docs/benchmarks.md).
 constexpr uint32_t kFirstRouletteVertex = 3;
 
 // Direction of the sky table's (u, v) = (φ / 2π, 1 − μ), φ = atan2(d.z, d.x) (TraceSky).
@@ -160,7 +160,8 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
         const std::vector<float>& cd = rdb.goniometricTables[light.goniometricTable].candelaCd;
         double sum = 0.0;
         for (float c : cd) sum += std::max(c, 0.0f);
-        fluxesLm.push_back(4.0f * kPiF * intensityCd * static_cast<float>(sum / static_cast<double>(cd.size())));
+        fluxesLm.push_back(4.0f * kPiF * intensityCd *
+                           static_cast<float>(sum / static_cast<double>(cd.size())));
         break;
       }
     }
@@ -195,7 +196,8 @@ vec3 Integrator::hitPoint(const Hit& hit) const {
   const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * t]];
   const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * t + 1]];
   const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * t + 2]];
-  return (1.0f - hit.barycentric.x - hit.barycentric.y) * p0 + hit.barycentric.x * p1 + hit.barycentric.y * p2;
+  return (1.0f - hit.barycentric.x - hit.barycentric.y) * p0 + hit.barycentric.x * p1 +
+         hit.barycentric.y * p2;
 }
 
 Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const {
@@ -254,8 +256,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
   if (light.type == rdb::PunctualType::kDirectional) {
     const vec3 toLight = -light.directionWorld;
     if (!response(v, toLight, fCos, pdfUnused)) return Rgb(0.0f);
-    const vec3 origin =
-        offsetRayOrigin(v.p, glm::dot(v.n, toLight) > 0.0f ? v.n : -v.n, v.magnitudeM);
+    const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.n, toLight) > 0.0f ? v.n : -v.n, v.magnitudeM);
     return light.intensity * fCos * visibility(origin, toLight, std::numeric_limits<float>::infinity(), rays);
   }
   const vec3 toLight = light.positionM - v.p;
@@ -361,8 +362,8 @@ template <class S>
 Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
                                  float surfaceMagnitudeM) const {
   Rgb sum(0.0f);
-  // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos θ),
-  // over the Russian-roulette survival probabilities.
+  // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos
+  // θ), over the Russian-roulette survival probabilities.
   Rgb beta(1.0f);
   Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, onb(n), vec3(0.0f)};
   // Light that the next ray finds is MIS-weighted against light sampling at the last non-delta vertex, with
@@ -389,8 +390,14 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     float uPunctual = 0.0f;
     if (roulette || lobeChoice || punctualChoice) {
       sampler.startGroup(kGroupsPerVertex * depth + 2);
-      if (roulette) uRoulette = sampler.next1D(); else sampler.skip(1);
-      if (lobeChoice) uLobe = sampler.next1D(); else sampler.skip(1);
+      if (roulette)
+        uRoulette = sampler.next1D();
+      else
+        sampler.skip(1);
+      if (lobeChoice)
+        uLobe = sampler.next1D();
+      else
+        sampler.skip(1);
       if (punctualChoice) uPunctual = sampler.next1D();
     }
     vec2 uContinue(0.0f);
@@ -401,7 +408,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       if (lightSampling && emitterDistribution_) uEmitter = sampler.next2D();
     }
 
-    if (lightSampling) sum += beta * directLight(v, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays);
+    if (lightSampling)
+      sum += beta * directLight(v, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays);
 
     // The continuation.
     vec3 d;
@@ -441,9 +449,9 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     if (!(maxComponent(beta) > 0.0f)) break;
 
     ++rays;
-    const std::optional<Hit> hit = scene_.intersect(
-        offsetRayOrigin(v.p, glm::dot(v.n, d) > 0.0f ? v.n : -v.n, v.magnitudeM), d,
-        std::numeric_limits<float>::infinity());
+    const std::optional<Hit> hit =
+        scene_.intersect(offsetRayOrigin(v.p, glm::dot(v.n, d) > 0.0f ? v.n : -v.n, v.magnitudeM), d,
+                         std::numeric_limits<float>::infinity());
     if (!hit) {
       if (skyDistribution_ && d.y >= 0.0f) {
         const uint32_t cell = skyCell(d);
@@ -451,7 +459,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
                (specular ? 1.0f : powerHeuristic(pdfLast, skyPdfPerSr_[cell]));
       }
       // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
-      if (specular && sunOneMinusCos_ > 0.0f) {
+      if (specular && settings_.sunCaustics && sunOneMinusCos_ > 0.0f) {
         const vec3 offAxis = d - rdb_.sun.directionWorld;
         if (0.5f * glm::dot(offAxis, offAxis) <= sunOneMinusCos_) sum += beta * sunRadianceCdM2_;
       }
@@ -478,8 +486,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     if (!(wo.z > 0.0f)) break;
     v = Vertex{x, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, frame, wo};
 
-    // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β / π)
-    // times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).
+    // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
+    // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).
     if (roulette) {
       const float q = std::min(1.0f, maxComponent(beta * bsdf.albedo(wo.z)) / kPiF);
       if (uRoulette >= q) break;

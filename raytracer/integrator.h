@@ -8,7 +8,8 @@
 //
 // The sun: a disc of uniform radiance E_n / (π sin² θ_s), so that a surface facing it receives E_n, sampled
 // uniformly in its cone at every non-delta vertex, without MIS; the sky table holds no sun, so a path adds
-// the disc's radiance only when a ray leaving a delta lobe (a mirror) reaches it.
+// the disc's radiance only when a ray leaving a delta lobe (a mirror) reaches it, and only with
+// IntegratorSettings::sunCaustics.
 //
 // The sky table: importance-sampled by a Distribution2D over its equal-area cells weighted by luminance, and
 // combined with BSDF sampling (cosine sampling at the sensor) by multiple importance sampling with the power
@@ -22,8 +23,8 @@
 //
 // Punctual lights: directional lights every one; point, spot and goniometric lights every one while there
 // are at most kAllPunctualLights of them (deterministic: no variance from the choice), otherwise one per
-// sample chosen by a Distribution1D over an estimate of its flux (lm: 4π I for a point, 2π (1 − cos θ_outer) I
-// for a spot, 4π I × the table's mean for a goniometric light; luminance of the colour) and divided by its
+// sample chosen by a Distribution1D over an estimate of its flux (lm: 4π I for a point, 2π (1 − cos θ_outer)
+// I for a spot, 4π I × the table's mean for a goniometric light; luminance of the colour) and divided by its
 // probability (pbrt-v4's PowerLightSampler; a light's distance is not considered).
 //
 // Clear glass (thin-walled, straight-through transmission): shadow rays pass through it with its
@@ -83,6 +84,13 @@ struct IntegratorSettings {
   // Reflections of indirect light, ≥ 0 (0 = direct light only, which includes light through clear glass).
   // Paths end by Russian roulette long before the default; kPathLengthGuard caps it.
   uint32_t maxBounces = kPathLengthGuard;
+  // The sun seen in mirrors (a mirror's, or a window pane's, image of the sun: a caustic). Light sampling
+  // cannot find it, and a path leaving a mirror reaches the 0.53° disc so rarely (a chance of ≈ 10⁻⁵ per
+  // path, with a value of ≈ 10⁹ cd/m²) that at practical sample counts most vertices near a sunlit window
+  // see it not at all and a few see it with a weight tens of times their whole irradiance: fireflies, and a
+  // standard error that cannot know the event it has not seen. Off by default, as in common light-map
+  // bakers; the sky and emitters seen in mirrors always count.
+  bool sunCaustics = false;
 };
 
 class Integrator {
@@ -94,10 +102,10 @@ class Integrator {
   // One sample of the irradiance in lux at p (world, metres) on the side of unit normal n. The caller starts
   // the sample (sampler.startSample); this uses 3 groups of dimensions per path vertex from group 0: (sun,
   // sky), (continuation, emitter), (Russian roulette, BSDF lobe choice, punctual light choice), and computes
-  // only the dimensions it needs (no lobe choice on a Lambertian surface, no emitter without emitters). `rays`
-  // grows by the rays traced. Finite and ≥ 0 for finite input. When p lies on a triangle, pass the triangle's
-  // EmbreeScene::triangleMagnitudeM as surfaceMagnitudeM so that rays leave it far enough (rayOffsetM); a
-  // free sensor needs none.
+  // only the dimensions it needs (no lobe choice on a Lambertian surface, no emitter without emitters).
+  // `rays` grows by the rays traced. Finite and ≥ 0 for finite input. When p lies on a triangle, pass the
+  // triangle's EmbreeScene::triangleMagnitudeM as surfaceMagnitudeM so that rays leave it far enough
+  // (rayOffsetM); a free sensor needs none.
   template <class S>
   Rgb sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
                        float surfaceMagnitudeM = 0.0f) const;
@@ -138,16 +146,16 @@ class Integrator {
   const rdb::TraceRdb& rdb_;
   const EmbreeScene& scene_;
   IntegratorSettings settings_;
-  std::optional<Distribution2D> skyDistribution_;      // over (φ / 2π, 1 − μ); none without a sky
+  std::optional<Distribution2D> skyDistribution_;  // over (φ / 2π, 1 − μ); none without a sky
   std::vector<float> skyPdfPerSr_;  // per sky cell: the density per steradian of directLight's sky samples
   std::optional<Distribution1D> emitterDistribution_;  // over rdb.emissiveTriangles; none without emitters
   std::vector<float> emitterPmfOfTriangle_;            // per triangle, 0 when not emissive
   Rgb sunRadianceCdM2_{0.0f};
   Onb sunFrame_{};  // around the sun's direction
   float sunOneMinusCos_ = 0.0f;
-  std::vector<Bsdf> frontBsdfs_;  // per material: front face (either face when double-sided)
-  std::vector<Bsdf> backBsdfs_;   // per material: back face (transmission only when one-sided)
-  bool hasClearGlass_ = false;    // some material passes light straight through (visibility())
+  std::vector<Bsdf> frontBsdfs_;             // per material: front face (either face when double-sided)
+  std::vector<Bsdf> backBsdfs_;              // per material: back face (transmission only when one-sided)
+  bool hasClearGlass_ = false;               // some material passes light straight through (visibility())
   std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
   std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.

@@ -107,9 +107,9 @@ constexpr uint32_t kTestReplicates = 64;
 
 EstimateResult run(const rdb::TraceRdb& rdb, const Sensors& s, uint32_t samples,
                    SamplerKind kind = SamplerKind::kSobol, uint32_t threads = 0, uint64_t seed = 0,
-                   uint32_t replicates = kTestReplicates) {
+                   uint32_t replicates = kTestReplicates, const IntegratorSettings& integratorSettings = {}) {
   const EmbreeScene scene(rdb);
-  const Integrator integrator(rdb, scene);
+  const Integrator integrator(rdb, scene, integratorSettings);
   EstimateSettings settings;
   settings.firstPassSamples = std::max(std::min(samples, 16u), replicates);
   settings.maxSamples = samples;
@@ -118,6 +118,11 @@ EstimateResult run(const rdb::TraceRdb& rdb, const Sensors& s, uint32_t samples,
   settings.seed = seed;
   settings.replicates = replicates;
   return estimateIrradiance(integrator, s.points, s.normals, settings);
+}
+
+EstimateResult run(const rdb::TraceRdb& rdb, const Sensors& s, uint32_t samples,
+                   const IntegratorSettings& integratorSettings) {
+  return run(rdb, s, samples, SamplerKind::kSobol, 0, 0, kTestReplicates, integratorSettings);
 }
 
 // |mean − exact| < 4 σ + 10⁻⁵ exact per channel, and σ ≤ maxRelStdError · exact (so that the test can fail).
@@ -631,10 +636,10 @@ double schlick(double cosTheta, double ior) {
   return f0 + (1.0 - f0) * std::pow(1.0 - cosTheta, 5.0);
 }
 
-// The sun at elevation e through a horizontal clear pane above a black floor: E = E_n sin e (1 − F(sin e)), the
-// pane's transmittance at the angle the light crosses it, whichever face it shows the floor (a one-sided
-// pane's back face transmits too). A uniform sky through one pane: E = 2π L ∫₀¹ (1 − F(μ)) μ dμ = π L (1 − F0 −
-// (1 − F0) / 21); through two parallel double-sided panes, with the light reflected between them: E = 2π L
+// The sun at elevation e through a horizontal clear pane above a black floor: E = E_n sin e (1 − F(sin e)),
+// the pane's transmittance at the angle the light crosses it, whichever face it shows the floor (a one-sided
+// pane's back face transmits too). A uniform sky through one pane: E = 2π L ∫₀¹ (1 − F(μ)) μ dμ = π L (1 − F0
+// − (1 − F0) / 21); through two parallel double-sided panes, with the light reflected between them: E = 2π L
 // ∫₀¹ T² / (1 − R²) μ dμ, T = 1 − F(μ), R = F(μ). The sensor's own rays that pass the panes and escape must
 // add neither the sun nor the sky's light-sampled share again.
 TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
@@ -643,7 +648,8 @@ TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
   const Rgb sky(1000.0f, 2000.0f, 3000.0f);
   const double sinE = std::sin(degToRad(elevationDeg));
   const auto transmittance = static_cast<float>(1.0 - schlick(sinE, 1.52));
-  for (const auto& [doubleSided, faceUp] : {std::pair{true, false}, std::pair{false, false}, std::pair{false, true}}) {
+  for (const auto& [doubleSided, faceUp] :
+       {std::pair{true, false}, std::pair{false, false}, std::pair{false, true}}) {
     SceneBuilder b;
     b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
     b.plane(1.0f, kHugeGroundHalfM, faceUp, b.add(clearGlass(doubleSided)));
@@ -682,8 +688,8 @@ TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
       settings.firstPassSamples = kTestReplicates;
       settings.replicates = kTestReplicates;
       settings.maxSamples = 1024;
-      expectAgrees("sky through a pane, direct only", estimateIrradiance(directOnly, s.points, s.normals, settings),
-                   s, 0.02f);
+      expectAgrees("sky through a pane, direct only",
+                   estimateIrradiance(directOnly, s.points, s.normals, settings), s, 0.02f);
     }
   }
 }
@@ -713,8 +719,9 @@ TEST(Integrator, MirrorFloorShowsTheEmittersImage) {
 
 // The sun reflected by a vertical mirror wall onto the floor (a sun disc of 10° half-angle, so that the
 // floor's sampled rays find its image often enough): E = E_n sin e (1 + r), the direct sun and its image
-// at the same elevation. The sun is added where a ray leaving a mirror reaches its disc, and only there.
-TEST(Integrator, MirrorReflectsTheSun) {
+// at the same elevation. The sun is added where a ray leaving a mirror reaches its disc, and only there,
+// and only with IntegratorSettings::sunCaustics; without, the floor receives the direct sun alone.
+TEST(Integrator, MirrorReflectsTheSunWithSunCaustics) {
   SceneBuilder b;
   b.ground(kHugeGroundHalfM, b.material(Rgb(0.0f)));
   rdb::TraceMaterial mirror;
@@ -728,10 +735,15 @@ TEST(Integrator, MirrorReflectsTheSun) {
   const float elevationDeg = 40.0f;
   b.sun(elevationDeg, 180.0f, Rgb(100000.0f));  // in −x: its light falls towards the mirror
   b.rdb.sun.halfAngleRad = static_cast<float>(degToRad(10.0));
-  Sensors s;
-  s.add(vec3(0.0f), vec3(0, 1, 0),
-        b.rdb.sun.normalIlluminanceLux * static_cast<float>(std::sin(degToRad(elevationDeg)) * 1.8));
-  expectAgrees("mirrored sun", run(b.rdb, s, 16384), s, 0.05f);
+  const float direct = static_cast<float>(std::sin(degToRad(elevationDeg)));
+  for (bool caustics : {true, false}) {
+    Sensors s;
+    s.add(vec3(0.0f), vec3(0, 1, 0), b.rdb.sun.normalIlluminanceLux * (caustics ? direct * 1.8f : direct));
+    IntegratorSettings settings;
+    settings.sunCaustics = caustics;
+    expectAgrees(caustics ? "mirrored sun" : "mirrored sun left out", run(b.rdb, s, 16384, settings), s,
+                 0.05f);
+  }
 }
 
 // A closed box whose inward walls mix a uniform mirror (r = 0.5) with diffuse (0.8 × (1 − r)) and emit L:
