@@ -162,7 +162,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"seed", e.seed},
         {"threads", e.threads},
         {"max_bounces", job.settings.integrator.maxBounces},
-        {"sun_caustics", job.settings.integrator.sunCaustics},
+        {"caustics", job.settings.integrator.caustics},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
       {"trace_rdb_fingerprint", hex(fingerprint)},
@@ -221,7 +221,7 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     e.threads = s.at("threads").get<uint32_t>();
     c.job.settings.integrator.maxBounces = s.at("max_bounces").get<uint32_t>();
     // Checkpoints from before the setting existed baked without sun caustics.
-    c.job.settings.integrator.sunCaustics = s.value("sun_caustics", false);
+    c.job.settings.integrator.caustics = s.value("caustics", false);
     c.job.exportGltf = s.at("export_gltf").get<bool>();
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);

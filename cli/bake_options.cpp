@@ -28,7 +28,7 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
                  "seed of the sample scrambling; runs with different seeds are independent estimates, "
                  "whose differences check the reported errors")
       ->capture_default_str();
-  sub.add_flag("--sun-caustics", o.sunCaustics,
+  sub.add_flag("--caustics", o.caustics,
                "also the sun seen in mirrors and window panes (caustics); off by default: paths find the "
                "sun's image so rarely that it makes fireflies and errors that cannot be estimated");
 }
@@ -86,7 +86,7 @@ raytracer::EstimateSettings estimateSettings(const SamplingOptions& o, const sdb
 raytracer::IntegratorSettings integratorSettings(const SamplingOptions& o, const sdb::BakeSettings& bake) {
   raytracer::IntegratorSettings settings;
   settings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces;
-  settings.sunCaustics = o.sunCaustics;
+  settings.caustics = o.caustics;
   return settings;
 }
 

@@ -198,7 +198,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"seed", e.seed},
       {"threads", e.threads},
       {"max_bounces", settings.integrator.maxBounces},
-      {"sun_caustics", settings.integrator.sunCaustics}};
+      {"caustics", settings.integrator.caustics}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
     d.meshNames.push_back(scene.mesh(sdb::MeshId{m.sdbMeshId}).name);

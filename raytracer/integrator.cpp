@@ -139,6 +139,12 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     frontBsdfs_.emplace_back(m, true);
     backBsdfs_.emplace_back(m, m.doubleSided);
     hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().passesStraight();
+    rdb::TraceMaterial regularised = m;
+    if (!settings_.caustics) {
+      regularised.reflectionGlossiness = std::max(m.reflectionGlossiness, kRegularizedGlossiness);
+    }
+    deltaLightFrontBsdfs_.emplace_back(regularised, true);
+    deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided);
   }
 
   std::vector<float> fluxesLm;
@@ -228,25 +234,25 @@ Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uin
   }
 }
 
-bool Integrator::response(const Vertex& v, const vec3& d, Rgb& fCos, float& pdf) const {
+bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf) const {
   const float cosTheta = glm::dot(v.n, d);
-  if (v.bsdf == nullptr) {
+  if (bsdf == nullptr) {
     if (!(cosTheta > 0.0f)) return false;
     fCos = Rgb(cosTheta);
     pdf = cosineHemispherePdf(cosTheta);
     return true;
   }
-  if (v.bsdf->isLambertian()) {
+  if (bsdf->isLambertian()) {
     if (!(cosTheta > 0.0f)) return false;
-    fCos = v.bsdf->lambertAlbedo() * (cosTheta / kPiF);
+    fCos = bsdf->lambertAlbedo() * (cosTheta / kPiF);
     pdf = cosineHemispherePdf(cosTheta);
     return true;
   }
-  if (!(cosTheta > 0.0f) && !(cosTheta < 0.0f && v.bsdf->hasNonDeltaTransmission())) return false;
+  if (!(cosTheta > 0.0f) && !(cosTheta < 0.0f && bsdf->hasNonDeltaTransmission())) return false;
   const vec3 wi = v.frame.toLocal(d);
-  fCos = v.bsdf->eval(v.woLocal, wi) * std::abs(cosTheta);
+  fCos = bsdf->eval(v.woLocal, wi) * std::abs(cosTheta);
   if (!(maxComponent(fCos) > 0.0f)) return false;
-  pdf = v.bsdf->pdf(v.woLocal, wi);
+  pdf = bsdf->pdf(v.woLocal, wi);
   return true;
 }
 
@@ -255,7 +261,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
   float pdfUnused;
   if (light.type == rdb::PunctualType::kDirectional) {
     const vec3 toLight = -light.directionWorld;
-    if (!response(v, toLight, fCos, pdfUnused)) return Rgb(0.0f);
+    if (!response(v, v.deltaLightBsdf, toLight, fCos, pdfUnused)) return Rgb(0.0f);
     const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.n, toLight) > 0.0f ? v.n : -v.n, v.magnitudeM);
     return light.intensity * fCos * visibility(origin, toLight, std::numeric_limits<float>::infinity(), rays);
   }
@@ -263,7 +269,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
   const float distM = glm::length(toLight);
   if (!(distM > 0.0f) || distM >= light.rangeM) return Rgb(0.0f);
   const vec3 dir = toLight / distM;
-  if (!response(v, dir, fCos, pdfUnused)) return Rgb(0.0f);
+  if (!response(v, v.deltaLightBsdf, dir, fCos, pdfUnused)) return Rgb(0.0f);
   // KHR_lights_punctual's recommended range window: clamp(1 − (d / range)⁴, 0, 1) / d².
   const float ratio = distM / light.rangeM;
   float factor = std::clamp(1.0f - ratio * ratio * ratio * ratio, 0.0f, 1.0f);
@@ -287,8 +293,8 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
 }
 
 template <class S>
-Rgb Integrator::directLight(const Vertex& v, uint32_t group, const vec2& uEmitter, float uPunctual,
-                            S& sampler, uint64_t& rays) const {
+Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter,
+                            float uPunctual, S& sampler, uint64_t& rays) const {
   sampler.startGroup(group);
   Rgb sum(0.0f);
   // The ray origin on the side of the light.
@@ -301,18 +307,18 @@ Rgb Integrator::directLight(const Vertex& v, uint32_t group, const vec2& uEmitte
   if (sunOneMinusCos_ > 0.0f) {
     // Uniform in the sun's cone: L f |cos θ| / pdf, pdf = 1 / (2π (1 − cos θ_s)).
     const vec3 d = sunFrame_.toWorld(sampleUniformCone(sampler.next2D(), sunOneMinusCos_));
-    if (response(v, d, fCos, pdfBsdf)) {
+    if (response(v, v.deltaLightBsdf, d, fCos, pdfBsdf)) {
       sum += sunRadianceCdM2_ * fCos * (1.0f / uniformConePdf(sunOneMinusCos_)) *
              visibility(originTowards(d), d, std::numeric_limits<float>::infinity(), rays);
     }
   }
 
-  if (skyDistribution_) {
+  if (skyDistribution_ && allLights) {
     if (sunOneMinusCos_ <= 0.0f) sampler.skip(2);
     const Distribution2D::Sample s = skyDistribution_->sample(sampler.next2D());
     const vec3 d = skyDirection(s.p);
     const float pdf = s.pdf / (2.0f * kPiF);
-    if (pdf > 0.0f && response(v, d, fCos, pdfBsdf)) {
+    if (pdf > 0.0f && response(v, v.bsdf, d, fCos, pdfBsdf)) {
       sum += rdb_.sky.radianceCdM2[s.cell] * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) *
              visibility(originTowards(d), d, std::numeric_limits<float>::infinity(), rays);
     }
@@ -326,7 +332,7 @@ Rgb Integrator::directLight(const Vertex& v, uint32_t group, const vec2& uEmitte
     for (uint32_t i : positionalLights_) sum += punctualLight(rdb_.punctualLights[i], v, rays);
   }
 
-  if (emitterDistribution_) {
+  if (emitterDistribution_ && allLights) {
     const Distribution1D::DiscreteSample pick = emitterDistribution_->sampleDiscrete(uEmitter.x);
     const uint32_t t = rdb_.emissiveTriangles[pick.index];
     const vec3 b = sampleUniformTriangle(vec2(pick.uRemapped, uEmitter.y));
@@ -341,7 +347,7 @@ Rgb Integrator::directLight(const Vertex& v, uint32_t group, const vec2& uEmitte
     const float cosLight = -glm::dot(nLight, d);
     const rdb::TraceMaterial& m = rdb_.materials[rdb_.triangleMaterial[t]];
     if (distM > 0.0f && (cosLight > 0.0f || (m.doubleSided && cosLight < 0.0f)) &&
-        response(v, d, fCos, pdfBsdf)) {
+        response(v, v.bsdf, d, fCos, pdfBsdf)) {
       const float pdf = emitterPdf(t, distM, std::abs(cosLight));
       // Both ends moved off their surfaces, the light's towards the receiver.
       const vec3 origin = originTowards(d);
@@ -365,7 +371,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos
   // θ), over the Russian-roulette survival probabilities.
   Rgb beta(1.0f);
-  Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, onb(n), vec3(0.0f)};
+  Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, nullptr, onb(n), vec3(0.0f)};
   // Light that the next ray finds is MIS-weighted against light sampling at the last non-delta vertex, with
   // the density pdfLast of its continuation and the distance travelledM from it (straight through clear
   // panes included), unless the last scattering was a mirror (`specular`): light sampling cannot find that.
@@ -381,10 +387,13 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   for (uint32_t depth = 0; depth <= kPathLengthGuard; ++depth) {
     // Only the dimensions this vertex uses (each is a function of its own index alone, so skipping one
     // changes no other).
+    // All lights where v has a non-delta lobe; the sun and punctual lights also where only its regularised
+    // twin has one (a mirror without caustics).
     const bool lightSampling = !straightOnly && (v.bsdf == nullptr || v.bsdf->hasNonDelta());
+    const bool deltaLightSampling = lightSampling || (!straightOnly && v.deltaLightBsdf->hasNonDelta());
     const bool roulette = depth + 1 >= kFirstRouletteVertex;
     const bool lobeChoice = !straightOnly && v.bsdf != nullptr && !v.bsdf->isLambertian();
-    const bool punctualChoice = lightSampling && positionalDistribution_;
+    const bool punctualChoice = deltaLightSampling && positionalDistribution_;
     float uRoulette = 0.0f;
     float uLobe = 0.0f;
     float uPunctual = 0.0f;
@@ -408,8 +417,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       if (lightSampling && emitterDistribution_) uEmitter = sampler.next2D();
     }
 
-    if (lightSampling)
-      sum += beta * directLight(v, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays);
+    if (deltaLightSampling) {
+      sum +=
+          beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays);
+    }
 
     // The continuation.
     vec3 d;
@@ -459,7 +470,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
                (specular ? 1.0f : powerHeuristic(pdfLast, skyPdfPerSr_[cell]));
       }
       // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
-      if (specular && settings_.sunCaustics && sunOneMinusCos_ > 0.0f) {
+      if (specular && settings_.caustics && sunOneMinusCos_ > 0.0f) {
         const vec3 offAxis = d - rdb_.sun.directionWorld;
         if (0.5f * glm::dot(offAxis, offAxis) <= sunOneMinusCos_) sum += beta * sunRadianceCdM2_;
       }
@@ -484,7 +495,9 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     const Onb frame = onb(side);
     const vec3 wo = frame.toLocal(-d);
     if (!(wo.z > 0.0f)) break;
-    v = Vertex{x, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, frame, wo};
+    const Bsdf& deltaLightBsdf =
+        front || m.doubleSided ? deltaLightFrontBsdfs_[mi] : deltaLightBackBsdfs_[mi];
+    v = Vertex{x, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, &deltaLightBsdf, frame, wo};
 
     // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
     // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).

@@ -9,7 +9,7 @@
 // The sun: a disc of uniform radiance E_n / (π sin² θ_s), so that a surface facing it receives E_n, sampled
 // uniformly in its cone at every non-delta vertex, without MIS; the sky table holds no sun, so a path adds
 // the disc's radiance only when a ray leaving a delta lobe (a mirror) reaches it, and only with
-// IntegratorSettings::sunCaustics.
+// IntegratorSettings::caustics.
 //
 // The sky table: importance-sampled by a Distribution2D over its equal-area cells weighted by luminance, and
 // combined with BSDF sampling (cosine sampling at the sensor) by multiple importance sampling with the power
@@ -80,17 +80,29 @@ inline constexpr uint32_t kAllPunctualLights = 8;
 // glass, not a limit real scenes reach).
 inline constexpr uint32_t kMaxPanesPassed = 64;
 
+// The glossiness (GGX α = glossiness²) below which IntegratorSettings::caustics = false blurs reflection
+// lobes for light sampling of the sun and punctual lights at surface vertices.
+inline constexpr float kRegularizedGlossiness = 0.3f;
+
 struct IntegratorSettings {
   // Reflections of indirect light, ≥ 0 (0 = direct light only, which includes light through clear glass).
   // Paths end by Russian roulette long before the default; kPathLengthGuard caps it.
   uint32_t maxBounces = kPathLengthGuard;
-  // The sun seen in mirrors (a mirror's, or a window pane's, image of the sun: a caustic). Light sampling
-  // cannot find it, and a path leaving a mirror reaches the 0.53° disc so rarely (a chance of ≈ 10⁻⁵ per
-  // path, with a value of ≈ 10⁹ cd/m²) that at practical sample counts most vertices near a sunlit window
-  // see it not at all and a few see it with a weight tens of times their whole irradiance: fireflies, and a
-  // standard error that cannot know the event it has not seen. Off by default, as in common light-map
-  // bakers; the sky and emitters seen in mirrors always count.
-  bool sunCaustics = false;
+  // Caustics of the sun and of punctual lights: their light reflected by mirrors and sharp glossy surfaces
+  // onto diffuse ones (a window pane's image of the sun on a wall). Path tracing finds these paths rarely and
+  // with huge values: a path leaving a mirror reaches the sun's 0.53° disc with a chance of ≈ 10⁻⁵ and a
+  // radiance of ≈ 10⁹ cd/m², and a tile of GGX α = 0.01 under the sun glints towards a sensor from a tiny
+  // spot. At practical sample counts most vertices see such a path not at all and a few see it with a
+  // weight tens of times their whole irradiance: fireflies, with a standard error that cannot know the
+  // event it has not seen.
+  //   false (the default, as common light-map bakers): the sun found by a ray leaving a mirror is left out,
+  //   and light sampling of the sun and of punctual lights at surface vertices evaluates reflection lobes
+  //   sharper than kRegularizedGlossiness as if they had that glossiness (path regularisation, Kaplanyan &
+  //   Dachsbacher, "Path Space Regularization for Holistic and Robust Light Transport", EG 2013): glints are
+  //   blurred over a lobe of GGX α = 0.09 instead of lost, with nearly the same energy. The sky and emitters
+  //   seen in mirrors and glossy surfaces count exactly.
+  //   true: all of it exactly (unbiased), for studies of glare, with many samples.
+  bool caustics = false;
 };
 
 class Integrator {
@@ -116,20 +128,26 @@ class Integrator {
     vec3 n;            // unit, the side being lit (the side of the path's previous vertex)
     float magnitudeM;  // for rayOffsetM()
     const Bsdf* bsdf;  // null at the sensor, which weighs incident light by cos θ
-    Onb frame;         // around n (surface vertices)
-    vec3 woLocal;      // towards the previous vertex, in frame (surface vertices)
+    // For light sampling of the sun and punctual lights: bsdf, or without caustics its regularised twin
+    // (IntegratorSettings::caustics); null at the sensor.
+    const Bsdf* deltaLightBsdf;
+    Onb frame;     // around n (surface vertices)
+    vec3 woLocal;  // towards the previous vertex, in frame (surface vertices)
   };
 
   // Σ over the lights of ∫ L_i f |cos θ| dω at v by light sampling (f = 1 and the hemisphere of n at the
   // sensor), MIS-weighted where BSDF sampling also finds the light. Uses the sampler's group `group`;
   // uEmitter and uPunctual choose an emitter point and a punctual light.
+  // allLights: also the sky and emitters (v.bsdf has a non-delta lobe); else the sun and punctual lights
+  // only.
   template <class S>
-  Rgb directLight(const Vertex& v, uint32_t group, const vec2& uEmitter, float uPunctual, S& sampler,
-                  uint64_t& rays) const;
+  Rgb directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter, float uPunctual,
+                  S& sampler, uint64_t& rays) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
   // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor), and the density
   // per steradian with which v's continuation samples d. False when v takes no light from d.
-  bool response(const Vertex& v, const vec3& d, Rgb& fCos, float& pdf) const;
+  // bsdf: v.bsdf or v.deltaLightBsdf.
+  bool response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf) const;
   // The fraction of light that reaches origin from unit direction dir over [0, tMaxM] (tMaxM may be ∞): 1
   // when nothing is in the way, the product of T(θ) of the clear panes crossed, 0 when anything else is hit.
   // `rays` grows by the rays traced.
@@ -153,8 +171,11 @@ class Integrator {
   Rgb sunRadianceCdM2_{0.0f};
   Onb sunFrame_{};  // around the sun's direction
   float sunOneMinusCos_ = 0.0f;
-  std::vector<Bsdf> frontBsdfs_;             // per material: front face (either face when double-sided)
-  std::vector<Bsdf> backBsdfs_;              // per material: back face (transmission only when one-sided)
+  std::vector<Bsdf> frontBsdfs_;  // per material: front face (either face when double-sided)
+  std::vector<Bsdf> backBsdfs_;   // per material: back face (transmission only when one-sided)
+  // The same for light sampling of the sun and punctual lights: regularised without caustics.
+  std::vector<Bsdf> deltaLightFrontBsdfs_;
+  std::vector<Bsdf> deltaLightBackBsdfs_;
   bool hasClearGlass_ = false;               // some material passes light straight through (visibility())
   std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
   std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
