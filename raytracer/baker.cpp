@@ -73,6 +73,12 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
       }
     }
 
+    meshOfVertex_.assign(vertexCount, 0);
+    for (uint32_t m = 0; m < rdb.meshes.size(); ++m) {
+      const rdb::TraceMesh& mesh = rdb.meshes[m];
+      const size_t end = std::min<size_t>(size_t{mesh.firstVertex} + mesh.vertexCount, vertexCount);
+      for (size_t v = mesh.firstVertex; v < end; ++v) meshOfVertex_[v] = m;
+    }
     twoSided_.assign(vertexCount, false);
     for (const rdb::TraceMesh& mesh : rdb.meshes) {
       if (!mesh.twoSided) continue;
@@ -89,6 +95,13 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   }
 
   size_t pointCount() const override { return pointVertex_.size(); }
+  // Per mesh, its fronts and its backs.
+  uint32_t groupCount() const override {
+    return 2 * std::max<uint32_t>(1, static_cast<uint32_t>(rdb_.meshes.size()));
+  }
+  uint32_t groupOf(size_t point) const override {
+    return 2 * meshOfVertex_[pointVertex_[point]] + (isBack(point) ? 1 : 0);
+  }
 
   bool hasRing(uint32_t v) const { return ringOffsets_[v + 1] > ringOffsets_[v]; }
   bool isTwoSided(uint32_t v) const { return twoSided_[v]; }
@@ -210,9 +223,10 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   std::vector<uint32_t> ringTriangles_;
   // Which corner of the triangle the vertex is (bits 0–1), and kReversedCorners.
   std::vector<uint8_t> ringCorners_;
-  std::vector<float> ringCdfM2_;       // the ring's areas summed up to and including this entry
-  std::vector<bool> twoSided_;         // per vertex: of a two-sided mesh
-  std::vector<uint32_t> pointVertex_;  // per point: the fronts, then the backs
+  std::vector<float> ringCdfM2_;        // the ring's areas summed up to and including this entry
+  std::vector<bool> twoSided_;          // per vertex: of a two-sided mesh
+  std::vector<uint32_t> meshOfVertex_;  // per vertex: its TraceMesh (0 for none)
+  std::vector<uint32_t> pointVertex_;   // per point: the fronts, then the backs
   size_t frontCount_ = 0;
 };
 
@@ -265,6 +279,11 @@ class JoinedSource final : public SampleSourceOf<JoinedSource> {
  public:
   JoinedSource(const SampleSource& first, const SampleSource& second) : first_(first), second_(second) {}
   size_t pointCount() const override { return first_.pointCount() + second_.pointCount(); }
+  uint32_t groupCount() const override { return first_.groupCount() + second_.groupCount(); }
+  uint32_t groupOf(size_t point) const override {
+    const size_t n = first_.pointCount();
+    return point < n ? first_.groupOf(point) : first_.groupCount() + second_.groupOf(point - n);
+  }
 
  private:
   template <class S>

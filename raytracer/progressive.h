@@ -30,8 +30,8 @@ enum class SamplerKind { kSobol, kRandom };
 // replicates.
 inline constexpr size_t kMinPointsToPool = 64;
 
-// With fewer than 8 replicates, a point's variance is moderated with the variance pooled over all points up to
-// this many degrees of freedom, those of 8 replicates (EstimateSettings::replicates).
+// With fewer than 8 replicates, a point's variance is moderated with the variance pooled over all points up
+// to this many degrees of freedom, those of 8 replicates (EstimateSettings::replicates).
 inline constexpr double kModeratedDegreesOfFreedom = 7.0;
 
 struct EstimateSettings {
@@ -79,6 +79,11 @@ class SampleSource {
  public:
   virtual ~SampleSource() = default;
   virtual size_t pointCount() const = 0;
+  // Points that light alike (one object's vertices, one light texture's texels) form a group: the moderated
+  // error (progressive.cpp) pools the replicates' gain over a group's points when it has at least
+  // kMinPointsToPool, else over all points. Groups are numbered 0 … groupCount() − 1.
+  virtual uint32_t groupCount() const { return 1; }
+  virtual uint32_t groupOf(size_t /*point*/) const { return 0; }
   virtual Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const = 0;
   virtual Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
 };
@@ -110,8 +115,8 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
 // Everything the driver needs to continue an estimate where it stopped (a checkpoint): every point's running
 // sums, bit for bit, and where in its passes it was. A pass may stop between blocks of points: points
 // [0, passPointsDone) then have samplesPerPoint + passSamples samples, the others samplesPerPoint. Because a
-// point's samples depend only on (seed, point, replicate, sample index) and its sums are added in sample order,
-// an estimate continued from a state ends bit-identical to one that never stopped.
+// point's samples depend only on (seed, point, replicate, sample index) and its sums are added in sample
+// order, an estimate continued from a state ends bit-identical to one that never stopped.
 struct ProgressState {
   uint64_t pointCount = 0;
   uint32_t replicates = 0;

@@ -323,6 +323,15 @@ void TexelSource::placeAnchor(Texel& texel) {
   if (std::isfinite(nearest)) texel.anchorM += (nearest + lift) * nearestDir;
 }
 
+uint32_t TexelSource::groupCount() const {
+  return 2 * std::max<uint32_t>(1, static_cast<uint32_t>(rdb_.lightTextures.size()));
+}
+
+uint32_t TexelSource::groupOf(size_t point) const {
+  const Point& pt = points_[point];
+  return 2 * texels_[pt.texel].texture + (pt.back ? 1 : 0);
+}
+
 template <class S>
 Rgb TexelSource::sampleAt(size_t point, S& sampler, uint64_t& rays) const {
   const Point& pt = points_[point];

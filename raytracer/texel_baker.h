@@ -80,6 +80,9 @@ class TexelSource final : public SampleSource {
   TexelSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator);
 
   size_t pointCount() const override { return points_.size(); }
+  // Per light texture, its fronts and its backs.
+  uint32_t groupCount() const override;
+  uint32_t groupOf(size_t point) const override;
   Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override;
   Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override;
 

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,6 +40,61 @@ class SmoothSource final : public SampleSourceOf<SmoothSource> {
 
   size_t points_;
 };
+
+// Two groups of points that gain unequally from scrambled nets, each with the exact integral 1: group 0
+// bright (1000×) and smooth in the first pair (nets gain a lot), group 1 dim and a product over 16
+// dimensions in 4 groups (nets gain little).
+class TwoGroupSource final : public SampleSourceOf<TwoGroupSource> {
+  friend SampleSourceOf<TwoGroupSource>;
+
+ public:
+  static constexpr size_t kPerGroup = 256;
+  size_t pointCount() const override { return 2 * kPerGroup; }
+  uint32_t groupCount() const override { return 2; }
+  uint32_t groupOf(size_t point) const override { return point < kPerGroup ? 0 : 1; }
+  static float exact(size_t point) { return point < kPerGroup ? 1000.0f : 1.0f; }
+
+ private:
+  template <class S>
+  Rgb sampleAt(size_t point, S& sampler, uint64_t& /*rays*/) const {
+    sampler.startGroup(0);
+    if (point < kPerGroup) {
+      const vec2 u = sampler.next2D();
+      return Rgb(1000.0f * (u.x + u.y));  // ∫∫ (x + y) = 1
+    }
+    float f = 1.0f;
+    for (int d = 0; d < 16; ++d) f *= 0.5f + sampler.next1D();  // ∫ (1/2 + x) = 1 per dimension
+    return Rgb(f);
+  }
+};
+
+// The moderated error pools the nets' gain per group: each group's reported errors match its measured
+// errors, while one gain pooled over both (in lux², led by the bright group) would understate the dim
+// group's error several times.
+TEST(ModeratedErrorTest, PoolsTheGainPerGroup) {
+  const TwoGroupSource source;
+  double squared[2] = {0.0, 0.0};
+  double reported[2] = {0.0, 0.0};
+  for (uint64_t seed = 0; seed < 8; ++seed) {
+    EstimateSettings settings;
+    settings.firstPassSamples = 64;
+    settings.maxSamples = 64;
+    settings.replicates = 2;
+    settings.seed = 1000 * seed;
+    const EstimateResult r = estimateProgressively(source, settings);
+    for (size_t i = 0; i < source.pointCount(); ++i) {
+      const double error = r.points[i].meanLux.g - TwoGroupSource::exact(i);
+      squared[source.groupOf(i)] += error * error;
+      reported[source.groupOf(i)] += double{r.points[i].stdErrorLux.g} * r.points[i].stdErrorLux.g;
+    }
+  }
+  for (int g = 0; g < 2; ++g) {
+    const double ratio = std::sqrt(squared[g] / reported[g]);
+    std::cout << "[ pooling  ] group " << g << ": RMS error / RMS reported error = " << ratio << "\n";
+    EXPECT_GT(ratio, 0.75) << "group " << g;
+    EXPECT_LT(ratio, 1.33) << "group " << g;
+  }
+}
 
 bool sameBits(const std::vector<IrradianceEstimate>& a, const std::vector<IrradianceEstimate>& b) {
   if (a.size() != b.size()) return false;
@@ -97,7 +153,8 @@ INSTANTIATE_TEST_SUITE_P(Samplers, ResumeTest,
                          ::testing::Values(Case{SamplerKind::kSobol, 8}, Case{SamplerKind::kSobol, 1},
                                            Case{SamplerKind::kRandom, 4}),
                          [](const ::testing::TestParamInfo<Case>& param) {
-                           return std::string(param.param.sampler == SamplerKind::kSobol ? "Sobol" : "Random") +
+                           return std::string(param.param.sampler == SamplerKind::kSobol ? "Sobol"
+                                                                                         : "Random") +
                                   std::to_string(param.param.replicates) + "Replicates";
                          });
 
@@ -188,14 +245,16 @@ TEST(BakeCheckpointTest, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
 
   BakeCheckpoint resumed;
   resumed.progress = deserializeProgressState(saved.back(), "state.bin");
-  resumed.history = std::vector<ConvergencePoint>(state.history.begin(),
-                                                  state.history.begin() + static_cast<long>(historyAtSave.back()));
+  resumed.history = std::vector<ConvergencePoint>(
+      state.history.begin(), state.history.begin() + static_cast<long>(historyAtSave.back()));
   checkpointing.state = &resumed;
   checkpointing.save = {};
   const VertexLightMaps continued = bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing);
   ASSERT_EQ(continued.frontLux.size(), whole.frontLux.size());
-  EXPECT_EQ(std::memcmp(continued.frontLux.data(), whole.frontLux.data(), whole.frontLux.size() * sizeof(Rgb)), 0);
-  EXPECT_EQ(std::memcmp(continued.backLux.data(), whole.backLux.data(), whole.backLux.size() * sizeof(Rgb)), 0);
+  EXPECT_EQ(
+      std::memcmp(continued.frontLux.data(), whole.frontLux.data(), whole.frontLux.size() * sizeof(Rgb)), 0);
+  EXPECT_EQ(std::memcmp(continued.backLux.data(), whole.backLux.data(), whole.backLux.size() * sizeof(Rgb)),
+            0);
   EXPECT_EQ(std::memcmp(continued.frontStdErrorLux.data(), whole.frontStdErrorLux.data(),
                         whole.frontStdErrorLux.size() * sizeof(Rgb)),
             0);
