@@ -31,6 +31,17 @@ float sampleHatBarycentric(float u) {
   return 0.5f + sinCosQuarterPi(asinApprox(2.0f * u - 1.0f) / 3.0f).x;
 }
 
+// A number in [0, 4) that grows with the angle of d from +x counter-clockwise (the "diamond angle": the
+// position along the unit diamond |x| + |y| = 1), for sorting by angle without trigonometry; 0 for d = 0.
+float pseudoAngle(const vec2& d) {
+  const float l1 = std::abs(d.x) + std::abs(d.y);
+  if (!(l1 > 0.0f)) return 0.0f;
+  const float x = d.x / l1;
+  const float y = d.y / l1;
+  if (y >= 0.0f) return x >= 0.0f ? y : 1.0f - x;
+  return x < 0.0f ? 2.0f - y : 3.0f + x;
+}
+
 // The baker's points: every vertex with a valid one-ring, on its front, then on its back where its mesh is
 // two-sided.
 class OneRingSource final : public SampleSourceOf<OneRingSource> {
@@ -133,21 +144,20 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
       }
       // A fold whose normals cancel: any axis orders it (the order only affects stratification).
       const Onb frame = onb(glm::dot(axis, axis) > 0.0f ? glm::normalize(axis) : vec3(0.0f, 0.0f, 1.0f));
-      auto angle = [&](const vec3& p) {
-        const vec3 local = frame.toLocal(p - pv);
-        return std::atan2(local.y, local.x);
+      auto local = [&](const vec3& p) {
+        const vec3 l = frame.toLocal(p - pv);
+        return vec2(l.x, l.y);
       };
       order.clear();
       for (uint32_t j = begin; j < end; ++j) {
         const uint32_t t = ringTriangles_[j];
         const uint32_t c = ringCorners_[j];
         const vec3 centroid = (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0f;
-        order.emplace_back(angle(centroid), j);
-        // From corner c + 1 to c + 2 should turn the way the angle grows.
-        float turn = angle(corner(t, c + 2)) - angle(corner(t, c + 1));
-        if (turn > kPiF) turn -= 2.0f * kPiF;
-        if (turn < -kPiF) turn += 2.0f * kPiF;
-        if (turn < 0.0f) ringCorners_[j] = static_cast<uint8_t>(c | kReversedCorners);
+        order.emplace_back(pseudoAngle(local(centroid)), j);
+        // From corner c + 1 to c + 2 should turn the way the angle grows (counter-clockwise in the frame).
+        const vec2 a = local(corner(t, c + 1));
+        const vec2 b = local(corner(t, c + 2));
+        if (a.x * b.y - a.y * b.x < 0.0f) ringCorners_[j] = static_cast<uint8_t>(c | kReversedCorners);
       }
       std::stable_sort(order.begin(), order.end(),
                        [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -86,7 +86,7 @@ class Accumulators {
   // faster the nets converge than independent samples there, measured by the replicates of those points
   // together. Per group, because the sums are in lux² and so led by the brightest points: pooled over a whole
   // house, the sunlit outside's gain stood for the interior's too (RMS error / RMS reported error 0.47–1.39
-  // per object; per group 0.82–1.14, docs/benchmarks.md). Each term is an unbiased estimate of Var(mean_i)
+  // per object; per group 0.86–1.16 for the objects of at least 64 vertices, docs/benchmarks.md). Each term is an unbiased estimate of Var(mean_i)
   // when a point's η is the common one, so the sum over points of σ̂² is unbiased whatever the η_i (ΣE[η² w_i]
   // = ΣE[v_i]). The prior weight d₀ = max(0, kModeratedDegreesOfFreedom − (K − 1)) tops few replicates up to
   // the steadiness of 8 (7 degrees of freedom), and leaves 8 or more to themselves: pooling assumes that all
