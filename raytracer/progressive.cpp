@@ -86,12 +86,13 @@ class Accumulators {
   // faster the nets converge than independent samples there, measured by the replicates of those points
   // together. Per group, because the sums are in lux² and so led by the brightest points: pooled over a whole
   // house, the sunlit outside's gain stood for the interior's too (RMS error / RMS reported error 0.47–1.39
-  // per object; per group 0.86–1.16 for the objects of at least 64 vertices, docs/benchmarks.md). Each term is an unbiased estimate of Var(mean_i)
-  // when a point's η is the common one, so the sum over points of σ̂² is unbiased whatever the η_i (ΣE[η² w_i]
-  // = ΣE[v_i]). The prior weight d₀ = max(0, kModeratedDegreesOfFreedom − (K − 1)) tops few replicates up to
-  // the steadiness of 8 (7 degrees of freedom), and leaves 8 or more to themselves: pooling assumes that all
-  // points gain alike from the nets, which holds only roughly (a point in smooth light gains more than one
-  // on a shadow edge), so it is used no more than the replicates need.
+  // per object; per group 0.84–1.16 for the objects of at least 64 vertices, docs/benchmarks.md). Each term
+  // is an unbiased estimate of Var(mean_i) when a point's η is the common one, so the sum over points of σ̂²
+  // is unbiased whatever the η_i (ΣE[η² w_i] = ΣE[v_i]). The prior weight d₀ = max(0,
+  // kModeratedDegreesOfFreedom − (K − 1)) tops few replicates up to the steadiness of 8 (7 degrees of
+  // freedom), and leaves 8 or more to themselves: pooling assumes that all points gain alike from the nets,
+  // which holds only roughly (a point in smooth light gains more than one on a shadow edge), so it is used no
+  // more than the replicates need.
   void estimates(uint32_t samples, std::vector<IrradianceEstimate>& out) const {
     const size_t count = state_.pointCount;
     out.assign(count, IrradianceEstimate{});
