@@ -64,6 +64,12 @@ View headOn() {
   return v;
 }
 
+// Uploads the two emitters into `renderer` and renders them head-on in simple mode (64 × 32 pixels).
+void renderHeadOn(Renderer& renderer, const TwoEmitters& t) {
+  renderer.upload(t.rdb);
+  renderer.render(headOn(), RenderMode::kSimple, 64, 32);
+}
+
 // Each channel within 2⁻¹⁹ of the pixel's largest (the encoding's rounding) plus a few float ulps (the
 // rasteriser's interpolation of a constant); channels that are 0 stay exactly 0.
 void expectEncodedNear(const std::vector<float>& actual, const std::vector<float>& expected) {
@@ -86,8 +92,7 @@ TEST(LuminanceEncoding, KeepsTheSunAndDimSurfacesToTheEncodingsAccuracy) {
   context();
   TwoEmitters t = twoEmitters(Rgb(1.6e9f, 1.3e9f, 0.0f), Rgb(3.1e-7f, 5.3e-7f, 1.7e-7f));
   Renderer renderer;
-  renderer.upload(t.rdb);
-  renderer.render(headOn(), RenderMode::kSimple, 64, 32);
+  renderHeadOn(renderer, t);
   expectEncodedNear(renderer.luminanceRgb(), t.expected);
 }
 
@@ -97,8 +102,7 @@ TEST(LuminanceEncoding, SmallChannelsBesideALargeOneKeepTheLargeOnesAbsoluteAccu
   context();
   TwoEmitters t = twoEmitters(Rgb(1000.0f, 1.0f, 0.001f), Rgb(0.25f, 0.5f, 0.75f));
   Renderer renderer;
-  renderer.upload(t.rdb);
-  renderer.render(headOn(), RenderMode::kSimple, 64, 32);
+  renderHeadOn(renderer, t);
   expectEncodedNear(renderer.luminanceRgb(), t.expected);
 }
 
@@ -109,8 +113,7 @@ TEST(LuminanceEncoding, ToneMapPassDecodesLikeTheReadBack) {
   context();
   TwoEmitters t = twoEmitters(Rgb(1.6e9f, 1.3e9f, 0.0f), Rgb(0.9e9f, 1.2e9f, 0.4e9f));
   Renderer renderer;
-  renderer.upload(t.rdb);
-  renderer.render(headOn(), RenderMode::kSimple, 64, 32);
+  renderHeadOn(renderer, t);
   const std::vector<float> lum = renderer.luminanceRgb();
   // exposureScale(ev100) = 1 / (1.2 · 2^ev100): 1.6·10⁹ · scale = 0.8.
   const ToneMapSettings tone{ToneOperator::kLinear, std::log2(1.6e9 / (0.8 * 1.2))};
