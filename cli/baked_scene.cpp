@@ -363,8 +363,8 @@ std::vector<std::string> writeExportGltf(const fs::path& dir, const rdb::TraceRd
                         {"baseColorTexture", {{"index", images.size() - 1}, {"texCoord", 1}}}}},
                       {"extensions", {{"KHR_materials_unlit", json::object()}}}};
         const std::string& name = d.meshNames[i].empty() ? d.nodeNames[i] : d.meshNames[i];
-        unlit["name"] = (name.empty() ? "object" + std::to_string(i) : name) + (back ? " (back)" : "") +
-                        " light map";
+        unlit["name"] =
+            (name.empty() ? "object" + std::to_string(i) : name) + (back ? " (back)" : "") + " light map";
         materials.push_back(std::move(unlit));
       }
     }
@@ -550,6 +550,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       {"format_version", kBakedSceneFormatVersion},
       {"fly_version", kFlyVersion},
       {"scene", d.scenePath},
+      {"scene_absolute", fs::absolute(d.scenePath).lexically_normal().string()},
       {"settings", d.settings},
       {"samples_per_vertex", maps.samplesPerVertex},
       {"rays", maps.rays},
@@ -629,6 +630,22 @@ json readBakedManifest(const fs::path& dir) {
                      "bake the scene again with this fly");
   }
   return manifest;
+}
+
+std::optional<fs::path> findBakedSourceScene(const fs::path& dir, const json& manifest) {
+  std::vector<fs::path> candidates;
+  if (manifest.contains("scene_absolute") && manifest["scene_absolute"].is_string())
+    candidates.emplace_back(manifest["scene_absolute"].get<std::string>());
+  if (manifest.contains("scene") && manifest["scene"].is_string()) {
+    const fs::path recorded = manifest["scene"].get<std::string>();
+    candidates.push_back(recorded);
+    if (recorded.is_relative()) candidates.push_back(dir.parent_path() / recorded);
+  }
+  for (const fs::path& c : candidates) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) return c;
+  }
+  return std::nullopt;
 }
 
 }  // namespace fly::cli

@@ -10,10 +10,10 @@
 //   primitive per material, pbrMetallicRoughness with baseColor = the diffuse albedo.
 //   Light-textured meshes (TraceMesh::lightTexture) also carry TEXCOORD_1 (the light-map UVs, v = 0 at the
 //   image's top row) and _SOURCE_VERTEX (SCALAR FLOAT, an integer exact below 2^24: the index, within the
-//   mesh, of the TraceMesh vertex the glTF vertex copies). Their first TraceMesh::vertexCount vertices are the
-//   TraceMesh's vertices in order (= the SDB mesh's; _SOURCE_VERTEX = its own index), each with the UV of its
-//   first triangle corner ((0, 0) for a vertex of no triangle); a copy follows for every further UV a vertex
-//   has where charts meet (seams), with the attributes of its source vertex. The mesh's extras hold
+//   mesh, of the TraceMesh vertex the glTF vertex copies). Their first TraceMesh::vertexCount vertices are
+//   the TraceMesh's vertices in order (= the SDB mesh's; _SOURCE_VERTEX = its own index), each with the UV of
+//   its first triangle corner ((0, 0) for a vertex of no triangle); a copy follows for every further UV a
+//   vertex has where charts meet (seams), with the attributes of its source vertex. The mesh's extras hold
 //   {"fly": {"light_texture": {"front", "front_stderr", ["back", "back_stderr"], "width", "height",
 //   "texels_per_metre"}}}: the EXR paths (relative to the directory) and the atlas.
 // lightmaps/objectN_front.exr, objectN_front_stderr.exr (and _back, _back_stderr for two-sided meshes), for
@@ -38,6 +38,7 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -88,5 +89,12 @@ void writeDirectoryAtomic(const std::filesystem::path& dir,
 // Reads DIR/manifest.json. InputError naming the file when it is missing, not JSON, or not a baked scene of a
 // format version this program reads.
 nlohmann::json readBakedManifest(const std::filesystem::path& dir);
+
+// The scene file a bake was made from, which the GL engine shows and `fly info` describes (the baked
+// scene.gltf keeps the geometry and light maps only): the manifest's "scene_absolute" (bakes since session
+// 5), else its "scene" as fly bake was given it, relative to the working directory or to the baked
+// directory's parent. None when it no longer exists there.
+std::optional<std::filesystem::path> findBakedSourceScene(const std::filesystem::path& dir,
+                                                          const nlohmann::json& manifest);
 
 }  // namespace fly::cli

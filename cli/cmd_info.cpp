@@ -1,12 +1,12 @@
 // `fly info SCENE [--json]`: what a scene contains, its site and the features later stages will build.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <filesystem>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cli/baked_scene.h"
@@ -69,13 +69,14 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   }
   if (scene.hasSite()) {
     const sdb::Site& s = scene.site();
-    j["site"] = {{"latitude_deg", s.latitudeDeg},   {"longitude_deg", s.longitudeDeg},
-                 {"elevation_m", s.elevationM},     {"time_zone", s.timeZone},
+    j["site"] = {{"latitude_deg", s.latitudeDeg},      {"longitude_deg", s.longitudeDeg},
+                 {"elevation_m", s.elevationM},        {"time_zone", s.timeZone},
                  {"north_angle_deg", s.northAngleDeg}, {"grid", sdb::gridName(s)}};
   } else {
     j["site"] = nullptr;
   }
-  j["time"] = scene.time().localDateTime.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.time().localDateTime);
+  j["time"] = scene.time().localDateTime.empty() ? nlohmann::json(nullptr)
+                                                 : nlohmann::json(scene.time().localDateTime);
   j["sky"] = {{"model", sdb::skyModelName(scene.sky().model)}, {"sun", scene.sky().sun}};
   if (scene.sky().model == sdb::SkyModel::kCie) j["sky"]["cie_type"] = scene.sky().cieType;
   j["features"] = f.names();
@@ -91,7 +92,8 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   o << "materials  " << st.materials << countsText(st.materialsByClass) << "\n";
   o << "textures   " << st.textures << "\n";
   o << "lights     " << st.lights << countsText(st.lightsByType);
-  if (st.emissiveMeshes > 0) o << ", and " << st.emissiveMeshes << " emissive mesh" << (st.emissiveMeshes > 1 ? "es" : "");
+  if (st.emissiveMeshes > 0)
+    o << ", and " << st.emissiveMeshes << " emissive mesh" << (st.emissiveMeshes > 1 ? "es" : "");
   o << "\n";
   o << "cameras    " << st.cameras;
   std::string names;
@@ -105,8 +107,8 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   }
   if (scene.hasSite()) {
     const sdb::Site& s = scene.site();
-    o << "site       " << fixed(std::abs(s.latitudeDeg), 4) << "° " << (s.latitudeDeg >= 0 ? "N" : "S") << ", "
-      << fixed(std::abs(s.longitudeDeg), 4) << "° " << (s.longitudeDeg >= 0 ? "E" : "W") << ", "
+    o << "site       " << fixed(std::abs(s.latitudeDeg), 4) << "° " << (s.latitudeDeg >= 0 ? "N" : "S")
+      << ", " << fixed(std::abs(s.longitudeDeg), 4) << "° " << (s.longitudeDeg >= 0 ? "E" : "W") << ", "
       << fixed(s.elevationM, 1) << " m, time zone " << s.timeZone << ", north " << fixed(s.northAngleDeg, 1)
       << "° from -Z" << (s.grid == sdb::Site::Grid::kNone ? "" : ", grid " + sdb::gridName(s)) << "\n";
   } else {
@@ -148,11 +150,16 @@ nlohmann::json bakeSummaryJson(const nlohmann::json& m) {
           {"fly_version", m.at("fly_version")}};
 }
 
-void printBakeSummary(const nlohmann::json& m) {
+void printBakeSummary(const nlohmann::json& m, bool sourceFound) {
   std::ostringstream o;
-  o << "baked from " << m.at("scene").get<std::string>() << " by fly " << m.at("fly_version").get<std::string>()
-    << "\n";
-  o << "bake       " << m.at("samples_per_vertex").get<uint64_t>() << " samples per vertex, 95th percentile of "
+  o << "baked from " << m.at("scene").get<std::string>() << " by fly "
+    << m.at("fly_version").get<std::string>() << "\n";
+  if (!sourceFound) {
+    o << "warning    that scene file no longer exists: above is the baked geometry only (matte materials, no "
+         "lights, cameras or site); fly render and fly view need the scene file back at that path\n";
+  }
+  o << "bake       " << m.at("samples_per_vertex").get<uint64_t>()
+    << " samples per vertex, 95th percentile of "
     << "relative standard error " << fixed(100.0 * m.at("relative_error_p95").get<double>(), 2) << " %, "
     << fixed(m.at("bake_seconds").get<double>(), 1) << " s, " << m.at("objects").size() << " objects\n";
   for (const nlohmann::json& t : lightTexturesJson(m)) {
@@ -169,28 +176,42 @@ void printBakeSummary(const nlohmann::json& m) {
 
 Command addInfoCommand(CLI::App& app) {
   auto opts = std::make_shared<InfoOptions>();
-  CLI::App* sub = app.add_subcommand("info", "Print what a scene contains: counts, bounds (m), site, features");
-  sub->add_option("SCENE", opts->scene, "scene file (.json), glTF model (.gltf, .glb) or baked scene directory")
+  CLI::App* sub =
+      app.add_subcommand("info", "Print what a scene contains: counts, bounds (m), site, features");
+  sub->add_option("SCENE", opts->scene,
+                  "scene file (.json), glTF model (.gltf, .glb) or baked scene directory")
       ->required();
   sub->add_flag("--json", opts->json, "print one JSON object instead of text (default: text)");
   return {sub, [opts]() {
-            // A baked scene directory: its geometry (scene.gltf) and what the manifest says of the bake.
+            // A baked scene directory: the scene it was baked from (materials, lights, cameras, site and
+            // time, as the GL engine shows it) and what the manifest says of the bake; when that scene is
+            // gone, the baked geometry (scene.gltf), whose materials are matte and which has no lights or
+            // cameras.
             std::optional<nlohmann::json> bake;
+            bool sourceFound = true;
             std::filesystem::path path = opts->scene;
             if (isBakedScene(path)) {
               bake = readBakedManifest(path);
-              path /= "scene.gltf";
+              if (const std::optional<std::filesystem::path> source = findBakedSourceScene(path, *bake)) {
+                path = *source;
+              } else {
+                sourceFound = false;
+                path /= "scene.gltf";
+              }
             }
             const sdb::Scene scene = sdb::loadScene(path);
             const sdb::SceneStats stats = sdb::computeStats(scene);
             const sdb::SceneFeatures features = sdb::computeFeatures(scene);
             if (opts->json) {
               nlohmann::json j = infoJson(scene, stats, features);
-              if (bake) j["bake"] = bakeSummaryJson(*bake);
+              if (bake) {
+                j["bake"] = bakeSummaryJson(*bake);
+                j["bake"]["source_scene_found"] = sourceFound;
+              }
               std::cout << j.dump(2) << "\n";
             } else {
               printText(scene, stats, features);
-              if (bake) printBakeSummary(*bake);
+              if (bake) printBakeSummary(*bake, sourceFound);
             }
             return 0;
           }};

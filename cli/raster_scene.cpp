@@ -13,13 +13,10 @@ namespace fly::cli {
 namespace {
 
 std::filesystem::path bakedScenePath(const std::filesystem::path& dir, const nlohmann::json& manifest) {
-  const std::filesystem::path recorded = manifest.at("scene").get<std::string>();
-  if (std::filesystem::exists(recorded)) return recorded;
-  const std::filesystem::path beside = dir.parent_path() / recorded;
-  if (recorded.is_relative() && std::filesystem::exists(beside)) return beside;
+  if (const std::optional<std::filesystem::path> scene = findBakedSourceScene(dir, manifest)) return *scene;
   throw InputError({(dir / "manifest.json").string(), 0, 0, "/scene"},
-                   "names the scene " + recorded.string() + ", which does not exist",
-                   "run fly from the directory fly bake ran in, or give the scene file");
+                   "names the scene " + manifest.value("scene", std::string()) + ", which does not exist",
+                   "put the scene file back at that path, or bake it again with fly bake");
 }
 
 }  // namespace

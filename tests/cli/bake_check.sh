@@ -29,7 +29,24 @@ check_files
 "$fly" info "$out" > "$work/info.txt"
 grep -q "samples per vertex" "$work/info.txt" || { echo "FAIL: fly info DIR"; cat "$work/info.txt"; exit 1; }
 "$fly" info "$out" --json | grep -q '"samples_per_vertex"' || { echo "FAIL: fly info DIR --json"; exit 1; }
+# It describes the scene the bake was made from (its camera), not the bare baked glTF.
+grep -q "^cameras    1 (classic)" "$work/info.txt" || { echo "FAIL: fly info DIR lacks the source scene's camera"; cat "$work/info.txt"; exit 1; }
 rm "$work/info.txt"
+# When that scene is gone: the baked geometry, with a warning, and fly render says what to do.
+cp -r "$out" "$work/moved"
+sed -i -e 's#"scene_absolute": "[^"]*"#"scene_absolute": "/nonexistent/scene.json"#' \
+  -e 's#"scene": "[^"]*"#"scene": "nonexistent/scene.json"#' "$work/moved/manifest.json"
+"$fly" info "$work/moved" > "$work/info.txt"
+grep -q "^warning    that scene file no longer exists" "$work/info.txt" || { echo "FAIL: no warning"; cat "$work/info.txt"; exit 1; }
+"$fly" info "$work/moved" --json | grep -q '"source_scene_found": false' || { echo "FAIL: --json source_scene_found"; exit 1; }
+set +e
+"$fly" render "$work/moved" --out "$work/moved.png" 2> "$work/stderr"
+code=$?
+set -e
+[ $code -eq 3 ] || { echo "FAIL: fly render of a bake whose scene is gone: exit $code, expected 3"; exit 1; }
+grep -q "which does not exist" "$work/stderr" || { echo "FAIL: render message"; cat "$work/stderr"; exit 1; }
+[ ! -e "$work/moved.png" ] || { echo "FAIL: render wrote an image"; exit 1; }
+rm -r "$work/info.txt" "$work/moved" "$work/stderr"
 
 mkdir "$work/other"
 echo keep > "$work/other/keep.txt"
