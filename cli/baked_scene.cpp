@@ -551,6 +551,12 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       {"fly_version", kFlyVersion},
       {"scene", d.scenePath},
       {"scene_absolute", fs::absolute(d.scenePath).lexically_normal().string()},
+      // From the baked directory (its temporary is a sibling of it, so the path is the same): a project
+      // folder copied or moved whole keeps finding its scene.
+      {"scene_from_bake", fs::absolute(d.scenePath)
+                              .lexically_normal()
+                              .lexically_relative(fs::absolute(dir).lexically_normal())
+                              .generic_string()},
       {"settings", d.settings},
       {"samples_per_vertex", maps.samplesPerVertex},
       {"rays", maps.rays},
@@ -634,6 +640,9 @@ json readBakedManifest(const fs::path& dir) {
 
 std::optional<fs::path> findBakedSourceScene(const fs::path& dir, const json& manifest) {
   std::vector<fs::path> candidates;
+  if (manifest.contains("scene_from_bake") && manifest["scene_from_bake"].is_string() &&
+      !manifest["scene_from_bake"].get<std::string>().empty())
+    candidates.push_back(dir / manifest["scene_from_bake"].get<std::string>());
   if (manifest.contains("scene_absolute") && manifest["scene_absolute"].is_string())
     candidates.emplace_back(manifest["scene_absolute"].get<std::string>());
   if (manifest.contains("scene") && manifest["scene"].is_string()) {

@@ -91,9 +91,10 @@ void writeDirectoryAtomic(const std::filesystem::path& dir,
 nlohmann::json readBakedManifest(const std::filesystem::path& dir);
 
 // The scene file a bake was made from, which the GL engine shows and `fly info` describes (the baked
-// scene.gltf keeps the geometry and light maps only): the manifest's "scene_absolute" (bakes since session
-// 5), else its "scene" as fly bake was given it, relative to the working directory or to the baked
-// directory's parent. None when it no longer exists there.
+// scene.gltf keeps the geometry and light maps only), looked for in turn at the manifest's "scene_from_bake"
+// (relative to the baked directory, so that a project folder copied whole to another machine still works),
+// "scene_absolute" (both written since session 5), and its "scene" as fly bake was given it, relative to the
+// working directory or to the baked directory's parent. None when it exists at none of these.
 std::optional<std::filesystem::path> findBakedSourceScene(const std::filesystem::path& dir,
                                                           const nlohmann::json& manifest);
 

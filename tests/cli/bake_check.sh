@@ -35,6 +35,7 @@ rm "$work/info.txt"
 # When that scene is gone: the baked geometry, with a warning, and fly render says what to do.
 cp -r "$out" "$work/moved"
 sed -i -e 's#"scene_absolute": "[^"]*"#"scene_absolute": "/nonexistent/scene.json"#' \
+  -e 's#"scene_from_bake": "[^"]*"#"scene_from_bake": "../nonexistent/scene.json"#' \
   -e 's#"scene": "[^"]*"#"scene": "nonexistent/scene.json"#' "$work/moved/manifest.json"
 "$fly" info "$work/moved" > "$work/info.txt"
 grep -q "^warning    that scene file no longer exists" "$work/info.txt" || { echo "FAIL: no warning"; cat "$work/info.txt"; exit 1; }
@@ -47,6 +48,15 @@ set -e
 grep -q "which does not exist" "$work/stderr" || { echo "FAIL: render message"; cat "$work/stderr"; exit 1; }
 [ ! -e "$work/moved.png" ] || { echo "FAIL: render wrote an image"; exit 1; }
 rm -r "$work/info.txt" "$work/moved" "$work/stderr"
+# A project folder (scene and bake) moved whole still finds its scene, through the path from the bake.
+mkdir "$work/project"
+cp -r "$(dirname "$scene")" "$work/project/scene"
+"$fly" bake "$work/project/scene/$(basename "$scene")" --out "$work/project/bake" --samples 16 > /dev/null
+mv "$work/project" "$work/project-moved"
+"$fly" info "$work/project-moved/bake" > "$work/info.txt"
+grep -q "^cameras    1 (classic)" "$work/info.txt" && ! grep -q "^warning" "$work/info.txt" ||
+  { echo "FAIL: a moved project lost its scene"; cat "$work/info.txt"; exit 1; }
+rm -r "$work/info.txt" "$work/project-moved"
 
 mkdir "$work/other"
 echo keep > "$work/other/keep.txt"
