@@ -163,6 +163,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"threads", e.threads},
         {"max_bounces", job.settings.integrator.maxBounces},
         {"caustics", job.settings.integrator.caustics},
+        {"sky_portals", job.settings.integrator.skyPortals},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
       {"trace_rdb_fingerprint", hex(fingerprint)},
@@ -222,6 +223,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.settings.integrator.maxBounces = s.at("max_bounces").get<uint32_t>();
     // Checkpoints from before the setting existed baked without sun caustics.
     c.job.settings.integrator.caustics = s.value("caustics", false);
+    // ... and without sky portals.
+    c.job.settings.integrator.skyPortals = s.value("sky_portals", false);
     c.job.exportGltf = s.at("export_gltf").get<bool>();
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);

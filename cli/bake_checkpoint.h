@@ -1,7 +1,7 @@
 // Checkpoints of `fly bake --checkpoint SECONDS`, and what `fly bake --resume DIR` reads back.
 //
-// A bake into DIR keeps its checkpoint beside it, in DIR.checkpoint/ (DIR itself appears only when the bake is
-// complete, atomically):
+// A bake into DIR keeps its checkpoint beside it, in DIR.checkpoint/ (DIR itself appears only when the bake
+// is complete, atomically):
 //   checkpoint.json  format "fly-bake-checkpoint" version 1: the scene file, the output directory, the
 //                    resolved settings (so that --resume needs nothing else), a fingerprint of the lowered
 //                    scene (TraceRdb), the convergence history so far, and the name and FNV-1a checksum of
@@ -26,8 +26,8 @@ namespace fly::cli {
 
 // What a resumed bake needs besides the driver's state.
 struct BakeJob {
-  std::string scenePath;   // as given on the command line
-  std::string outDir;      // DIR of --out
+  std::string scenePath;  // as given on the command line
+  std::string outDir;     // DIR of --out
   raytracer::BakeSettings settings;
   std::string samplerName;  // "sobol" or "random", as the manifest records it
   bool exportGltf = false;

@@ -31,6 +31,10 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
   sub.add_flag("--caustics", o.caustics,
                "also the sun seen in mirrors and window panes (caustics); off by default: paths find the "
                "sun's image so rarely that it makes fireflies and errors that cannot be estimated");
+  sub.add_flag("--no-sky-portals", o.noSkyPortals,
+               "sample the sky from its table alone; by default a scene with clear glass also sends half of "
+               "the sky's light samples through the glass, which lowers the error of interiors lit through "
+               "windows");
 }
 
 double parseRelativeError(const std::string& s) {
@@ -87,6 +91,7 @@ raytracer::IntegratorSettings integratorSettings(const SamplingOptions& o, const
   raytracer::IntegratorSettings settings;
   settings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces;
   settings.caustics = o.caustics;
+  settings.skyPortals = !o.noSkyPortals;
   return settings;
 }
 

@@ -20,7 +20,8 @@ struct SamplingOptions {
   uint32_t threads = 0;                // 0 = all cores
   std::optional<uint32_t> maxBounces;  // none = the scene's bake.maxBounces
   uint64_t seed = 0;                   // scrambling / random-number seed (EstimateSettings::seed)
-  bool caustics = false;            // IntegratorSettings::caustics
+  bool caustics = false;               // IntegratorSettings::caustics
+  bool noSkyPortals = false;           // IntegratorSettings::skyPortals = false
 };
 
 // Adds the options to `sub`; `per` names what a sample count counts ("sensor", "vertex").

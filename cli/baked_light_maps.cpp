@@ -29,7 +29,6 @@ namespace {
 constexpr const char* kHintRebake =
     "the baked scene is damaged or incomplete: bake the scene again with fly bake";
 
-
 tinygltf::Model loadSceneGltf(const fs::path& gltfPath) {
   const std::string text = readInputFile(gltfPath, "baked scene glTF");
   if (text.size() > std::numeric_limits<unsigned int>::max()) {

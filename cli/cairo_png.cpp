@@ -16,7 +16,8 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
 
 }  // namespace
 
-void writeCairoPng(cairo_surface_t* surface, cairo_t* cr, const std::filesystem::path& path, std::string_view what) {
+void writeCairoPng(cairo_surface_t* surface, cairo_t* cr, const std::filesystem::path& path,
+                   std::string_view what) {
   cairo_surface_flush(surface);
   std::string png;
   if (cairo_status(cr) != CAIRO_STATUS_SUCCESS ||

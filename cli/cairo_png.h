@@ -11,6 +11,7 @@ namespace fly::cli {
 
 // Flushes `surface`, encodes it as PNG (RGB for CAIRO_FORMAT_RGB24 surfaces) and writes it to `path`.
 // std::runtime_error naming `what` when drawing on `cr` or encoding failed; nothing is written then.
-void writeCairoPng(cairo_surface_t* surface, cairo_t* cr, const std::filesystem::path& path, std::string_view what);
+void writeCairoPng(cairo_surface_t* surface, cairo_t* cr, const std::filesystem::path& path,
+                   std::string_view what);
 
 }  // namespace fly::cli

@@ -198,7 +198,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"seed", e.seed},
       {"threads", e.threads},
       {"max_bounces", settings.integrator.maxBounces},
-      {"caustics", settings.integrator.caustics}};
+      {"caustics", settings.integrator.caustics},
+      {"sky_portals", settings.integrator.skyPortals}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
     d.meshNames.push_back(scene.mesh(sdb::MeshId{m.sdbMeshId}).name);

@@ -1,6 +1,6 @@
-// `fly illuminance SCENE --points IN.csv --out OUT.csv`: illuminance at sensor points with its standard error,
-// from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as Radiance's
-// rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
+// `fly illuminance SCENE --points IN.csv --out OUT.csv`: illuminance at sensor points with its standard
+// error, from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as
+// Radiance's rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
 // (raytracer/sensor_grid.h).
 #include <charconv>
 #include <cmath>
@@ -68,7 +68,8 @@ SensorTable readSensors(const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (trim(line).empty()) continue;
     if (line.find('"') != std::string::npos) {
-      throw InputError({path, lineNo}, "quoted fields are not supported", "write plain comma-separated numbers");
+      throw InputError({path, lineNo}, "quoted fields are not supported",
+                       "write plain comma-separated numbers");
     }
     const std::vector<std::string> fields = splitCsv(line);
     if (t.header.empty()) {
@@ -81,17 +82,19 @@ SensorTable readSensors(const std::string& path) {
       }
       for (int k = 0; k < 6; ++k) {
         if (col[k] < 0) {
-          throw InputError({path, lineNo}, std::string("the header has no column \"") + kNames[k] + "\"",
-                           "the first line must name the columns, e.g. x,y,z,nx,ny,nz (metres, world space; the "
-                           "sensor's normal)");
+          throw InputError(
+              {path, lineNo}, std::string("the header has no column \"") + kNames[k] + "\"",
+              "the first line must name the columns, e.g. x,y,z,nx,ny,nz (metres, world space; the "
+              "sensor's normal)");
         }
       }
       continue;
     }
     if (fields.size() != columns) {
-      throw InputError({path, lineNo}, "has " + std::to_string(fields.size()) + " fields, the header " +
-                                           std::to_string(columns),
-                       "give every row the header's columns");
+      throw InputError(
+          {path, lineNo},
+          "has " + std::to_string(fields.size()) + " fields, the header " + std::to_string(columns),
+          "give every row the header's columns");
     }
     float v[6];
     for (int k = 0; k < 6; ++k) {
@@ -99,9 +102,10 @@ SensorTable readSensors(const std::string& path) {
       const char* end = f.data() + f.size();
       const auto [ptr, ec] = std::from_chars(f.data(), end, v[k]);
       if (ec != std::errc() || ptr != end || !std::isfinite(v[k])) {
-        throw InputError({path, lineNo}, std::string("column \"") + kNames[k] + "\": '" + printableExcerpt(f) +
-                                             "' is not a finite number",
-                         "write decimal numbers such as 1.25 or -3e2");
+        throw InputError(
+            {path, lineNo},
+            std::string("column \"") + kNames[k] + "\": '" + printableExcerpt(f) + "' is not a finite number",
+            "write decimal numbers such as 1.25 or -3e2");
       }
     }
     const vec3 n(v[3], v[4], v[5]);
@@ -113,7 +117,8 @@ SensorTable readSensors(const std::string& path) {
     t.positionsM.emplace_back(v[0], v[1], v[2]);
     t.normals.push_back(glm::normalize(n));
   }
-  if (t.header.empty()) throw InputError({path}, "the sensor file has no header line", "start with x,y,z,nx,ny,nz");
+  if (t.header.empty())
+    throw InputError({path}, "the sensor file has no header line", "start with x,y,z,nx,ny,nz");
   if (t.lines.empty()) throw InputError({path}, "the sensor file has no sensors", "add one row per sensor");
   return t;
 }
@@ -145,7 +150,8 @@ GridSpec parseGrid(const std::string& s) {
     ok = ec == std::errc() && ptr == end && std::isfinite(*values[i]);
   }
   if (!ok) {
-    throw UsageError("--grid " + s + ": expected HEIGHT,SPACING in metres, e.g. 0.85,0.5 (sensors 0.85 m above "
+    throw UsageError("--grid " + s +
+                     ": expected HEIGHT,SPACING in metres, e.g. 0.85,0.5 (sensors 0.85 m above "
                      "the floors, 0.5 m apart)");
   }
   if (!(g.heightM > 0.0f)) throw UsageError("--grid " + s + ": the height above the floors must be > 0 m");
@@ -158,25 +164,28 @@ SensorTable gridSensors(const std::string& spec, const GridSpec& g, const std::s
                         const rdb::TraceRdb& rdb, const raytracer::EmbreeScene& embree) {
   const double columns = raytracer::floorGridColumnCount(rdb, g.spacingM);
   if (columns > kMaxGridSensors) {
-    throw UsageError("--grid " + spec + ": a spacing of " + number(g.spacingM) + " m gives " + number(columns) +
-                     " grid columns over the scene's " + number(rdb.boundsM.size().x) + " m × " +
-                     number(rdb.boundsM.size().z) + " m, more than the limit of 10^6 sensors; give a larger spacing");
+    throw UsageError("--grid " + spec + ": a spacing of " + number(g.spacingM) + " m gives " +
+                     number(columns) + " grid columns over the scene's " + number(rdb.boundsM.size().x) +
+                     " m × " + number(rdb.boundsM.size().z) +
+                     " m, more than the limit of 10^6 sensors; give a larger spacing");
   }
-  const std::vector<raytracer::GridSensor> grid = raytracer::floorSensorGrid(rdb, embree, g.heightM, g.spacingM);
+  const std::vector<raytracer::GridSensor> grid =
+      raytracer::floorSensorGrid(rdb, embree, g.heightM, g.spacingM);
   if (double(grid.size()) > kMaxGridSensors) {
     throw UsageError("--grid " + spec + ": " + std::to_string(grid.size()) +
                      " sensors over all floors, more than the limit of 10^6; give a larger spacing");
   }
   if (grid.empty()) {
-    throw InputError({scenePath}, "--grid " + spec + ": the scene has no floor with " + number(g.heightM) +
-                             " m of free space above it",
-                     "a floor is a surface facing up (within 25.8° of +Y); give a smaller height or use --points");
+    throw InputError(
+        {scenePath},
+        "--grid " + spec + ": the scene has no floor with " + number(g.heightM) + " m of free space above it",
+        "a floor is a surface facing up (within 25.8° of +Y); give a smaller height or use --points");
   }
   SensorTable t;
   t.header = "x,y,z,nx,ny,nz";
   for (const raytracer::GridSensor& s : grid) {
-    t.lines.push_back(number(s.positionM.x) + "," + number(s.positionM.y) + "," + number(s.positionM.z) + "," +
-                      number(s.normal.x) + "," + number(s.normal.y) + "," + number(s.normal.z));
+    t.lines.push_back(number(s.positionM.x) + "," + number(s.positionM.y) + "," + number(s.positionM.z) +
+                      "," + number(s.normal.x) + "," + number(s.normal.y) + "," + number(s.normal.z));
     t.positionsM.push_back(s.positionM);
     t.normals.push_back(s.normal);
   }
@@ -185,8 +194,9 @@ SensorTable gridSensors(const std::string& spec, const GridSpec& g, const std::s
 
 int runIlluminance(const IlluminanceOptions& o) {
   if (o.points.empty() == o.grid.empty()) {
-    throw UsageError("give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
-                     "over the floors)");
+    throw UsageError(
+        "give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
+        "over the floors)");
   }
   const GridSpec grid = o.grid.empty() ? GridSpec{} : parseGrid(o.grid);  // bad values fail before the load
   const sdb::Scene scene = sdb::loadScene(o.scene);
@@ -204,14 +214,16 @@ int runIlluminance(const IlluminanceOptions& o) {
     const raytracer::IrradianceEstimate& e = result.points[i];
     // The luminance of the per-channel standard errors: exact when the channels' errors are fully correlated
     // (as they are for white light), otherwise a slight overestimate.
-    csv += sensors.lines[i] + "," + number(luminance(e.meanLux)) + "," + number(luminance(e.stdErrorLux)) + "\n";
+    csv +=
+        sensors.lines[i] + "," + number(luminance(e.meanLux)) + "," + number(luminance(e.stdErrorLux)) + "\n";
   }
   writeFileAtomic(o.out, csv);
-  std::fprintf(stderr,
-               "illuminance: %zu sensors, %u samples each, 95th percentile of relative standard error %.3g %%, "
-               "%.1f s, %.3g Mrays/s -> %s\n",
-               sensors.lines.size(), result.samplesPerPoint, 100.0 * result.relativeErrorP95, result.seconds,
-               result.seconds > 0.0 ? double(result.rays) / result.seconds * 1e-6 : 0.0, o.out.c_str());
+  std::fprintf(
+      stderr,
+      "illuminance: %zu sensors, %u samples each, 95th percentile of relative standard error %.3g %%, "
+      "%.1f s, %.3g Mrays/s -> %s\n",
+      sensors.lines.size(), result.samplesPerPoint, 100.0 * result.relativeErrorP95, result.seconds,
+      result.seconds > 0.0 ? double(result.rays) / result.seconds * 1e-6 : 0.0, o.out.c_str());
   return 0;
 }
 
@@ -219,22 +231,24 @@ int runIlluminance(const IlluminanceOptions& o) {
 
 Command addIlluminanceCommand(CLI::App& app) {
   auto o = std::make_shared<IlluminanceOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "illuminance",
-      "Illuminance (lux) at sensor points with its standard error, from sun, sky, lights and interreflections");
+  CLI::App* sub = app.add_subcommand("illuminance",
+                                     "Illuminance (lux) at sensor points with its standard error, from sun, "
+                                     "sky, lights and interreflections");
   sub->add_option("SCENE", o->scene, "scene file (.json) or glTF model (.gltf, .glb)")->required();
   sub->add_option("--points", o->points,
                   "sensor file (.csv): a header naming the columns x,y,z,nx,ny,nz (metres, world space; the "
                   "sensor's unit normal), one row per sensor; other columns are kept");
-  sub->add_option("--grid", o->grid,
-                  "instead of --points: sensors facing up HEIGHT m above every floor (a surface facing within 25.8° "
-                  "of up, the ground included) that has HEIGHT m of free space, on a lattice SPACING m apart in x "
-                  "and z centred on the scene; rows ordered by floor height, z, x. HEIGHT,SPACING in metres, e.g. "
-                  "0.85,0.5")
+  sub->add_option(
+         "--grid", o->grid,
+         "instead of --points: sensors facing up HEIGHT m above every floor (a surface facing within 25.8° "
+         "of up, the ground included) that has HEIGHT m of free space, on a lattice SPACING m apart in x "
+         "and z centred on the scene; rows ordered by floor height, z, x. HEIGHT,SPACING in metres, e.g. "
+         "0.85,0.5")
       ->type_name("HEIGHT,SPACING");
-  sub->add_option("--out", o->out,
-                  "output .csv: the sensor rows (--grid: x,y,z,nx,ny,nz) with illuminance_lux and std_error_lux "
-                  "added")
+  sub->add_option(
+         "--out", o->out,
+         "output .csv: the sensor rows (--grid: x,y,z,nx,ny,nz) with illuminance_lux and std_error_lux "
+         "added")
       ->required();
   addSamplingOptions(*sub, o->sampling, "sensor");
   return {sub, [o] { return runIlluminance(*o); }};

@@ -56,7 +56,8 @@ int runSky(SkyOptions o) {
     if (!o.site.latitudeDeg && o.site.scene.empty()) o.site.latitudeDeg = epw->location.latitudeDeg;
     if (!o.site.longitudeDeg && o.site.scene.empty()) o.site.longitudeDeg = epw->location.longitudeDeg;
     if (!o.site.elevationM && o.site.scene.empty()) o.site.elevationM = epw->location.elevationM;
-    if (o.site.timeZone.empty() && o.site.scene.empty()) o.site.timeZone = offsetZone(epw->location.timeZoneHours);
+    if (o.site.timeZone.empty() && o.site.scene.empty())
+      o.site.timeZone = offsetZone(epw->location.timeZoneHours);
     o.request.weather = &*epw;
   }
   SiteTime st = resolveSiteTime(o.site);
@@ -83,11 +84,12 @@ int runSky(SkyOptions o) {
   if (ext == ".exr") {
     writeExr(o.out, image,
              {{"units", "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)"},
-              {"fly:projection", "equidistant fisheye looking up: zenith at the centre, horizon on the circle, north "
-                                 "up, east left"},
+              {"fly:projection",
+               "equidistant fisheye looking up: zenith at the centre, horizon on the circle, north "
+               "up, east left"},
               {"fly:sky", day.description},
-              {"fly:site", std::to_string(st.spa.latitudeDeg) + " N, " + std::to_string(st.spa.longitudeDeg) + " E, " +
-                               std::to_string(st.spa.elevationM) + " m"},
+              {"fly:site", std::to_string(st.spa.latitudeDeg) + " N, " + std::to_string(st.spa.longitudeDeg) +
+                               " E, " + std::to_string(st.spa.elevationM) + " m"},
               {"fly:time", st.localIso + " " + st.timeZone + " = " + st.spa.utc.iso()}});
   } else {
     std::vector<float> lum;
@@ -146,21 +148,28 @@ int runSky(SkyOptions o) {
 Command addSkyCommand(CLI::App& app) {
   auto o = std::make_shared<SkyOptions>();
   CLI::App* sub = app.add_subcommand(
-      "sky", "Render the sky dome of a site and time as a fisheye image (EXR in cd/m², or tone-mapped PNG); with "
-             "--scene, the scene's site, time and sky are the defaults");
+      "sky",
+      "Render the sky dome of a site and time as a fisheye image (EXR in cd/m², or tone-mapped PNG); with "
+      "--scene, the scene's site, time and sky are the defaults");
   o->site.add(*sub);
-  sub->add_option("--sky", o->request.model,
-                  "sky model: clear (Preetham, colour follows the sun), perez (all-weather; needs --weather or "
-                  "--dni-wm2/--dhi-wm2), cie:N (CIE standard sky type 1..15; needs --dhi or --zenith-luminance)")
+  sub->add_option(
+         "--sky", o->request.model,
+         "sky model: clear (Preetham, colour follows the sun), perez (all-weather; needs --weather or "
+         "--dni-wm2/--dhi-wm2), cie:N (CIE standard sky type 1..15; needs --dhi or --zenith-luminance)")
       ->capture_default_str();
-  sub->add_option("--weather", o->weather, "EnergyPlus weather file (.epw): drives the Perez sky (or scales a CIE sky); its site and standard-time zone are the defaults");
+  sub->add_option("--weather", o->weather,
+                  "EnergyPlus weather file (.epw): drives the Perez sky (or scales a CIE sky); its site and "
+                  "standard-time zone are the defaults");
   sub->add_option("--turbidity", o->request.turbidity, "Linke turbidity of the clear sky and sun, [1.7, 10]")
       ->capture_default_str();
   sub->add_option("--dhi", o->request.diffuseHorizontalLux, "diffuse horizontal illuminance, lux");
   sub->add_option("--dni", o->request.directNormalLux, "direct normal illuminance of the sun, lux");
-  sub->add_option("--zenith-luminance", o->request.zenithLuminanceCdM2, "zenith luminance of a CIE sky, cd/m²");
-  sub->add_option("--dni-wm2", o->request.directNormalWm2, "direct normal irradiance for the Perez sky, W/m²");
-  sub->add_option("--dhi-wm2", o->request.diffuseHorizontalWm2, "diffuse horizontal irradiance for the Perez sky, W/m²");
+  sub->add_option("--zenith-luminance", o->request.zenithLuminanceCdM2,
+                  "zenith luminance of a CIE sky, cd/m²");
+  sub->add_option("--dni-wm2", o->request.directNormalWm2,
+                  "direct normal irradiance for the Perez sky, W/m²");
+  sub->add_option("--dhi-wm2", o->request.diffuseHorizontalWm2,
+                  "diffuse horizontal irradiance for the Perez sky, W/m²");
   sub->add_option("--dew-point", o->request.dewPointC, "dew point for the Perez luminous efficacy, °C")
       ->capture_default_str();
   sub->add_option("--out", o->out, "image file: .exr (radiance, cd/m²) or .png (tone-mapped)")->required();

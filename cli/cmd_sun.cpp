@@ -1,10 +1,10 @@
 // `fly sun`: the sun's position, sunrise/transit/sunset and daylight illuminance for a site and time, and the
 // sun-path diagram of the site.
 #include <cmath>
-#include <optional>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "base/error.h"
@@ -36,7 +36,9 @@ std::string fixed(double v, int decimals) {
 }
 
 // "06:12:43" local clock time of a UTC instant.
-std::string clock(const sunsky::UtcTime& utc, double offsetHours) { return localIso(utc, offsetHours).substr(11); }
+std::string clock(const sunsky::UtcTime& utc, double offsetHours) {
+  return localIso(utc, offsetHours).substr(11);
+}
 
 int runSun(const SunOptions& o) {
   const SiteTime st = resolveSiteTime(o.site);
@@ -51,7 +53,8 @@ int runSun(const SunOptions& o) {
   std::optional<dvec3> sunWorld;
   if (st.north) {
     frame = sunsky::makeSiteFrame(st.spa.latitudeDeg, st.spa.longitudeDeg, *st.north);
-    sunWorld = frame->worldFromEnu(sunsky::directionFromAzimuthElevation(sun.azimuthDeg, sun.apparentElevationDeg()));
+    sunWorld = frame->worldFromEnu(
+        sunsky::directionFromAzimuthElevation(sun.azimuthDeg, sun.apparentElevationDeg()));
   }
 
   if (o.path) {
@@ -78,8 +81,10 @@ int runSun(const SunOptions& o) {
     j["declination_deg"] = sun.declinationDeg;
     j["equation_of_time_min"] = sun.equationOfTimeMinutes;
     j["transit_local"] = localIso(times.transit, st.utcOffsetHours);
-    j["sunrise_local"] = polar ? nlohmann::json(nullptr) : nlohmann::json(localIso(times.sunrise, st.utcOffsetHours));
-    j["sunset_local"] = polar ? nlohmann::json(nullptr) : nlohmann::json(localIso(times.sunset, st.utcOffsetHours));
+    j["sunrise_local"] =
+        polar ? nlohmann::json(nullptr) : nlohmann::json(localIso(times.sunrise, st.utcOffsetHours));
+    j["sunset_local"] =
+        polar ? nlohmann::json(nullptr) : nlohmann::json(localIso(times.sunset, st.utcOffsetHours));
     j["polar"] = polar ? nlohmann::json(polar) : nlohmann::json(nullptr);
     j["turbidity"] = turbidity;
     j["direct_normal_illuminance_lux"] = light.directNormalLux;
@@ -96,18 +101,18 @@ int runSun(const SunOptions& o) {
     return 0;
   }
   std::ostringstream t;
-  t << "site         " << fixed(std::abs(st.spa.latitudeDeg), 4) << "° " << (st.spa.latitudeDeg >= 0 ? "N" : "S")
-    << ", " << fixed(std::abs(st.spa.longitudeDeg), 4) << "° " << (st.spa.longitudeDeg >= 0 ? "E" : "W") << ", "
-    << fixed(st.spa.elevationM, 0) << " m\n";
+  t << "site         " << fixed(std::abs(st.spa.latitudeDeg), 4) << "° "
+    << (st.spa.latitudeDeg >= 0 ? "N" : "S") << ", " << fixed(std::abs(st.spa.longitudeDeg), 4) << "° "
+    << (st.spa.longitudeDeg >= 0 ? "E" : "W") << ", " << fixed(st.spa.elevationM, 0) << " m\n";
   t << "time         " << st.localIso << " " << st.timeZone << " (UTC" << (st.utcOffsetHours >= 0 ? "+" : "")
     << fixed(st.utcOffsetHours, 2) << " h) = " << st.spa.utc.iso() << "\n";
   t << "zenith       " << fixed(sun.trueZenithDeg, 4) << "° true, " << fixed(sun.apparentZenithDeg, 4)
     << "° apparent (refracted)\n";
-  t << "elevation    " << fixed(sun.trueElevationDeg(), 4) << "° true, " << fixed(sun.apparentElevationDeg(), 4)
-    << "° apparent\n";
+  t << "elevation    " << fixed(sun.trueElevationDeg(), 4) << "° true, "
+    << fixed(sun.apparentElevationDeg(), 4) << "° apparent\n";
   t << "azimuth      " << fixed(sun.azimuthDeg, 4) << "° (clockwise from north)\n";
-  t << "declination  " << fixed(sun.declinationDeg, 4) << "°, equation of time " << fixed(sun.equationOfTimeMinutes, 2)
-    << " min\n";
+  t << "declination  " << fixed(sun.declinationDeg, 4) << "°, equation of time "
+    << fixed(sun.equationOfTimeMinutes, 2) << " min\n";
   if (polar) {
     t << "sun times    " << polar << ", transit " << clock(times.transit, st.utcOffsetHours) << "\n";
   } else {
@@ -133,10 +138,12 @@ int runSun(const SunOptions& o) {
 
 Command addSunCommand(CLI::App& app) {
   auto o = std::make_shared<SunOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "sun", "The sun's position (NREL SPA), sunrise/transit/sunset and clear-sky illuminance (lux) at a site and time");
+  CLI::App* sub = app.add_subcommand("sun",
+                                     "The sun's position (NREL SPA), sunrise/transit/sunset and clear-sky "
+                                     "illuminance (lux) at a site and time");
   o->site.add(*sub);
-  sub->add_option("--turbidity", o->turbidity, "Linke turbidity of the clear sky, [1.7, 10]")->capture_default_str();
+  sub->add_option("--turbidity", o->turbidity, "Linke turbidity of the clear sky, [1.7, 10]")
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object instead of text");
   sub->add_flag("--path", o->path, "draw the site's sun-path diagram into --out (PNG)");
   sub->add_option("--out", o->out, "sun-path diagram file (.png), with --path");

@@ -148,8 +148,8 @@ void drawConvergencePlot(std::span<const ConvergencePoint> history, const fs::pa
   cairo_stroke(cr);
   p.text("Bake convergence: estimated error against run time", {0.5 * w, 0.04 * h}, 20, 0.5, 0.5);
   p.text("run time (s)", {0.5 * (tl.x + br.x), h - 0.035 * h}, 15, 0.5, 1.0);
-  p.text("relative standard error, 95th percentile over vertices and texels (%)", {0.035 * w, 0.5 * (tl.y + br.y)}, 15,
-         0.5, 0.0, -0.5 * kPi);
+  p.text("relative standard error, 95th percentile over vertices and texels (%)",
+         {0.035 * w, 0.5 * (tl.y + br.y)}, 15, 0.5, 0.0, -0.5 * kPi);
 
   // The reference lines stay inside the plot area; the points lie inside it by construction, and are drawn
   // unclipped so that one on the edge (an error of exactly 1 %) shows whole, over the frame.

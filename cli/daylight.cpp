@@ -30,13 +30,12 @@ double directHorizontal(const sunsky::SunDisc& disc) {
   return std::max(0.0, double(luminance(disc.normalIlluminanceLux)) * disc.dirEnu.z);
 }
 
-
 }  // namespace
 
 ClearDaylight clearDaylight(const SiteTime& st, const sunsky::SunPosition& sun, double turbidity) {
   const sunsky::SunDisc disc = sunsky::clearSkySunDisc(sunDiscInput(st, sun, turbidity));
-  const sunsky::ClearSky sky = sunsky::makeClearSky(turbidity, sun.apparentZenithDeg, sun.azimuthDeg, std::nullopt,
-                                                    sunsky::ClearSkyLevel::kIesHandbook);
+  const sunsky::ClearSky sky = sunsky::makeClearSky(turbidity, sun.apparentZenithDeg, sun.azimuthDeg,
+                                                    std::nullopt, sunsky::ClearSkyLevel::kIesHandbook);
   ClearDaylight d;
   d.directNormalLux = luminance(disc.normalIlluminanceLux);
   d.directHorizontalLux = directHorizontal(disc);
@@ -48,11 +47,12 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
   Daylight d;
   const sunsky::SunDiscInput discIn = sunDiscInput(st, sun, r.turbidity);
   if (r.model == "clear") {
-    d.description = "clear sky (Preetham et al. 1999 distribution and colour, IES Lighting Handbook level), turbidity " +
-                    std::to_string(r.turbidity).substr(0, 4);
-    d.sky = std::make_unique<sunsky::ClearSky>(
-        sunsky::makeClearSky(r.turbidity, sun.apparentZenithDeg, sun.azimuthDeg, r.diffuseHorizontalLux,
-                             sunsky::ClearSkyLevel::kIesHandbook));
+    d.description =
+        "clear sky (Preetham et al. 1999 distribution and colour, IES Lighting Handbook level), turbidity " +
+        std::to_string(r.turbidity).substr(0, 4);
+    d.sky = std::make_unique<sunsky::ClearSky>(sunsky::makeClearSky(r.turbidity, sun.apparentZenithDeg,
+                                                                    sun.azimuthDeg, r.diffuseHorizontalLux,
+                                                                    sunsky::ClearSkyLevel::kIesHandbook));
     d.sun = r.directNormalLux ? sunsky::sunDiscWithIlluminance(discIn, *r.directNormalLux)
                               : sunsky::clearSkySunDisc(discIn);
     return d;
@@ -67,7 +67,8 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
       type = 0;
     }
     if (type < 1 || type > 15) {
-      throw UsageError("--sky " + r.model + ": the CIE standard sky type must be 1..15 (e.g. cie:1 overcast, cie:12 clear)");
+      throw UsageError("--sky " + r.model +
+                       ": the CIE standard sky type must be 1..15 (e.g. cie:1 overcast, cie:12 clear)");
     }
     std::optional<double> dhi = r.diffuseHorizontalLux;
     std::optional<double> dni = r.directNormalLux;
@@ -78,13 +79,16 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
     }
     if (dhi && r.zenithLuminanceCdM2) throw UsageError("give either --dhi or --zenith-luminance, not both");
     if (!dhi && !r.zenithLuminanceCdM2) {
-      throw UsageError("a CIE sky needs its absolute level: give --dhi LUX (diffuse horizontal illuminance) or "
-                       "--zenith-luminance CD_M2, or --weather FILE.epw");
+      throw UsageError(
+          "a CIE sky needs its absolute level: give --dhi LUX (diffuse horizontal illuminance) or "
+          "--zenith-luminance CD_M2, or --weather FILE.epw");
     }
-    const sunsky::CieNormalisation norm = dhi ? sunsky::CieNormalisation::diffuseHorizontalLux(*dhi)
-                                              : sunsky::CieNormalisation::zenithLuminanceCdM2(*r.zenithLuminanceCdM2);
+    const sunsky::CieNormalisation norm =
+        dhi ? sunsky::CieNormalisation::diffuseHorizontalLux(*dhi)
+            : sunsky::CieNormalisation::zenithLuminanceCdM2(*r.zenithLuminanceCdM2);
     d.description = "CIE standard general sky type " + std::to_string(type) + " (ISO 15469)";
-    d.sky = std::make_unique<sunsky::CieSky>(sunsky::makeCieSky(type, sun.apparentZenithDeg, sun.azimuthDeg, norm));
+    d.sky = std::make_unique<sunsky::CieSky>(
+        sunsky::makeCieSky(type, sun.apparentZenithDeg, sun.azimuthDeg, norm));
     if (dni) d.sun = sunsky::sunDiscWithIlluminance(discIn, *dni);
     return d;
   }
@@ -96,20 +100,25 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
     in.dewPointC = r.dewPointC;
     const bool wm2 = r.directNormalWm2 || r.diffuseHorizontalWm2;
     const bool lux = r.directNormalLux || r.diffuseHorizontalLux;
-    if (wm2 && lux) throw UsageError("give the Perez sky's inputs either in W/m² (--dni-wm2, --dhi-wm2) or in lux");
+    if (wm2 && lux)
+      throw UsageError("give the Perez sky's inputs either in W/m² (--dni-wm2, --dhi-wm2) or in lux");
     if (wm2 || lux) {
-      if (wm2 && !(r.directNormalWm2 && r.diffuseHorizontalWm2)) throw UsageError("give both --dni-wm2 and --dhi-wm2");
-      if (lux && !(r.directNormalLux && r.diffuseHorizontalLux)) throw UsageError("give both --dni and --dhi");
-      in.units = wm2 ? sunsky::PerezSkyInput::Units::kIrradianceWm2 : sunsky::PerezSkyInput::Units::kIlluminanceLux;
+      if (wm2 && !(r.directNormalWm2 && r.diffuseHorizontalWm2))
+        throw UsageError("give both --dni-wm2 and --dhi-wm2");
+      if (lux && !(r.directNormalLux && r.diffuseHorizontalLux))
+        throw UsageError("give both --dni and --dhi");
+      in.units =
+          wm2 ? sunsky::PerezSkyInput::Units::kIrradianceWm2 : sunsky::PerezSkyInput::Units::kIlluminanceLux;
       in.directNormal = wm2 ? *r.directNormalWm2 : *r.directNormalLux;
       in.diffuseHorizontal = wm2 ? *r.diffuseHorizontalWm2 : *r.diffuseHorizontalLux;
       d.description = "Perez all-weather sky (Perez et al. 1993)";
     } else if (r.weather) {
       const sunsky::EpwSample w = sunsky::sampleAtUtc(*r.weather, st.spa.utc);
       if (!w.dniWm2 || !w.dhiWm2) {
-        throw InputError({r.weather->fileName}, "the weather record at " + st.localIso +
-                                                   " has no direct normal or diffuse horizontal radiation",
-                         "choose another time, or give --dni-wm2 and --dhi-wm2");
+        throw InputError(
+            {r.weather->fileName},
+            "the weather record at " + st.localIso + " has no direct normal or diffuse horizontal radiation",
+            "choose another time, or give --dni-wm2 and --dhi-wm2");
       }
       in.units = sunsky::PerezSkyInput::Units::kIrradianceWm2;
       in.directNormal = *w.dniWm2;
@@ -117,8 +126,9 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
       if (w.dewPointC) in.dewPointC = *w.dewPointC;
       d.description = "Perez all-weather sky (Perez et al. 1993) from " + r.weather->fileName;
     } else {
-      throw UsageError("the Perez sky needs weather data: --weather FILE.epw, or --dni-wm2 and --dhi-wm2 (W/m²), "
-                       "or --dni and --dhi (lux)");
+      throw UsageError(
+          "the Perez sky needs weather data: --weather FILE.epw, or --dni-wm2 and --dhi-wm2 (W/m²), "
+          "or --dni and --dhi (lux)");
     }
     const sunsky::PerezSky sky = sunsky::makePerezSky(in);
     d.sun = sunsky::sunDiscWithIlluminance(discIn, sky.directNormalLux());

@@ -32,12 +32,12 @@ struct SkyRequest {
   std::optional<double> directNormalLux;       // the sun's disc for CIE and Perez skies
   std::optional<double> directNormalWm2;       // Perez input in W/m² (with diffuseHorizontalWm2)
   std::optional<double> diffuseHorizontalWm2;
-  double dewPointC = 10.0;                     // Perez luminous efficacy input
-  const sunsky::EpwFile* weather = nullptr;    // drives the Perez sky when set
+  double dewPointC = 10.0;                   // Perez luminous efficacy input
+  const sunsky::EpwFile* weather = nullptr;  // drives the Perez sky when set
 };
 
 struct Daylight {
-  std::string description;           // e.g. "CIE standard sky type 12", "Perez all-weather (weather file …)"
+  std::string description;  // e.g. "CIE standard sky type 12", "Perez all-weather (weather file …)"
   std::unique_ptr<sunsky::Sky> sky;
   std::optional<sunsky::SunDisc> sun;  // absent: the model has no sun (a CIE sky without --dni)
 };

@@ -16,9 +16,10 @@ constexpr const char* kFooter =
     "Run 'fly COMMAND --help' for a command's options.";
 
 int run(int argc, char** argv) {
-  CLI::App app("fly: physically based daylight and artificial light for buildings and products.\n"
-               "Bakes global illumination into light maps and shows it in real time.",
-               "fly");
+  CLI::App app(
+      "fly: physically based daylight and artificial light for buildings and products.\n"
+      "Bakes global illumination into light maps and shows it in real time.",
+      "fly");
   app.footer(kFooter);
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("fly ") + fly::cli::kFlyVersion);
@@ -28,12 +29,8 @@ int run(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "print errors only (no warnings)");
 
   const std::vector<fly::cli::Command> commands = {
-      fly::cli::addInfoCommand(app),
-      fly::cli::addSunCommand(app),
-      fly::cli::addSkyCommand(app),
-      fly::cli::addIlluminanceCommand(app),
-      fly::cli::addBakeCommand(app),
-      fly::cli::addRenderCommand(app),
+      fly::cli::addInfoCommand(app),        fly::cli::addSunCommand(app),  fly::cli::addSkyCommand(app),
+      fly::cli::addIlluminanceCommand(app), fly::cli::addBakeCommand(app), fly::cli::addRenderCommand(app),
       fly::cli::addViewCommand(app),
   };
 

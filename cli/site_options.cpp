@@ -17,10 +17,12 @@ void SiteTimeOptions::add(CLI::App& sub) {
   sub.add_option("--time", time,
                  "local time 2026-06-21T12:00 (in --tz), UTC 2026-06-21T09:00:00Z or with an offset "
                  "2026-06-21T12:00+03:00");
-  sub.add_option("--tz", timeZone, "time zone: IANA name (Europe/Helsinki, daylight saving applied) or offset +03:00");
+  sub.add_option("--tz", timeZone,
+                 "time zone: IANA name (Europe/Helsinki, daylight saving applied) or offset +03:00");
   sub.add_option("--delta-t", deltaTSeconds, "TT - UT1, seconds (default: Espenak-Meeus polynomials)");
   sub.add_option("--dut1", dut1Seconds, "UT1 - UTC, seconds (default 0)")->capture_default_str();
-  sub.add_option("--pressure", pressureHpa, "mean air pressure, hPa (default: standard atmosphere at the elevation)");
+  sub.add_option("--pressure", pressureHpa,
+                 "mean air pressure, hPa (default: standard atmosphere at the elevation)");
   sub.add_option("--temperature", temperatureC,
                  "mean air temperature, degrees Celsius (default: standard atmosphere at the elevation)");
 }

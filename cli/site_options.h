@@ -31,15 +31,16 @@ struct SiteTimeOptions {
 // The resolved site and instant.
 struct SiteTime {
   sunsky::SpaInput spa;
-  std::string timeZone;    // --tz, the scene's zone, or the zone the time carries ("Z", "+03:00")
-  double utcOffsetHours;   // at the instant, DST included
-  std::string localIso;    // local civil time, "2026-06-21T12:00:00"
+  std::string timeZone;   // --tz, the scene's zone, or the zone the time carries ("Z", "+03:00")
+  double utcOffsetHours;  // at the instant, DST included
+  std::string localIso;   // local civil time, "2026-06-21T12:00:00"
   // How the scene's model is oriented and its sky, when the site came from a scene (--scene).
   std::optional<sunsky::NorthReference> north;
   std::optional<sdb::SkySettings> sceneSky;
 };
 
-// Resolves the options (flags override the scene's values). UsageError for a missing latitude, longitude or time; InputError for invalid values.
+// Resolves the options (flags override the scene's values). UsageError for a missing latitude, longitude or
+// time; InputError for invalid values.
 SiteTime resolveSiteTime(const SiteTimeOptions& o);
 
 // "2026-06-21T12:00:00" for a UTC instant shown at a UTC offset.

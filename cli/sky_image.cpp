@@ -48,7 +48,8 @@ ImageRgbF renderSkyFisheye(const sunsky::Sky& sky, const std::optional<sunsky::S
       Rgb sum(0.0f);
       int inside = 0;
       for (int s = 0; s < 4; ++s) {
-        const std::optional<dvec3> dir = fisheyeDirection(col + 0.25 + 0.5 * (s & 1), row + 0.25 + 0.5 * (s >> 1), size);
+        const std::optional<dvec3> dir =
+            fisheyeDirection(col + 0.25 + 0.5 * (s & 1), row + 0.25 + 0.5 * (s >> 1), size);
         if (!dir) continue;
         sum += sky.radianceCdM2(*dir);
         ++inside;

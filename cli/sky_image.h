@@ -1,6 +1,7 @@
-// The sky dome as a hemispherical fisheye image, as an all-sky camera looking straight up sees it: equidistant
-// (angular) projection, the zenith at the centre, the horizon on the inscribed circle, north up and east on the
-// LEFT (the view from below). Pixels hold radiance in cd/m² (linear Rec.709); outside the circle 0.
+// The sky dome as a hemispherical fisheye image, as an all-sky camera looking straight up sees it:
+// equidistant (angular) projection, the zenith at the centre, the horizon on the inscribed circle, north up
+// and east on the LEFT (the view from below). Pixels hold radiance in cd/m² (linear Rec.709); outside the
+// circle 0.
 #pragma once
 
 #include <optional>

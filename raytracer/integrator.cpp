@@ -147,6 +147,8 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided);
   }
 
+  if (settings_.skyPortals && skyDistribution_ && hasClearGlass_) buildPortals();
+
   std::vector<float> fluxesLm;
   for (uint32_t i = 0; i < rdb.punctualLights.size(); ++i) {
     const rdb::TracePunctualLight& light = rdb.punctualLights[i];
@@ -190,6 +192,107 @@ uint32_t Integrator::skyCell(const vec3& d) const {
   const auto i = std::min(static_cast<uint32_t>(uv.x * static_cast<float>(res)), res - 1);
   const auto j = std::min(static_cast<uint32_t>(uv.y * static_cast<float>(res)), res - 1);
   return j * res + i;
+}
+
+void Integrator::buildPortals() {
+  // Clear-glass triangles, grouped by plane: the same normal up to ±, and every corner within a relative 10⁻⁵
+  // of the plane.
+  struct Candidate {
+    uint32_t plane;
+    Portal portal;
+    float areaM2;
+  };
+  std::vector<Candidate> candidates;
+  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
+    if (!frontBsdfs_[rdb_.triangleMaterial[t]].passesStraight() || !(scene_.triangleAreaM2(t) > 0.0f))
+      continue;
+    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
+    const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
+    const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+    const vec3& n = scene_.triangleNormal(t);
+    const float tolerance = 1e-5f * std::max(1.0f, scene_.triangleMagnitudeM(t));
+    uint32_t plane = 0;
+    for (; plane < portalPlanes_.size(); ++plane) {
+      const PortalPlane& q = portalPlanes_[plane];
+      auto off = [&](const vec3& x) { return std::abs(glm::dot(q.n, x) - q.offsetM); };
+      if (std::abs(glm::dot(q.n, n)) > 1.0f - 1e-5f && off(p0) <= tolerance && off(p0 + e1) <= tolerance &&
+          off(p0 + e2) <= tolerance) {
+        break;
+      }
+    }
+    if (plane == portalPlanes_.size()) {
+      if (portalPlanes_.size() == kMaxPortalPlanes) {
+        portalPlanes_.clear();
+        return;
+      }
+      portalPlanes_.push_back({n, glm::dot(n, p0), p0, p0, 0, 0});
+    }
+    PortalPlane& q = portalPlanes_[plane];
+    for (const vec3& x : {p0, p0 + e1, p0 + e2}) {
+      q.boxMinM = glm::min(q.boxMinM, x);
+      q.boxMaxM = glm::max(q.boxMaxM, x);
+    }
+    const float e1e1 = glm::dot(e1, e1), e1e2 = glm::dot(e1, e2), e2e2 = glm::dot(e2, e2);
+    const float denominator = e1e1 * e2e2 - e1e2 * e1e2;
+    if (!(denominator > 0.0f)) continue;
+    candidates.push_back(
+        {plane, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, scene_.triangleAreaM2(t)});
+  }
+  if (candidates.empty()) {
+    portalPlanes_.clear();
+    return;
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.plane < b.plane; });
+  std::vector<float> areas;
+  for (const Candidate& c : candidates) {
+    PortalPlane& q = portalPlanes_[c.plane];
+    if (q.count == 0) q.first = static_cast<uint32_t>(portals_.size());
+    ++q.count;
+    portals_.push_back(c.portal);
+    areas.push_back(c.areaM2);
+  }
+  // The boxes a little larger, so that a point on an edge is inside.
+  for (PortalPlane& q : portalPlanes_) {
+    const vec3 margin(1e-5f * std::max({1.0f, maxAbs(q.boxMinM), maxAbs(q.boxMaxM)}));
+    q.boxMinM -= margin;
+    q.boxMaxM += margin;
+  }
+  Distribution1D byArea(areas);
+  for (size_t j = 0; j < portals_.size(); ++j) {
+    portals_[j].pmfOverAreaPerM2 = byArea.pmf(static_cast<uint32_t>(j)) / areas[j];
+  }
+  portalDistribution_.emplace(std::move(byArea));
+  portalFraction_ = kPortalFraction;
+}
+
+float Integrator::portalPdf(const vec3& x, const vec3& d) const {
+  float pdf = 0.0f;
+  for (const PortalPlane& q : portalPlanes_) {
+    const float cosPlane = glm::dot(q.n, d);
+    const float t = (q.offsetM - glm::dot(q.n, x)) / cosPlane;
+    if (!(t > 0.0f) || !std::isfinite(t)) continue;
+    const vec3 y = x + t * d;
+    if (glm::any(glm::lessThan(y, q.boxMinM)) || glm::any(glm::greaterThan(y, q.boxMaxM))) continue;
+    for (uint32_t j = q.first; j < q.first + q.count; ++j) {
+      const Portal& p = portals_[j];
+      // Barycentrics of y in the triangle's plane (Ericson, "Real-Time Collision Detection", 2005, §3.4).
+      const vec3 r = y - p.p0;
+      const float re1 = glm::dot(r, p.e1), re2 = glm::dot(r, p.e2);
+      const float b1 = (p.e2e2 * re1 - p.e1e2 * re2) * p.invDenominator;
+      const float b2 = (p.e1e1 * re2 - p.e1e2 * re1) * p.invDenominator;
+      if (!(b1 >= -1e-6f && b2 >= -1e-6f && b1 + b2 <= 1.0f + 1e-6f)) continue;
+      const float cosPortal = std::abs(glm::dot(p.n, d));
+      if (cosPortal > 0.0f) pdf += p.pmfOverAreaPerM2 * t * t / cosPortal;
+    }
+  }
+  return std::isfinite(pdf) ? pdf : 0.0f;
+}
+
+float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell) const {
+  const float table = skyPdfPerSr_[cell];
+  if (portalFraction_ <= 0.0f) return table;
+  return (1.0f - portalFraction_) * table + portalFraction_ * portalPdf(x, d);
 }
 
 float Integrator::emitterPdf(uint32_t t, float distM, float absCosLight) const {
@@ -315,12 +418,40 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
 
   if (skyDistribution_ && allLights) {
     if (sunOneMinusCos_ <= 0.0f) sampler.skip(2);
-    const Distribution2D::Sample s = skyDistribution_->sample(sampler.next2D());
-    const vec3 d = skyDirection(s.p);
-    const float pdf = s.pdf / (2.0f * kPiF);
-    if (pdf > 0.0f && response(v, v.bsdf, d, fCos, pdfBsdf)) {
-      sum += rdb_.sky.radianceCdM2[s.cell] * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) *
-             visibility(originTowards(d), d, std::numeric_limits<float>::infinity(), rays);
+    vec2 u = sampler.next2D();
+    std::optional<vec3> d;
+    uint32_t cell = 0;
+    float tablePdf = 0.0f;  // with portals, the mixture's density is computed once the direction is seen
+    if (u.x < portalFraction_) {
+      // Through a portal: u.x rescaled chooses the triangle, its remainder and u.y the point on it.
+      const Distribution1D::DiscreteSample pick =
+          portalDistribution_->sampleDiscrete(std::min(u.x / portalFraction_, 0x1.fffffep-1f));
+      const Portal& portal = portals_[pick.index];
+      const vec3 b = sampleUniformTriangle(vec2(pick.uRemapped, u.y));
+      const vec3 toPortal = portal.p0 + b.y * portal.e1 + b.z * portal.e2 - v.p;
+      const float distM = glm::length(toPortal);
+      // The sky is above the horizon only (TraceSky); directions below it find no sky light.
+      if (distM > 0.0f && toPortal.y > 0.0f) {
+        d = toPortal / distM;
+        cell = skyCell(*d);
+      }
+    } else {
+      if (portalFraction_ > 0.0f) {
+        u.x = std::min((u.x - portalFraction_) / (1.0f - portalFraction_), 0x1.fffffep-1f);
+      }
+      const Distribution2D::Sample s = skyDistribution_->sample(u);
+      d = skyDirection(s.p);
+      cell = s.cell;
+      tablePdf = s.pdf / (2.0f * kPiF);
+    }
+    if (d && (portalFraction_ > 0.0f || tablePdf > 0.0f) && response(v, v.bsdf, *d, fCos, pdfBsdf)) {
+      const Rgb seen = visibility(originTowards(*d), *d, std::numeric_limits<float>::infinity(), rays);
+      if (maxComponent(seen) > 0.0f) {
+        const float pdf = portalFraction_ > 0.0f ? skyLightPdf(v.p, *d, cell) : tablePdf;
+        if (pdf > 0.0f && std::isfinite(pdf)) {
+          sum += rdb_.sky.radianceCdM2[cell] * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) * seen;
+        }
+      }
     }
   }
 
@@ -378,6 +509,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   bool specular = false;
   float pdfLast = 0.0f;
   float travelledM = 0.0f;
+  vec3 misOrigin = p;  // that vertex's position, for the sky portals' density (skyLightPdf)
   // Reflections so far (straight passages through clear panes are none); a vertex's light-sampled light has
   // been reflected reflections + 1 times.
   uint32_t reflections = 0;
@@ -432,6 +564,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       beta *= kPiF;
       pdfLast = cosineHemispherePdf(cosTheta);
       travelledM = 0.0f;
+      misOrigin = v.p;
     } else if (straightOnly) {
       d = v.frame.toWorld(-v.woLocal);
       beta *= v.bsdf->straightTransmittance(v.woLocal.z);
@@ -445,6 +578,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       specular = false;
       pdfLast = cosineHemispherePdf(wi.z);
       travelledM = 0.0f;
+      misOrigin = v.p;
     } else {
       Bsdf::Sample s;
       if (!v.bsdf->sample(v.woLocal, uLobe, uContinue, s)) break;
@@ -455,6 +589,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
         specular = s.lobe == Bsdf::Lobe::kMirror;
         pdfLast = s.pdf;
         travelledM = 0.0f;
+        misOrigin = v.p;
       }
     }
     if (!(maxComponent(beta) > 0.0f)) break;
@@ -467,7 +602,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       if (skyDistribution_ && d.y >= 0.0f) {
         const uint32_t cell = skyCell(d);
         sum += beta * rdb_.sky.radianceCdM2[cell] *
-               (specular ? 1.0f : powerHeuristic(pdfLast, skyPdfPerSr_[cell]));
+               (specular ? 1.0f : powerHeuristic(pdfLast, skyLightPdf(misOrigin, d, cell)));
       }
       // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
       if (specular && settings_.caustics && sunOneMinusCos_ > 0.0f) {

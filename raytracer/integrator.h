@@ -16,6 +16,19 @@
 // heuristic, β = 2 (Veach & Guibas, "Optimally combining sampling techniques for Monte Carlo rendering",
 // SIGGRAPH 1995).
 //
+// Sky portals (IntegratorSettings::skyPortals): in a scene with clear glass, the sky's light sampling draws
+// its direction from a mixture: with probability kPortalFraction towards a point uniform on a clear-glass
+// triangle (chosen by area), else from the sky table. Inside a building the table's directions are nearly
+// all blocked by walls and roof, while the portals' pass through the windows. The mixture's density per
+// steradian, (1 − α) p_table(d) + α p_portal(d), where p_portal sums pmf_j / A_j · t_j² / |cos θ_j| over the
+// clear-glass triangles j that the ray meets at distances t_j, is what the MIS weights use, for sampled and
+// for escaping directions alike: unbiased whatever the glass (a one-sample mixture of two techniques: Veach,
+// "Robust Monte Carlo methods for light transport simulation", PhD thesis, 1997, ch. 9; portals as in
+// Bitterli, Novák & Jarosz, "Portal-masked environment map sampling", EGSR 2015, and Cycles' portal lights).
+// Without clear glass, or with more than kMaxPortalPlanes planes of clear glass (each density evaluation
+// meets every plane once, then tests the triangles of the planes whose bounding box it passes), the sky is
+// sampled from the table alone.
+//
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based
 // Rendering", 4th ed., ch. 4), and combined with BSDF sampling likewise. Light found after a delta lobe
@@ -84,6 +97,12 @@ inline constexpr uint32_t kMaxPanesPassed = 64;
 // lobes for light sampling of the sun and punctual lights at surface vertices.
 inline constexpr float kRegularizedGlossiness = 0.3f;
 
+// The share of sky light samples that go through the clear-glass portals when the scene has them.
+inline constexpr float kPortalFraction = 0.25f;
+
+// Planes of clear glass beyond which sky portals are off: every sky density evaluation meets each one.
+inline constexpr uint32_t kMaxPortalPlanes = 64;
+
 struct IntegratorSettings {
   // Reflections of indirect light, ≥ 0 (0 = direct light only, which includes light through clear glass).
   // Paths end by Russian roulette long before the default; kPathLengthGuard caps it.
@@ -103,6 +122,9 @@ struct IntegratorSettings {
   //   seen in mirrors and glossy surfaces count exactly.
   //   true: all of it exactly (unbiased), for studies of glare, with many samples.
   bool caustics = false;
+  // Sky portals at clear-glass triangles (above). Off gives the estimator of bakes before they existed
+  // (resumed checkpoints), and a comparison.
+  bool skyPortals = true;
 };
 
 class Integrator {
@@ -157,6 +179,14 @@ class Integrator {
   // The sky table's cell towards world direction d with d.y ≥ 0: an index into rdb.sky.radianceCdM2 and
   // skyPdfPerSr_.
   uint32_t skyCell(const vec3& d) const;
+  // Density per steradian with which directLight's sky sampling draws world direction d (d.y ≥ 0) from x:
+  // the sky table's for d's cell, mixed with the portals' when there are portals.
+  float skyLightPdf(const vec3& x, const vec3& d, uint32_t cell) const;
+  // Σ over the portal triangles that the ray (x, d) meets at t > 0 of pmf / area · t² / |cos θ|.
+  float portalPdf(const vec3& x, const vec3& d) const;
+  // Fills portals_, portalPlanes_ and portalDistribution_ from the clear-glass triangles, and sets
+  // portalFraction_; leaves them empty (no portals) beyond kMaxPortalPlanes.
+  void buildPortals();
   // Density per steradian with which directLight samples the point at distance distM on emissive triangle t,
   // seen at |cos θ_light| = absCosLight.
   float emitterPdf(uint32_t t, float distM, float absCosLight) const;
@@ -176,9 +206,32 @@ class Integrator {
   // The same for light sampling of the sun and punctual lights: regularised without caustics.
   std::vector<Bsdf> deltaLightFrontBsdfs_;
   std::vector<Bsdf> deltaLightBackBsdfs_;
-  bool hasClearGlass_ = false;               // some material passes light straight through (visibility())
-  std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
-  std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
+  bool hasClearGlass_ = false;  // some material passes light straight through (visibility())
+  // Sky portals: a clear-glass triangle as a corner and two edges, with its unit normal, the chance of
+  // choosing it over its area, and what a barycentric test of a point in its plane needs.
+  struct Portal {
+    vec3 p0;
+    vec3 e1;
+    vec3 e2;
+    vec3 n;
+    float pmfOverAreaPerM2;
+    float e1e1, e1e2, e2e2, invDenominator;  // e·e products and 1 / (e1e1 e2e2 − e1e2²)
+  };
+  // Portals in one plane n · p = offsetM, within a box.
+  struct PortalPlane {
+    vec3 n;
+    float offsetM;
+    vec3 boxMinM;
+    vec3 boxMaxM;
+    uint32_t first;  // its portals: portals_[first … first + count)
+    uint32_t count;
+  };
+  std::vector<Portal> portals_;  // grouped by plane
+  std::vector<PortalPlane> portalPlanes_;
+  std::optional<Distribution1D> portalDistribution_;  // over portals_ by area; none without portals
+  float portalFraction_ = 0.0f;                       // α: kPortalFraction with portals, else 0
+  std::vector<uint32_t> directionalLights_;           // indices into rdb.punctualLights
+  std::vector<uint32_t> positionalLights_;            // point, spot and goniometric lights
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.
   std::optional<Distribution1D> positionalDistribution_;
 };
