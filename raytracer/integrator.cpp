@@ -199,6 +199,7 @@ void Integrator::buildPortals() {
   // of the plane.
   struct Candidate {
     uint32_t plane;
+    uint32_t triangle;
     Portal portal;
     float areaM2;
   };
@@ -209,6 +210,9 @@ void Integrator::buildPortals() {
     const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
     const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
     const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+    const float e1e1 = glm::dot(e1, e1), e1e2 = glm::dot(e1, e2), e2e2 = glm::dot(e2, e2);
+    const float denominator = e1e1 * e2e2 - e1e2 * e1e2;
+    if (!(denominator > 0.0f)) continue;
     const vec3& n = scene_.triangleNormal(t);
     const float tolerance = 1e-5f * std::max(1.0f, scene_.triangleMagnitudeM(t));
     uint32_t plane = 0;
@@ -225,52 +229,124 @@ void Integrator::buildPortals() {
         portalPlanes_.clear();
         return;
       }
-      portalPlanes_.push_back({n, glm::dot(n, p0), p0, p0, 0, 0});
+      portalPlanes_.push_back({n, glm::dot(n, p0), p0, p0, 0, 0, 0.0f, n, 0.0f, 0.0f, p0, p0});
     }
     PortalPlane& q = portalPlanes_[plane];
     for (const vec3& x : {p0, p0 + e1, p0 + e2}) {
       q.boxMinM = glm::min(q.boxMinM, x);
       q.boxMaxM = glm::max(q.boxMaxM, x);
     }
-    const float e1e1 = glm::dot(e1, e1), e1e2 = glm::dot(e1, e2), e2e2 = glm::dot(e2, e2);
-    const float denominator = e1e1 * e2e2 - e1e2 * e1e2;
-    if (!(denominator > 0.0f)) continue;
     candidates.push_back(
-        {plane, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, scene_.triangleAreaM2(t)});
+        {plane, t, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, scene_.triangleAreaM2(t)});
   }
-  if (candidates.empty()) {
-    portalPlanes_.clear();
-    return;
+  // Each plane's inner side: rays from its panes' centres over the upper hemisphere (64 directions of a
+  // Fibonacci lattice, equal-area) on each side; the side whose rays reach the sky less often, when the
+  // other's reach it at least 20 % of the time and at least twice as often. Other planes (glass between
+  // rooms, glass in the open) are no portals.
+  std::vector<bool> keep(portalPlanes_.size(), false);
+  constexpr int kDirections = 64;
+  constexpr uint32_t kPanesTried = 8;
+  uint64_t rays = 0;
+  for (uint32_t plane = 0; plane < portalPlanes_.size(); ++plane) {
+    PortalPlane& q = portalPlanes_[plane];
+    std::vector<const Candidate*> panes;
+    for (const Candidate& c : candidates)
+      if (c.plane == plane) panes.push_back(&c);
+    float skyFraction[2] = {0.0f, 0.0f};
+    for (int side = 0; side < 2; ++side) {
+      const vec3 outward = side == 0 ? q.n : -q.n;
+      int tried = 0, escaped = 0;
+      for (uint32_t k = 0; k < std::min<size_t>(kPanesTried, panes.size()); ++k) {
+        const Candidate& c = *panes[k * panes.size() / std::min<size_t>(kPanesTried, panes.size())];
+        const vec3 centre = c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f;
+        const vec3 origin = offsetRayOrigin(centre, outward, scene_.triangleMagnitudeM(c.triangle));
+        for (int i = 0; i < kDirections; ++i) {
+          const float y = (static_cast<float>(i) + 0.5f) / kDirections;
+          const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+          const float phi = 2.39996323f * static_cast<float>(i);  // the golden angle, radians
+          const vec3 d(r * std::cos(phi), y, r * std::sin(phi));
+          if (!(glm::dot(d, outward) > 0.0f)) continue;
+          ++tried;
+          if (maxComponent(visibility(origin, d, std::numeric_limits<float>::infinity(), rays)) > 0.0f)
+            ++escaped;
+        }
+      }
+      skyFraction[side] = tried > 0 ? static_cast<float>(escaped) / static_cast<float>(tried) : 0.0f;
+    }
+    const int outer = skyFraction[0] >= skyFraction[1] ? 0 : 1;
+    if (skyFraction[outer] < 0.2f || skyFraction[1 - outer] > 0.5f * skyFraction[outer]) continue;
+    keep[plane] = true;
+    q.inward = outer == 0 ? -q.n : q.n;
+    // The depth of the room behind: the farthest hit of rays from the panes over the inner half of a
+    // Fibonacci sphere (unbounded when one escapes).
+    float depthM = 0.0f;
+    for (uint32_t k = 0; k < std::min<size_t>(kPanesTried, panes.size()); ++k) {
+      const Candidate& c = *panes[k * panes.size() / std::min<size_t>(kPanesTried, panes.size())];
+      const vec3 centre = c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f;
+      const vec3 origin = offsetRayOrigin(centre, q.inward, scene_.triangleMagnitudeM(c.triangle));
+      for (int i = 0; i < 2 * kDirections; ++i) {
+        const float y = 1.0f - (static_cast<float>(i) + 0.5f) / kDirections;
+        const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+        const float phi = 2.39996323f * static_cast<float>(i);
+        const vec3 d(r * std::cos(phi), y, r * std::sin(phi));
+        if (!(glm::dot(d, q.inward) > 0.0f)) continue;
+        const std::optional<Hit> hit = scene_.intersect(origin, d, std::numeric_limits<float>::infinity());
+        depthM = hit ? std::max(depthM, hit->distanceM) : std::numeric_limits<float>::infinity();
+      }
+    }
+    const vec3 grow(std::min(depthM, 1e30f));
+    q.regionMinM = q.boxMinM - grow;
+    q.regionMaxM = q.boxMaxM + grow;
   }
+
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.plane < b.plane; });
-  std::vector<float> areas;
+  std::vector<PortalPlane> planes;
+  uint32_t lastPlane = ~0u;
   for (const Candidate& c : candidates) {
-    PortalPlane& q = portalPlanes_[c.plane];
-    if (q.count == 0) q.first = static_cast<uint32_t>(portals_.size());
+    if (!keep[c.plane]) continue;
+    if (c.plane != lastPlane) {
+      lastPlane = c.plane;
+      planes.push_back(portalPlanes_[c.plane]);
+      planes.back().first = static_cast<uint32_t>(portals_.size());
+    }
+    PortalPlane& q = planes.back();
     ++q.count;
+    q.areaM2 += c.areaM2;
     portals_.push_back(c.portal);
-    areas.push_back(c.areaM2);
+    portals_.back().cumulativeAreaM2 = q.areaM2;
   }
-  // The boxes a little larger, so that a point on an edge is inside.
-  for (PortalPlane& q : portalPlanes_) {
-    const vec3 margin(1e-5f * std::max({1.0f, maxAbs(q.boxMinM), maxAbs(q.boxMaxM)}));
-    q.boxMinM -= margin;
-    q.boxMaxM += margin;
+  for (PortalPlane& q : planes) {
+    const float magnitudeM = std::max({1.0f, maxAbs(q.boxMinM), maxAbs(q.boxMaxM)});
+    // The boxes a little larger, so that a point on an edge is inside.
+    q.boxMinM -= vec3(1e-5f * magnitudeM);
+    q.boxMaxM += vec3(1e-5f * magnitudeM);
+    q.inwardOffsetM = glm::dot(q.inward, portals_[q.first].p0);
+    q.insideMarginM = 1e-5f * magnitudeM;
   }
-  Distribution1D byArea(areas);
-  for (size_t j = 0; j < portals_.size(); ++j) {
-    portals_[j].pmfOverAreaPerM2 = byArea.pmf(static_cast<uint32_t>(j)) / areas[j];
-  }
-  portalDistribution_.emplace(std::move(byArea));
-  portalFraction_ = kPortalFraction;
+  portalPlanes_ = std::move(planes);
 }
 
-float Integrator::portalPdf(const vec3& x, const vec3& d) const {
-  float pdf = 0.0f;
-  for (const PortalPlane& q : portalPlanes_) {
-    const float cosPlane = glm::dot(q.n, d);
-    const float t = (q.offsetM - glm::dot(q.n, x)) / cosPlane;
+bool Integrator::insidePortal(const vec3& x, uint32_t q) const {
+  const PortalPlane& plane = portalPlanes_[q];
+  return glm::dot(plane.inward, x) > plane.inwardOffsetM + plane.insideMarginM &&
+         !glm::any(glm::lessThan(x, plane.regionMinM)) && !glm::any(glm::greaterThan(x, plane.regionMaxM));
+}
+
+float Integrator::portalAreaM2(const vec3& x) const {
+  float area = 0.0f;
+  for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
+    if (insidePortal(x, q)) area += portalPlanes_[q].areaM2;
+  }
+  return area;
+}
+
+float Integrator::portalPdf(const vec3& x, const vec3& d, float areaM2) const {
+  float sum = 0.0f;  // Σ t² / |cos θ| over the panes met
+  for (uint32_t qi = 0; qi < portalPlanes_.size(); ++qi) {
+    if (!insidePortal(x, qi)) continue;
+    const PortalPlane& q = portalPlanes_[qi];
+    const float t = (q.offsetM - glm::dot(q.n, x)) / glm::dot(q.n, d);
     if (!(t > 0.0f) || !std::isfinite(t)) continue;
     const vec3 y = x + t * d;
     if (glm::any(glm::lessThan(y, q.boxMinM)) || glm::any(glm::greaterThan(y, q.boxMaxM))) continue;
@@ -282,17 +358,20 @@ float Integrator::portalPdf(const vec3& x, const vec3& d) const {
       const float b1 = (p.e2e2 * re1 - p.e1e2 * re2) * p.invDenominator;
       const float b2 = (p.e1e1 * re2 - p.e1e2 * re1) * p.invDenominator;
       if (!(b1 >= -1e-6f && b2 >= -1e-6f && b1 + b2 <= 1.0f + 1e-6f)) continue;
-      const float cosPortal = std::abs(glm::dot(p.n, d));
-      if (cosPortal > 0.0f) pdf += p.pmfOverAreaPerM2 * t * t / cosPortal;
+      const float cosPane = std::abs(glm::dot(p.n, d));
+      if (cosPane > 0.0f) sum += t * t / cosPane;
     }
   }
+  const float pdf = sum / areaM2;
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
 float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell) const {
   const float table = skyPdfPerSr_[cell];
-  if (portalFraction_ <= 0.0f) return table;
-  return (1.0f - portalFraction_) * table + portalFraction_ * portalPdf(x, d);
+  if (portalPlanes_.empty()) return table;
+  const float areaM2 = portalAreaM2(x);
+  if (!(areaM2 > 0.0f)) return table;
+  return (1.0f - kPortalFraction) * table + kPortalFraction * portalPdf(x, d, areaM2);
 }
 
 float Integrator::emitterPdf(uint32_t t, float distM, float absCosLight) const {
@@ -419,16 +498,35 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
   if (skyDistribution_ && allLights) {
     if (sunOneMinusCos_ <= 0.0f) sampler.skip(2);
     vec2 u = sampler.next2D();
+    // The portals' share α where v is inside some portal plane, else 0.
+    const float portalArea = portalPlanes_.empty() ? 0.0f : portalAreaM2(v.p);
+    const float alpha = portalArea > 0.0f ? kPortalFraction : 0.0f;
     std::optional<vec3> d;
     uint32_t cell = 0;
     float tablePdf = 0.0f;  // with portals, the mixture's density is computed once the direction is seen
-    if (u.x < portalFraction_) {
-      // Through a portal: u.x rescaled chooses the triangle, its remainder and u.y the point on it.
-      const Distribution1D::DiscreteSample pick =
-          portalDistribution_->sampleDiscrete(std::min(u.x / portalFraction_, 0x1.fffffep-1f));
-      const Portal& portal = portals_[pick.index];
-      const vec3 b = sampleUniformTriangle(vec2(pick.uRemapped, u.y));
-      const vec3 toPortal = portal.p0 + b.y * portal.e1 + b.z * portal.e2 - v.p;
+    if (u.x < alpha) {
+      // Through a portal: u.x rescaled to the area of v's portal planes chooses the plane, the pane in it
+      // and, with what remains and u.y, the point on the pane.
+      float target = std::min(u.x / alpha, 0x1.fffffep-1f) * portalArea;
+      uint32_t plane = ~0u;
+      for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
+        if (!insidePortal(v.p, q)) continue;
+        plane = q;
+        if (target < portalPlanes_[q].areaM2) break;
+        target -= portalPlanes_[q].areaM2;
+      }
+      const PortalPlane& q = portalPlanes_[plane];
+      target = std::clamp(target, 0.0f, q.areaM2);
+      const auto first = portals_.begin() + q.first;
+      const auto last = first + q.count;
+      auto pane = std::upper_bound(first, last, target,
+                                   [](float a, const Portal& p) { return a < p.cumulativeAreaM2; });
+      if (pane == last) --pane;
+      const float start = pane == first ? 0.0f : (pane - 1)->cumulativeAreaM2;
+      const float paneArea = pane->cumulativeAreaM2 - start;
+      const float ux = std::clamp((target - start) / paneArea, 0.0f, 0x1.fffffep-1f);
+      const vec3 b = sampleUniformTriangle(vec2(ux, u.y));
+      const vec3 toPortal = pane->p0 + b.y * pane->e1 + b.z * pane->e2 - v.p;
       const float distM = glm::length(toPortal);
       // The sky is above the horizon only (TraceSky); directions below it find no sky light.
       if (distM > 0.0f && toPortal.y > 0.0f) {
@@ -436,18 +534,18 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
         cell = skyCell(*d);
       }
     } else {
-      if (portalFraction_ > 0.0f) {
-        u.x = std::min((u.x - portalFraction_) / (1.0f - portalFraction_), 0x1.fffffep-1f);
-      }
+      if (alpha > 0.0f) u.x = std::min((u.x - alpha) / (1.0f - alpha), 0x1.fffffep-1f);
       const Distribution2D::Sample s = skyDistribution_->sample(u);
       d = skyDirection(s.p);
       cell = s.cell;
       tablePdf = s.pdf / (2.0f * kPiF);
     }
-    if (d && (portalFraction_ > 0.0f || tablePdf > 0.0f) && response(v, v.bsdf, *d, fCos, pdfBsdf)) {
+    if (d && (alpha > 0.0f || tablePdf > 0.0f) && response(v, v.bsdf, *d, fCos, pdfBsdf)) {
       const Rgb seen = visibility(originTowards(*d), *d, std::numeric_limits<float>::infinity(), rays);
       if (maxComponent(seen) > 0.0f) {
-        const float pdf = portalFraction_ > 0.0f ? skyLightPdf(v.p, *d, cell) : tablePdf;
+        const float pdf = alpha > 0.0f
+                              ? (1.0f - alpha) * skyPdfPerSr_[cell] + alpha * portalPdf(v.p, *d, portalArea)
+                              : tablePdf;
         if (pdf > 0.0f && std::isfinite(pdf)) {
           sum += rdb_.sky.radianceCdM2[cell] * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) * seen;
         }

@@ -16,18 +16,21 @@
 // heuristic, β = 2 (Veach & Guibas, "Optimally combining sampling techniques for Monte Carlo rendering",
 // SIGGRAPH 1995).
 //
-// Sky portals (IntegratorSettings::skyPortals): in a scene with clear glass, the sky's light sampling draws
-// its direction from a mixture: with probability kPortalFraction towards a point uniform on a clear-glass
-// triangle (chosen by area), else from the sky table. Inside a building the table's directions are nearly
-// all blocked by walls and roof, while the portals' pass through the windows. The mixture's density per
-// steradian, (1 − α) p_table(d) + α p_portal(d), where p_portal sums pmf_j / A_j · t_j² / |cos θ_j| over the
-// clear-glass triangles j that the ray meets at distances t_j, is what the MIS weights use, for sampled and
-// for escaping directions alike: unbiased whatever the glass (a one-sample mixture of two techniques: Veach,
-// "Robust Monte Carlo methods for light transport simulation", PhD thesis, 1997, ch. 9; portals as in
-// Bitterli, Novák & Jarosz, "Portal-masked environment map sampling", EGSR 2015, and Cycles' portal lights).
-// Without clear glass, or with more than kMaxPortalPlanes planes of clear glass (each density evaluation
-// meets every plane once, then tests the triangles of the planes whose bounding box it passes), the sky is
-// sampled from the table alone.
+// Sky portals (IntegratorSettings::skyPortals): in a scene with clear glass, each plane of clear-glass
+// triangles (a window, a skylight) is a portal for the points on its inner side: the side from which rays
+// through the plane's panes reach the sky less often than from the other (found at start-up by rays from the
+// panes over the upper hemisphere), and within the depth of the room behind it (the farthest hit of rays from
+// the panes into that side) of the panes. Inside a building the sky table's directions are nearly all blocked
+// by walls and roof, while the portals' pass through the windows. At a point x that is on the inner side of
+// some portal planes, the sky's light sampling draws its direction from a mixture: with probability
+// kPortalFraction towards a point uniform over those planes' panes (area A(x)), else from the sky table. The
+// mixture's density per steradian, (1 − α) p_table(d) + α p_portal(x, d), with p_portal the sum of t² / (A(x)
+// |cos θ|) over the panes of those planes that the ray meets at distances t, is what the MIS weights use, for
+// sampled and escaping directions alike: unbiased whatever the glass (a one-sample mixture of two
+// techniques: Veach, "Robust Monte Carlo methods for light transport simulation", PhD thesis, 1997, ch. 9;
+// portals as in Bitterli, Novák & Jarosz, "Portal-masked environment map sampling", EGSR 2015, and Cycles'
+// portal lights). Points outside every portal plane's inner side sample the table alone. Without clear
+// glass, or with more than kMaxPortalPlanes planes of it, there are no portals.
 //
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based
@@ -180,12 +183,16 @@ class Integrator {
   // skyPdfPerSr_.
   uint32_t skyCell(const vec3& d) const;
   // Density per steradian with which directLight's sky sampling draws world direction d (d.y ≥ 0) from x:
-  // the sky table's for d's cell, mixed with the portals' when there are portals.
+  // the sky table's for d's cell, mixed with the portals' when x is inside some.
   float skyLightPdf(const vec3& x, const vec3& d, uint32_t cell) const;
-  // Σ over the portal triangles that the ray (x, d) meets at t > 0 of pmf / area · t² / |cos θ|.
-  float portalPdf(const vec3& x, const vec3& d) const;
-  // Fills portals_, portalPlanes_ and portalDistribution_ from the clear-glass triangles, and sets
-  // portalFraction_; leaves them empty (no portals) beyond kMaxPortalPlanes.
+  // The pane area of the portal planes whose inner side x is on (0: none).
+  float portalAreaM2(const vec3& x) const;
+  // p_portal(x, d) for areaM2 = portalAreaM2(x) > 0.
+  float portalPdf(const vec3& x, const vec3& d, float areaM2) const;
+  // Whether x is on plane q's inner side.
+  bool insidePortal(const vec3& x, uint32_t q) const;
+  // Fills portals_ and portalPlanes_ from the clear-glass triangles; leaves them empty (no portals) beyond
+  // kMaxPortalPlanes.
   void buildPortals();
   // Density per steradian with which directLight samples the point at distance distM on emissive triangle t,
   // seen at |cos θ_light| = absCosLight.
@@ -207,17 +214,18 @@ class Integrator {
   std::vector<Bsdf> deltaLightFrontBsdfs_;
   std::vector<Bsdf> deltaLightBackBsdfs_;
   bool hasClearGlass_ = false;  // some material passes light straight through (visibility())
-  // Sky portals: a clear-glass triangle as a corner and two edges, with its unit normal, the chance of
-  // choosing it over its area, and what a barycentric test of a point in its plane needs.
+  // Sky portals: a clear-glass triangle as a corner and two edges, with its unit normal, its area summed
+  // with those before it in its plane, and what a barycentric test of a point in its plane needs.
   struct Portal {
     vec3 p0;
     vec3 e1;
     vec3 e2;
     vec3 n;
-    float pmfOverAreaPerM2;
+    float cumulativeAreaM2;
     float e1e1, e1e2, e2e2, invDenominator;  // e·e products and 1 / (e1e1 e2e2 − e1e2²)
   };
-  // Portals in one plane n · p = offsetM, within a box.
+  // Portals in one plane n · p = offsetM, within a box; points x with inward · x > inwardOffsetM +
+  // insideMarginM and within the region box are on its inner side.
   struct PortalPlane {
     vec3 n;
     float offsetM;
@@ -225,13 +233,17 @@ class Integrator {
     vec3 boxMaxM;
     uint32_t first;  // its portals: portals_[first … first + count)
     uint32_t count;
+    float areaM2;
+    vec3 inward;
+    float inwardOffsetM;
+    float insideMarginM;
+    vec3 regionMinM;  // the box grown by the depth of what lies behind the plane on its inner side
+    vec3 regionMaxM;
   };
   std::vector<Portal> portals_;  // grouped by plane
   std::vector<PortalPlane> portalPlanes_;
-  std::optional<Distribution1D> portalDistribution_;  // over portals_ by area; none without portals
-  float portalFraction_ = 0.0f;                       // α: kPortalFraction with portals, else 0
-  std::vector<uint32_t> directionalLights_;           // indices into rdb.punctualLights
-  std::vector<uint32_t> positionalLights_;            // point, spot and goniometric lights
+  std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
+  std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.
   std::optional<Distribution1D> positionalDistribution_;
 };
