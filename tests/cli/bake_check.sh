@@ -22,6 +22,10 @@ check_files() {
 
 "$fly" bake "$scene" --out "$out" "$@"
 check_files
+# The manifest records the sky sampling asked for.
+portals=true
+for a in "$@"; do [ "$a" = --no-sky-portals ] && portals=false; done
+grep -q "\"sky_portals\": $portals" "$out/manifest.json" || { echo "FAIL: manifest lacks sky_portals $portals"; exit 1; }
 "$fly" bake "$scene" --out "$out" "$@"
 check_files
 [ "$(ls -A "$work")" = "bake" ] || { echo "FAIL: left beside the bake: $(ls -A "$work")"; exit 1; }
