@@ -323,8 +323,67 @@ void Integrator::buildPortals() {
     q.boxMaxM += vec3(1e-5f * magnitudeM);
     q.inwardOffsetM = glm::dot(q.inward, portals_[q.first].p0);
     q.insideMarginM = 1e-5f * magnitudeM;
+    // Planes of many panes (a glazed facade) get a grid of about one pane per cell, so that a density
+    // evaluation tests the panes of one cell rather than all.
+    if (q.count <= kPanesWithoutGrid) continue;
+    q.origin = portals_[q.first].p0;
+    q.axisU = glm::normalize(portals_[q.first].e1);
+    q.axisV = glm::normalize(glm::cross(q.n, q.axisU));
+    vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    auto local = [&](const vec3& x) {
+      return vec2(glm::dot(x - q.origin, q.axisU), glm::dot(x - q.origin, q.axisV));
+    };
+    for (uint32_t j = q.first; j < q.first + q.count; ++j) {
+      const Portal& p = portals_[j];
+      for (const vec3& x : {p.p0, p.p0 + p.e1, p.p0 + p.e2}) {
+        lo = glm::min(lo, local(x));
+        hi = glm::max(hi, local(x));
+      }
+    }
+    const float margin = 1e-5f * magnitudeM;
+    q.cells = std::clamp(static_cast<uint32_t>(std::ceil(std::sqrt(static_cast<float>(q.count)))), 1u, 256u);
+    q.gridMinM = lo - vec2(margin);
+    const float sideM = std::max(hi.x - lo.x, hi.y - lo.y) + 2.0f * margin;
+    q.cellsPerM = static_cast<float>(q.cells) / sideM;
+    q.firstCell = static_cast<uint32_t>(portalCellStart_.size());
+    const uint32_t planeCells = q.cells * q.cells;
+    // Counting sort of (cell, pane) pairs: counts, prefix sums, then the items.
+    std::vector<uint32_t> counts(planeCells, 0);
+    auto forCells = [&](const Portal& p, auto&& f) {
+      vec2 a(std::numeric_limits<float>::max()), b(-std::numeric_limits<float>::max());
+      for (const vec3& x : {p.p0, p.p0 + p.e1, p.p0 + p.e2}) {
+        a = glm::min(a, local(x));
+        b = glm::max(b, local(x));
+      }
+      const glm::uvec2 c0 = cellOf(q, a - vec2(margin));
+      const glm::uvec2 c1 = cellOf(q, b + vec2(margin));
+      for (uint32_t cy = c0.y; cy <= c1.y; ++cy)
+        for (uint32_t cx = c0.x; cx <= c1.x; ++cx) f(cy * q.cells + cx);
+    };
+    for (uint32_t j = q.first; j < q.first + q.count; ++j)
+      forCells(portals_[j], [&](uint32_t c) { ++counts[c]; });
+    uint32_t start = static_cast<uint32_t>(portalCellItems_.size());
+    std::vector<uint32_t> fill(planeCells);
+    for (uint32_t c = 0; c < planeCells; ++c) {
+      portalCellStart_.push_back(start);
+      fill[c] = start;
+      start += counts[c];
+    }
+    portalCellItems_.resize(start);
+    for (uint32_t j = q.first; j < q.first + q.count; ++j) {
+      forCells(portals_[j], [&](uint32_t c) { portalCellItems_[fill[c]++] = j; });
+    }
   }
+  if (!portalCellStart_.empty()) portalCellStart_.push_back(static_cast<uint32_t>(portalCellItems_.size()));
   portalPlanes_ = std::move(planes);
+}
+
+glm::uvec2 Integrator::cellOf(const PortalPlane& q, const vec2& localM) {
+  const vec2 c = glm::floor((localM - q.gridMinM) * q.cellsPerM);
+  const auto clampCell = [&](float v) {
+    return static_cast<uint32_t>(std::clamp(v, 0.0f, static_cast<float>(q.cells - 1)));
+  };
+  return glm::uvec2(clampCell(c.x), clampCell(c.y));
 }
 
 bool Integrator::insidePortal(const vec3& x, uint32_t q) const {
@@ -350,8 +409,17 @@ float Integrator::portalPdf(const vec3& x, const vec3& d, float areaM2) const {
     if (!(t > 0.0f) || !std::isfinite(t)) continue;
     const vec3 y = x + t * d;
     if (glm::any(glm::lessThan(y, q.boxMinM)) || glm::any(glm::greaterThan(y, q.boxMaxM))) continue;
-    for (uint32_t j = q.first; j < q.first + q.count; ++j) {
-      const Portal& p = portals_[j];
+    // The panes to test: all, or those of the grid cell under y.
+    const uint32_t* items = nullptr;
+    uint32_t itemCount = q.count;
+    if (q.cells > 0) {
+      const glm::uvec2 c = cellOf(q, vec2(glm::dot(y - q.origin, q.axisU), glm::dot(y - q.origin, q.axisV)));
+      const uint32_t cell = q.firstCell + c.y * q.cells + c.x;
+      items = portalCellItems_.data() + portalCellStart_[cell];
+      itemCount = portalCellStart_[cell + 1] - portalCellStart_[cell];
+    }
+    for (uint32_t k = 0; k < itemCount; ++k) {
+      const Portal& p = portals_[items ? items[k] : q.first + k];
       // Barycentrics of y in the triangle's plane (Ericson, "Real-Time Collision Detection", 2005, §3.4).
       const vec3 r = y - p.p0;
       const float re1 = glm::dot(r, p.e1), re2 = glm::dot(r, p.e2);

@@ -106,6 +106,9 @@ inline constexpr float kPortalFraction = 0.25f;
 // Planes of clear glass beyond which sky portals are off: every sky density evaluation meets each one.
 inline constexpr uint32_t kMaxPortalPlanes = 64;
 
+// Panes in a portal plane up to which a density evaluation tests them all; planes of more get a grid.
+inline constexpr uint32_t kPanesWithoutGrid = 8;
+
 struct IntegratorSettings {
   // Reflections of indirect light, ≥ 0 (0 = direct light only, which includes light through clear glass).
   // Paths end by Russian roulette long before the default; kPathLengthGuard caps it.
@@ -239,9 +242,25 @@ class Integrator {
     float insideMarginM;
     vec3 regionMinM;  // the box grown by the depth of what lies behind the plane on its inner side
     vec3 regionMaxM;
+    // A grid over the plane for planes of many panes (cells > 0): in-plane axes from the first corner, the
+    // grid's lower corner and cells per metre along them, its cells per side, and the first of its cells in
+    // portalCellStart_.
+    vec3 axisU{0.0f};
+    vec3 axisV{0.0f};
+    vec3 origin{0.0f};
+    vec2 gridMinM{0.0f};
+    float cellsPerM = 0.0f;
+    uint32_t cells = 0;
+    uint32_t firstCell = 0;
   };
   std::vector<Portal> portals_;  // grouped by plane
   std::vector<PortalPlane> portalPlanes_;
+  // The grids' cells: cell c lists portalCellItems_[portalCellStart_[c] … portalCellStart_[c + 1]), the
+  // indices into portals_ of the panes whose box overlaps it.
+  std::vector<uint32_t> portalCellStart_;
+  std::vector<uint32_t> portalCellItems_;
+  // The grid cell of plane q under a point at in-plane coordinates localM, clamped into the grid.
+  static glm::uvec2 cellOf(const PortalPlane& q, const vec2& localM);
   std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
   std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.
