@@ -173,6 +173,15 @@ std::span<const vec3> range(const std::vector<vec3>& v, const rdb::TraceMesh& m)
   return std::span<const vec3>(v).subspan(m.firstVertex, m.vertexCount);
 }
 
+// The samples an object's vertices took (the most of any; a settled object took fewer than the bake's last
+// pass).
+uint32_t objectSamples(const raytracer::VertexLightMaps& maps, const rdb::TraceMesh& m) {
+  uint32_t samples = 0;
+  for (size_t v = m.firstVertex; v < m.firstVertex + m.vertexCount && v < maps.frontSamples.size(); ++v)
+    samples = std::max(samples, maps.frontSamples[v]);
+  return samples;
+}
+
 json materialJson(const rdb::TraceMaterial& m, const std::string& name) {
   json j = {{"pbrMetallicRoughness",
              {{"baseColorFactor", {m.diffuse.r, m.diffuse.g, m.diffuse.b, 1.0f}},
@@ -524,6 +533,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
               {"vertices", m.vertexCount},
               {"triangles", m.triangleCount},
               {"two_sided", m.twoSided},
+              {"samples", objectSamples(maps, m)},
               {"front", sideSummary(range(maps.frontLux, m), range(maps.frontStdErrorLux, m))}};
     if (m.twoSided) o["back"] = sideSummary(range(maps.backLux, m), range(maps.backStdErrorLux, m));
     if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
@@ -538,6 +548,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       t["baked_texels"] = tex.bakedTexels;
       t["empty_texels"] = tex.emptyTexels;
       t["seam_edges"] = tex.seamEdges;
+      t["samples"] = tex.samples;
       t["front_summary"] = textureSummary(tex.frontLux, tex.frontStdErrorLux, tex.baked);
       if (m.twoSided) t["back_summary"] = textureSummary(tex.backLux, tex.backStdErrorLux, tex.baked);
       o["light_texture"] = std::move(t);

@@ -216,20 +216,34 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   std::filesystem::remove_all(checkpointDirFor(o.out), ignored);
 
   const float error = maps.history.empty() ? 0.0f : maps.history.back().relativeErrorP95;
+  // Objects and light textures settled below the target before the last pass (kSettledPercentile).
+  size_t settled = 0;
+  for (const rdb::TraceMesh& m : rdb.meshes) {
+    uint32_t samples = 0;
+    for (size_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v)
+      samples = std::max(samples, maps.frontSamples[v]);
+    settled += samples > 0 && samples < maps.samplesPerVertex;
+  }
+  for (const raytracer::LightTexture& tex : maps.lightTextures)
+    settled += tex.samples > 0 && tex.samples < maps.samplesPerVertex;
+  const std::string settledText = settled == 0
+                                      ? ""
+                                      : " (fewer for " + std::to_string(settled) +
+                                            " objects and light textures that met the target earlier)";
   std::fprintf(
       stderr,
-      "bake: %zu vertices, %u samples each, 95th percentile of relative standard error %.3g %%, %.1f s, "
+      "bake: %zu vertices, %u samples each%s, 95th percentile of relative standard error %.3g %%, %.1f s, "
       "%.3g Mrays/s -> %s\n",
-      rdb.positionsM.size(), maps.samplesPerVertex, 100.0 * error, maps.seconds,
+      rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
   for (const raytracer::LightTexture& tex : maps.lightTextures) {
     const rdb::TraceLightTexture& lt = rdb.lightTextures[size_t(&tex - maps.lightTextures.data())];
     const std::string& name = d.meshNames[tex.mesh].empty() ? d.nodeNames[tex.mesh] : d.meshNames[tex.mesh];
     std::fprintf(stderr,
                  "light texture: object %u \"%s\"%s, %u x %u texels at %.3g texels/m, %zu baked, %zu seam "
-                 "edges\n",
+                 "edges, %u samples\n",
                  tex.mesh, name.c_str(), lt.automatic ? " (automatic: large flat surface)" : "", tex.width,
-                 tex.height, double(lt.texelsPerMetre), tex.bakedTexels, tex.seamEdges);
+                 tex.height, double(lt.texelsPerMetre), tex.bakedTexels, tex.seamEdges, tex.samples);
     if (tex.emptyTexels > 0) {
       std::fprintf(stderr,
                    "warning: light texture of object %u: %zu texels are touched by triangles without area in "

@@ -341,12 +341,14 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
   maps.frontStdErrorLux.assign(vertexCount, Rgb(0.0f));
   maps.backLux.assign(vertexCount, Rgb(0.0f));
   maps.backStdErrorLux.assign(vertexCount, Rgb(0.0f));
+  maps.frontSamples.assign(vertexCount, 0);
   const size_t vertexPoints = vertexSource.pointCount();
   for (size_t i = 0; i < vertexPoints; ++i) {
     const uint32_t v = vertexSource.pointVertex(i);
     const IrradianceEstimate& e = result.points[i];
     (vertexSource.isBack(i) ? maps.backLux : maps.frontLux)[v] = e.meanLux;
     (vertexSource.isBack(i) ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
+    if (!vertexSource.isBack(i)) maps.frontSamples[v] = e.samples;
   }
   std::vector<bool> known(vertexCount);
   for (uint32_t v = 0; v < vertexCount; ++v) known[v] = vertexSource.hasRing(v);

@@ -1,6 +1,6 @@
 // The vertex light-map baker: for every vertex of the TraceRdb, the irradiance (lux, RGB) integrated over its
-// neighbourhood, for two-sided meshes on both sides, in progressive passes with a standard error per vertex and
-// a convergence history (error against run time) — what `fly bake` runs.
+// neighbourhood, for two-sided meshes on both sides, in progressive passes with a standard error per vertex
+// and a convergence history (error against run time) — what `fly bake` runs.
 #pragma once
 
 #include <cstdint>
@@ -22,24 +22,28 @@ struct BakeSettings {
 
 // One row of convergence.csv: the state after a pass.
 struct ConvergencePoint {
-  double seconds = 0.0;          // since the bake started
-  uint32_t samples = 0;          // per vertex (and side)
-  float relativeErrorP95 = 0.0f; // 95th percentile over vertex sides and texels of the relative standard error of luminance
-  double raysPerSecond = 0.0;    // over the pass
+  double seconds = 0.0;  // since the bake started
+  uint32_t samples = 0;  // per vertex (and side)
+  float relativeErrorP95 =
+      0.0f;  // 95th percentile over vertex sides and texels of the relative standard error of luminance
+  double raysPerSecond = 0.0;  // over the pass
 };
 
 // Called after every pass (from the calling thread); return false to stop after it.
 using BakeProgress = std::function<bool(const ConvergencePoint& latest, uint32_t maxSamples)>;
 
 struct VertexLightMaps {
-  // Per TraceRdb vertex (rdb.positionsM.size() entries): irradiance on the front (the side of the vertex normal)
-  // and its standard error, lux per channel.
+  // Per TraceRdb vertex (rdb.positionsM.size() entries): irradiance on the front (the side of the vertex
+  // normal) and its standard error, lux per channel.
   std::vector<Rgb> frontLux;
   std::vector<Rgb> frontStdErrorLux;
   // The same for the back (the side of −normal) of vertices of two-sided meshes; 0 for one-sided ones.
   std::vector<Rgb> backLux;
   std::vector<Rgb> backStdErrorLux;
+  // Samples per point of the points still sampled at the end (the most any point took); groups settled
+  // earlier (kSettledPercentile) took fewer: frontSamples per vertex and LightTexture::samples tell.
   uint32_t samplesPerVertex = 0;
+  std::vector<uint32_t> frontSamples;  // per TraceRdb vertex: the samples of its front (0: no one-ring)
   uint32_t replicates = 0;  // of the error estimate (EstimateSettings::replicates; replicatesFor())
   std::vector<ConvergencePoint> history;
   uint64_t rays = 0;
@@ -67,13 +71,13 @@ struct BakeCheckpointing {
 };
 
 // Bakes every vertex of rdb. A vertex's value is the irradiance averaged over its one-ring with the weight of
-// its linear "hat" basis function (the area-weighted neighbourhood that interpolated vertex colours represent):
-// each sample picks a triangle of the one-ring by area, a point in it by the hat weight, and the interpolated
-// shading normal there. The texels of the rdb's light textures are points of the same progressive run (after
-// the vertex sides, so that one history and one target error cover both; samplesPerVertex is also the
-// samples per texel). Deterministic for any thread count.
-VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const BakeSettings& settings,
-                                    const BakeProgress& progress = {},
+// its linear "hat" basis function (the area-weighted neighbourhood that interpolated vertex colours
+// represent): each sample picks a triangle of the one-ring by area, a point in it by the hat weight, and the
+// interpolated shading normal there. The texels of the rdb's light textures are points of the same
+// progressive run (after the vertex sides, so that one history and one target error cover both;
+// samplesPerVertex is also the samples per texel). Deterministic for any thread count.
+VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
+                                    const BakeSettings& settings, const BakeProgress& progress = {},
                                     const BakeCheckpointing& checkpointing = {});
 
 }  // namespace fly::raytracer

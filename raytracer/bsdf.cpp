@@ -72,7 +72,8 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace) {
   clearTransmission_ = hasTransmission_ && alphaT_ == 0.0f;
   if (!frontFace) return;
   hasReflection_ = maxComponent(reflection_) > 0.0f && (!fresnel_ || f0_ < 1.0f);
-  // Σ F μ over the hemisphere: F̄ = 2∫₀¹ (F0 + (1 − F0)(1 − μ)⁵) μ dμ = F0 + (1 − F0)·2·B(2, 6) = F0 + (1 − F0)/21.
+  // Σ F μ over the hemisphere: F̄ = 2∫₀¹ (F0 + (1 − F0)(1 − μ)⁵) μ dμ = F0 + (1 − F0)·2·B(2, 6) = F0 + (1 −
+  // F0)/21.
   const float fBar = fresnel_ ? f0_ + (1.0f - f0_) / 21.0f : 1.0f;
   const Rgb diffuse = glm::clamp(m.diffuse, 0.0f, 1.0f);
   for (int c = 0; c < 3; ++c) {

@@ -10,13 +10,15 @@
 //
 // Lobes, in a local frame whose +z is the surface normal on the side of ωo (the direction towards the
 // sensor; ωi towards the light):
-//   - Diffuse: f = (1 − t)d/π · (1 − r F(θi)) (1 − r F(θo)) / (1 − r F̄), F̄ = 2∫₀¹ F(μ) μ dμ = F0 + (1 − F0)/21
+//   - Diffuse: f = (1 − t)d/π · (1 − r F(θi)) (1 − r F(θo)) / (1 − r F̄), F̄ = 2∫₀¹ F(μ) μ dμ = F0 + (1 −
+//   F0)/21
 //     (1 for uniform reflection). Symmetric in ωi, ωo, and its albedo for light from θi is exactly D(θi): the
 //     coupling of Kelemen & Szirmay-Kalos ("A microfacet based coupled specular-matte BRDF model with
-//     importance sampling", Eurographics 2001 short papers), with Schlick's F in place of the microfacet albedo.
+//     importance sampling", Eurographics 2001 short papers), with Schlick's F in place of the microfacet
+//     albedo.
 //   - Reflection, glossiness g = 0 (or α = g² < kSmoothAlpha): a perfect mirror of weight R(θ). Otherwise GGX
-//     (Walter, Marschner, Li & Torrance, "Microfacet models for refraction through rough surfaces", EGSR 2007)
-//     with α = g², the height-correlated Smith masking-shadowing G2 (Heitz, "Understanding the masking-
+//     (Walter, Marschner, Li & Torrance, "Microfacet models for refraction through rough surfaces", EGSR
+//     2007) with α = g², the height-correlated Smith masking-shadowing G2 (Heitz, "Understanding the masking-
 //     shadowing function in microfacet-based BRDFs", JCGT 3(2), 2014, eq. 99), f = r F(ωo·h) D(h) G2 /
 //     (4 cos θo cos θi); its albedo is close to R(θ) for smooth lobes and below it for rough ones (single
 //     scattering loses energy), sampled by the distribution of visible normals (Heitz, "Sampling the GGX
@@ -73,9 +75,9 @@ class Bsdf {
   };
 
   struct Sample {
-    vec3 wi{0.0f};      // local, unit
-    Rgb weight{0.0f};   // f |cos θi| / pdf; for a delta lobe its reflectance or transmittance / probability
-    float pdf = 0.0f;   // per steradian (non-delta), or the probability of choosing the delta lobe
+    vec3 wi{0.0f};     // local, unit
+    Rgb weight{0.0f};  // f |cos θi| / pdf; for a delta lobe its reflectance or transmittance / probability
+    float pdf = 0.0f;  // per steradian (non-delta), or the probability of choosing the delta lobe
     Lobe lobe = Lobe::kNonDelta;
   };
 
@@ -105,7 +107,9 @@ class Bsdf {
   bool isLambertian() const { return hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
   const Rgb& lambertAlbedo() const { return diffuseKd_; }
   // Whether eval() can be non-zero: light sampling is pointless otherwise.
-  bool hasNonDelta() const { return hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission(); }
+  bool hasNonDelta() const {
+    return hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission();
+  }
   // Whether non-delta light arrives from below the surface (frosted transmission).
   bool hasNonDeltaTransmission() const { return frostedTransmission(); }
   bool passesStraight() const { return clearTransmission_; }

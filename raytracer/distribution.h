@@ -39,8 +39,8 @@ class Distribution1D {
   Sample sampleContinuous(float u) const {
     const uint32_t i = findBin(u);
     float x = std::min((static_cast<float>(i) + remap(u, i)) * invSize_, kOneMinusEpsilon);
-    // Rounding can carry x across an edge of bin i; keep it inside, as binOf() sees it, so that its density is
-    // that of bin i (a neighbour's may be 0).
+    // Rounding can carry x across an edge of bin i; keep it inside, as binOf() sees it, so that its density
+    // is that of bin i (a neighbour's may be 0).
     while (binOf(x) > i) x = std::nextafter(x, 0.0f);
     while (binOf(x) < i) x = std::nextafter(x, 1.0f);
     return {x, func_[i] * pdfScale_, i};
@@ -86,14 +86,12 @@ class Distribution1D {
   uint32_t guideInterval(float u) const {
     return std::min(static_cast<uint32_t>(std::max(u, 0.0f) * static_cast<float>(size())), size() - 1);
   }
-  float remap(float u, uint32_t i) const {
-    return std::min((u - cdf_[i]) * invWidth_[i], kOneMinusEpsilon);
-  }
+  float remap(float u, uint32_t i) const { return std::min((u - cdf_[i]) * invWidth_[i], kOneMinusEpsilon); }
 
   std::vector<float> func_;  // the weights, or all 1 when they are all 0
   std::vector<float> cdf_;   // n + 1 values from 0 to 1
-  // n + 1 values: guide_[k] is the bin of the smallest u in guide interval k (findBin), guide_[n] = n − 1; the
-  // bin of every u in interval k lies in guide_[k] … guide_[k+1].
+  // n + 1 values: guide_[k] is the bin of the smallest u in guide interval k (findBin), guide_[n] = n − 1;
+  // the bin of every u in interval k lies in guide_[k] … guide_[k+1].
   std::vector<uint32_t> guide_;
   // 1 / (cdf[i+1] − cdf[i]) (0 for an empty bin, which is never chosen) and 1 / n: sampling multiplies
   // rather than divides.

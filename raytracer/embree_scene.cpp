@@ -129,7 +129,8 @@ void EmbreeScene::logRaysOfThisThread(std::vector<LoggedRay>* log) {
 }
 
 bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) const {
-  if (tRayLog != nullptr) [[unlikely]] tRayLog->push_back({origin, dir, tMaxM, true});
+  if (tRayLog != nullptr) [[unlikely]]
+    tRayLog->push_back({origin, dir, tMaxM, true});
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray;
@@ -139,7 +140,8 @@ bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) con
 }
 
 std::optional<Hit> EmbreeScene::intersect(const vec3& origin, const vec3& dir, float tMaxM) const {
-  if (tRayLog != nullptr) [[unlikely]] tRayLog->push_back({origin, dir, tMaxM, false});
+  if (tRayLog != nullptr) [[unlikely]]
+    tRayLog->push_back({origin, dir, tMaxM, false});
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rayHit;

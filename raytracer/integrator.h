@@ -20,9 +20,9 @@
 // triangles (a window, a skylight) is a portal for the points on its inner side: the side from which rays
 // through the plane's panes reach the sky less often than from the other (found at start-up by rays from the
 // panes over the upper hemisphere), and within the depth of the room behind it (the farthest hit of rays from
-// the panes into that side) of its panes' box. Inside a building the sky table's directions are nearly all blocked
-// by walls and roof, while the portals' pass through the windows. At a point x that is on the inner side of
-// some portal planes, the sky's light sampling draws its direction from a mixture: with probability
+// the panes into that side) of its panes' box. Inside a building the sky table's directions are nearly all
+// blocked by walls and roof, while the portals' pass through the windows. At a point x that is on the inner
+// side of some portal planes, the sky's light sampling draws its direction from a mixture: with probability
 // kPortalFraction towards a point uniform over those planes' panes (area A(x)), else from the sky table. The
 // mixture's density per steradian, (1 − α) p_table(d) + α p_portal(x, d), with p_portal the sum of t² / (A(x)
 // |cos θ|) over the panes of those planes that the ray meets at distances t, is what the MIS weights use, for
@@ -31,8 +31,8 @@
 // portals as in Bitterli, Novák & Jarosz, "Portal-masked environment map sampling", EGSR 2015, and Cycles'
 // portal lights). Points outside every portal plane's inner side sample the table alone. A density
 // evaluation meets every portal plane once and tests the panes under the hit point: all of them, or for
-// planes of more than kPanesWithoutGrid panes those of one cell of a grid over the plane. Without clear glass,
-// or with more than kMaxPortalPlanes planes of it, there are no portals.
+// planes of more than kPanesWithoutGrid panes those of one cell of a grid over the plane. Without clear
+// glass, or with more than kMaxPortalPlanes planes of it, there are no portals.
 //
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based

@@ -33,6 +33,16 @@ class Accumulators {
 
   uint32_t replicates() const { return state_.replicates; }
 
+  // Whether the point's group is settled (it takes no more samples), and the samples it has when the others
+  // have `total`.
+  bool settled(size_t point) const {
+    const uint32_t g = groupOf(point);
+    return g < state_.settledSamples.size() && state_.settledSamples[g] > 0;
+  }
+  uint32_t samplesOf(size_t point, uint32_t total) const {
+    return settled(point) ? state_.settledSamples[groupOf(point)] : total;
+  }
+
   // Welford's update with the point's count-th sample (count ≥ 1).
   void addWelford(size_t point, uint32_t count, const Rgb& x) {
     dvec3* sums = &state_.sums[point * sumsPerPoint(state_.replicates)];
@@ -104,7 +114,7 @@ class Accumulators {
     std::vector<size_t> members(groups + 1, 0);
     if (k > 1 && k - 1 < kModeratedDegreesOfFreedom) {
       for (size_t i = 0; i < count; ++i) {
-        const Variances v = variances(i, samples);
+        const Variances v = variances(i, samplesOf(i, samples));
         for (size_t g : {size_t{groupOf(i)}, groups}) {
           sumNaive[g] += v.naive;
           sumReplicate[g] += v.replicate;
@@ -122,9 +132,9 @@ class Accumulators {
     const double dof = static_cast<double>(k - 1);
     const double priorDof = std::max(0.0, kModeratedDegreesOfFreedom - dof);
     for (size_t i = 0; i < count; ++i) {
-      const Variances v = variances(i, samples);
+      const Variances v = variances(i, samplesOf(i, samples));
       IrradianceEstimate& e = out[i];
-      e.samples = samples;
+      e.samples = samplesOf(i, samples);
       e.meanLux = Rgb(v.mean);
       const dvec3 variance =
           k == 1 ? v.naive : (priorDof * eta2[groupOf(i)] * v.naive + dof * v.replicate) / (priorDof + dof);
@@ -132,9 +142,11 @@ class Accumulators {
     }
   }
 
- private:
+ public:
   uint32_t groupOf(size_t point) const { return groups_.empty() ? 0 : groups_[point]; }
+  uint32_t groupCount() const { return groupCount_; }
 
+ private:
   ProgressState& state_;
   std::vector<uint32_t> groups_;
   uint32_t groupCount_;
@@ -168,6 +180,7 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
     uint64_t threadRays = 0;
     for (size_t begin = next.fetch_add(kChunk); begin < pointEnd; begin = next.fetch_add(kChunk)) {
       for (size_t i = begin; i < std::min(begin + kChunk, pointEnd); ++i) {
+        if (acc.settled(i)) continue;
         if (k == 1) {
           S sampler(settings.seed + i);
           for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
@@ -201,6 +214,33 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
   work();
   pool.clear();
   rays += totalRays;
+}
+
+// Settles the groups of which kSettledPercentile of the points have a relative error of luminance at most
+// the target (ProgressState::settledSamples).
+void settleGroups(const EstimateResult& result, const Accumulators& acc, const EstimateSettings& settings,
+                  ProgressState& state) {
+  std::vector<std::vector<float>> errors(acc.groupCount());
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    if (acc.settled(i)) continue;
+    const IrradianceEstimate& e = result.points[i];
+    const float mean = luminance(e.meanLux);
+    const float error = luminance(e.stdErrorLux);
+    const float relative =
+        mean > 0.0f ? error / mean : (error > 0.0f ? std::numeric_limits<float>::infinity() : 0.0f);
+    errors[acc.groupOf(i)].push_back(std::isnan(relative) ? std::numeric_limits<float>::infinity()
+                                                          : relative);
+  }
+  state.settledSamples.resize(acc.groupCount(), 0);
+  for (uint32_t g = 0; g < acc.groupCount(); ++g) {
+    std::vector<float>& e = errors[g];
+    if (state.settledSamples[g] > 0 || e.empty()) continue;
+    // The nearest-rank percentile: the largest value for fewer than 100 points.
+    const auto k = std::min(
+        e.size() - 1, static_cast<size_t>(std::ceil(kSettledPercentile * static_cast<double>(e.size()))) - 1);
+    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k), e.end());
+    if (e[k] <= settings.targetRelativeError) state.settledSamples[g] = state.samplesPerPoint;
+  }
 }
 
 bool isPowerOfTwo(uint32_t x) {
@@ -239,7 +279,8 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     state.replicates = replicates;
     state.sums.assign(pointCount * perPoint, dvec3(0.0));
   } else if (state.pointCount != pointCount || state.replicates != replicates ||
-             state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount) {
+             state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount ||
+             state.settledSamples.size() > source.groupCount()) {
     throw std::invalid_argument("estimateProgressively: the state to continue has " +
                                 std::to_string(state.pointCount) + " points and " +
                                 std::to_string(state.replicates) + " replicates, the estimate " +
@@ -292,10 +333,19 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       const uint32_t total = state.samplesPerPoint;
       const uint32_t passSamples = total == 0 ? settings.firstPassSamples : total;
       if (uint64_t{total} + passSamples > settings.maxSamples) break;
+      // The points it will sample, against those of the last pass (fewer once groups are settled).
+      size_t active = 0;
+      for (size_t i = 0; i < pointCount; ++i) active += acc.settled(i) ? 0 : 1;
+      if (active == 0 && pointCount > 0) break;
+      const double pointShare = state.lastPassPoints > 0
+                                    ? static_cast<double>(active) / static_cast<double>(state.lastPassPoints)
+                                    : 1.0;
       if (total > 0 && state.lastPassSamples > 0 &&
-          elapsed() + state.lastPassS * passSamples / static_cast<double>(state.lastPassSamples) >
+          elapsed() +
+                  state.lastPassS * pointShare * passSamples / static_cast<double>(state.lastPassSamples) >
               settings.timeLimitS)
         break;
+      state.lastPassPoints = active;
       state.passSamples = passSamples;
       state.passPointsDone = 0;
       state.passRays = 0;
@@ -329,6 +379,8 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     state.passSeconds = 0.0;
     ++state.passes;
     fillResult(state.samplesPerPoint);
+    if (settings.targetRelativeError > 0.0f && acc.groupCount() > 1)
+      settleGroups(result, acc, settings, state);
     result.seconds = elapsed();
     const bool more = !afterPass || afterPass(result, passRays, state.lastPassS);
     if (checkpoints && elapsed() - lastCheckpointS >= checkpointing.intervalS) save();
@@ -355,7 +407,9 @@ uint64_t fnv1a(const std::string& bytes, size_t count) {
   return h;
 }
 
-constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '2'};
+// Version 3 adds the settled groups and the last pass's point count; version 2 (before them) is still read.
+constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '3'};
+constexpr char kStateTagV2[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '2'};
 
 template <class T>
 void put(std::string& out, const T& value) {
@@ -386,6 +440,9 @@ std::string serializeProgressState(const ProgressState& s) {
     put(out, v.y);
     put(out, v.z);
   }
+  put(out, static_cast<uint64_t>(s.settledSamples.size()));
+  for (uint32_t v : s.settledSamples) put(out, v);
+  put(out, s.lastPassPoints);
   put(out, fnv1a(out, out.size()));
   return out;
 }
@@ -395,8 +452,10 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
     return InputError(SourceLocation{fileName}, "not a usable checkpoint: " + what,
                       "the checkpoint is damaged or from another version of fly; start the bake afresh");
   };
+  const bool version2 = bytes.size() >= sizeof kStateTagV2 &&
+                        bytes.compare(0, sizeof kStateTagV2, kStateTagV2, sizeof kStateTagV2) == 0;
   if (bytes.size() < sizeof kStateTag + 8 ||
-      bytes.compare(0, sizeof kStateTag, kStateTag, sizeof kStateTag) != 0)
+      (!version2 && bytes.compare(0, sizeof kStateTag, kStateTag, sizeof kStateTag) != 0))
     throw bad("it does not start with the fly progress-state tag");
   uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
@@ -431,6 +490,14 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
     get(v.x);
     get(v.y);
     get(v.z);
+  }
+  if (!version2) {
+    uint64_t groups = 0;
+    get(groups);
+    if (groups > (bytes.size() - at) / 4) throw bad("its sizes do not agree");
+    s.settledSamples.resize(groups);
+    for (uint32_t& v : s.settledSamples) get(v);
+    get(s.lastPassPoints);
   }
   if (at != bytes.size() - 8) throw bad("it has trailing bytes");
   return s;

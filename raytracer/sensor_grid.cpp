@@ -21,8 +21,8 @@ Axis latticeAxis(float lo, float hi, float spacingM) {
   return {size_t(n), 0.5 * (double(lo) + double(hi)) - 0.5 * (n - 1.0) * double(spacingM)};
 }
 
-// The height of triangle t's plane at (x, z), for a triangle facing up (|n.y| ≥ kFloorMinNormalY): exact for a
-// horizontal one, unlike the hit distance, whose error grows with the ray's length.
+// The height of triangle t's plane at (x, z), for a triangle facing up (|n.y| ≥ kFloorMinNormalY): exact for
+// a horizontal one, unlike the hit distance, whose error grows with the ray's length.
 float planeHeightM(const rdb::TraceRdb& rdb, uint32_t t, const vec3& n, float x, float z) {
   const vec3& p0 = rdb.positionsM[rdb.indices[3 * size_t(t)]];
   return float(double(p0.y) -
@@ -59,7 +59,8 @@ std::vector<GridSensor> floorSensorGrid(const rdb::TraceRdb& rdb, const EmbreeSc
         if (hit->geometricNormal.y >= kFloorMinNormalY) {
           const vec3 floorPoint(x, planeHeightM(rdb, hit->triangle, hit->geometricNormal, x, z), z);
           // The first surface straight above: none (sky), or a ceiling (facing down) at least heightM away.
-          const std::optional<Hit> above = scene.intersect(offsetRayOrigin(floorPoint, up, magnitudeM), up, kInf);
+          const std::optional<Hit> above =
+              scene.intersect(offsetRayOrigin(floorPoint, up, magnitudeM), up, kInf);
           if (!above || (above->geometricNormal.y <= 0.0f && above->distanceM >= heightM)) {
             sensors.push_back({floorPoint + heightM * up, up, floorPoint.y});
           }
@@ -69,7 +70,8 @@ std::vector<GridSensor> floorSensorGrid(const rdb::TraceRdb& rdb, const EmbreeSc
     }
   }
   const auto key = [](const GridSensor& s) {
-    return std::tuple(std::llround(double(s.floorHeightM) * 1e3), s.positionM.z, s.positionM.x, s.floorHeightM);
+    return std::tuple(std::llround(double(s.floorHeightM) * 1e3), s.positionM.z, s.positionM.x,
+                      s.floorHeightM);
   };
   std::sort(sensors.begin(), sensors.end(),
             [&key](const GridSensor& a, const GridSensor& b) { return key(a) < key(b); });

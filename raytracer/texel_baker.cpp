@@ -427,6 +427,7 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
     (points_[i].back ? tex.backLux : tex.frontLux)[texel.index] = estimates[i].meanLux;
     (points_[i].back ? tex.backStdErrorLux : tex.frontStdErrorLux)[texel.index] = estimates[i].stdErrorLux;
     baked[texel.texture][texel.index] = 1;
+    tex.samples = std::max(tex.samples, estimates[i].samples);
   }
 
   for (size_t k = 0; k < out.size(); ++k) {

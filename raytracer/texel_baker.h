@@ -69,6 +69,7 @@ struct LightTexture {
   size_t bakedTexels = 0;      // texels with footprint area: the progressive run's points
   size_t emptyTexels = 0;      // touched by a triangle but without area to sample: filled from neighbours
   size_t seamEdges = 0;        // mesh edges whose two copies in the atlas were made consistent
+  uint32_t samples = 0;        // per baked texel (the most any took; its group may have settled earlier)
 };
 
 // The progressive run's points for the light textures: every baked texel on its front, then on its back for

@@ -42,8 +42,8 @@ inline Onb onb(const vec3& n) {
 inline vec2 sinCosQuarterPi(float x) {
   const float z = x * x;
   const float s = x + x * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
-  const float c =
-      1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+  const float c = 1.0f - 0.5f * z +
+                  z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
   return vec2(s, c);
 }
 
@@ -72,8 +72,10 @@ inline float asinApprox(float y) {
   const float x = large ? std::sqrt(0.5f * (1.0f - a)) : a;
   const float z = x * x;
   const float p =
-      x + x * z * (1.6666752422e-1f +
-                   z * (7.4953002686e-2f + z * (4.5470025998e-2f + z * (2.4181311049e-2f + z * 4.2163199048e-2f))));
+      x +
+      x * z *
+          (1.6666752422e-1f +
+           z * (7.4953002686e-2f + z * (4.5470025998e-2f + z * (2.4181311049e-2f + z * 4.2163199048e-2f))));
   return std::copysign(large ? 0.5f * kPiF - 2.0f * p : p, y);
 }
 
@@ -87,14 +89,15 @@ inline float atan2Approx(float y, float x) {
   const float num = steep ? ax : ay;
   const float den = steep ? ay : ax;
   if (den == 0.0f) return std::atan2(y, x);  // the origin (and signed zeros) as libm has them
-  float t = num / den;                        // [0, 1]
+  float t = num / den;                       // [0, 1]
   float base = 0.0f;
   if (t > 0.41421356f) {  // tan(π/8): atan t = π/4 + atan((t − 1) / (t + 1))
     t = (t - 1.0f) / (t + 1.0f);
     base = 0.25f * kPiF;
   }
   const float z = t * t;
-  const float p = -3.33329491539e-1f + z * (1.99777106478e-1f + z * (-1.38776856032e-1f + z * 8.05374449538e-2f));
+  const float p =
+      -3.33329491539e-1f + z * (1.99777106478e-1f + z * (-1.38776856032e-1f + z * 8.05374449538e-2f));
   float theta = base + t + t * z * p;
   if (steep) theta = 0.5f * kPiF - theta;
   if (x < 0.0f) theta = kPiF - theta;
