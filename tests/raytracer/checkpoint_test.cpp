@@ -68,6 +68,18 @@ class TwoGroupSource final : public SampleSourceOf<TwoGroupSource> {
   }
 };
 
+// An estimate of source from 64 samples up to maxSamples (2 replicates), with seed 1000 · seed and the target
+// error (0: none).
+EstimateResult seededEstimate(const SampleSource& source, uint64_t seed, uint32_t maxSamples, float target) {
+  EstimateSettings settings;
+  settings.firstPassSamples = 64;
+  settings.maxSamples = maxSamples;
+  settings.replicates = 2;
+  settings.targetRelativeError = target;
+  settings.seed = 1000 * seed;
+  return estimateProgressively(source, settings);
+}
+
 // The moderated error pools the nets' gain per group: each group's reported errors match its measured
 // errors, while one gain pooled over both (in lux², led by the bright group) would understate the dim
 // group's error several times.
@@ -76,12 +88,7 @@ TEST(ModeratedErrorTest, PoolsTheGainPerGroup) {
   double squared[2] = {0.0, 0.0};
   double reported[2] = {0.0, 0.0};
   for (uint64_t seed = 0; seed < 8; ++seed) {
-    EstimateSettings settings;
-    settings.firstPassSamples = 64;
-    settings.maxSamples = 64;
-    settings.replicates = 2;
-    settings.seed = 1000 * seed;
-    const EstimateResult r = estimateProgressively(source, settings);
+    const EstimateResult r = seededEstimate(source, seed, 64, 0.0f);
     for (size_t i = 0; i < source.pointCount(); ++i) {
       const double error = r.points[i].meanLux.g - TwoGroupSource::exact(i);
       squared[source.groupOf(i)] += error * error;
@@ -108,20 +115,16 @@ TEST(SettledGroupsTest, AGroupFarBelowTheTargetStopsAndStaysHonest) {
   const TwoGroupSource source;
   double squared = 0.0;
   double reported = 0.0;
+  constexpr float kTarget = 0.05f;
   for (uint64_t seed = 0; seed < 8; ++seed) {
-    EstimateSettings settings;
-    settings.firstPassSamples = 64;
-    settings.maxSamples = 4096;
-    settings.targetRelativeError = 0.05f;
-    settings.seed = 1000 * seed;
-    const EstimateResult r = estimateProgressively(source, settings);
-    EXPECT_LE(r.relativeErrorP95, settings.targetRelativeError);
+    const EstimateResult r = seededEstimate(source, seed, 4096, kTarget);
+    EXPECT_LE(r.relativeErrorP95, kTarget);
     EXPECT_GT(r.samplesPerPoint, 64u);
     for (size_t i = 0; i < source.pointCount(); ++i) {
       const IrradianceEstimate& e = r.points[i];
       if (source.groupOf(i) == 0) {
         ASSERT_EQ(e.samples, 64u) << "point " << i;
-        EXPECT_LE(relativeError(e), settings.targetRelativeError);
+        EXPECT_LE(relativeError(e), kTarget);
         const double error = e.meanLux.g - TwoGroupSource::exact(i);
         squared += error * error;
         reported += double{e.stdErrorLux.g} * e.stdErrorLux.g;
