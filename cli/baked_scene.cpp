@@ -173,15 +173,6 @@ std::span<const vec3> range(const std::vector<vec3>& v, const rdb::TraceMesh& m)
   return std::span<const vec3>(v).subspan(m.firstVertex, m.vertexCount);
 }
 
-// The samples an object's vertices took (the most of any; a settled object took fewer than the bake's last
-// pass).
-uint32_t objectSamples(const raytracer::VertexLightMaps& maps, const rdb::TraceMesh& m) {
-  uint32_t samples = 0;
-  for (size_t v = m.firstVertex; v < m.firstVertex + m.vertexCount && v < maps.frontSamples.size(); ++v)
-    samples = std::max(samples, maps.frontSamples[v]);
-  return samples;
-}
-
 json materialJson(const rdb::TraceMaterial& m, const std::string& name) {
   json j = {{"pbrMetallicRoughness",
              {{"baseColorFactor", {m.diffuse.r, m.diffuse.g, m.diffuse.b, 1.0f}},
@@ -626,6 +617,13 @@ void writeDirectoryAtomic(const fs::path& dir, const std::function<void(const fs
     fs::remove_all(tmp, ec);
     throw;
   }
+}
+
+uint32_t objectSamples(const raytracer::VertexLightMaps& maps, const rdb::TraceMesh& m) {
+  uint32_t samples = 0;
+  for (size_t v = m.firstVertex; v < m.firstVertex + m.vertexCount && v < maps.frontSamples.size(); ++v)
+    samples = std::max(samples, maps.frontSamples[v]);
+  return samples;
 }
 
 json readBakedManifest(const fs::path& dir) {

@@ -86,6 +86,10 @@ void checkBakeOutput(const std::filesystem::path& dir);
 void writeDirectoryAtomic(const std::filesystem::path& dir,
                           const std::function<void(const std::filesystem::path& tmp)>& fill);
 
+// The samples an object's vertices took: the most of any (an object settled before the last pass took fewer
+// than the bake's samplesPerVertex; raytracer/progressive.h, kSettledPercentile).
+uint32_t objectSamples(const raytracer::VertexLightMaps& maps, const rdb::TraceMesh& m);
+
 // Reads DIR/manifest.json. InputError naming the file when it is missing, not JSON, or not a baked scene of a
 // format version this program reads.
 nlohmann::json readBakedManifest(const std::filesystem::path& dir);

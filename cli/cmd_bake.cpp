@@ -219,9 +219,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   // Objects and light textures settled below the target before the last pass (kSettledPercentile).
   size_t settled = 0;
   for (const rdb::TraceMesh& m : rdb.meshes) {
-    uint32_t samples = 0;
-    for (size_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v)
-      samples = std::max(samples, maps.frontSamples[v]);
+    const uint32_t samples = objectSamples(maps, m);
     settled += samples > 0 && samples < maps.samplesPerVertex;
   }
   for (const raytracer::LightTexture& tex : maps.lightTextures)

@@ -239,14 +239,31 @@ void Integrator::buildPortals() {
     candidates.push_back(
         {plane, t, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, scene_.triangleAreaM2(t)});
   }
-  // Each plane's inner side: rays from its panes' centres over the upper hemisphere (64 directions of a
-  // Fibonacci lattice, equal-area) on each side; the side whose rays reach the sky less often, when the
-  // other's reach it at least 20 % of the time and at least twice as often. Other planes (glass between
-  // rooms, glass in the open) are no portals.
+  // Each plane's inner side: rays from its panes' centres over the upper hemisphere on each side; the side
+  // whose rays reach the sky less often, when the other's reach it at least 20 % of the time and at least
+  // twice as often. Other planes (glass between rooms, glass in the open) are no portals.
   std::vector<bool> keep(portalPlanes_.size(), false);
-  constexpr int kDirections = 64;
-  constexpr uint32_t kPanesTried = 8;
+  constexpr int kSphereDirections = 128;
+  constexpr size_t kPanesTried = 8;
   uint64_t rays = 0;
+  // Calls f(origin, d) for rays from the centres of up to kPanesTried of the panes, moved off to the side of
+  // `side`, in the directions on that side of a Fibonacci sphere of kSphereDirections (equal-area; the
+  // golden angle between consecutive points).
+  auto probe = [&](const std::vector<const Candidate*>& panes, const vec3& side, auto&& f) {
+    const size_t tried = std::min(kPanesTried, panes.size());
+    for (size_t k = 0; k < tried; ++k) {
+      const Candidate& c = *panes[k * panes.size() / tried];
+      const vec3 origin = offsetRayOrigin(c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f, side,
+                                          scene_.triangleMagnitudeM(c.triangle));
+      for (int i = 0; i < kSphereDirections; ++i) {
+        const float y = 1.0f - (2.0f * static_cast<float>(i) + 1.0f) / kSphereDirections;
+        const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+        const float phi = 2.39996323f * static_cast<float>(i);
+        const vec3 d(r * std::cos(phi), y, r * std::sin(phi));
+        if (glm::dot(d, side) > 0.0f) f(origin, d);
+      }
+    }
+  };
   for (uint32_t plane = 0; plane < portalPlanes_.size(); ++plane) {
     PortalPlane& q = portalPlanes_[plane];
     std::vector<const Candidate*> panes;
@@ -254,46 +271,26 @@ void Integrator::buildPortals() {
       if (c.plane == plane) panes.push_back(&c);
     float skyFraction[2] = {0.0f, 0.0f};
     for (int side = 0; side < 2; ++side) {
-      const vec3 outward = side == 0 ? q.n : -q.n;
       int tried = 0, escaped = 0;
-      for (uint32_t k = 0; k < std::min<size_t>(kPanesTried, panes.size()); ++k) {
-        const Candidate& c = *panes[k * panes.size() / std::min<size_t>(kPanesTried, panes.size())];
-        const vec3 centre = c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f;
-        const vec3 origin = offsetRayOrigin(centre, outward, scene_.triangleMagnitudeM(c.triangle));
-        for (int i = 0; i < kDirections; ++i) {
-          const float y = (static_cast<float>(i) + 0.5f) / kDirections;
-          const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-          const float phi = 2.39996323f * static_cast<float>(i);  // the golden angle, radians
-          const vec3 d(r * std::cos(phi), y, r * std::sin(phi));
-          if (!(glm::dot(d, outward) > 0.0f)) continue;
-          ++tried;
-          if (maxComponent(visibility(origin, d, std::numeric_limits<float>::infinity(), rays)) > 0.0f)
-            ++escaped;
-        }
-      }
+      probe(panes, side == 0 ? q.n : -q.n, [&](const vec3& origin, const vec3& d) {
+        if (!(d.y > 0.0f)) return;
+        ++tried;
+        if (maxComponent(visibility(origin, d, std::numeric_limits<float>::infinity(), rays)) > 0.0f)
+          ++escaped;
+      });
       skyFraction[side] = tried > 0 ? static_cast<float>(escaped) / static_cast<float>(tried) : 0.0f;
     }
     const int outer = skyFraction[0] >= skyFraction[1] ? 0 : 1;
     if (skyFraction[outer] < 0.2f || skyFraction[1 - outer] > 0.5f * skyFraction[outer]) continue;
     keep[plane] = true;
     q.inward = outer == 0 ? -q.n : q.n;
-    // The depth of the room behind: the farthest hit of rays from the panes over the inner half of a
-    // Fibonacci sphere (unbounded when one escapes).
+    // The depth of the room behind: the farthest hit of rays from the panes into it (unbounded when one
+    // escapes).
     float depthM = 0.0f;
-    for (uint32_t k = 0; k < std::min<size_t>(kPanesTried, panes.size()); ++k) {
-      const Candidate& c = *panes[k * panes.size() / std::min<size_t>(kPanesTried, panes.size())];
-      const vec3 centre = c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f;
-      const vec3 origin = offsetRayOrigin(centre, q.inward, scene_.triangleMagnitudeM(c.triangle));
-      for (int i = 0; i < 2 * kDirections; ++i) {
-        const float y = 1.0f - (static_cast<float>(i) + 0.5f) / kDirections;
-        const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-        const float phi = 2.39996323f * static_cast<float>(i);
-        const vec3 d(r * std::cos(phi), y, r * std::sin(phi));
-        if (!(glm::dot(d, q.inward) > 0.0f)) continue;
-        const std::optional<Hit> hit = scene_.intersect(origin, d, std::numeric_limits<float>::infinity());
-        depthM = hit ? std::max(depthM, hit->distanceM) : std::numeric_limits<float>::infinity();
-      }
-    }
+    probe(panes, q.inward, [&](const vec3& origin, const vec3& d) {
+      const std::optional<Hit> hit = scene_.intersect(origin, d, std::numeric_limits<float>::infinity());
+      depthM = hit ? std::max(depthM, hit->distanceM) : std::numeric_limits<float>::infinity();
+    });
     const vec3 grow(std::min(depthM, 1e30f));
     q.regionMinM = q.boxMinM - grow;
     q.regionMaxM = q.boxMaxM + grow;

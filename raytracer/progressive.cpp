@@ -152,19 +152,28 @@ class Accumulators {
   uint32_t groupCount_;
 };
 
+// The relative standard error of luminance: ∞ for an error on a zero (or undefined) mean, 0 for neither.
+float relativeErrorOf(const IrradianceEstimate& e) {
+  const float mean = luminance(e.meanLux);
+  const float err = luminance(e.stdErrorLux);
+  const float rel = mean > 0.0f ? err / mean : (err > 0.0f ? std::numeric_limits<float>::infinity() : 0.0f);
+  return std::isnan(rel) ? std::numeric_limits<float>::infinity() : rel;
+}
+
+// The nearest-rank p-quantile of values (reordered; the largest value for p ≥ 1 − 1/n), 0 for none.
+float nearestRankQuantile(std::vector<float>& values, double p) {
+  if (values.empty()) return 0.0f;
+  const size_t k =
+      std::min(values.size() - 1, static_cast<size_t>(std::ceil(p * static_cast<double>(values.size()))) - 1);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
 float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
   std::vector<float> rel;
   rel.reserve(estimates.size());
-  for (const IrradianceEstimate& e : estimates) {
-    const float mean = luminance(e.meanLux);
-    const float err = luminance(e.stdErrorLux);
-    rel.push_back(mean > 0.0f ? err / mean : (err > 0.0f ? std::numeric_limits<float>::infinity() : 0.0f));
-  }
-  if (rel.empty()) return 0.0f;
-  const size_t k =
-      std::min(rel.size() - 1, static_cast<size_t>(std::ceil(0.95 * static_cast<double>(rel.size()))) - 1);
-  std::nth_element(rel.begin(), rel.begin() + static_cast<std::ptrdiff_t>(k), rel.end());
-  return rel[k];
+  for (const IrradianceEstimate& e : estimates) rel.push_back(relativeErrorOf(e));
+  return nearestRankQuantile(rel, 0.95);
 }
 
 // Samples firstSample … firstSample + sampleCount − 1 of points [pointBegin, pointEnd) (split evenly over the
@@ -222,24 +231,14 @@ void settleGroups(const EstimateResult& result, const Accumulators& acc, const E
                   ProgressState& state) {
   std::vector<std::vector<float>> errors(acc.groupCount());
   for (size_t i = 0; i < result.points.size(); ++i) {
-    if (acc.settled(i)) continue;
-    const IrradianceEstimate& e = result.points[i];
-    const float mean = luminance(e.meanLux);
-    const float error = luminance(e.stdErrorLux);
-    const float relative =
-        mean > 0.0f ? error / mean : (error > 0.0f ? std::numeric_limits<float>::infinity() : 0.0f);
-    errors[acc.groupOf(i)].push_back(std::isnan(relative) ? std::numeric_limits<float>::infinity()
-                                                          : relative);
+    if (!acc.settled(i)) errors[acc.groupOf(i)].push_back(relativeErrorOf(result.points[i]));
   }
   state.settledSamples.resize(acc.groupCount(), 0);
   for (uint32_t g = 0; g < acc.groupCount(); ++g) {
-    std::vector<float>& e = errors[g];
-    if (state.settledSamples[g] > 0 || e.empty()) continue;
-    // The nearest-rank percentile: the largest value for fewer than 100 points.
-    const auto k = std::min(
-        e.size() - 1, static_cast<size_t>(std::ceil(kSettledPercentile * static_cast<double>(e.size()))) - 1);
-    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k), e.end());
-    if (e[k] <= settings.targetRelativeError) state.settledSamples[g] = state.samplesPerPoint;
+    if (state.settledSamples[g] > 0 || errors[g].empty()) continue;
+    if (nearestRankQuantile(errors[g], kSettledPercentile) <= settings.targetRelativeError) {
+      state.settledSamples[g] = state.samplesPerPoint;
+    }
   }
 }
 
