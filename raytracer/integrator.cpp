@@ -314,65 +314,69 @@ void Integrator::buildPortals() {
     portals_.back().cumulativeAreaM2 = q.areaM2;
   }
   for (PortalPlane& q : planes) {
-    const float magnitudeM = std::max({1.0f, maxAbs(q.boxMinM), maxAbs(q.boxMaxM)});
+    const float marginM = 1e-5f * std::max({1.0f, maxAbs(q.boxMinM), maxAbs(q.boxMaxM)});
     // The boxes a little larger, so that a point on an edge is inside.
-    q.boxMinM -= vec3(1e-5f * magnitudeM);
-    q.boxMaxM += vec3(1e-5f * magnitudeM);
+    q.boxMinM -= vec3(marginM);
+    q.boxMaxM += vec3(marginM);
     q.inwardOffsetM = glm::dot(q.inward, portals_[q.first].p0);
-    q.insideMarginM = 1e-5f * magnitudeM;
-    // Planes of many panes (a glazed facade) get a grid of about one pane per cell, so that a density
-    // evaluation tests the panes of one cell rather than all.
-    if (q.count <= kPanesWithoutGrid) continue;
-    q.origin = portals_[q.first].p0;
-    q.axisU = glm::normalize(portals_[q.first].e1);
-    q.axisV = glm::normalize(glm::cross(q.n, q.axisU));
-    vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    auto local = [&](const vec3& x) {
-      return vec2(glm::dot(x - q.origin, q.axisU), glm::dot(x - q.origin, q.axisV));
-    };
-    for (uint32_t j = q.first; j < q.first + q.count; ++j) {
+    q.insideMarginM = marginM;
+    buildPortalGrid(q, marginM);
+  }
+  if (!portalCellStart_.empty()) portalCellStart_.push_back(static_cast<uint32_t>(portalCellItems_.size()));
+  portalPlanes_ = std::move(planes);
+}
+
+void Integrator::buildPortalGrid(PortalPlane& q, float marginM) {
+  // Planes of many panes (a glazed facade) get a grid of about one pane per cell, so that a density
+  // evaluation tests the panes of one cell rather than all.
+  if (q.count <= kPanesWithoutGrid) return;
+  q.origin = portals_[q.first].p0;
+  q.axisU = glm::normalize(portals_[q.first].e1);
+  q.axisV = glm::normalize(glm::cross(q.n, q.axisU));
+  auto local = [&](const vec3& x) {
+    return vec2(glm::dot(x - q.origin, q.axisU), glm::dot(x - q.origin, q.axisV));
+  };
+  // The box of a pane, or of all, in the plane's coordinates.
+  auto box = [&](uint32_t first, uint32_t last, vec2& lo, vec2& hi) {
+    lo = vec2(std::numeric_limits<float>::max());
+    hi = vec2(-std::numeric_limits<float>::max());
+    for (uint32_t j = first; j < last; ++j) {
       const Portal& p = portals_[j];
       for (const vec3& x : {p.p0, p.p0 + p.e1, p.p0 + p.e2}) {
         lo = glm::min(lo, local(x));
         hi = glm::max(hi, local(x));
       }
     }
-    const float margin = 1e-5f * magnitudeM;
-    q.cells = std::clamp(static_cast<uint32_t>(std::ceil(std::sqrt(static_cast<float>(q.count)))), 1u, 256u);
-    q.gridMinM = lo - vec2(margin);
-    const float sideM = std::max(hi.x - lo.x, hi.y - lo.y) + 2.0f * margin;
-    q.cellsPerM = static_cast<float>(q.cells) / sideM;
-    q.firstCell = static_cast<uint32_t>(portalCellStart_.size());
-    const uint32_t planeCells = q.cells * q.cells;
-    // Counting sort of (cell, pane) pairs: counts, prefix sums, then the items.
-    std::vector<uint32_t> counts(planeCells, 0);
-    auto forCells = [&](const Portal& p, auto&& f) {
-      vec2 a(std::numeric_limits<float>::max()), b(-std::numeric_limits<float>::max());
-      for (const vec3& x : {p.p0, p.p0 + p.e1, p.p0 + p.e2}) {
-        a = glm::min(a, local(x));
-        b = glm::max(b, local(x));
-      }
-      const glm::uvec2 c0 = cellOf(q, a - vec2(margin));
-      const glm::uvec2 c1 = cellOf(q, b + vec2(margin));
-      for (uint32_t cy = c0.y; cy <= c1.y; ++cy)
-        for (uint32_t cx = c0.x; cx <= c1.x; ++cx) f(cy * q.cells + cx);
-    };
-    for (uint32_t j = q.first; j < q.first + q.count; ++j)
-      forCells(portals_[j], [&](uint32_t c) { ++counts[c]; });
-    uint32_t start = static_cast<uint32_t>(portalCellItems_.size());
-    std::vector<uint32_t> fill(planeCells);
-    for (uint32_t c = 0; c < planeCells; ++c) {
-      portalCellStart_.push_back(start);
-      fill[c] = start;
-      start += counts[c];
-    }
-    portalCellItems_.resize(start);
-    for (uint32_t j = q.first; j < q.first + q.count; ++j) {
-      forCells(portals_[j], [&](uint32_t c) { portalCellItems_[fill[c]++] = j; });
-    }
+  };
+  vec2 lo, hi;
+  box(q.first, q.first + q.count, lo, hi);
+  q.cells = std::clamp(static_cast<uint32_t>(std::ceil(std::sqrt(static_cast<float>(q.count)))), 1u, 256u);
+  q.gridMinM = lo - vec2(marginM);
+  q.cellsPerM = static_cast<float>(q.cells) / (std::max(hi.x - lo.x, hi.y - lo.y) + 2.0f * marginM);
+  q.firstCell = static_cast<uint32_t>(portalCellStart_.size());
+  const uint32_t planeCells = q.cells * q.cells;
+  // Counting sort of (cell, pane) pairs: counts, prefix sums, then the items.
+  auto forCells = [&](uint32_t j, auto&& f) {
+    vec2 a, b;
+    box(j, j + 1, a, b);
+    const glm::uvec2 c0 = cellOf(q, a - vec2(marginM));
+    const glm::uvec2 c1 = cellOf(q, b + vec2(marginM));
+    for (uint32_t cy = c0.y; cy <= c1.y; ++cy)
+      for (uint32_t cx = c0.x; cx <= c1.x; ++cx) f(cy * q.cells + cx);
+  };
+  std::vector<uint32_t> counts(planeCells, 0);
+  for (uint32_t j = q.first; j < q.first + q.count; ++j) forCells(j, [&](uint32_t c) { ++counts[c]; });
+  auto start = static_cast<uint32_t>(portalCellItems_.size());
+  std::vector<uint32_t> fill(planeCells);
+  for (uint32_t c = 0; c < planeCells; ++c) {
+    portalCellStart_.push_back(start);
+    fill[c] = start;
+    start += counts[c];
   }
-  if (!portalCellStart_.empty()) portalCellStart_.push_back(static_cast<uint32_t>(portalCellItems_.size()));
-  portalPlanes_ = std::move(planes);
+  portalCellItems_.resize(start);
+  for (uint32_t j = q.first; j < q.first + q.count; ++j) {
+    forCells(j, [&](uint32_t c) { portalCellItems_[fill[c]++] = j; });
+  }
 }
 
 glm::uvec2 Integrator::cellOf(const PortalPlane& q, const vec2& localM) {
@@ -431,12 +435,10 @@ float Integrator::portalPdf(const vec3& x, const vec3& d, float areaM2) const {
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
-float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell) const {
+float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float portalAreaM2) const {
   const float table = skyPdfPerSr_[cell];
-  if (portalPlanes_.empty()) return table;
-  const float areaM2 = portalAreaM2(x);
-  if (!(areaM2 > 0.0f)) return table;
-  return (1.0f - kPortalFraction) * table + kPortalFraction * portalPdf(x, d, areaM2);
+  if (!(portalAreaM2 > 0.0f)) return table;
+  return (1.0f - kPortalFraction) * table + kPortalFraction * portalPdf(x, d, portalAreaM2);
 }
 
 float Integrator::emitterPdf(uint32_t t, float distM, float absCosLight) const {
@@ -564,7 +566,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
     if (sunOneMinusCos_ <= 0.0f) sampler.skip(2);
     vec2 u = sampler.next2D();
     // The portals' share α where v is inside some portal plane, else 0.
-    const float portalArea = portalPlanes_.empty() ? 0.0f : portalAreaM2(v.p);
+    const float portalArea = portalAreaM2(v.p);
     const float alpha = portalArea > 0.0f ? kPortalFraction : 0.0f;
     std::optional<vec3> d;
     uint32_t cell = 0;
@@ -608,9 +610,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
     if (d && (alpha > 0.0f || tablePdf > 0.0f) && response(v, v.bsdf, *d, fCos, pdfBsdf)) {
       const Rgb seen = visibility(originTowards(*d), *d, std::numeric_limits<float>::infinity(), rays);
       if (maxComponent(seen) > 0.0f) {
-        const float pdf = alpha > 0.0f
-                              ? (1.0f - alpha) * skyPdfPerSr_[cell] + alpha * portalPdf(v.p, *d, portalArea)
-                              : tablePdf;
+        const float pdf = alpha > 0.0f ? skyLightPdf(v.p, *d, cell, portalArea) : tablePdf;
         if (pdf > 0.0f && std::isfinite(pdf)) {
           sum += rdb_.sky.radianceCdM2[cell] * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) * seen;
         }
@@ -765,7 +765,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       if (skyDistribution_ && d.y >= 0.0f) {
         const uint32_t cell = skyCell(d);
         sum += beta * rdb_.sky.radianceCdM2[cell] *
-               (specular ? 1.0f : powerHeuristic(pdfLast, skyLightPdf(misOrigin, d, cell)));
+               (specular ? 1.0f
+                         : powerHeuristic(pdfLast, skyLightPdf(misOrigin, d, cell, portalAreaM2(misOrigin))));
       }
       // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
       if (specular && settings_.caustics && sunOneMinusCos_ > 0.0f) {

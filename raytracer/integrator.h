@@ -187,11 +187,11 @@ class Integrator {
   // The sky table's cell towards world direction d with d.y ≥ 0: an index into rdb.sky.radianceCdM2 and
   // skyPdfPerSr_.
   uint32_t skyCell(const vec3& d) const;
-  // Density per steradian with which directLight's sky sampling draws world direction d (d.y ≥ 0) from x:
-  // the sky table's for d's cell, mixed with the portals' when x is inside some.
-  float skyLightPdf(const vec3& x, const vec3& d, uint32_t cell) const;
-  // The pane area of the portal planes whose inner side x is on (0: none).
+  // The pane area of the portal planes whose inner side x is on (0: none, and always without portals).
   float portalAreaM2(const vec3& x) const;
+  // Density per steradian with which directLight's sky sampling draws world direction d (d.y ≥ 0) from x,
+  // given portalAreaM2(x): the sky table's for d's cell, mixed with the portals' when that area is not 0.
+  float skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float portalAreaM2) const;
   // p_portal(x, d) for areaM2 = portalAreaM2(x) > 0.
   float portalPdf(const vec3& x, const vec3& d, float areaM2) const;
   // Whether x is on plane q's inner side.
@@ -263,6 +263,9 @@ class Integrator {
   std::vector<uint32_t> portalCellItems_;
   // The grid cell of plane q under a point at in-plane coordinates localM, clamped into the grid.
   static glm::uvec2 cellOf(const PortalPlane& q, const vec2& localM);
+  // Gives plane q, whose portals are in portals_, a grid in portalCellStart_ and portalCellItems_ when it has
+  // more than kPanesWithoutGrid panes; marginM widens the grid and each pane's cells.
+  void buildPortalGrid(PortalPlane& q, float marginM);
   std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
   std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.
