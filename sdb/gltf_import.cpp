@@ -30,10 +30,8 @@
 //  - KHR_materials_volume: attenuationColor and attenuationDistance are Beer–Lambert parameters with the same
 //    meaning as scatteringColor and scatteringDistanceM. thicknessFactor is not needed: fly traces the
 //    geometry.
-//  - alphaMode BLEND with a baseColorFactor alpha below 1 and no KHR_materials_transmission: a fraction
-//    1 − alpha of the light passes straight through, which is what alpha blending shows. So
-//    transmissionColor = 1 − alpha, clear (glossiness 0), ior 1 (not bent, no Fresnel reflection). The alpha
-//    of baseColorTexture is not used. alphaMode MASK is treated as opaque, with a warning.
+//  - alphaMode, alphaCutoff and baseColorFactor's alpha → Material::alphaMode, alphaCutoff and opacity; the
+//    alpha channel of baseColorTexture (diffuseTexture) and of COLOR_0 multiply the coverage per point.
 //  - emissionLuminance = emissiveFactor × KHR_materials_emissive_strength, in cd/m² (DESIGN.md, "Units and
 //    frames"); emissiveTexture → emissionTexture (sRGB).
 //  - normalTexture → bumpTexture with bumpScale = normalTexture.scale.
@@ -1441,15 +1439,14 @@ class Importer {
         m.scatteringColor = color;
         m.scatteringDistanceM = float(distance);
       }
-    } else if (gm.alphaMode == "BLEND" && alpha < 1.0f) {
-      m.transmissionColor = Rgb(1.0f - alpha);
-      m.transmissionGlossiness = 0.0f;
-      m.ior = 1.0f;
     }
+    m.opacity = alpha;
     if (gm.alphaMode == "MASK") {
-      warn(label +
-           " uses alphaMode MASK (cut-outs), which fly does not support; the surface is treated as opaque");
-    } else if (gm.alphaMode != "OPAQUE" && gm.alphaMode != "BLEND") {
+      m.alphaMode = AlphaMode::kMask;
+      m.alphaCutoff = unitFactor(gm.alphaCutoff, path + "/alphaCutoff", label + " alphaCutoff");
+    } else if (gm.alphaMode == "BLEND") {
+      m.alphaMode = AlphaMode::kBlend;
+    } else if (gm.alphaMode != "OPAQUE") {
       fail(path + "/alphaMode",
            label + " has alphaMode '" + gm.alphaMode + "'; glTF defines OPAQUE, MASK and BLEND");
     }

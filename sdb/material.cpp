@@ -80,6 +80,8 @@ std::string validate(const Material& m) {
   c.unit("diffuseColor", m.diffuseColor);
   c.unit("reflectionColor", m.reflectionColor);
   c.unit("transmissionColor", m.transmissionColor);
+  c.unit("opacity", m.opacity);
+  c.unit("alphaCutoff", m.alphaCutoff);
   c.check(m.ior >= 1.0f && m.ior <= 4.0f, "ior", Checker::str(m.ior), "[1, 4]");
   c.unit("reflectionGlossiness", m.reflectionGlossiness);
   c.unit("anisotropyU", m.anisotropyU);

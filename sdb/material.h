@@ -30,6 +30,13 @@ struct EffectiveComponents {
 // Textured materials apply it per texel with the same function.
 EffectiveComponents applyEnergyRule(const Rgb& diffuse, const Rgb& reflection, const Rgb& transmission);
 
+// How a surface's coverage (its alpha) is used (glTF 2.0 §3.9.4 "Alpha Coverage").
+enum class AlphaMode {
+  kOpaque,  // fully covered everywhere; alpha is ignored
+  kMask,    // a cut-out: covered where coverage ≥ alphaCutoff, absent (light and rays pass) elsewhere
+  kBlend,   // partial coverage: a fraction 1 − coverage of the light passes straight through, unbent
+};
+
 // Fresnel reflectance at normal incidence from the index of refraction (against air): F0 = ((n − 1)/(n + 1))².
 float fresnelF0(float ior);
 // Schlick's approximation (Schlick 1994, eq. 24): F(θ) = F0 + (1 − F0)(1 − cos θ)⁵, cos θ clamped to [0,1].
@@ -50,6 +57,12 @@ struct Material {
   // Diffuse (Lambertian) reflectance, linear Rec.709, each channel in [0,1]. Default 0.8 (a light grey paint).
   Rgb diffuseColor{0.8f};
   TextureRef diffuseTexture;  // sRGB-encoded; multiplies diffuseColor
+
+  // Coverage (glTF alpha), [0,1]: opacity × the alpha channel of diffuseTexture (when it has one) × the
+  // mesh's COLOR_0 alpha, used as alphaMode says. Default 1 with kOpaque.
+  AlphaMode alphaMode = AlphaMode::kOpaque;
+  float opacity = 1.0f;      // glTF baseColorFactor alpha
+  float alphaCutoff = 0.5f;  // kMask threshold, [0,1] (glTF alphaCutoff, default 0.5)
 
   // Reflection colour, linear, [0,1]; takes precedence over transmission and diffuse in the energy rule.
   Rgb reflectionColor{0.0f};
@@ -129,6 +142,8 @@ struct Material {
   }
   bool isAnisotropic() const { return anisotropyU != anisotropyV || bool(anisotropyTexture); }
   bool isMeasured() const { return !measuredBrdfPath.empty(); }
+  // Some light may pass where the surface is not covered (alpha mask or blend).
+  bool hasAlpha() const { return alphaMode != AlphaMode::kOpaque; }
   // A mirror-like reflector: strong reflection at normal incidence (luminance ≥ 0.5) and a narrow lobe
   // (glossiness ≤ 0.2), the kind that needs a reflection pass rather than a light-map term.
   bool isMirrorLike() const;

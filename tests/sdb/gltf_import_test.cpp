@@ -583,7 +583,7 @@ TEST_F(GltfImport, TransmissionAndVolumeExtensions) {
   EXPECT_TRUE(m.isTransmissive());
 }
 
-TEST_F(GltfImport, AlphaBlendBecomesClearTransmissionAndMaskWarns) {
+TEST_F(GltfImport, AlphaModesBecomeCoverage) {
   import(withMaterial({{"alphaMode", "BLEND"},
                        { "pbrMetallicRoughness",
                          {
@@ -594,15 +594,23 @@ TEST_F(GltfImport, AlphaBlendBecomesClearTransmissionAndMaskWarns) {
                                0.25 } }
                          } }}));
   const Material& m = onlyMaterialOfMesh();
-  expectRgb(m.transmissionColor, Rgb(0.75f));
-  EXPECT_FLOAT_EQ(m.ior, 1.0f);
-  EXPECT_FLOAT_EQ(m.transmissionGlossiness, 0.0f);
+  EXPECT_EQ(m.alphaMode, AlphaMode::kBlend);
+  EXPECT_FLOAT_EQ(m.opacity, 0.25f);
+  expectRgb(m.transmissionColor, Rgb(0.0f));  // coverage, not transmission: no Fresnel, no tint
+  EXPECT_TRUE(m.hasAlpha());
 
   Scene other;
-  withMaterial({{"name", "Leaf"}, {"alphaMode", "MASK"}}).writeGltf(dir_ / "mask.gltf");
+  withMaterial({{"name", "Leaf"}, {"alphaMode", "MASK"}, {"alphaCutoff", 0.3}}).writeGltf(dir_ / "mask.gltf");
   const GltfImportResult r = importGltf(other, dir_ / "mask.gltf");
-  EXPECT_TRUE(contains(r.warnings, "material 0 'Leaf' uses alphaMode MASK"));
-  expectRgb(other.material(other.findMaterial("Leaf")).transmissionColor, Rgb(0.0f));
+  EXPECT_TRUE(r.warnings.empty());
+  const Material& leaf = other.material(other.findMaterial("Leaf"));
+  EXPECT_EQ(leaf.alphaMode, AlphaMode::kMask);
+  EXPECT_FLOAT_EQ(leaf.alphaCutoff, 0.3f);
+  EXPECT_FLOAT_EQ(leaf.opacity, 1.0f);
+
+  Scene bad;
+  withMaterial({{"alphaMode", "MASK"}, {"alphaCutoff", 1.5}}).writeGltf(dir_ / "badcutoff.gltf");
+  EXPECT_THROW(importGltf(bad, dir_ / "badcutoff.gltf"), InputError);
 }
 
 TEST_F(GltfImport, EmissionIsFactorTimesStrengthInCandelaPerSquareMetre) {
