@@ -65,8 +65,14 @@ struct RendererStats {
   int skyUploads = 0;
   int scenePasses = 0;  // geometry (and sky) passes into the float framebuffer
   int toneMapPasses = 0;
+  int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
+  float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
+
+// The most anisotropic filtering material textures get, where the driver has it (GL 4.6, or
+// GL_ARB_/EXT_texture_filter_anisotropic): 16 samples, the usual ceiling.
+inline constexpr float kMaxAnisotropy = 16.0f;
 
 class Renderer {
  public:
@@ -111,7 +117,9 @@ class Renderer {
   const SceneProgram& sceneProgram(uint32_t variant);
   void uploadGeometry();
   void uploadLightTextures();
+  void uploadTextures();
   void uploadMaterials();
+  void uploadDraws();
   void uploadLights();
   void uploadSky();
   void resize(uint32_t widthPx, uint32_t heightPx);
