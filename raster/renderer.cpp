@@ -70,31 +70,19 @@ namespace {
 
 // The shader's std430 blocks (raster/shaders/scene_glsl.h).
 struct GpuMaterial {
-  vec4 diffuse, specular, emission, transmission, reflection;
-  vec4 coverage;
-  vec4 baseColorRow0, baseColorRow1, emissionRow0, emissionRow1, normalRow0, normalRow1;
+  vec4 diffuse, specular, emission, transmission, reflection, coverage;
 };
 struct GpuLight {
   vec4 positionType, directionRange, cAxisOffset, intensity, cone;
 };
 
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
-  // A texture slot's rows; row0.w = the UV set, −1 without a texture (kSceneCommon's Material).
-  auto rows = [](const rdb::RasterTextureRef& t, vec4& row0, vec4& row1) {
-    row0 = vec4(t.uvRow0, t ? float(t.texCoord) : -1.0f);
-    row1 = vec4(t.uvRow1, 0.0f);
-  };
-  GpuMaterial g{vec4(m.diffuse, 0.0f),
-                vec4(m.specular, m.phongExponent),
-                vec4(m.emissionCdM2, 0.0f),
-                vec4(m.transmission, m.fresnelF0),
-                vec4(m.reflection, 0.0f),
-                vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
-                {}, {}, {}, {}, {}, {}};
-  rows(m.baseColorTexture, g.baseColorRow0, g.baseColorRow1);
-  rows(m.emissionTexture, g.emissionRow0, g.emissionRow1);
-  rows(m.normalTexture, g.normalRow0, g.normalRow1);
-  return g;
+  return {vec4(m.diffuse, 0.0f),
+          vec4(m.specular, m.phongExponent),
+          vec4(m.emissionCdM2, 0.0f),
+          vec4(m.transmission, m.fresnelF0),
+          vec4(m.reflection, 0.0f),
+          vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode)))};
 }
 
 unsigned compileStage(GLenum type, const std::string& source, const std::string& name) {
@@ -210,7 +198,7 @@ void decodeLuminance(uint32_t x, uint32_t y, float* rgb) {
 struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
-        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1;
+        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1;
 };
 
 struct Renderer::Gpu {
@@ -277,13 +265,9 @@ Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbufferPx);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texturePx);
   gpu_->maxImageSizePx = std::min(renderbufferPx, texturePx);
-  // Anisotropic filtering: core in GL 4.6, else ARB_/EXT_texture_filter_anisotropic (the same enums). Not on
-  // Mesa's llvmpipe, whose anisotropic sampling (Mesa 22.3) returns wrong texels at pixels along triangle
-  // edges (tests/raster/renderer_test.cpp, AlphaMaskDiscardsBelowTheCutOff, finds holes in a cut-out there).
-  const char* rendererName = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const bool llvmpipe = rendererName && std::string(rendererName).find("llvmpipe") != std::string::npos;
-  if (!llvmpipe && (epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") ||
-                    epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic"))) {
+  // Anisotropic filtering: core in GL 4.6, else ARB_/EXT_texture_filter_anisotropic (the same enums).
+  if (epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") ||
+      epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic")) {
     GLfloat maxAniso = 1.0f;
     glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &maxAniso);
     gpu_->maxAnisotropy = std::clamp(maxAniso, 1.0f, kMaxAnisotropy);
@@ -372,6 +356,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.sunDir = loc("uSunDirWorld");
   sp.sunNormalLux = loc("uSunNormalLux");
   sp.glassPass = loc("uGlassPass");
+  sp.textureSlots = loc("uTextureSlots");
+  sp.uvRows = loc("uUvRows");
   sp.program = p;
   return sp;
 }
@@ -826,14 +812,22 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       }
       return p;
     };
-    // Binds a per-fragment draw's material textures (units 5–7, kSurfaceFragment); a slot the material
-    // does not use is never sampled.
-    auto bindTextures = [&](const SurfaceDraw& d) {
+    // Binds a per-fragment draw's material textures (units 5–7, kSurfaceFragment) and sets which it has (a
+    // slot the material does not use is never sampled) and their UV maps.
+    auto bindTextures = [&](const SceneProgram& p, const SurfaceDraw& d) {
       const rdb::RasterMaterial& m = r.materials[d.material];
       const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
+      GLuint bits = 0;
+      vec4 rows[6];
       for (GLuint k = 0; k < 3; ++k) {
-        if (*slots[k]) glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
+        rows[2 * k] = vec4(slots[k]->uvRow0, float(slots[k]->texCoord));
+        rows[2 * k + 1] = vec4(slots[k]->uvRow1, 0.0f);
+        if (!*slots[k]) continue;
+        glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
+        bits |= 1u << k;
       }
+      glUniform1ui(p.textureSlots, bits);
+      glUniform4fv(p.uvRows, 6, &rows[0][0]);
     };
     auto draw = [](size_t firstIndex, GLsizei count) {
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
@@ -856,11 +850,12 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       draw(0, gpu_->perVertexIndexCount);
     }
     uint32_t current = ~0u;
+    const SceneProgram* program = nullptr;
     for (const SurfaceDraw& d : gpu_->surfaceDraws) {
       if (d.blend) continue;
       const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
-      if (want != current) use(current = want);
-      bindTextures(d);
+      if (want != current) program = &use(current = want);
+      bindTextures(*program, d);
       draw(d.firstIndex, d.indexCount);
     }
     if ((variant & kVariantGlass) && gpu_->perVertexIndexCount > 0) {
@@ -906,10 +901,10 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glEnable(GL_BLEND);
       glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
       glDepthMask(GL_FALSE);
-      use(surfaceVariant | kVariantBlendPass);
+      const SceneProgram& p = use(surfaceVariant | kVariantBlendPass);
       for (size_t i : order) {
         const SurfaceDraw& d = gpu_->surfaceDraws[i];
-        bindTextures(d);
+        bindTextures(p, d);
         draw(d.firstIndex, d.indexCount);
       }
       glDepthMask(GL_TRUE);

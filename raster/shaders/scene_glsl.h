@@ -26,8 +26,6 @@ namespace fly::raster::shaders {
 // What the scene's vertex and fragment stages share (prepended to both): the material and light tables, the
 // view and lighting uniforms, and the modified Phong.
 inline constexpr const char* kSceneCommon = R"GLSL(
-// A texture slot's affine UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z,
-// dot(row1.xy, uv) + row1.z); row0.w = the UV set (0 or 1), or −1 when the material has no such texture.
 struct Material {
   vec4 diffuse;       // rgb albedo
   vec4 specular;      // rgb reflectance at normal incidence, w Blinn–Phong exponent
@@ -35,9 +33,6 @@ struct Material {
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
   vec4 reflection;    // rgb reflection colour
   vec4 coverage;      // x opacity, y alpha cut-off, z normal scale, w alpha mode (0 opaque, 1 mask, 2 blend)
-  vec4 baseColorRow0, baseColorRow1;
-  vec4 emissionRow0, emissionRow1;
-  vec4 normalRow0, normalRow1;
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 
@@ -397,6 +392,13 @@ in vec2 vUv1;
 layout(binding = 5) uniform sampler2D uBaseColorTexture;
 layout(binding = 6) uniform sampler2D uEmissionTexture;
 layout(binding = 7) uniform sampler2D uNormalTexture;
+// The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map; and per slot its affine
+// UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z), row0.w the
+// UV set (0 or 1). Uniforms (one material per draw), so that every invocation of a 2 × 2 quad — helper
+// invocations outside the triangle too — computes the UVs whose differences pick the mip level, and the
+// samples are taken in uniform control flow, before any discard.
+uniform uint uTextureSlots;
+uniform vec4 uUvRows[6];  // base colour row0, row1; emission row0, row1; normal map row0, row1
 #endif
 #ifdef FLY_VERTEX_COLOR
 in vec4 vColor;
@@ -425,8 +427,14 @@ void main() {
   Material m = materials[vSurface & 0x3fffffffu];
   bool twoSided = (vSurface & 0x40000000u) != 0u;
   vec4 base = vec4(m.diffuse.rgb, m.coverage.x);
+  vec3 emission = m.emission.rgb;
 #ifdef FLY_TEXTURES
-  if (m.baseColorRow0.w >= 0.0) base *= texture(uBaseColorTexture, flyTextureUv(m.baseColorRow0, m.baseColorRow1));
+  vec3 normalTexel = vec3(0.5, 0.5, 1.0);
+  if ((uTextureSlots & 1u) != 0u) base *= texture(uBaseColorTexture, flyTextureUv(uUvRows[0], uUvRows[1]));
+  if ((uTextureSlots & 2u) != 0u) emission *= texture(uEmissionTexture, flyTextureUv(uUvRows[2], uUvRows[3])).rgb;
+#ifdef FLY_NORMAL_MAP
+  if ((uTextureSlots & 4u) != 0u) normalTexel = texture(uNormalTexture, flyTextureUv(uUvRows[4], uUvRows[5])).xyz;
+#endif
 #endif
 #ifdef FLY_VERTEX_COLOR
   base *= vColor;
@@ -457,14 +465,14 @@ void main() {
   if (!useLightMap) {
     vec3 n = normalize(vNormal);
 #ifdef FLY_NORMAL_MAP
-    if (m.normalRow0.w >= 0.0) {
+    if ((uTextureSlots & 4u) != 0u) {
       // glTF's tangent space: x along the tangent, y along w · cross(n, t), z along n.
       vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
       float tl = dot(t, t);
       if (tl > 1e-12) {
         t *= inversesqrt(tl);
         vec3 b = (vTangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
-        vec3 s = texture(uNormalTexture, flyTextureUv(m.normalRow0, m.normalRow1)).xyz * 2.0 - 1.0;
+        vec3 s = normalTexel * 2.0 - 1.0;
         s.xy *= m.coverage.z;
         vec3 bent = t * s.x + b * s.y + n * s.z;
         if (dot(bent, bent) > 1e-12) n = normalize(bent);
@@ -473,10 +481,6 @@ void main() {
 #endif
     l = phong(base.rgb, m, vPositionM, (back && twoSided) ? -n : n, toEye, vCorner);
   }
-#endif
-  vec3 emission = m.emission.rgb;
-#ifdef FLY_TEXTURES
-  if (m.emissionRow0.w >= 0.0) emission *= texture(uEmissionTexture, flyTextureUv(m.emissionRow0, m.emissionRow1)).rgb;
 #endif
   l += emission;
   // The back of a one-sided surface shows black (kSceneFragment).
