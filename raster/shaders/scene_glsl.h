@@ -328,20 +328,33 @@ out vec4 vColor;
 layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(normal, tangent)
 out vec4 vTangent;
 #endif
+// Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
+#ifdef FLY_PHONG
 out vec3 vPositionM;
 out vec3 vNormal;
 out float vCorner;
+#endif
+#ifdef FLY_LIGHT_MAP
 out vec3 vFrontLux;
+#ifdef FLY_TWO_SIDED
 out vec3 vBackLux;
+#endif
+#endif
 flat out uint vSurface;
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
+#ifdef FLY_PHONG
   vPositionM = aPositionM;
   vNormal = aNormal;
   vCorner = aCorner;
+#endif
+#ifdef FLY_LIGHT_MAP
   vFrontLux = aFrontLux;
+#ifdef FLY_TWO_SIDED
   vBackLux = aBackLux;
+#endif
+#endif
   vSurface = aSurface;
 #ifdef FLY_LIGHT_TEXTURE
   vLightMapUv = aLightMapUv;
@@ -368,11 +381,17 @@ void main() {
 // the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
+#ifdef FLY_PHONG
 in vec3 vPositionM;
 in vec3 vNormal;
 in float vCorner;
+#endif
+#ifdef FLY_LIGHT_MAP
 in vec3 vFrontLux;
+#ifdef FLY_TWO_SIDED
 in vec3 vBackLux;
+#endif
+#endif
 flat in uint vSurface;
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
@@ -443,13 +462,16 @@ void main() {
   if (base.a < m.coverage.y) discard;
 #endif
   bool back = !gl_FrontFacing;
-  vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 l = vec3(0.0);
   bool useLightMap = false;
 #ifdef FLY_LIGHT_MAP
   useLightMap = (vSurface & 0x80000000u) != 0u;
   if (useLightMap) {
+#ifdef FLY_TWO_SIDED
     vec3 eLux = (back && twoSided) ? vBackLux : vFrontLux;
+#else
+    vec3 eLux = vFrontLux;
+#endif
 #ifdef FLY_LIGHT_TEXTURE
     if (vLightSlot != 0xffffffffu) {
       uint slot = (vLightSlot & 0x7fffffffu) + ((back && (vLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
@@ -463,6 +485,7 @@ void main() {
 #endif
 #ifdef FLY_PHONG
   if (!useLightMap) {
+    vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
     vec3 n = normalize(vNormal);
 #ifdef FLY_NORMAL_MAP
     if ((uTextureSlots & 4u) != 0u) {
