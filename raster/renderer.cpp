@@ -198,7 +198,8 @@ void decodeLuminance(uint32_t x, uint32_t y, float* rgb) {
 struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
-        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1;
+        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
+        material = -1;
 };
 
 struct Renderer::Gpu {
@@ -224,7 +225,8 @@ struct Renderer::Gpu {
   std::vector<SurfaceDraw> surfaceDraws;  // opaque and cut-out first (by material), then blended
   std::vector<size_t> blendOrder;         // per frame: the blended draws back to front
   GLsizei perVertexIndexCount = 0;        // the first range of the element buffer: per-vertex meshes
-  float maxAnisotropy = 1.0f;             // 1 where the driver has no anisotropic filtering
+  float maxAnisotropy = 1.0f;             // the textures' (setMaxAnisotropy); 1 without anisotropic filtering
+  float driverMaxAnisotropy = 1.0f;       // min(kMaxAnisotropy, the driver's), 1 without
   std::map<uint32_t, SceneProgram> scene;  // by variant (VariantBit)
   BackgroundProgram background, sky;
   ToneMapProgram toneMap;
@@ -272,7 +274,16 @@ Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
     glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &maxAniso);
     gpu_->maxAnisotropy = std::clamp(maxAniso, 1.0f, kMaxAnisotropy);
   }
+  gpu_->driverMaxAnisotropy = gpu_->maxAnisotropy;
   stats_.maxAnisotropy = gpu_->maxAnisotropy;
+}
+
+void Renderer::setMaxAnisotropy(float samples) {
+  if (!(samples >= 1.0f)) throw std::invalid_argument("anisotropic filtering takes at least 1 sample");
+  gpu_->maxAnisotropy = std::min(samples, gpu_->driverMaxAnisotropy);
+  stats_.maxAnisotropy = gpu_->maxAnisotropy;
+  if (gpu_->driverMaxAnisotropy <= 1.0f) return;
+  for (GLuint tex : gpu_->textures) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
 }
 
 Renderer::~Renderer() = default;
@@ -358,6 +369,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.glassPass = loc("uGlassPass");
   sp.textureSlots = loc("uTextureSlots");
   sp.uvRows = loc("uUvRows");
+  sp.material = loc("uMaterial");
   sp.program = p;
   return sp;
 }
@@ -640,7 +652,7 @@ void Renderer::uploadTextures() {
     glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    if (gpu_->maxAnisotropy > 1.0f) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+    if (gpu_->driverMaxAnisotropy > 1.0f) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
   }
   stats_.textureUploads += int(r.textures.size());
 }
@@ -812,10 +824,11 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       }
       return p;
     };
-    // Binds a per-fragment draw's material textures (units 5–7, kSurfaceFragment) and sets which it has (a
-    // slot the material does not use is never sampled) and their UV maps.
+    // Sets a per-fragment draw's material and binds its textures (units 5–7, kSurfaceFragment): which it has
+    // (a slot the material does not use is never sampled) and their UV maps.
     auto bindTextures = [&](const SceneProgram& p, const SurfaceDraw& d) {
       const rdb::RasterMaterial& m = r.materials[d.material];
+      glUniform1ui(p.material, d.material);
       const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
       GLuint bits = 0;
       vec4 rows[6];

@@ -103,6 +103,10 @@ class Renderer {
   // widthPx × heightPx.
   void present(uint32_t widthPx, uint32_t heightPx) const;
 
+  // The most samples anisotropic filtering takes on material textures, ≥ 1 (1: trilinear only); capped at
+  // kMaxAnisotropy and the driver's limit (stats().maxAnisotropy says what applies). Default: that cap.
+  void setMaxAnisotropy(float samples);
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 

@@ -392,7 +392,9 @@ in vec3 vFrontLux;
 in vec3 vBackLux;
 #endif
 #endif
-flat in uint vSurface;
+flat in uint vSurface;  // its flags (bits 30, 31: kSceneVertex)
+// The draw's material (one per draw): a uniform index, so the GPU loads its block once for all fragments.
+uniform uint uMaterial;
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
 flat in uint vLightSlot;
@@ -443,7 +445,7 @@ vec2 flyTextureUv(vec4 row0, vec4 row1) {
 #endif
 
 void main() {
-  Material m = materials[vSurface & 0x3fffffffu];
+  Material m = materials[uMaterial];
   bool twoSided = (vSurface & 0x40000000u) != 0u;
   vec4 base = vec4(m.diffuse.rgb, m.coverage.x);
   vec3 emission = m.emission.rgb;
