@@ -33,7 +33,8 @@
 // Phong modes the normal map too. Then light-map mode again with anisotropic filtering capped at 8, 4 and 1
 // samples (rows "lm-afN").
 //
-// Usage: fly-bench-raster [--size WxH] [--quick]   (default 1920x1080; --quick: the 100k scene only)
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured]   (default 1920x1080; --quick: the 100k scene
+// only; --textured: the 300k scene only, plain and textured)
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -320,14 +321,16 @@ void printRow(const char* triangles, const char* mode, const FrameTimes& t, doub
 
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
-  bool quick = false;
+  bool quick = false, texturedOnly = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--textured") == 0) {
+      texturedOnly = true;
     } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
-      std::fprintf(stderr, "usage: fly-bench-raster [--size WxH] [--quick]\n");
+      std::fprintf(stderr, "usage: fly-bench-raster [--size WxH] [--quick | --textured]\n");
       return 2;
     }
   }
@@ -356,9 +359,9 @@ int run(int argc, char** argv) {
   const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
   printRow("0", "empty", baseline, baseline.pipelinedMs);
 
-  const std::vector<uint32_t> cells =
-      quick ? std::vector<uint32_t>{221} : std::vector<uint32_t>{221, 387, 707};
   const uint32_t texturedCells = quick ? 221 : 387;
+  const std::vector<uint32_t> cells = quick || texturedOnly ? std::vector<uint32_t>{texturedCells}
+                                                            : std::vector<uint32_t>{221, 387, 707};
   constexpr RenderMode kModes[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
   FrameTimes plainTimes[3];  // the untextured texturedCells scene, per mode
   for (uint32_t n : cells) {

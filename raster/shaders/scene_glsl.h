@@ -158,7 +158,9 @@ flat out vec3 vAlbedoOverPi;   // sr⁻¹
 #endif
 
 out vec3 vLuminance;
-flat out uint vTwoSided;
+#ifdef FLY_TWO_SIDED
+flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying costs every triangle its setup)
+#endif
 #ifdef FLY_GLASS
 out vec3 vTransmittance;  // T(θ) towards the eye
 flat out uint vGlass;
@@ -200,7 +202,9 @@ void main() {
   if (!useLightMap) l = phong(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye, aCorner);
 #endif
   vLuminance = l + m.emission.rgb;
+#ifdef FLY_TWO_SIDED
   vTwoSided = twoSided ? 1u : 0u;
+#endif
 #ifdef FLY_GLASS
   // The energy rule's transmittance at the angle the pane is seen (sdb::Material::effectiveAt): T(θ) =
   // t · (1 − clamp(r · F(θ))), F Schlick's, from either face.
@@ -254,7 +258,9 @@ vec3 flyDecodeLuminance(uvec2 p) {
 // it is clear glass, whose both faces pass light).
 inline constexpr const char* kSceneFragment = R"GLSL(
 in vec3 vLuminance;
+#ifdef FLY_TWO_SIDED
 flat in uint vTwoSided;
+#endif
 layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
 #ifdef FLY_GLASS
 in vec3 vTransmittance;
@@ -288,7 +294,11 @@ void main() {
     l += vAlbedoOverPi * texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
   }
 #endif
+#ifdef FLY_TWO_SIDED
   l = (gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0);
+#else
+  l = gl_FrontFacing ? l : vec3(0.0);
+#endif
 #ifdef FLY_GLASS
   // Either face of a pane passes light.
   if (vGlass != 0u) l += vTransmittance * flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
@@ -340,7 +350,11 @@ out vec3 vFrontLux;
 out vec3 vBackLux;
 #endif
 #endif
+// The surface flags (two-sided, has a light map) where they can differ between meshes of the variant.
+#if defined(FLY_TWO_SIDED) || (defined(FLY_PHONG) && defined(FLY_LIGHT_MAP))
+#define FLY_SURFACE_FLAGS
 flat out uint vSurface;
+#endif
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
@@ -355,7 +369,9 @@ void main() {
   vBackLux = aBackLux;
 #endif
 #endif
+#ifdef FLY_SURFACE_FLAGS
   vSurface = aSurface;
+#endif
 #ifdef FLY_LIGHT_TEXTURE
   vLightMapUv = aLightMapUv;
   vLightSlot = aLightSlot;
@@ -392,7 +408,10 @@ in vec3 vFrontLux;
 in vec3 vBackLux;
 #endif
 #endif
+#if defined(FLY_TWO_SIDED) || (defined(FLY_PHONG) && defined(FLY_LIGHT_MAP))
+#define FLY_SURFACE_FLAGS
 flat in uint vSurface;  // its flags (bits 30, 31: kSceneVertex)
+#endif
 // The draw's material (one per draw): a uniform index, so the GPU loads its block once for all fragments.
 uniform uint uMaterial;
 #ifdef FLY_LIGHT_TEXTURE
@@ -446,7 +465,11 @@ vec2 flyTextureUv(vec4 row0, vec4 row1) {
 
 void main() {
   Material m = materials[uMaterial];
+#ifdef FLY_TWO_SIDED
   bool twoSided = (vSurface & 0x40000000u) != 0u;
+#else
+  bool twoSided = false;  // no mesh of the scene is
+#endif
   vec4 base = vec4(m.diffuse.rgb, m.coverage.x);
   vec3 emission = m.emission.rgb;
 #ifdef FLY_TEXTURES
@@ -467,7 +490,11 @@ void main() {
   vec3 l = vec3(0.0);
   bool useLightMap = false;
 #ifdef FLY_LIGHT_MAP
+#ifdef FLY_PHONG
   useLightMap = (vSurface & 0x80000000u) != 0u;
+#else
+  useLightMap = true;  // every mesh has a light map (the renderer leaves FLY_PHONG out only then)
+#endif
   if (useLightMap) {
 #ifdef FLY_TWO_SIDED
     vec3 eLux = (back && twoSided) ? vBackLux : vFrontLux;
