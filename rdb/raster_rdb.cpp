@@ -794,7 +794,7 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
   };
   if (r.geometry) return rebuild();
   if (r.materials) {
-    // A new assignment may change the textures, attributes and draws the scene needs: rebuilt wherever
+    // An assignment may change the textures, attributes and draws the scene needs: rebuilt wherever
     // textures or coverage are involved before or after.
     const bool before = anyAlphaOrTexture(rdb);
     const std::vector<TextureKey> keys = buildMaterials(rdb, scene);

@@ -537,7 +537,7 @@ TEST(Renderer, BlendedSurfacesAreDrawnBackToFrontOverTheRest) {
   const size_t centre = (size_t(16) * 64 + 32) * 3;
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(img[centre + size_t(c)], expected[c], 1e-4f * 100.0f);
   // From behind (the quads are one-sided: their backs show black, over which the same rule applies; the
-  // wall's back is black too) the nearest is now the wall: only its black back is seen.
+  // wall's back is black too) the nearest is the wall: only its black back is seen.
   renderer.render(orthoView(true), RenderMode::kSimple, 64, 32);
   const std::vector<float> back = renderer.luminanceRgb();
   for (int c = 0; c < 3; ++c) EXPECT_EQ(back[centre + size_t(c)], 0.0f);
