@@ -319,16 +319,19 @@ TEST(IntegratorMaterials, SmoothLowPolySphereKeepsEnergyWithinBounds) {
   }
 }
 
-// Irradiance at height h below an emitting plane y = h (x, z ∈ [−kHalfM, kHalfM]) of radiance L(x), on a
-// sensor facing up at x = xs: ∫ L(x) (π/2) h² / ((x − xs)² + h²)^{3/2} dx (the derivative of a half-plane's
-// (π/2)(1 − a/√(a² + h²))), by the midpoint rule on 0.5 mm steps.
+// Irradiance on a sensor facing up at (xs, 0, 0) from an emitting plane y = h facing down, x, z ∈ [−Z, Z]
+// (Z = kHalfM), of radiance L(x): E = ∫∫ L(x) h² / r⁴ dz dx (both cosines h / r). Over z in closed form,
+// ∫_{−Z}^{Z} dz / (c² + z²)² = Z / (c² (c² + Z²)) + atan(Z / c) / c³ with c² = (x − xs)² + h²; over x by the
+// midpoint rule on 0.5 mm steps.
 template <class F>
 double stripIrradiance(F radiance, double xs, double h) {
   double sum = 0.0;
   constexpr double kStep = 5e-4;
+  const double z = kHalfM;
   for (double x = -kHalfM + kStep / 2; x < kHalfM; x += kStep) {
-    const double r2 = (x - xs) * (x - xs) + h * h;
-    sum += radiance(x) * (kPi / 2.0) * h * h / (r2 * std::sqrt(r2)) * kStep;
+    const double c2 = (x - xs) * (x - xs) + h * h;
+    const double c = std::sqrt(c2);
+    sum += radiance(x) * h * h * (z / (c2 * (c2 + z * z)) + std::atan(z / c) / (c2 * c)) * kStep;
   }
   return sum;
 }
