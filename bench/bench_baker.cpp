@@ -58,7 +58,8 @@ std::vector<uint8_t> noiseTexture(uint32_t width, int lo, int hi, bool stripes, 
   std::vector<uint8_t> texels;
   for (uint32_t y = 0; y < width; ++y) {
     for (uint32_t x = 0; x < width; ++x) {
-      for (int c = 0; c < 3; ++c) texels.push_back(static_cast<uint8_t>(lo + int(rng.next() % uint32_t(hi - lo + 1))));
+      for (int c = 0; c < 3; ++c)
+        texels.push_back(static_cast<uint8_t>(lo + int(rng.next() % uint32_t(hi - lo + 1))));
       texels.push_back(stripes && (x / 8) % 2 == 1 ? 0 : 255);
     }
   }

@@ -109,9 +109,9 @@ class Bsdf {
   Rgb albedo(float cosO) const;
 
   bool isBlack() const { return covered() && !hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
-  // Diffuse only (no reflection, no transmission, full coverage): then f = lambertAlbedo() / π, sample() draws
-  // cos θ / π, its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the common
-  // case.
+  // Diffuse only (no reflection, no transmission, full coverage): then f = lambertAlbedo() / π, sample()
+  // draws cos θ / π, its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the
+  // common case.
   bool isLambertian() const { return covered() && hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
   const Rgb& lambertAlbedo() const { return diffuseKd_; }
   // Whether eval() can be non-zero: light sampling is pointless otherwise.

@@ -40,10 +40,12 @@ void setRay(RTCRay& ray, const vec3& origin, const vec3& dir, float tMaxM) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
-  for (const rdb::TraceMaterial& m : rdb.materials) hasCutOuts_ = hasCutOuts_ || m.alpha == rdb::TraceAlpha::kMask;
+  for (const rdb::TraceMaterial& m : rdb.materials)
+    hasCutOuts_ = hasCutOuts_ || m.alpha == rdb::TraceAlpha::kMask;
   if (hasCutOuts_ && rdb.triangleMaterial.size() != rdb.triangleCount()) {
     throw std::invalid_argument("EmbreeScene: " + std::to_string(rdb.triangleMaterial.size()) +
-                                " triangle materials for " + std::to_string(rdb.triangleCount()) + " triangles");
+                                " triangle materials for " + std::to_string(rdb.triangleCount()) +
+                                " triangles");
   }
   const size_t triangleCount = rdb.triangleCount();
   normals_.assign(triangleCount, vec3(0.0f));

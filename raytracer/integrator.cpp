@@ -137,30 +137,6 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
-  emitterPmfOfTriangle_.assign(rdb.triangleCount(), 0.0f);
-  if (!rdb.emissiveTriangles.empty()) {
-    std::vector<float> powers;
-    powers.reserve(rdb.emissiveTriangles.size());
-    // Triangles are chosen by area × the material's mean luminance: its emission, or with an emission
-    // texture the mean over the texture's texels of the emission times the texel (any weight that is positive
-    // wherever a triangle emits keeps the estimate unbiased; the texture is evaluated at the sampled point).
-    std::vector<float> materialLuminance(rdb.materials.size(), -1.0f);
-    for (uint32_t t : rdb.emissiveTriangles) {
-      const uint32_t mi = rdb.triangleMaterial.at(t);
-      const rdb::TraceMaterial& m = rdb.materials[mi];
-      if (materialLuminance[mi] < 0.0f) materialLuminance[mi] = meanEmittedLuminance(rdb, m);
-      const float sides = m.doubleSided ? 2.0f : 1.0f;
-      powers.push_back(sides * scene.triangleAreaM2(t) * materialLuminance[mi]);
-    }
-    Distribution1D emitters(powers);
-    if (!emitters.allZero()) {
-      for (size_t i = 0; i < rdb.emissiveTriangles.size(); ++i) {
-        emitterPmfOfTriangle_[rdb.emissiveTriangles[i]] += emitters.pmf(static_cast<uint32_t>(i));
-      }
-      emitterDistribution_.emplace(std::move(emitters));
-    }
-  }
-
   // Per-vertex attributes: one per vertex where materials read them (TraceRdb).
   bool readsUv[2] = {false, false};
   bool readsTangents = false;
@@ -186,8 +162,33 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
   if (rdb.normals.size() != vertices || (readsUv[0] && rdb.uv0.size() != vertices) ||
       (readsUv[1] && rdb.uv1.size() != vertices) || (!rdb.colors.empty() && rdb.colors.size() != vertices) ||
       (readsTangents && rdb.tangents.size() != vertices)) {
-    throw std::invalid_argument("Integrator: normals, texture coordinates, colours or tangents that materials "
-                                "read are given for some vertices only");
+    throw std::invalid_argument(
+        "Integrator: normals, texture coordinates, colours or tangents that materials "
+        "read are given for some vertices only");
+  }
+
+  emitterPmfOfTriangle_.assign(rdb.triangleCount(), 0.0f);
+  if (!rdb.emissiveTriangles.empty()) {
+    std::vector<float> powers;
+    powers.reserve(rdb.emissiveTriangles.size());
+    // Triangles are chosen by area × the material's mean luminance: its emission, or with an emission
+    // texture the mean over the texture's texels of the emission times the texel (any weight that is positive
+    // wherever a triangle emits keeps the estimate unbiased; the texture is evaluated at the sampled point).
+    std::vector<float> materialLuminance(rdb.materials.size(), -1.0f);
+    for (uint32_t t : rdb.emissiveTriangles) {
+      const uint32_t mi = rdb.triangleMaterial.at(t);
+      const rdb::TraceMaterial& m = rdb.materials[mi];
+      if (materialLuminance[mi] < 0.0f) materialLuminance[mi] = meanEmittedLuminance(rdb, m);
+      const float sides = m.doubleSided ? 2.0f : 1.0f;
+      powers.push_back(sides * scene.triangleAreaM2(t) * materialLuminance[mi]);
+    }
+    Distribution1D emitters(powers);
+    if (!emitters.allZero()) {
+      for (size_t i = 0; i < rdb.emissiveTriangles.size(); ++i) {
+        emitterPmfOfTriangle_[rdb.emissiveTriangles[i]] += emitters.pmf(static_cast<uint32_t>(i));
+      }
+      emitterDistribution_.emplace(std::move(emitters));
+    }
   }
 
   frontBsdfs_.reserve(rdb.materials.size());
@@ -199,7 +200,8 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     backBsdfs_.emplace_back(m, m.doubleSided, coverage);
     varies_.push_back(m.hasTextures() || !rdb.colors.empty() ? 1 : 0);
     hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().hasClearTransmission();
-    passesStraight_ = passesStraight_ || frontBsdfs_.back().passesStraight() || m.alpha == rdb::TraceAlpha::kBlend;
+    passesStraight_ =
+        passesStraight_ || frontBsdfs_.back().passesStraight() || m.alpha == rdb::TraceAlpha::kBlend;
     rdb::TraceMaterial regularised = m;
     if (!settings_.caustics) {
       regularised.reflectionGlossiness = std::max(m.reflectionGlossiness, kRegularizedGlossiness);
@@ -898,8 +900,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     const Onb frame = onb(ns);
     const vec3 wo = frame.toLocal(-d);
     if (!(wo.z > 0.0f)) break;
-    v = Vertex{x, ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, bsdfs.deltaLight, frame,
-               wo};
+    v = Vertex{x,     ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, bsdfs.deltaLight,
+               frame, wo};
 
     // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
     // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).

@@ -24,10 +24,14 @@ vec4 texel(const rdb::TraceTexture& t, uint32_t x, uint32_t y, bool srgb) {
   const std::array<float, 256>& table = srgbTable();
   auto colour = [&](uint8_t v) { return srgb ? table[v] : float(v) * (1.0f / 255.0f); };
   switch (t.channels) {
-    case 1: return vec4(vec3(colour(p[0])), 1.0f);
-    case 2: return vec4(vec3(colour(p[0])), float(p[1]) * (1.0f / 255.0f));
-    case 3: return vec4(colour(p[0]), colour(p[1]), colour(p[2]), 1.0f);
-    default: return vec4(colour(p[0]), colour(p[1]), colour(p[2]), float(p[3]) * (1.0f / 255.0f));
+    case 1:
+      return vec4(vec3(colour(p[0])), 1.0f);
+    case 2:
+      return vec4(vec3(colour(p[0])), float(p[1]) * (1.0f / 255.0f));
+    case 3:
+      return vec4(colour(p[0]), colour(p[1]), colour(p[2]), 1.0f);
+    default:
+      return vec4(colour(p[0]), colour(p[1]), colour(p[2]), float(p[3]) * (1.0f / 255.0f));
   }
 }
 
@@ -50,13 +54,15 @@ vec2 slotUv(const rdb::TraceRdb& rdb, const rdb::TraceTextureSlot& slot, const T
 uint32_t wrapTexel(int64_t i, uint32_t size, rdb::TraceWrap w) {
   const auto n = int64_t{size};
   switch (w) {
-    case rdb::TraceWrap::kClampToEdge: return uint32_t(std::clamp<int64_t>(i, 0, n - 1));
+    case rdb::TraceWrap::kClampToEdge:
+      return uint32_t(std::clamp<int64_t>(i, 0, n - 1));
     case rdb::TraceWrap::kMirroredRepeat: {
       int64_t m = i % (2 * n);
       if (m < 0) m += 2 * n;
       return uint32_t(m < n ? m : 2 * n - 1 - m);
     }
-    case rdb::TraceWrap::kRepeat: break;
+    case rdb::TraceWrap::kRepeat:
+      break;
   }
   int64_t m = i % n;
   if (m < 0) m += n;
@@ -113,7 +119,8 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
     coverage *= colour.a;
   }
   if (m.reflectionTexture) {
-    out.reflection *= Rgb(sampleTexture(rdb, m.reflectionTexture, slotUv(rdb, m.reflectionTexture, at), false));
+    out.reflection *=
+        Rgb(sampleTexture(rdb, m.reflectionTexture, slotUv(rdb, m.reflectionTexture, at), false));
   }
   if (m.glossinessTexture) {
     out.reflectionGlossiness *=
@@ -134,7 +141,8 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
 
 Rgb emissionAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at) {
   if (!m.emissionTexture) return m.emissionCdM2;
-  return m.emissionCdM2 * Rgb(sampleTexture(rdb, m.emissionTexture, slotUv(rdb, m.emissionTexture, at), true));
+  return m.emissionCdM2 *
+         Rgb(sampleTexture(rdb, m.emissionTexture, slotUv(rdb, m.emissionTexture, at), true));
 }
 
 vec3 shadingNormalAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at,

@@ -18,10 +18,10 @@ namespace fly::raytracer {
 uint32_t wrapTexel(int64_t i, uint32_t size, rdb::TraceWrap w);
 
 // The slot's texture at texture coordinates uv (of the slot's UV set, before its transform), filtered
-// bilinearly between the four nearest texel centres (texel (i, j) is centred at ((i + ½)/width, (j + ½)/height),
-// row j = 0 at v = 0, the image's top row). Returns linear RGBA: a grey texture's value in r, g and b, alpha 1
-// where the texture has none. srgb: the colour channels (not alpha) are sRGB-encoded (IEC 61966-2-1) and are
-// decoded per texel before filtering. Non-finite coordinates read the texel at (0, 0).
+// bilinearly between the four nearest texel centres (texel (i, j) is centred at ((i + ½)/width, (j +
+// ½)/height), row j = 0 at v = 0, the image's top row). Returns linear RGBA: a grey texture's value in r, g
+// and b, alpha 1 where the texture has none. srgb: the colour channels (not alpha) are sRGB-encoded (IEC
+// 61966-2-1) and are decoded per texel before filtering. Non-finite coordinates read the texel at (0, 0).
 vec4 sampleTexture(const rdb::TraceRdb& rdb, const rdb::TraceTextureSlot& slot, const vec2& uv, bool srgb);
 
 // Barycentrics (u, v) of a point on triangle t: (1 − u − v)·p0 + u·p1 + v·p2, as Embree reports them.
@@ -48,9 +48,9 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
 Rgb emissionAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at);
 
 // The shading normal of the front face at a point: the interpolated vertex normals, bent by the material's
-// normal map (tangent space: the interpolated tangent T made perpendicular to the normal N, B = w · N × T, the
-// map's x and y scaled by normalScale). It is replaced by geometricNormal (unit, the front face's) where it
-// is degenerate or points to the back of the surface.
+// normal map (tangent space: the interpolated tangent T made perpendicular to the normal N, B = w · N × T,
+// the map's x and y scaled by normalScale). It is replaced by geometricNormal (unit, the front face's) where
+// it is degenerate or points to the back of the surface.
 vec3 shadingNormalAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at,
                      const vec3& geometricNormal);
 

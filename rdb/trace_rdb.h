@@ -14,18 +14,18 @@
 namespace fly::rdb {
 
 // A material texture decoded once for the baker: 8 bits per channel, texels row-major from the top row of the
-// image (v = 0 at the top, as glTF), channels interleaved. 16-bit sources are rounded to 8 bits (an error of at
-// most 1/510 of full scale, far below a bake's Monte-Carlo noise). Colour slots (base colour, emission) are
-// sRGB-encoded and decoded per texel at lookup by a 256-entry table, before bilinear filtering.
+// image (v = 0 at the top, as glTF), channels interleaved. 16-bit sources are rounded to 8 bits (an error of
+// at most 1/510 of full scale, far below a bake's Monte-Carlo noise). Colour slots (base colour, emission)
+// are sRGB-encoded and decoded per texel at lookup by a 256-entry table, before bilinear filtering.
 //
 // No mip-maps: a baker's lookup is a point sample of the material at a ray hit, averaged over thousands of
 // paths per light-map point, so a texture's detail is integrated by the Monte-Carlo estimate itself; a
-// filtered (mip-mapped) lookup would average over a ray footprint that the baker has no use for and would bias
-// the per-point values that the alpha cut-out test and the energy rule need.
+// filtered (mip-mapped) lookup would average over a ray footprint that the baker has no use for and would
+// bias the per-point values that the alpha cut-out test and the energy rule need.
 struct TraceTexture {
-  uint32_t width = 0;     // texels, ≥ 1
-  uint32_t height = 0;    // texels, ≥ 1
-  uint32_t channels = 0;  // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+  uint32_t width = 0;           // texels, ≥ 1
+  uint32_t height = 0;          // texels, ≥ 1
+  uint32_t channels = 0;        // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
   std::vector<uint8_t> texels;  // width · height · channels bytes
 };
 
@@ -33,8 +33,8 @@ struct TraceTexture {
 enum class TraceWrap : uint8_t { kRepeat, kClampToEdge, kMirroredRepeat };
 
 // A material's use of a texture: which one, which UV set, the KHR_texture_transform and the wrap modes.
-// The transform uv' = offset + R(rotation) (scale ⊙ uv), R(θ) = [cos θ, sin θ; −sin θ, cos θ] (the extension's
-// T · R · S), stored as its columns: uv' = uvFromU · u + uvFromV · v + uvOffset.
+// The transform uv' = offset + R(rotation) (scale ⊙ uv), R(θ) = [cos θ, sin θ; −sin θ, cos θ] (the
+// extension's T · R · S), stored as its columns: uv' = uvFromU · u + uvFromV · v + uvOffset.
 struct TraceTextureSlot {
   static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
   uint32_t texture = kNone;  // index into TraceRdb::textures, or none
@@ -67,9 +67,9 @@ struct TraceMaterial {
   uint32_t sdbMaterialId = 0;
 
   // Textures; each multiplies the constant above it (sdb::Material).
-  TraceTextureSlot diffuseTexture;       // sRGB colour × diffuseColor; its alpha (2 or 4 channels) × coverage
-  TraceTextureSlot reflectionTexture;    // linear colour × reflection
-  TraceTextureSlot glossinessTexture;    // linear, first channel × reflectionGlossiness
+  TraceTextureSlot diffuseTexture;     // sRGB colour × diffuseColor; its alpha (2 or 4 channels) × coverage
+  TraceTextureSlot reflectionTexture;  // linear colour × reflection
+  TraceTextureSlot glossinessTexture;  // linear, first channel × reflectionGlossiness
   TraceTextureSlot transmissionTexture;  // linear colour (grey: first channel) × transmission
   TraceTextureSlot emissionTexture;      // sRGB colour × emissionCdM2
   TraceTextureSlot normalTexture;        // tangent-space normal map (glTF normalTexture), linear

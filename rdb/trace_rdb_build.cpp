@@ -31,9 +31,15 @@ TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   t.diffuseColor = glm::clamp(m.diffuseColor, 0.0f, 1.0f);
   t.normalScale = m.bumpScale;
   switch (m.alphaMode) {
-    case sdb::AlphaMode::kOpaque: t.alpha = TraceAlpha::kOpaque; break;
-    case sdb::AlphaMode::kMask: t.alpha = TraceAlpha::kMask; break;
-    case sdb::AlphaMode::kBlend: t.alpha = TraceAlpha::kBlend; break;
+    case sdb::AlphaMode::kOpaque:
+      t.alpha = TraceAlpha::kOpaque;
+      break;
+    case sdb::AlphaMode::kMask:
+      t.alpha = TraceAlpha::kMask;
+      break;
+    case sdb::AlphaMode::kBlend:
+      t.alpha = TraceAlpha::kBlend;
+      break;
   }
   t.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
   t.alphaCutoff = m.alphaCutoff;
@@ -46,16 +52,20 @@ TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureInd
   slot.texCoord = ref.texCoord == 1 ? 1 : 0;
   auto wrap = [](sdb::WrapMode w) {
     switch (w) {
-      case sdb::WrapMode::kClampToEdge: return TraceWrap::kClampToEdge;
-      case sdb::WrapMode::kMirroredRepeat: return TraceWrap::kMirroredRepeat;
-      case sdb::WrapMode::kRepeat: break;
+      case sdb::WrapMode::kClampToEdge:
+        return TraceWrap::kClampToEdge;
+      case sdb::WrapMode::kMirroredRepeat:
+        return TraceWrap::kMirroredRepeat;
+      case sdb::WrapMode::kRepeat:
+        break;
     }
     return TraceWrap::kRepeat;
   };
   slot.wrapS = wrap(ref.wrapS);
   slot.wrapT = wrap(ref.wrapT);
-  // KHR_texture_transform: uv' = T · R · S · uv with R's columns (cos θ, −sin θ) and (sin θ, cos θ), which maps
-  // the extension's example (offset (0, 1), rotation π/2, scale 0.5) onto the image's lower-left quadrant.
+  // KHR_texture_transform: uv' = T · R · S · uv with R's columns (cos θ, −sin θ) and (sin θ, cos θ), which
+  // maps the extension's example (offset (0, 1), rotation π/2, scale 0.5) onto the image's lower-left
+  // quadrant.
   const sdb::UvTransform& x = ref.transform;
   const float c = std::cos(x.rotationRad);
   const float s = std::sin(x.rotationRad);
@@ -68,7 +78,8 @@ TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureInd
 TraceTexture lowerTexture(const sdb::Texture& t) {
   if (t.width <= 0 || t.height <= 0 || t.channels < 1 || t.channels > 4 ||
       (t.bitsPerChannel != 8 && t.bitsPerChannel != 16) ||
-      t.pixels.size() != size_t(t.width) * size_t(t.height) * size_t(t.channels) * size_t(t.bitsPerChannel / 8)) {
+      t.pixels.size() !=
+          size_t(t.width) * size_t(t.height) * size_t(t.channels) * size_t(t.bitsPerChannel / 8)) {
     throw std::invalid_argument("texture \"" + t.name + "\" has inconsistent size, channels or pixel data");
   }
   TraceTexture out;
@@ -283,9 +294,9 @@ class Builder {
                                   : vec4(0.0f));
         }
       }
-      const std::vector<vec4> generated = generateTangents(
-          placed.positionsM, placed.normals, tmat.normalTexture.texCoord == 1 ? mesh.uv1 : mesh.uv0,
-          placed.indices);
+      const std::vector<vec4> generated =
+          generateTangents(placed.positionsM, placed.normals,
+                           tmat.normalTexture.texCoord == 1 ? mesh.uv1 : mesh.uv0, placed.indices);
       if (tangents.empty()) {
         tangents = generated;
       } else {

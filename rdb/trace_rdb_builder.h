@@ -43,7 +43,8 @@ struct TraceRdbBuilder {
         rdb.positionsM.push_back(origin + edgeU * (static_cast<float>(i) / static_cast<float>(n)) +
                                  edgeV * (static_cast<float>(j) / static_cast<float>(n)));
         rdb.normals.push_back(normal);
-        rdb.uv0.push_back(uvScale * vec2(static_cast<float>(i), static_cast<float>(j)) / static_cast<float>(n));
+        rdb.uv0.push_back(uvScale * vec2(static_cast<float>(i), static_cast<float>(j)) /
+                          static_cast<float>(n));
       }
     }
     auto at = [&](uint32_t i, uint32_t j) { return mesh.firstVertex + j * (n + 1) + i; };

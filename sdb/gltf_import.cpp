@@ -1550,12 +1550,16 @@ class Importer {
   // A sampler's wrapS or wrapT (glTF 2.0 §5.26: 33071, 33648 or 10497, the default).
   WrapMode wrapMode(int value, const std::string& path) {
     switch (value) {
-      case TINYGLTF_TEXTURE_WRAP_REPEAT: return WrapMode::kRepeat;
-      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WrapMode::kClampToEdge;
-      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WrapMode::kMirroredRepeat;
+      case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return WrapMode::kRepeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return WrapMode::kClampToEdge;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return WrapMode::kMirroredRepeat;
       default:
-        fail(path, "wrap mode " + std::to_string(value) +
-                       " is not one of glTF's 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT), 10497 (REPEAT)");
+        fail(path,
+             "wrap mode " + std::to_string(value) +
+                 " is not one of glTF's 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT), 10497 (REPEAT)");
     }
   }
 

@@ -53,7 +53,8 @@ void expectAgrees(const char* what, const EstimateResult& r, const Sensors& s, f
       EXPECT_LE(std::abs(e.meanLux[c] - exact), 4.0f * e.stdErrorLux[c] + 1e-4f * exact + 1e-3f)
           << what << " point " << i << " channel " << c << ": " << e.meanLux[c] << " ± " << e.stdErrorLux[c]
           << ", exact " << exact;
-      EXPECT_LE(e.stdErrorLux[c], maxRelStdError * exact + 1e-3f) << what << " point " << i << " channel " << c;
+      EXPECT_LE(e.stdErrorLux[c], maxRelStdError * exact + 1e-3f)
+          << what << " point " << i << " channel " << c;
     }
   }
 }
@@ -135,9 +136,9 @@ TEST(IntegratorMaterials, CheckerGroundReflectsItsMeanAlbedoAndEachTexel) {
 
 // A fence between a sun straight above and the floor: a quad of an alpha texture (grey + alpha, 8 × 1 texels,
 // alpha 0 on 3 of them) repeated every 0.08 m. Bilinear alpha between a covered and an open texel crosses the
-// 0.5 cut-off half-way, so the open fraction is exactly 3/8. Floor sensors at 64 points evenly spread over one
-// period see the sun through the openings only (occlusion filter): their mean is E × 3/8. Sensors facing up
-// under the fence see a uniform sky through it over many periods (paths and shadow rays alike): π L × 3/8.
+// 0.5 cut-off half-way, so the open fraction is exactly 3/8. Floor sensors at 64 points evenly spread over
+// one period see the sun through the openings only (occlusion filter): their mean is E × 3/8. Sensors facing
+// up under the fence see a uniform sky through it over many periods (paths and shadow rays alike): π L × 3/8.
 // BLEND with opacity 0.25 passes 75 % of both, and COLOR_0's alpha multiplies coverage.
 TEST(IntegratorMaterials, AlphaMaskCutsOutAndBlendPassesOneMinusCoverage) {
   const Rgb sunLux(10000.0f);
@@ -222,15 +223,15 @@ TEST(IntegratorMaterials, AlphaMaskCutsOutAndBlendPassesOneMinusCoverage) {
 // A plane whose normal map tilts every shading normal by α = 30° towards +x, under a directional light from
 // 45° elevation in the x–y plane and no sky. It reflects as a plane tilted by α would: radiance ρ E cos(15°)
 // / π everywhere (an untilted plane: ρ E cos 45° / π). A sensor facing the tilted normal's opposite −n_s at
-// height 0.5 m sees the plane over the part of its cosine kernel that points below the horizon, (1 + cos α) / 2
-// of it, so E = ρ E_light cos(15°) (1 + cos α) / 2. A light below the geometric surface (but above the tilted
-// shading hemisphere) lights nothing: the geometry blocks it.
+// height 0.5 m sees the plane over the part of its cosine kernel that points below the horizon, (1 + cos α) /
+// 2 of it, so E = ρ E_light cos(15°) (1 + cos α) / 2. A light below the geometric surface (but above the
+// tilted shading hemisphere) lights nothing: the geometry blocks it.
 TEST(IntegratorMaterials, NormalMapTiltsTheReflectionAndGeometryStillBlocks) {
   constexpr float kAlpha = 0.5235988f;  // 30°
   const float rho = 0.6f;
   const Rgb lightLux(1000.0f);
-  // Tangent space: x along u (+z here), y along the bitangent N × T = +x. The map's bytes, and the normal they
-  // encode after 8-bit rounding.
+  // Tangent space: x along u (+z here), y along the bitangent N × T = +x. The map's bytes, and the normal
+  // they encode after 8-bit rounding.
   const vec3 encoded(127.5f, 127.5f + 127.5f * std::sin(kAlpha), 127.5f + 127.5f * std::cos(kAlpha));
   const std::vector<uint8_t> map = {uint8_t(std::lround(encoded.x)), uint8_t(std::lround(encoded.y)),
                                     uint8_t(std::lround(encoded.z))};
@@ -269,12 +270,13 @@ TEST(IntegratorMaterials, NormalMapTiltsTheReflectionAndGeometryStillBlocks) {
 // An icosphere of 80 faces with smooth vertex normals, seen from inside: its inner faces emit L_e and reflect
 // ρ = 0.5. With geometric normals every point's radiance is L_e / (1 − ρ) and a sensor anywhere inside sees
 // E = π L_e / (1 − ρ). Shading normals may lose a little energy (directions between the shading and the
-// geometric horizon count nothing) but never gain any, and no facet goes black: E stays within [0.9, 1] of it.
+// geometric horizon count nothing) but never gain any, and no facet goes black: E stays within [0.9, 1] of
+// it.
 TEST(IntegratorMaterials, SmoothLowPolySphereKeepsEnergyWithinBounds) {
   // Icosahedron, subdivided once, projected onto the unit sphere; faces wound to face inwards.
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  std::vector<vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<vec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   std::vector<glm::uvec3> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -304,7 +306,8 @@ TEST(IntegratorMaterials, SmoothLowPolySphereKeepsEnergyWithinBounds) {
   ASSERT_EQ(b.rdb.triangleCount(), 80u);
   const float exact = kPiF * le / (1.0f - rho);
   Sensors s;
-  for (const vec3& p : {vec3(0.0f), vec3(0.5f, 0.2f, -0.1f), vec3(0.0f, -0.8f, 0.0f), vec3(0.85f, 0.0f, 0.0f)}) {
+  for (const vec3& p :
+       {vec3(0.0f), vec3(0.5f, 0.2f, -0.1f), vec3(0.0f, -0.8f, 0.0f), vec3(0.85f, 0.0f, 0.0f)}) {
     s.add(p, vec3(0, 1, 0), Rgb(exact));
     s.add(p, vec3(1, 0, 0), Rgb(exact));
   }
@@ -370,7 +373,8 @@ TEST(IntegratorMaterials, EmissionTextureGivesItsMeanAndTexelIrradiance) {
 // Textures, blend coverage and shading normals keep the estimate a function of (point, sample) alone.
 TEST(IntegratorMaterials, DeterministicAcrossThreadCounts) {
   rdb::TraceRdbBuilder b;
-  const uint32_t tex = b.texture(2, 2, 4, {200, 30, 30, 255, 30, 200, 30, 60, 30, 30, 200, 255, 250, 250, 250, 128});
+  const uint32_t tex =
+      b.texture(2, 2, 4, {200, 30, 30, 255, 30, 200, 30, 60, 30, 30, 200, 255, 250, 250, 250, 128});
   const uint32_t ground = b.material(Rgb(0.0f));
   b.rdb.materials[ground].diffuseColor = Rgb(1.0f);
   b.rdb.materials[ground].diffuseTexture = slotOf(tex);
@@ -383,7 +387,8 @@ TEST(IntegratorMaterials, DeterministicAcrossThreadCounts) {
   b.uniformSky(Rgb(1000.0f));
   b.directionalLight(vec3(0.3f, 1.0f, 0.2f), Rgb(20000.0f));
   Sensors s;
-  for (int i = 0; i < 16; ++i) s.add(vec3(float(i) * 0.37f, 1.0f, float(i % 4)), vec3(0, i % 2 ? 1 : -1, 0), Rgb(0));
+  for (int i = 0; i < 16; ++i)
+    s.add(vec3(float(i) * 0.37f, 1.0f, float(i % 4)), vec3(0, i % 2 ? 1 : -1, 0), Rgb(0));
   const EstimateResult one = run(b.rdb, s, 128, 1);
   const EstimateResult two = run(b.rdb, s, 128, 2);
   for (size_t i = 0; i < s.points.size(); ++i) {

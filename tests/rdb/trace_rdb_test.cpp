@@ -220,7 +220,8 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
   EXPECT_TRUE(r.uv1.empty());
   EXPECT_TRUE(r.tangents.empty());
 
-  // A normal map needs tangents: from the UVs, ∂p/∂u = +x and ∂p/∂v = +z, and N × T = +Y × +X = −Z, so w = −1.
+  // A normal map needs tangents: from the UVs, ∂p/∂u = +x and ∂p/∂v = +z, and N × T = +Y × +X = −Z, so w =
+  // −1.
   Scene n;
   sdb::Material bumpy;
   bumpy.bumpTexture.texture = n.addTexture(sixteen).id;
