@@ -1532,8 +1532,35 @@ class Importer {
            "texture " + std::to_string(info.index) + " refers to image " + std::to_string(t.source) +
                ", but the file has " + std::to_string(model_.images.size()) + " images");
     }
+    if (t.sampler >= 0) {
+      if (size_t(t.sampler) >= model_.samplers.size()) {
+        fail("/textures/" + std::to_string(info.index) + "/sampler",
+             "texture " + std::to_string(info.index) + " refers to sampler " + std::to_string(t.sampler) +
+                 ", but the file has " + std::to_string(model_.samplers.size()) + " samplers");
+      }
+      const tinygltf::Sampler& s = model_.samplers[size_t(t.sampler)];
+      const std::string spath = "/samplers/" + std::to_string(t.sampler);
+      ref.wrapS = wrapMode(s.wrapS, spath + "/wrapS");
+      ref.wrapT = wrapMode(s.wrapT, spath + "/wrapT");
+    }
     ref.texture = imageTexture(size_t(t.source), channels, what);
     return ref;
+  }
+
+  // A sampler's wrapS or wrapT (glTF 2.0 §5.26: 33071, 33648 or 10497, the default).
+  WrapMode wrapMode(int value, const std::string& path) {
+    switch (value) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return WrapMode::kRepeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return WrapMode::kClampToEdge;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return WrapMode::kMirroredRepeat;
+      default:
+        fail(path,
+             "wrap mode " + std::to_string(value) +
+                 " is not one of glTF's 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT), 10497 (REPEAT)");
+    }
   }
 
   // `usedBy` names the first material slot that uses the image, for messages.

@@ -29,11 +29,20 @@ struct UvTransform {
   bool isIdentity() const { return offset == vec2(0.0f) && rotationRad == 0.0f && scale == vec2(1.0f); }
 };
 
+// How a texture coordinate outside [0, 1] maps into the image (glTF 2.0 §5.26 "sampler", wrapS / wrapT).
+enum class WrapMode : uint8_t {
+  kRepeat,          // the image tiles: u − floor(u) (glTF's default, REPEAT = 10497)
+  kClampToEdge,     // the edge texels extend outwards (CLAMP_TO_EDGE = 33071)
+  kMirroredRepeat,  // the image tiles, every other copy mirrored (MIRRORED_REPEAT = 33648)
+};
+
 // A material's use of a texture. Invalid (no texture) when `texture` is 0.
 struct TextureRef {
   TextureId texture;
   int texCoord = 0;  // which UV set: 0 = UV0 (TEXCOORD_0), 1 = UV1 (TEXCOORD_1)
   UvTransform transform;
+  WrapMode wrapS = WrapMode::kRepeat;  // along u (the image's columns)
+  WrapMode wrapT = WrapMode::kRepeat;  // along v (the image's rows)
 
   explicit operator bool() const { return static_cast<bool>(texture); }
 };

@@ -729,6 +729,38 @@ TEST_F(GltfImport, TextureTransformAndTexCoordOverride) {
   EXPECT_TRUE(m.emissionTexture.transform.isIdentity());
 }
 
+TEST_F(GltfImport, SamplerWrapModesReachTheTextureRefs) {
+  GltfBuilder b = withMaterial(json::object());
+  const int repeat = addImageTexture(b, test::png(1, 1, {1, 2, 3}));
+  const int clampMirror = addImageTexture(b, test::png(1, 1, {1, 2, 3}));
+  b.append("samplers", {{"wrapS", 33071}, {"wrapT", 33648}});
+  b.doc["textures"][clampMirror]["sampler"] = 0;
+  b.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", repeat}}}}},
+                           {"emissiveTexture", {{"index", clampMirror}}}};
+  import(b);
+  const Material& m = onlyMaterialOfMesh();
+  EXPECT_EQ(m.diffuseTexture.wrapS, WrapMode::kRepeat);  // no sampler: glTF's default
+  EXPECT_EQ(m.diffuseTexture.wrapT, WrapMode::kRepeat);
+  EXPECT_EQ(m.emissionTexture.wrapS, WrapMode::kClampToEdge);
+  EXPECT_EQ(m.emissionTexture.wrapT, WrapMode::kMirroredRepeat);
+
+  // Wrong values name their JSON location.
+  auto expectError = [&](const std::string& jsonPath, const std::string& text) {
+    try {
+      import(b);
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.location().jsonPath, jsonPath);
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  b.doc["samplers"][0]["wrapT"] = 10241;  // a filter constant, not a wrap mode
+  expectError("/samplers/0/wrapT", "wrap mode 10241");
+  b.doc["samplers"][0]["wrapT"] = 10497;
+  b.doc["textures"][clampMirror]["sampler"] = 3;
+  expectError("/textures/1/sampler", "refers to sampler 3");
+}
+
 TEST_F(GltfImport, ExternalSixteenBitImageAndUnsupportedTexCoord) {
   const std::vector<uint8_t> image = test::png(1, 1, {65535, 256, 1}, 16);
   test::writeBytes(dir_ / "my wall.png", image.data(), image.size());
