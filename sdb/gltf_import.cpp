@@ -769,19 +769,41 @@ class Importer {
         warn("the file has " + std::to_string(model_.scenes.size()) + " scenes; scene " + std::to_string(s) +
              quotedName(model_.scenes[s].name) + " is imported and the others are ignored");
       }
-      roots = model_.scenes[s].nodes;
+      const std::vector<int>& listedRoots = model_.scenes[s].nodes;
+      const std::string path = "/scenes/" + std::to_string(s) + "/nodes";
       std::vector<bool> listed(count, false);
-      for (int r : roots) {
-        const std::string path = "/scenes/" + std::to_string(s) + "/nodes";
+      for (int r : listedRoots) {
         if (r < 0 || size_t(r) >= count) {
           fail(path, "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
                          ", but the file has " + std::to_string(count) + " nodes");
         }
-        if (parentOf[size_t(r)] >= 0 || listed[size_t(r)]) {
-          fail(path, "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
-                         " as a root, but it is another node's child or listed twice");
-        }
         listed[size_t(r)] = true;
+      }
+      // glTF 2.0 §3.5.2 makes a scene's nodes root nodes. Some exporters list a child instead (Kenney's models
+      // list their one node under an unlisted "tmpParent"); such a node is imported as a root with its own
+      // transform, as glTF viewers show it, unless an ancestor of it is listed and brings it along.
+      std::vector<bool> taken(count, false);
+      for (int r : listedRoots) {
+        const std::string label = "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
+                                  quotedName(model_.nodes[size_t(r)].name);
+        if (taken[size_t(r)]) {
+          warn(label + " twice; it is imported once");
+          continue;
+        }
+        bool ancestorListed = false;
+        for (int a = parentOf[size_t(r)]; a >= 0 && !ancestorListed; a = parentOf[size_t(a)]) {
+          ancestorListed = listed[size_t(a)];
+        }
+        if (ancestorListed) {
+          warn(label + " as a root, but an ancestor of it is listed too; it is imported once, under its parent");
+          continue;
+        }
+        if (parentOf[size_t(r)] >= 0) {
+          warn(label + " as a root, but it is a child of node " + std::to_string(parentOf[size_t(r)]) +
+               "; it is imported as a root with its own transform, as glTF viewers show it");
+        }
+        taken[size_t(r)] = true;
+        roots.push_back(r);
       }
     } else {
       // Without scenes nothing says what to show (§3.5.1); take every parentless node so that a file of loose

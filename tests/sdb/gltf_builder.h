@@ -220,12 +220,11 @@ class GltfBuilder {
     for (const json& extra : moreBuffers) d["buffers"].push_back(extra);
     std::string text = d.dump();
     while (text.size() % 4) text += ' ';
-    std::vector<uint8_t> out;
+    std::vector<uint8_t> out = {'g', 'l', 'T', 'F'};
     auto u32 = [&out](uint32_t v) {
       for (int k = 0; k < 4; ++k) out.push_back(uint8_t(v >> (8 * k)));
     };
     const size_t length = 12 + 8 + text.size() + (payload.empty() ? 0 : 8 + payload.size());
-    out.insert(out.end(), {'g', 'l', 'T', 'F'});
     u32(2);
     u32(uint32_t(length));
     u32(uint32_t(text.size()));

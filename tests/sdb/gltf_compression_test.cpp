@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "gltf_import_fixture.h"
 
@@ -184,7 +185,8 @@ GltfBuilder meshoptFile(const Grid& g) {
                             const char* filter, size_t fallbackOffset) {
     while (b.bin.size() % 4) b.bin.push_back(0);
     const size_t offset = b.bin.size();
-    b.bin.insert(b.bin.end(), encoded.begin(), encoded.end());
+    b.bin.resize(offset + encoded.size());
+    std::memcpy(b.bin.data() + offset, encoded.data(), encoded.size());
     json ext = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", encoded.size()}, {"byteStride", stride},
                 {"count", count}, {"mode", mode}};
     if (filter) ext["filter"] = filter;

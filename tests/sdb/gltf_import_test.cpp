@@ -92,6 +92,29 @@ TEST_F(GltfImport, FileWithoutScenesImportsEveryParentlessNode) {
   EXPECT_EQ(scene_.nodes().size(), 3u);
 }
 
+TEST_F(GltfImport, SceneListingAChildImportsItAsARootWithItsOwnTransform) {
+  GltfBuilder b;
+  const int mesh = b.triangles(kTriangle, {}, "Tile");
+  b.node({{"name", "tmpParent"}, {"children", {1}}, {"translation", {5, 0, 0}}});
+  b.node({{"name", "tile"}, {"mesh", mesh}, {"translation", {0, 1, 0}}});
+  b.scene({1});
+  const GltfImportResult r = import(b);
+  ASSERT_EQ(r.roots.size(), 1u);
+  EXPECT_EQ(scene_.node(r.roots[0]).name, "tile");
+  expectVec(transformPoint(scene_.worldFromLocal(r.roots[0]), vec3(0.0f)), vec3(0, 1, 0));
+  EXPECT_TRUE(contains(r.warnings, "scene 0 lists node 1 'tile' as a root, but it is a child of node 0; it is "
+                                   "imported as a root with its own transform"));
+
+  // Listed with its parent (and twice): imported once, under the parent.
+  scene_ = Scene();
+  b.scene({0, 1, 0});
+  const GltfImportResult twice = import(b);
+  EXPECT_EQ(twice.roots.size(), 1u);
+  EXPECT_EQ(scene_.nodes().size(), 2u);
+  EXPECT_TRUE(contains(twice.warnings, "an ancestor of it is listed too; it is imported once, under its parent"));
+  EXPECT_TRUE(contains(twice.warnings, "scene 0 lists node 0 'tmpParent' twice; it is imported once"));
+}
+
 TEST_F(GltfImport, GltfGlbAndExternalBinGiveTheSameMesh) {
   GltfBuilder b;
   b.triangles({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 3}, "Quad");  // no normals: flat
