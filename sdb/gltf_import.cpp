@@ -37,18 +37,29 @@
 //  - normalTexture → bumpTexture with bumpScale = normalTexture.scale.
 //  - occlusionTexture is ignored: the baker computes occlusion from the geometry.
 //  - doubleSided → Material::doubleSided and Mesh::twoSided.
+//  - KHR_materials_clearcoat → applyClearCoat and KHR_materials_sheen → applySheen (material_layers.h, where
+//    the approximations are stated); when the coat is the lobe, clearcoatTexture (red) → reflectionTexture and
+//    clearcoatRoughnessTexture (green) → reflectionGlossinessTexture.
 //  - A primitive without a material gets fly's default material (Material{}, a light grey paint, named
 //    "default") rather than glTF's default (§3.9.6: a white rough metal), which would act as a blurred mirror
 //    in a bake.
 // Sources: glTF 2.0 specification §3.9 "Materials" and Appendix B
 // (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html); the Khronos extension specifications
 // KHR_materials_transmission, KHR_materials_volume, KHR_materials_ior, KHR_materials_specular,
-// KHR_materials_emissive_strength, KHR_texture_transform and KHR_lights_punctual
-// (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Khronos).
+// KHR_materials_emissive_strength, KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_variants,
+// KHR_texture_transform, KHR_lights_punctual, KHR_draco_mesh_compression and KHR_texture_basisu
+// (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Khronos), EXT_meshopt_compression and
+// EXT_texture_webp (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Vendor).
 //
-// Textures (PNG or JPEG, glTF 2.0 §3.8.2) are decoded by tinygltf's stb_image loader into RGBA with 8 or 16
-// bits per channel. A single channel that a material parameter reads (roughness = green, transmission = red)
-// is copied into a one-channel (grey) texture of its own.
+// Textures are decoded by the installed ImageDecoder (setImageDecoder; the fly program's reads PNG, JPEG,
+// WebP, HDR, EXR and TIFF through OpenImageIO) or else by tinygltf's stb_image loader (PNG and JPEG, the formats
+// glTF 2.0 §3.8.2 allows), into RGBA with 8 or 16 bits per channel. A single channel that a material parameter
+// reads (roughness = green, transmission and clear coat = red) is copied into a one-channel (grey) texture of
+// its own.
+//
+// Import budget (GltfImportOptions::maxDecodedBytes, kMaxTextureDimension): every accessor, decoded meshopt
+// view and image is charged its decoded size from what the file declares (accessor counts, image headers)
+// before it is decoded, so a file that claims more fails with an InputError instead of an allocation.
 //
 // The import is all or nothing: everything is converted and checked first, then added to the Scene, so an
 // InputError leaves the scene as it was.
