@@ -54,6 +54,7 @@ inline constexpr int kBakedSceneFormatVersion = 1;
 struct BakeDescription {
   std::string scenePath;
   nlohmann::json settings;                 // the resolved options, as the command reports them
+  nlohmann::json daylight;                 // the site, time and sky baked with (cli/scene_daylight.h)
   float targetRelativeError = 0.0f;        // drawn in convergence.png; 0 = none
   std::vector<std::string> meshNames;      // per TraceMesh (rdb.meshes order); "" = unnamed
   std::vector<std::string> nodeNames;      // per TraceMesh

@@ -13,11 +13,11 @@
 #include "base/file_io.h"
 #include "cli/bake_options.h"
 #include "cli/command.h"
+#include "cli/scene_daylight.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
 #include "raytracer/sensor_grid.h"
 #include "rdb/trace_rdb_build.h"
-#include "sdb/scene_load.h"
 
 namespace fly::cli {
 
@@ -29,6 +29,7 @@ struct IlluminanceOptions {
   std::string grid;
   std::string out;
   SamplingOptions sampling;
+  DaylightOptions daylight;
 };
 
 // The sensors of a CSV file and its lines, so that the output repeats them.
@@ -199,7 +200,9 @@ int runIlluminance(const IlluminanceOptions& o) {
         "over the floors)");
   }
   const GridSpec grid = o.grid.empty() ? GridSpec{} : parseGrid(o.grid);  // bad values fail before the load
-  const sdb::Scene scene = sdb::loadScene(o.scene);
+  const LitScene lit = loadLitScene(o.scene, o.daylight);
+  const sdb::Scene& scene = lit.scene;
+  std::fprintf(stderr, "light: %s\n", lit.light.c_str());
   const raytracer::EstimateSettings settings = estimateSettings(o.sampling, scene.bakeSettings());
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
@@ -251,6 +254,7 @@ Command addIlluminanceCommand(CLI::App& app) {
          "added")
       ->required();
   addSamplingOptions(*sub, o->sampling, "sensor");
+  o->daylight.add(*sub, &o->sampling.time);
   return {sub, [o] { return runIlluminance(*o); }};
 }
 

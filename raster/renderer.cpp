@@ -603,12 +603,12 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   glDisable(GL_CULL_FACE);
 
   // The scene, in one draw, with the program of this mode and the scene's features (modes that need the
-  // same variant share it: simple mode and sunlight mode without a sun differ only in uniforms).
+  // same variant share it: simple and sunlight modes differ only in the ambient uniforms).
   if (gpu_->indexCount > 0) {
     const bool lightMaps = mode != RenderMode::kSimple && v.lightMap;
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
     const uint32_t variant = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
-                             (phong && sunlight && v.sun ? kVariantSun : 0u) |
+                             (phong && v.sun ? kVariantSun : 0u) |
                              (v.twoSided ? kVariantTwoSided : 0u) |
                              (phong && v.goniometric ? kVariantGonio : 0u) |
                              (lightMaps && v.lightTexture ? kVariantLightTexture : 0u) |
@@ -627,7 +627,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
     glUniform3fv(p.ambientUp, 1, &ambient.upLux[0]);
     glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
-    if (sunlight && v.sun) {
+    if (phong && v.sun) {
       const rdb::RasterSky& s = *r.sky;
       const double solidAngleSr = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
       const vec3 sunLux = s.sunRadianceCdM2 * float(solidAngleSr);

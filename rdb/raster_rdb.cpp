@@ -348,9 +348,10 @@ Rgb directIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3&
   return l.intensity * (cd * cosSurface * window / dist2);
 }
 
-// Progressive radiosity's ambient term (raster_rdb.h) for the simple mode.
+// The simple mode's ambient term (raster_rdb.h): the daylight's (buildSky first) plus progressive radiosity's
+// for the scene's lights.
 void buildAmbient(RasterRdb& rdb) {
-  rdb.ambient = DirectionalAmbient{};
+  rdb.ambient = rdb.daylightAmbient;
   if (rdb.lights.empty() || rdb.indices.empty()) return;
   std::vector<double> vertexArea(rdb.positionsM.size(), 0.0);
   double areaSum = 0.0, albedoSum = 0.0;
@@ -377,8 +378,8 @@ void buildAmbient(RasterRdb& rdb) {
   }
   const double rho = std::min(0.9, albedoSum / areaSum);
   const Rgb level(eSum / areaSum * (rho / (1.0 - rho)));
-  rdb.ambient.upLux = level;
-  rdb.ambient.downLux = level;
+  rdb.ambient.upLux += level;
+  rdb.ambient.downLux += level;
 }
 
 void buildSky(RasterRdb& rdb, const sdb::Scene& scene, const RasterBuildOptions& options) {
@@ -465,8 +466,8 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
   buildCornerFactors(rdb);
   buildMaterials(rdb, scene);
   buildLights(rdb, scene);
-  buildAmbient(rdb);
   buildSky(rdb, scene, options);
+  buildAmbient(rdb);
   buildCameras(rdb, scene);
   buildVariants(rdb, scene);
   return rdb;
@@ -525,11 +526,11 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
     }
   }
   if (r.lights) buildLights(rdb, scene);
-  if (r.materials || !r.materialBlocks.empty() || r.lights) {
+  if (r.sky) buildSky(rdb, scene, options);
+  if (r.materials || !r.materialBlocks.empty() || r.lights || r.sky) {
     buildAmbient(rdb);
     r.ambient = true;
   }
-  if (r.sky) buildSky(rdb, scene, options);
   if (r.cameras) buildCameras(rdb, scene);
   if (r.lights || r.sky || r.materials || !r.materialBlocks.empty()) buildVariants(rdb, scene);
   return r;
