@@ -94,35 +94,16 @@ void checkTime(const std::string& time, const std::string& zone, const char* wha
   }
 }
 
-// The mean illuminance, lux, that the scene's emissive surfaces could give its surfaces: their luminous flux
-// (π · luminance · area per emitting face, the emissive factor being an upper bound of a textured emission)
-// spread over the area of every surface.
-double emissiveMeanIlluminanceLux(const sdb::Scene& scene) {
-  double fluxLm = 0.0, areaM2 = 0.0;
-  scene.forEachNode([&](sdb::NodeId id, const mat4& worldFromLocal) {
-    for (sdb::MeshId meshId : scene.node(id).meshes) {
-      const sdb::Mesh& mesh = scene.mesh(meshId);
-      double a = 0.0;
-      for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-        const dvec3 p0(worldFromLocal * vec4(mesh.positions[mesh.indices[t]], 1.0f));
-        const dvec3 p1(worldFromLocal * vec4(mesh.positions[mesh.indices[t + 1]], 1.0f));
-        const dvec3 p2(worldFromLocal * vec4(mesh.positions[mesh.indices[t + 2]], 1.0f));
-        a += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
-      }
-      areaM2 += a;
-      const sdb::Material& m = scene.material(mesh.material);
-      if (m.isEmissive()) fluxLm += kPi * double(luminance(m.emissionLuminance)) * a * (mesh.twoSided ? 2.0 : 1.0);
-    }
-  });
-  return areaM2 > 0.0 ? fluxLm / areaM2 : 0.0;
-}
-
-// Lights, or emissive surfaces bright enough to light the model: at least kEmissiveLightLux on average. An
-// emission below that is a glow (the glTF default emissive factor 1 is 1 cd/m², a display is 100–500 cd/m²),
-// under which the model would be black.
-constexpr double kEmissiveLightLux = 1.0;
+// Lights, or emissive materials bright enough to be lamps: kEmissiveLampCdM2 or more. A dimmer emission is a
+// glow (the glTF default emissive factor 1 without KHR_materials_emissive_strength is 1 cd/m²; a display is
+// 100–500 cd/m², a lamp 10³–10⁵), under which the model would be black.
+constexpr double kEmissiveLampCdM2 = 10.0;
 bool hasLightSources(const sdb::Scene& scene) {
-  return !scene.lights().empty() || emissiveMeanIlluminanceLux(scene) >= kEmissiveLightLux;
+  if (!scene.lights().empty()) return true;
+  for (const auto& [id, mesh] : scene.meshes()) {
+    if (luminance(scene.material(mesh.material).emissionLuminance) >= kEmissiveLampCdM2) return true;
+  }
+  return false;
 }
 
 std::string degrees(double v) { return format("%.1f°", v); }
@@ -308,7 +289,7 @@ std::string describeLight(const sdb::Scene& scene, bool defaultDaylight) {
   text += "; global horizontal " + format("%.0f", sunLux + skyLux) + " lx (sun " + format("%.0f", sunLux) +
           ", sky " + format("%.0f", skyLux) + ")";
   if (defaultDaylight) {
-    const std::string glow = stats.emissiveMeshes > 0 ? ", and its emissive materials give it under 1 lx" : "";
+    const std::string glow = stats.emissiveMeshes > 0 ? ", and its emissive materials only glow (under 10 cd/m²)" : "";
     return "default daylight (no lights in " + scene.sourcePath.filename().string() + glow + "): " + text +
            "; give --lat --lon --time (or --sun-dir AZIMUTH,ELEVATION) to set the sun";
   }

@@ -4,8 +4,8 @@
 // rdb lowers like a scene file's (rdb/site_lowering.h): both engines see the same light.
 //
 // The default daylight. A glTF model given without a scene file that has no lights and no emissive
-// materials bright enough to light it (a mean of 1 lx over its surfaces, at most: a glow such as a visor's
-// 1 cd/m²), and no daylight options, would be black; it is put in a clear sky instead (sky "clear",
+// materials bright enough to be lamps (10 cd/m² or more; dimmer ones, such as a visor's 1 cd/m², only glow),
+// and no daylight options, would be black; it is put in a clear sky instead (sky "clear",
 // turbidity 3, with the sun), with the sun placed directly at elevation 45°, azimuth 135° (south-east;
 // north along the model's −Z). Why: a clear sky is the daylight in which products and buildings are most
 // often shown and has both a sun (shape, shading, shadows in a bake) and a sky (soft fill from every side);

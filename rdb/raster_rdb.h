@@ -137,9 +137,12 @@ struct RasterVariants {
 // at convex corners). Levels: with daylight (sunlight mode), upLux = the sky's horizontal illuminance and
 // downLux = that of the ground (reflectance kRasterGroundAlbedo, rdb/raster_sky.h) lit by sky and sun; in
 // simple mode, those of the daylight (when the scene has a sky or sun, whose sun the simple mode's Phong
-// also shades with) plus, for the scene's lights, the ambient term of progressive radiosity (Cohen et al.
-// 1988, §4.2) on both: ρ̄/(1 − ρ̄) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct
-// illuminance at the vertices and ρ̄ the area-weighted mean albedo (luminance), capped at 0.9.
+// also shades with) plus, on both, the ambient term of progressive radiosity (Cohen et al. 1988, §4.2):
+// for the scene's lights ρ̄/(1 − ρ̄) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct
+// illuminance at the vertices, and for its emissive surfaces, which the Phong does not shade with,
+// Ē_e / (1 − ρ̄), with Ē_e their flux (π·L per emitting face and m²) spread over every surface — the mean
+// illuminance of an enclosure (the integrating-sphere formula); ρ̄ is the area-weighted mean albedo
+// (luminance), capped at 0.9.
 inline constexpr float kCornerGain = 1.0f;
 struct DirectionalAmbient {
   Rgb upLux{0.0f};
