@@ -289,7 +289,7 @@ std::string describeLight(const sdb::Scene& scene, bool defaultDaylight) {
   text += "; global horizontal " + format("%.0f", sunLux + skyLux) + " lx (sun " + format("%.0f", sunLux) +
           ", sky " + format("%.0f", skyLux) + ")";
   if (defaultDaylight) {
-    const std::string glow = stats.emissiveMeshes > 0 ? ", and its emissive materials only glow (under 10 cd/m²)" : "";
+    const std::string glow = stats.emissiveMeshes > 0 ? "; its emissive materials only glow, under 10 cd/m²" : "";
     return "default daylight (no lights in " + scene.sourcePath.filename().string() + glow + "): " + text +
            "; give --lat --lon --time (or --sun-dir AZIMUTH,ELEVATION) to set the sun";
   }

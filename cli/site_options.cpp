@@ -30,7 +30,10 @@ void SiteTimeOptions::add(CLI::App& sub) {
 }
 
 void DaylightOptions::add(CLI::App& sub, std::string* timeLimit) {
-  const std::string group = "Daylight (override the scene file's site, time and sky; put a plain glTF in daylight)";
+  const std::string group =
+      "Daylight (each overrides the scene file's value; a plain glTF without lights is put in a clear sky with "
+      "the sun at 45° elevation, azimuth 135°, unless these place it; --sun-dir excludes --lat, --lon, --time "
+      "and --tz)";
   if (timeLimit) {
     sub.remove_option(sub.get_option("--time"));
     sub.add_option_function<std::vector<std::string>>(
@@ -53,21 +56,22 @@ void DaylightOptions::add(CLI::App& sub, std::string* timeLimit) {
   } else {
     sub.add_option("--time", time,
                    "date and time at the site: local 2026-06-21T15:00 (in --tz or the scene's zone), UTC "
-                   "2026-06-21T12:00Z or with an offset 2026-06-21T15:00+03:00")
+                   "2026-06-21T12:00Z or with an offset 2026-06-21T15:00+03:00 (default: the scene's)")
         ->group(group);
   }
   sub.add_option("--lat", latitudeDeg, "latitude of the site, degrees north, [-90, 90]; with --lon")
       ->group(group);
   sub.add_option("--lon", longitudeDeg, "longitude of the site, degrees east, [-180, 180]; with --lat")
       ->group(group);
-  sub.add_option("--elevation", elevationM, "elevation of the site above sea level, metres, [-500, 9000] (default 0)")
+  sub.add_option("--elevation", elevationM, "elevation of the site above sea level, metres, [-500, 9000] (default: the scene's, else 0)")
       ->group(group);
   sub.add_option("--north", northAngleDeg,
                  "angle from the model's -Z axis to north, degrees clockwise seen from above, [-360, 360] "
-                 "(default 0: north along -Z)")
+                 "(default: the scene's, else 0: north along -Z)")
       ->group(group);
   sub.add_option("--tz", timeZone,
-                 "time zone of the site: IANA name (Europe/Helsinki, daylight saving applied) or offset +03:00")
+                 "time zone of the site: IANA name (Europe/Helsinki, daylight saving applied) or offset +03:00 "
+                 "(default: the scene's, else the zone --time carries)")
       ->group(group);
   sub.add_option("--sky", sky,
                  "sky model: clear (Preetham distribution and colour at the IES Handbook level, with the sun), "
