@@ -56,14 +56,16 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
 
   SceneDaylight d;
   d.frame = sunsky::makeSiteFrame(site.latitudeDeg, site.longitudeDeg, northReference(site), where);
-  sunsky::SpaInput spa;
   int dayOfYear = kDirectSunDayOfYear;
+  sunsky::UtcTime utc;  // of the scene's time; unset for a sun placed directly
   if (direct) {
     d.sunPosition.azimuthDeg = direct->azimuthDeg;
     d.sunPosition.apparentZenithDeg = 90.0 - direct->elevationDeg;
     d.sunPosition.trueZenithDeg = d.sunPosition.apparentZenithDeg;
   } else {
+    sunsky::SpaInput spa;
     spa.utc = sunsky::parseTime(scene.time().localDateTime, site.timeZone, "the scene's time");
+    utc = spa.utc;
     spa.latitudeDeg = site.latitudeDeg;
     spa.longitudeDeg = site.longitudeDeg;
     spa.elevationM = site.elevationM;
@@ -100,7 +102,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
     case sdb::SkyModel::kPerez: {
       // The scene-file reader has already resolved the path against the scene file's folder.
       const sunsky::EpwFile epw = sunsky::loadEpw(settings.weatherFile);
-      const sunsky::EpwSample w = sunsky::sampleAtUtc(epw, spa.utc);
+      const sunsky::EpwSample w = sunsky::sampleAtUtc(epw, utc);
       if (!w.dniWm2 || !w.dhiWm2) {
         throw InputError({epw.fileName},
                          "the weather record at " + scene.time().localDateTime +
