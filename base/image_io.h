@@ -1,6 +1,6 @@
 // Image files: OpenEXR for physical values (32-bit float, lossless), PNG for display-referred 8-bit images.
 // Every write is atomic (base/file_io.h writeFileAtomic): readers see the old file or the whole new one.
-// Target fly_image_io, kept out of fly_base so that the GL engine never links OpenEXR (DESIGN.md).
+// Target fly_image_io, kept out of fly_base so that the GL engine never links OpenEXR (docs/architecture.md).
 #pragma once
 
 #include <cstdint>
@@ -11,7 +11,7 @@
 
 namespace fly {
 
-// A linear RGB float image: Rec.709 primaries, photometric scale (luminance in cd/m², DESIGN.md "Units").
+// A linear RGB float image: Rec.709 primaries, photometric scale (luminance in cd/m², docs/architecture.md, "Units and frames").
 struct ImageRgbF {
   int width = 0;
   int height = 0;

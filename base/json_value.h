@@ -1,5 +1,5 @@
 // A JSON (RFC 8259) document model that remembers where each value and each object key was written: line and
-// column (1-based) and its JSON path, so that scene-file errors can point at the offending text (STYLE.md 6).
+// column (1-based) and its JSON path, so that scene-file errors can point at the offending text.
 // nlohmann::json keeps no positions, hence this small parser of our own.
 #pragma once
 

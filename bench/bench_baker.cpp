@@ -1,5 +1,5 @@
 // fly-bench-baker: the vertex baker's performance figures, each as a ratio against a baseline measured in the
-// same run, because the machine is shared and noisy (DESIGN.md, "Performance figures"; results in
+// same run, because the machine is shared and noisy (docs/architecture.md, "Performance figures"; results in
 // docs/benchmarks.md).
 //
 //   1. Throughput: the baker's rays/s (sampling and shading included) against raw EmbreeScene queries on the

@@ -1,5 +1,5 @@
 // fly-bench-raster: frames per second of the OpenGL engine in each mode, as a ratio against a baseline
-// measured in the same run, the same way (DESIGN.md, "Performance figures"; results in docs/benchmarks.md):
+// measured in the same run, the same way (docs/architecture.md, "Performance figures"; results in docs/benchmarks.md):
 // the empty frame, i.e. clearing depth, filling the float image with the (black) background and running the
 // tone-map pass over it, which every frame also pays.
 //

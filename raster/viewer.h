@@ -2,7 +2,7 @@
 // with a first-person camera (raster/camera_controller.h), with keys for the mode, exposure, operator, time
 // of day, camera and screenshots, and an overlay line with fps, mode, exposure, operator and local time. What
 // needs the scene (the time of day) or files (screenshots) is the caller's, through ViewerHost: raster/ sees
-// only the RasterRdb (DESIGN.md). Scripted runs (a frame count and a list of keys) drive the same loop for
+// only the RasterRdb (docs/architecture.md). Scripted runs (a frame count and a list of keys) drive the same loop for
 // tests under xvfb-run.
 #pragma once
 

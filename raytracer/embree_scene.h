@@ -1,5 +1,5 @@
 // The TraceRdb's triangles in an Embree 3 scene, and the two ray queries the integrator needs. Embree's types
-// stay in the .cpp (STYLE.md 4): callers see triangle indices of the TraceRdb and glm vectors only.
+// stay in the .cpp: callers see triangle indices of the TraceRdb and glm vectors only.
 #pragma once
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Baked light, handed from the raytracer's results to the GL engine (DESIGN.md: the engines share baked
+// Baked light, handed from the raytracer's results to the GL engine (docs/architecture.md: the engines share baked
 // results only through the LightMapStore). Plain data: the CLI fills it from a bake in memory or from a baked
 // scene directory (cli/baked_light_maps.h); the raster engine reads it.
 #pragma once

@@ -1,4 +1,4 @@
-// The RasterRdb: the scene lowered for the OpenGL engine (DESIGN.md, STYLE.md 2 and 4) as plain, GPU-ready
+// The RasterRdb: the scene lowered for the OpenGL engine (docs/architecture.md) as plain, GPU-ready
 // arrays: world-space vertices (one copy per placed (node, mesh) pair, in the SDB mesh's vertex order so the
 // vertex light maps index them directly), material blocks, lights for the simple mode's Phong, cameras, the
 // sky dome, and which shader variants the scene's features call for. World space is glTF's (+Y up, metres);
@@ -162,8 +162,8 @@ struct RasterCamera {
   bool operator==(const RasterCamera&) const = default;
 };
 
-// Which shader variants and passes the scene's features call for (DESIGN.md, "Leave out what a scene does not
-// need"): the engine compiles only these.
+// Which shader variants and passes the scene's features call for (docs/architecture.md,
+// "Features decide what is built"): the engine compiles only these.
 struct RasterVariants {
   bool lightMap = false;     // some mesh has a light map: light-map mode is possible
   bool lightTexture = false; // some mesh has a light texture: light-map modes sample it per fragment

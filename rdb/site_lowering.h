@@ -1,4 +1,4 @@
-// Where the SDB meets sunsky (DESIGN.md: rdb/ calls sunsky once per change and stores the result in both RDBs):
+// Where the SDB meets sunsky (docs/architecture.md: rdb/ calls sunsky once per change and stores the result in both RDBs):
 // a scene's site, local time and sky settings lowered to a site frame, the sun's position, the sky model and the
 // sun's disc. Both RDBs take their daylight from here, so the baker and the GL engine light a scene alike.
 #pragma once

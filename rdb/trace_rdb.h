@@ -1,5 +1,5 @@
-// The TraceRdb: the scene lowered once into flat arrays for the Monte-Carlo baker (DESIGN.md, STYLE.md 2 and
-// 4). World space is glTF's (+Y up, metres); light in linear Rec.709 RGB with photometric luminance. Records
+// The TraceRdb: the scene lowered once into flat arrays for the Monte-Carlo baker (docs/architecture.md).
+// World space is glTF's (+Y up, metres); light in linear Rec.709 RGB with photometric luminance. Records
 // refer to SDB entities by id value, never by pointer; the raytracer never includes sdb/ or sunsky/ — all it
 // needs is here, as plain data a test can also build by hand.
 #pragma once

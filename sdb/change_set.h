@@ -1,4 +1,4 @@
-// What an SDB edit changed, so that RDBs update incrementally instead of rebuilding (STYLE.md 3).
+// What an SDB edit changed, so that RDBs update incrementally instead of rebuilding.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // The scene's features: what it contains that later stages must build. RDBs and engines build, compile and run
-// only the parts a scene's features call for (DESIGN.md, "Leave out what a scene does not need").
+// only the parts a scene's features call for (docs/architecture.md, "Features decide what is built").
 #pragma once
 
 #include <string>

@@ -11,7 +11,8 @@
 // reflection first, then transmission, then diffuse. The conversion:
 //  - reflectionGlossiness = roughness: both are the perceptual parameter whose square is the GGX width α. The
 //    green (roughness) channel of metallicRoughnessTexture becomes reflectionGlossinessTexture. Its blue
-//    channel (per-texel metalness) cannot be represented: a material is metal or dielectric as a whole.
+//    channel (per-texel metalness) cannot be represented: a material is metal or dielectric as a whole, with
+//    metallic = metallicFactor × the blue channel's mean over the texture.
 //  - metallic < 0.5 (dielectric): reflectionModel = Fresnel with ior from KHR_materials_ior (default 1.5);
 //    reflectionColor = min(specularColorFactor, 1) × specularFactor (KHR_materials_specular: the dielectric
 //    F0 is min(F0(ior) × specularColor, 1) × specular, so at normal incidence fly's reflectionColor × F0(ior)
@@ -32,7 +33,7 @@
 //    geometry.
 //  - alphaMode, alphaCutoff and baseColorFactor's alpha → Material::alphaMode, alphaCutoff and opacity; the
 //    alpha channel of baseColorTexture (diffuseTexture) and of COLOR_0 multiply the coverage per point.
-//  - emissionLuminance = emissiveFactor × KHR_materials_emissive_strength, in cd/m² (DESIGN.md, "Units and
+//  - emissionLuminance = emissiveFactor × KHR_materials_emissive_strength, in cd/m² (docs/architecture.md, "Units and
 //    frames"); emissiveTexture → emissionTexture (sRGB).
 //  - normalTexture → bumpTexture with bumpScale = normalTexture.scale.
 //  - occlusionTexture is ignored: the baker computes occlusion from the geometry.
@@ -1837,8 +1838,13 @@ class Importer {
     const std::vector<double>& bc = pbr.baseColorFactor;  // tinygltf checks it has 4 numbers
     const Rgb base = unitColor(bc, ppath + "/baseColorFactor", label + " baseColorFactor");
     const float alpha = unitFactor(bc[3], ppath + "/baseColorFactor", label + " baseColorFactor alpha");
+    // Per-texel metalness (the blue channel of metallicRoughnessTexture) has no place in the realistic
+    // material, which is metal or dielectric as a whole: the factor is scaled by the texture's mean metalness,
+    // so that a model whose factor stays at glTF's default 1 while the texture paints the metal (most scanned
+    // and game assets: DamagedHelmet, FlightHelmet) is a metal only where most of its surface is one.
     const float metallic =
-        unitFactor(pbr.metallicFactor, ppath + "/metallicFactor", label + " metallicFactor");
+        unitFactor(pbr.metallicFactor, ppath + "/metallicFactor", label + " metallicFactor") *
+        meanMetalness(pbr.metallicRoughnessTexture.index, label + " metallicRoughnessTexture");
     const float roughness =
         unitFactor(pbr.roughnessFactor, ppath + "/roughnessFactor", label + " roughnessFactor");
 
@@ -2068,6 +2074,28 @@ class Importer {
     }
     ref.texture = imageTexture(size_t(t.source), channels, what);
     return ref;
+  }
+
+  // The mean of the blue channel (metalness, glTF 2.0 §3.9.2) of texture `index`'s image, in [0, 1]; 1 when
+  // there is no such texture or image (textureRef reports what is wrong with a reference).
+  float meanMetalness(int index, const std::string& what) {
+    if (index < 0 || size_t(index) >= model_.textures.size()) return 1.0f;
+    const int source = model_.textures[size_t(index)].source;
+    if (source < 0 || size_t(source) >= model_.images.size()) return 1.0f;
+    const Texture& t = decodedImage(size_t(source), what);
+    if (t.channels < 3) return 1.0f;  // grey: no blue channel of its own
+    const size_t bytes = size_t(t.bitsPerChannel / 8);
+    const size_t pixels = size_t(t.width) * size_t(t.height);
+    if (pixels == 0) return 1.0f;
+    const double maxValue = bytes == 2 ? 65535.0 : 255.0;
+    double sum = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+      const uint8_t* b = &t.pixels[(p * size_t(t.channels) + 2) * bytes];
+      uint16_t v = b[0];
+      if (bytes == 2) std::memcpy(&v, b, 2);
+      sum += double(v);
+    }
+    return float(sum / (double(pixels) * maxValue));
   }
 
   // A sampler's wrapS or wrapT (glTF 2.0 §5.26: 33071, 33648 or 10497, the default).

@@ -1,5 +1,5 @@
 // Stable entity ids of the Scene Description Database. An id is never reused within a Scene, so RDB records
-// can refer to SDB entities by id across edits (STYLE.md 2).
+// can refer to SDB entities by id across edits.
 #pragma once
 
 #include <compare>

@@ -1,6 +1,6 @@
 // An ImageDecoder (texture.h) through OpenImageIO: PNG, JPEG, WebP, Radiance HDR, OpenEXR and TIFF. Target
 // fly_sdb_images, kept out of fly_sdb so that the GL engine, which links fly_sdb, never links OpenImageIO
-// (DESIGN.md). The fly program installs it for every glTF import (gltf_import.h setImageDecoder).
+// (docs/architecture.md). The fly program installs it for every glTF import (gltf_import.h setImageDecoder).
 //
 // Conversions: 8-bit samples stay 8-bit; 16- and 32-bit integer samples become 16-bit; float samples (HDR,
 // EXR, float TIFF) are clamped to [0, 1] and rounded to 16 bits, because sdb::Texture holds 8- or 16-bit

@@ -1,4 +1,4 @@
-// The Scene Description Database: engine-neutral, physical, the single source of truth (DESIGN.md).
+// The Scene Description Database: engine-neutral, physical, the single source of truth (docs/architecture.md).
 // Entities are stored by stable id; every edit returns a ChangeSet naming what changed.
 #pragma once
 

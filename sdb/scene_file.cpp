@@ -265,7 +265,7 @@ class Source {
 };
 
 // An object whose keys are all known in advance: any other key is an error at once, with the allowed keys and
-// the nearest one (STYLE.md 6). Getters return nullopt for an absent key.
+// the nearest one. Getters return nullopt for an absent key.
 class ObjectReader {
  public:
   ObjectReader(const Source& src, const JsonValue& object, std::vector<std::string> keys)

@@ -1,7 +1,7 @@
 // The site's local frame (east, north, up) in world space, for models drawn to true north, rotated by a north
 // angle, or drawn to the grid north of a UTM zone or another transverse-Mercator grid.
 //
-// World space is glTF's: right-handed, +Y up, metres (DESIGN.md). ENU is right-handed too: x east, y north,
+// World space is glTF's: right-handed, +Y up, metres (docs/architecture.md). ENU is right-handed too: x east, y north,
 // z up. Angles "clockwise seen from above" are seen looking down −Y, where a turn from −Z goes towards +X.
 // With true north along world −Z (the default), east is +X, up is +Y and south is +Z.
 #pragma once

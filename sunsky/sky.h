@@ -2,7 +2,7 @@
 // (ENU: x = east, y = north, z = up; directions are unit vectors pointing towards the sky), and the
 // integrals every sky model needs (horizontal illuminance, zenith luminance).
 //
-// Light is linear Rec.709 RGB scaled so that luminance(rgb) is in cd/m² (DESIGN.md, "Units and frames"). A
+// Light is linear Rec.709 RGB scaled so that luminance(rgb) is in cd/m² (docs/architecture.md, "Units and frames"). A
 // model without colour (CIE, Perez) is neutral: R = G = B = L, the D65 white of Rec.709.
 #pragma once
 

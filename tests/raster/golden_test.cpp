@@ -1,4 +1,4 @@
-// Golden images of each mode (STYLE.md 9: raster output against a threshold, a diff image on failure), the
+// Golden images of each mode (raster output against a threshold, a diff image on failure), the
 // sky pass against the sky image, and renderer updates against fresh uploads.
 //
 // The goldens live in tests/data/golden/raster-[<scene>-]<mode>-160x90.png; regenerate them (after a deliberate change,

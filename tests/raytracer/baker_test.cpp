@@ -1,4 +1,4 @@
-// The vertex baker against exact answers (STYLE.md 8, 9): each vertex's estimate must lie within 4 of its
+// The vertex baker against exact answers: each vertex's estimate must lie within 4 of its
 // reported standard errors of the exact hat-weighted one-ring average, with that error small enough for the
 // comparison to mean something.
 #include "raytracer/baker.h"

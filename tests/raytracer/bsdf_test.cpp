@@ -1,4 +1,4 @@
-// The BSDF against analytic answers (STYLE.md 8): albedos by quadrature and by its own sampling, the energy
+// The BSDF against analytic answers: albedos by quadrature and by its own sampling, the energy
 // rule at every angle, reciprocity, and a chi-square test of sample() against pdf().
 #include "raytracer/bsdf.h"
 

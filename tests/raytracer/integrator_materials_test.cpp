@@ -1,5 +1,5 @@
 // Textured materials, alpha coverage, shading normals and emission textures in the integrator, against exact
-// answers (STYLE.md 8, 9): every estimate within 4 of its reported standard errors of the exact value, with a
+// answers: every estimate within 4 of its reported standard errors of the exact value, with a
 // standard error small enough for the comparison to mean something.
 #include <gtest/gtest.h>
 

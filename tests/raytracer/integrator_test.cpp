@@ -1,4 +1,4 @@
-// Irradiance against exact answers (STYLE.md 8, 9): every estimate must lie within 4 of its reported standard
+// Irradiance against exact answers: every estimate must lie within 4 of its reported standard
 // errors of the exact value, and that standard error must be small enough for the comparison to mean
 // something.
 #include "raytracer/integrator.h"

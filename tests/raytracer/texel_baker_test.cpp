@@ -1,4 +1,4 @@
-// The light-texture baker against exact answers (STYLE.md 8, 9): texel-footprint averages of a point light's
+// The light-texture baker against exact answers: texel-footprint averages of a point light's
 // irradiance, no leaks under a wall, consistent seams, dilation; and the TraceRdb's choice of meshes that get
 // a light texture unasked.
 #include "raytracer/texel_baker.h"

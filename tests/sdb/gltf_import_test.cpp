@@ -650,6 +650,36 @@ TEST_F(GltfImport, RoughnessAndTransmissionChannelsBecomeGreyTextures) {
   EXPECT_EQ(scene_.textures().size(), 2u);  // the RGBA image itself is not used
 }
 
+// glTF's default metallicFactor 1 with the metalness painted into the texture's blue channel: the material
+// is a metal only as far as the texture's mean says (here 0.25 and 0.75 over two texels: mean 0.5 × 0.8).
+TEST_F(GltfImport, TextureMetalnessScalesTheMetallicFactor) {
+  GltfBuilder b = withMaterial(json::object());
+  const int dielectric = addImageTexture(b, test::png(2, 1, {0, 128, 0, 0, 128, 0}));
+  b.doc["materials"][0] = {{"name", "Painted"},
+                           {"pbrMetallicRoughness",
+                            {{"baseColorFactor", {0.5, 0.5, 0.5, 1}},
+                             {"metallicRoughnessTexture", {{"index", dielectric}}}}}};
+  import(b);
+  const Material& painted = onlyMaterialOfMesh();
+  EXPECT_EQ(painted.reflectionModel, ReflectionModel::kFresnel);  // a dielectric: the texture has no metal
+  expectRgb(painted.diffuseColor, Rgb(0.5f));
+
+  Scene other;
+  GltfBuilder c = withMaterial(json::object());
+  const int half = addImageTexture(c, test::png(2, 1, {0, 128, 64, 0, 128, 191}));
+  c.doc["materials"][0] = {{"name", "Half"},
+                           {"pbrMetallicRoughness",
+                            {{"baseColorFactor", {0.5, 0.5, 0.5, 1}},
+                             {"metallicFactor", 0.8},
+                             {"metallicRoughnessTexture", {{"index", half}}}}}};
+  c.writeGltf(dir_ / "half.gltf");
+  importGltf(other, dir_ / "half.gltf");
+  const Material& h = other.material(other.findMaterial("Half"));
+  const float metallic = 0.8f * (64.0f + 191.0f) / (2.0f * 255.0f);  // 0.4: a dielectric
+  EXPECT_EQ(h.reflectionModel, ReflectionModel::kFresnel);
+  expectRgb(h.diffuseColor, Rgb(0.5f * (1.0f - metallic)));
+}
+
 TEST_F(GltfImport, TextureTransformAndTexCoordOverride) {
   GltfBuilder b = withMaterial(json::object());
   const int tex = addImageTexture(b, test::png(1, 1, {1, 2, 3}));

@@ -1,5 +1,5 @@
 // make_scenes: writes the glTF models of the sample scenes from code, so that one program regenerates them
-// (STYLE.md 10) and a test can check that the committed files are what it writes.
+// and a test can check that the committed files are what it writes.
 //
 //   make_scenes OUTDIR   writes OUTDIR/<scene>/<scene>.gltf and <scene>.bin for every scene
 //
