@@ -1,0 +1,402 @@
+#!/usr/bin/env python3
+"""Compares `fly illuminance` with Blender Cycles (and with exact answers where they exist) at the same
+sensors of the same scenes; docs/validation.md describes the method and records the results.
+
+  validation/validate.py [CASE ...] [--out DIR] [--fly build/cli/fly] [--cycles-samples 256] ...
+
+With no CASE it runs every case (`--list` names them). For each case it writes, under DIR/CASE/: the fly
+scene file (the Lambertian form: every material diffuse only), the sensors, fly's and Cycles' CSV output,
+compare.csv (one row per sensor: both estimates, their standard errors, the exact value where known, the
+relative difference and whether it lies within the tolerance) and the logs; it prints the agreement by
+sensor group, and DIR/summary.md gathers the tables of all cases run.
+
+Agreement: a sensor agrees when |E_fly − E_cycles| ≤ 3σ + 2 % E_cycles, σ = √(σ_fly² + σ_cycles²), the
+combined standard error of both estimates. Needs Python 3 (standard library only) and Blender (Debian 12's
+`blender` 3.4, with its glTF importer).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import scene_files  # noqa: E402
+
+MODELS = os.environ.get("FLY_MODELS", "/work/models")
+TOLERANCE_SIGMAS = 3.0
+TOLERANCE_RELATIVE = 0.02
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Cases. Each returns {"scene": fly scene dict, "sensors": [(x, y, z, nx, ny, nz, group)] or "cast": {...},
+# "exact": optional function(row) -> lux}.
+
+def case_plane_sun(work):
+    """A 2 km square of albedo 0.5 (one-sided, facing up) under a directional light of 1000 lx from 60° off
+    the zenith, towards −x. Exact (the plane is effectively infinite: 1 km ≫ the sensors' 1 m height):
+    facing up E = E_n cos θ; facing the sun's azimuth, vertical E = E_n sin θ + ρ E_n cos θ / 2 (half the
+    ground's radiance ρ E_n cos θ / π times π); facing down E = ρ E_n cos θ."""
+    rho, en, theta = 0.5, 1000.0, math.radians(60.0)
+    tris, uvs = scene_files.quad((0, 0, 0), 1000, 1000, (0, 0, 1), (1, 0, 0))
+    scene_files.write_gltf(os.path.join(work, "plane.gltf"), [{"name": "Ground", "triangles": tris,
+                                                                "material": 0}],
+                           [{"name": "Ground", "pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1],
+                                                                       "metallicFactor": 0}}])
+    direction = [math.sin(theta), -math.cos(theta), 0.0]  # travels towards +x and down: the sun is at −x
+    scene = {"fly": 1, "models": [{"file": os.path.join(work, "plane.gltf")}],
+             "lights": [{"name": "sun", "type": "directional", "direction": direction, "intensity": en}]}
+    sensors, exact = [], {}
+    for i, (x, z) in enumerate([(0, 0), (3, -2), (-5, 4), (10, 10)]):
+        for group, n, e in (("up", (0, 1, 0), en * math.cos(theta)),
+                            ("towards-sun", (-1, 0, 0), en * math.sin(theta) + rho * en * math.cos(theta) / 2),
+                            ("down", (0, -1, 0), rho * en * math.cos(theta))):
+            sensors.append((x, 1.0, z) + n + (group,))
+            exact[len(sensors) - 1] = e
+    return {"scene": scene, "sensors": sensors, "exact": exact}
+
+
+def case_sphere_point(work, rho):
+    """A closed sphere of radius 1 m and albedo ρ (one-sided, front faces inward; 256 × 128 segments, so its
+    facets lie within 0.008 % of the radius) with a 100 cd point light at its centre. The walls' radiosity is
+    uniform, B = ρ E_wall, so E_wall = I/R² + ρ E_wall, E_wall = I / (R² (1 − ρ)); every inner point sees the
+    walls' uniform radiance B/π on its whole hemisphere, so a sensor at distance d from the light facing at
+    angle α from it gets E = I max(cos α, 0) / d² + ρ I / (R² (1 − ρ))."""
+    radius, intensity = 1.0, 100.0
+    name = f"sphere_{int(rho * 100)}.gltf"
+    scene_files.write_gltf(os.path.join(work, name),
+                           [{"name": "Sphere", "triangles": scene_files.sphere_inward(radius, 256, 128),
+                             "material": 0}],
+                           [{"name": "Wall", "pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1],
+                                                                     "metallicFactor": 0}}])
+    scene = {"fly": 1, "models": [{"file": os.path.join(work, name)}],
+             "lights": [{"name": "bulb", "type": "point", "position": [0, 0, 0], "intensity": intensity}]}
+    indirect = rho * intensity / (radius ** 2 * (1 - rho))
+    sensors, exact = [], {}
+    directions = [(0, 1, 0), (0, -1, 0), (1, 0, 0), (0.6, 0, -0.8), (-0.48, 0.6, 0.64)]
+    for k, u in enumerate(directions):
+        for d, group in ((0.5, "inner-facing-light"), (0.5, "inner-facing-away"), (radius - 0.01, "wall")):
+            p = tuple(d * c for c in u)
+            n = tuple(-c for c in u) if group != "inner-facing-away" else u
+            sensors.append(p + n + (group,))
+            direct = intensity / d ** 2 if group != "inner-facing-away" else 0.0
+            exact[len(sensors) - 1] = direct + indirect
+    return {"scene": scene, "sensors": sensors, "exact": exact}
+
+
+def case_alpha_mask(work):
+    """A 2 m square leaf (alphaMode MASK, cutoff 0.5, one-sided facing up, albedo 0.7, a texture of 8 × 8
+    cells alternately alpha 0.2 and 1, RGB 255: sRGB 1.0) 1 m above a 20 m floor (albedo 0.5) under a
+    1000 lx light from 30° off the zenith. Sensors on the floor under the leaf's shadow (cells of either
+    kind), facing up; on the leaf's top; under the leaf facing down (its back face: black)."""
+    scene_files.write_png_rgba(os.path.join(work, "mask.png"), 64, 64,
+                               lambda x, y: (255, 255, 255, 51 if ((x // 8) + (y // 8)) % 2 else 255))
+    floor, floor_uv = scene_files.quad((0, 0, 0), 10, 10, (0, 0, 1), (1, 0, 0))
+    leaf, leaf_uv = scene_files.quad((0, 1, 0), 1, 1, (0, 0, 1), (1, 0, 0))
+    scene_files.write_gltf(
+        os.path.join(work, "mask.gltf"),
+        [{"name": "Floor", "triangles": floor, "uvs": floor_uv, "material": 0},
+         {"name": "Leaf", "triangles": leaf, "uvs": leaf_uv, "material": 1}],
+        [{"name": "Floor", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0}},
+         {"name": "Leaf", "alphaMode": "MASK", "alphaCutoff": 0.5,
+          "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.7, 0.7, 1], "metallicFactor": 0,
+                                   "baseColorTexture": {"index": 0}}}],
+        images=["mask.png"])
+    theta = math.radians(30.0)
+    scene = {"fly": 1, "models": [{"file": os.path.join(work, "mask.gltf")}],
+             "lights": [{"name": "sun", "type": "directional", "intensity": 1000.0,
+                         "direction": [math.sin(theta), -math.cos(theta), 0]}]}
+    sensors = []
+    shift = math.tan(theta) * 1.0  # the leaf's shadow on the floor moves +x by this
+    for i in range(8):
+        for j in range(8):
+            u, v = (i + 0.5) / 8, (j + 0.5) / 8  # cell centres in texture space
+            # quad(): u along +z, v along +x from the corner (−1, −1): world z = 2u − 1, x = 2v − 1.
+            x, z = 2 * v - 1, 2 * u - 1
+            if (i + j) % 2 == 0 and (i * 8 + j) % 3:
+                continue  # every opaque cell's shadow would be too many; keep a third
+            kind = "hole" if (i + j) % 2 else "opaque"
+            sensors.append((x + shift, 0.002, z, 0, 1, 0, f"floor-under-{kind}"))
+            sensors.append((x, 1.002, z, 0, 1, 0, f"leaf-top-{kind}"))
+            sensors.append((x, 0.998, z, 0, -1, 0, f"leaf-bottom-{kind}"))
+    return {"scene": scene, "sensors": sensors}
+
+
+def case_mixed_lighting(work):
+    """Bevy's MixedLightingExample: the SheenChair (textured fabric, wood, metal, a label) on a 3.1 m floor,
+    one 2049 lx directional light in the file. Sensors 2 mm off every surface seen from above (floor in and
+    out of the chair's shadow, seat and back) and from the four sides (the chair's sides)."""
+    path = os.path.join(MODELS, "bevy/MixedLightingExample/MixedLightingExample.gltf")
+    scene = {"fly": 1, "models": [{"file": path}]}
+    return {"scene": scene, "cast": {"spacing": 0.2, "offset": 0.002, "sideways": True}}
+
+
+def case_cornell_box(work):
+    """Bevy's CornellBox.glb (the box in millimetre numbers read as metres, 556 m wide; one emissive
+    ceiling panel of 100 cd/m², KHR_materials_emissive_strength, double-sided; every material double-sided).
+    Sensors 0.5 m off the surfaces hit by 160 rays from a point in the middle of the box."""
+    path = os.path.join(MODELS, "bevy/CornellBox/CornellBox.glb")
+    scene = {"fly": 1, "models": [{"file": path}]}
+    return {"scene": scene, "cast": {"from": [-278, 274, -280], "rays": 160, "offset": 0.5}}
+
+
+def case_flight_helmet(work):
+    """The Khronos FlightHelmet (Bevy's copy: textured leather, rubber, wood and metal, lenses of alphaMode
+    BLEND, one-sided materials but the hose) standing on a 4 m floor of albedo 0.5, under a 2000 lx light
+    from 40° off the zenith. Sensors 1 mm off every surface seen from above and from the four sides."""
+    floor, floor_uv = scene_files.quad((0, 0, 0), 2, 2, (0, 0, 1), (1, 0, 0))
+    scene_files.write_gltf(os.path.join(work, "floor.gltf"),
+                           [{"name": "Floor", "triangles": floor, "uvs": floor_uv, "material": 0}],
+                           [{"name": "Floor", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
+                                                                      "metallicFactor": 0}}])
+    theta, phi = math.radians(40.0), math.radians(30.0)
+    direction = [math.sin(theta) * math.cos(phi), -math.cos(theta), math.sin(theta) * math.sin(phi)]
+    scene = {"fly": 1, "models": [{"file": os.path.join(MODELS, "bevy/FlightHelmet/FlightHelmet.gltf")},
+                                  {"file": os.path.join(work, "floor.gltf")}],
+             "lights": [{"name": "sun", "type": "directional", "intensity": 2000.0, "direction": direction}]}
+    return {"scene": scene, "cast": {"spacing": 0.05, "offset": 0.001, "sideways": True, "box": 0.4}}
+
+
+CASES = {
+    "plane-sun": case_plane_sun,
+    "sphere-point-0.5": lambda w: case_sphere_point(w, 0.5),
+    "sphere-point-0.9": lambda w: case_sphere_point(w, 0.9),
+    "alpha-mask": case_alpha_mask,
+    "mixed-lighting": case_mixed_lighting,
+    "cornell-box": case_cornell_box,
+    "flight-helmet": case_flight_helmet,
+}
+
+
+# ---------------------------------------------------------------------------------------------------------
+
+def run(cmd, log):
+    # Blender's embedded Python takes its standard library from the first python3 on PATH: the folder of
+    # the blender executable goes first, so that Debian's blender finds Debian's Python (and its numpy, which
+    # the glTF importer needs) even when this script runs under another Python (pyenv, a virtual env).
+    env = dict(os.environ)
+    exe = shutil.which(cmd[0])
+    if exe:
+        env["PATH"] = os.path.dirname(os.path.realpath(exe)) + os.pathsep + env.get("PATH", "")
+    start = time.monotonic()
+    with open(log, "w") as f:
+        f.write("$ " + " ".join(cmd) + "\n")
+        f.flush()
+        rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT, env=env)
+    seconds = time.monotonic() - start
+    if rc != 0:
+        with open(log) as f:
+            tail = f.read()[-3000:]
+        raise SystemExit(f"validate: command failed (exit {rc}): {' '.join(cmd)}\n{tail}")
+    return seconds
+
+
+def blender_cmd(args, *script_args):
+    return [args.blender, "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1", "-P",
+            os.path.join(HERE, "cycles_irradiance.py"), "--"] + [str(a) for a in script_args]
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def rms(values):
+    return math.sqrt(sum(v * v for v in values) / len(values)) if values else float("nan")
+
+
+def group_stats(rows):
+    n = len(rows)
+    rel = [r["rel_diff"] for r in rows if r["rel_diff"] is not None]
+    return {
+        "n": n,
+        "within": sum(r["within"] for r in rows) / n,
+        "mean_rel": sum(rel) / len(rel) if rel else float("nan"),
+        "mean_abs_rel": sum(abs(x) for x in rel) / len(rel) if rel else float("nan"),
+        "max_abs_rel": max((abs(x) for x in rel), default=float("nan")),
+        "mean_z": sum(r["z_score"] for r in rows) / n,
+        "rms_z": rms([r["z_score"] for r in rows]),
+        "mean_lux": sum(r["cycles"] for r in rows) / n,
+    }
+
+
+def run_case(name, args):
+    work = os.path.join(args.out, name)
+    os.makedirs(work, exist_ok=True)
+    spec = CASES[name](work)
+    scene = spec["scene"]
+    scene.setdefault("overrides", []).extend(scene_files.lambertian_overrides(scene, work))
+    scene_path = os.path.join(work, "scene.json")
+    with open(scene_path, "w") as f:
+        json.dump(scene, f, indent=1)
+    sensors_path = os.path.join(work, "sensors.csv")
+    if "sensors" in spec:
+        with open(sensors_path, "w") as f:
+            f.write("x,y,z,nx,ny,nz,group\n")
+            for row in spec["sensors"]:
+                f.write(",".join(f"{v:.6g}" if isinstance(v, (int, float)) else v for v in row) + "\n")
+    else:
+        cast = spec["cast"]
+        extra = []
+        for key in ("spacing", "offset", "rays", "box"):
+            if key in cast:
+                extra += ["--" + key, cast[key]]
+        if cast.get("sideways"):
+            extra.append("--sideways")
+        if "from" in cast:
+            extra += ["--from", ",".join(str(c) for c in cast["from"])]
+        run(blender_cmd(args, "sensors", "--scene", scene_path, "--out", sensors_path, *extra),
+            os.path.join(work, "sensors.log"))
+    sensors = read_csv(sensors_path)
+
+    fly_csv = os.path.join(work, "fly.csv")
+    fly_opts = ["--threads", str(args.threads), "--seed", str(args.seed)]
+    if args.fly_max_bounces is not None:
+        fly_opts += ["--max-bounces", str(args.fly_max_bounces)]
+    fly_opts += ["--samples", str(args.fly_samples)] if args.fly_samples else ["--target-error", args.fly_target]
+    fly_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly_csv] + fly_opts,
+                os.path.join(work, "fly.log"))
+    fly_start_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out",
+                       os.path.join(work, "fly-1spp.csv"), "--samples", "1", "--threads", str(args.threads)],
+                      os.path.join(work, "fly-1spp.log"))
+    cycles_csv = os.path.join(work, "cycles.csv")
+    info_path = os.path.join(work, "cycles-info.json")
+    cycles_s = run(blender_cmd(args, "irradiance", "--scene", scene_path, "--points", sensors_path, "--out",
+                               cycles_csv, "--info", info_path, "--samples", args.cycles_samples, "--pixels",
+                               args.cycles_pixels, "--seed", args.seed, "--threads", args.threads,
+                               "--quad-size", spec.get("quad", args.quad_size)),
+                   os.path.join(work, "cycles.log"))
+    with open(info_path) as f:
+        info = json.load(f)
+
+    fly_rows, cyc_rows = read_csv(fly_csv), read_csv(cycles_csv)
+    exact = spec.get("exact", {})
+    rows = []
+    for i, (s, fr, cr) in enumerate(zip(sensors, fly_rows, cyc_rows)):
+        f_lux, f_se = float(fr["illuminance_lux"]), float(fr["std_error_lux"])
+        c_lux, c_se = float(cr["illuminance_lux"]), float(cr["std_error_lux"])
+        # A floor for σ: both estimates are exact (σ = 0) where only a delta light reaches a sensor.
+        sigma = max(math.hypot(f_se, c_se), 1e-6 * abs(c_lux))
+        diff = f_lux - c_lux
+        row = {k: s[k] for k in ("x", "y", "z", "nx", "ny", "nz", "group")}
+        row.update(fly=f_lux, fly_se=f_se, cycles=c_lux, cycles_se=c_se,
+                   rel_diff=diff / c_lux if c_lux > 0 else None,
+                   z_score=diff / sigma if sigma > 0 else 0.0,
+                   within=abs(diff) <= TOLERANCE_SIGMAS * sigma + TOLERANCE_RELATIVE * abs(c_lux))
+        if i in exact:
+            e = exact[i]
+            row.update(exact=e, fly_vs_exact=(f_lux - e) / e, cycles_vs_exact=(c_lux - e) / e,
+                       fly_z_exact=(f_lux - e) / max(f_se, 1e-6 * e),
+                       cycles_z_exact=(c_lux - e) / max(c_se, 1e-6 * e))
+        rows.append(row)
+    with open(os.path.join(work, "compare.csv"), "w", newline="") as f:
+        keys = list(rows[0].keys())
+        for r in rows:
+            keys += [k for k in r if k not in keys]
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+
+    groups = {}
+    for r in rows:
+        groups.setdefault(r["group"], []).append(r)
+    table = [("all", group_stats(rows))] + [(g, group_stats(rs)) for g, rs in sorted(groups.items())]
+    fly_rel = [r["fly_se"] / r["fly"] for r in rows if r["fly"] > 0]
+    cyc_rel = [r["cycles_se"] / r["cycles"] for r in rows if r["cycles"] > 0]
+    cyc_setup = cycles_s - info["bake_s"]
+    timing = {
+        "fly_s": fly_s, "fly_start_s": fly_start_s, "fly_rms_rel": rms(fly_rel),
+        "cycles_s": cycles_s, "cycles_bake_s": info["bake_s"], "cycles_rms_rel": rms(cyc_rel),
+        # RMS relative error ∝ 1/√(samples): time to 1 % = start-up + tracing time × (rms / 1 %)².
+        "fly_to_1pct_s": fly_start_s + max(fly_s - fly_start_s, 0) * (rms(fly_rel) / 0.01) ** 2,
+        "cycles_to_1pct_s": cyc_setup + info["bake_s"] * (rms(cyc_rel) / 0.01) ** 2,
+    }
+    exact_rows = [r for r in rows if "exact" in r]
+    result = {"case": name, "sensors": len(rows), "groups": table, "timing": timing,
+              "cycles_samples_per_sensor": info["samples"] * info["pixels"], "materials": info["materials"]}
+    if exact_rows:
+        result["exact"] = {
+            "fly_max_abs_rel": max(abs(r["fly_vs_exact"]) for r in exact_rows),
+            "fly_mean_rel": sum(r["fly_vs_exact"] for r in exact_rows) / len(exact_rows),
+            "fly_max_abs_z": max(abs(r["fly_z_exact"]) for r in exact_rows),
+            "cycles_max_abs_rel": max(abs(r["cycles_vs_exact"]) for r in exact_rows),
+            "cycles_mean_rel": sum(r["cycles_vs_exact"] for r in exact_rows) / len(exact_rows),
+            "cycles_max_abs_z": max(abs(r["cycles_z_exact"]) for r in exact_rows),
+        }
+    with open(os.path.join(work, "result.json"), "w") as f:
+        json.dump(result, f, indent=1)
+    print(format_case(result))
+    return result
+
+
+def format_case(res):
+    t = res["timing"]
+    lines = [f"### {res['case']}", "",
+             f"{res['sensors']} sensors; fly {t['fly_s']:.1f} s (start-up {t['fly_start_s']:.1f} s, RMS relative "
+             f"error {100 * t['fly_rms_rel']:.2f} %, to 1 %: {t['fly_to_1pct_s']:.1f} s); Cycles {t['cycles_s']:.1f} s "
+             f"(bake {t['cycles_bake_s']:.1f} s, {res['cycles_samples_per_sensor']} samples per sensor, RMS "
+             f"relative error {100 * t['cycles_rms_rel']:.2f} %, to 1 %: {t['cycles_to_1pct_s']:.1f} s)", "",
+             "| group | sensors | mean E (lx, Cycles) | within 3σ + 2 % | mean rel. diff | mean abs. rel. diff "
+             "| max abs. rel. diff | RMS of z |",
+             "|---|---|---|---|---|---|---|---|"]
+    for g, s in res["groups"]:
+        lines.append(f"| {g} | {s['n']} | {s['mean_lux']:.4g} | {100 * s['within']:.1f} % | "
+                     f"{100 * s['mean_rel']:+.2f} % | {100 * s['mean_abs_rel']:.2f} % | "
+                     f"{100 * s['max_abs_rel']:.2f} % | {s['rms_z']:.2f} |")
+    if "exact" in res:
+        e = res["exact"]
+        lines += ["", f"Against the exact values: fly mean {100 * e['fly_mean_rel']:+.3f} %, max "
+                  f"|{100 * e['fly_max_abs_rel']:.3f}| %, max |z| {e['fly_max_abs_z']:.2f}; Cycles mean "
+                  f"{100 * e['cycles_mean_rel']:+.3f} %, max |{100 * e['cycles_max_abs_rel']:.3f}| %, "
+                  f"max |z| {e['cycles_max_abs_z']:.2f}"]
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("cases", nargs="*", help="cases to run (default: all)")
+    ap.add_argument("--list", action="store_true", help="print the cases and exit")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "validation"))
+    ap.add_argument("--fly", default=os.path.join(ROOT, "build", "cli", "fly"))
+    ap.add_argument("--blender", default="blender")
+    ap.add_argument("--fly-target", default="1%", help="fly's --target-error (default 1%%)")
+    ap.add_argument("--fly-samples", type=int, default=0, help="fly's --samples instead of a target error")
+    ap.add_argument("--fly-max-bounces", type=int, help="fly's --max-bounces (default: fly's default)")
+    ap.add_argument("--cycles-samples", type=int, default=256, help="Cycles samples per texel")
+    ap.add_argument("--cycles-pixels", type=int, default=4, help="texels per side of a sensor's block")
+    ap.add_argument("--quad-size", type=float, default=1e-3, help="Cycles sensor square's side, metres")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--threads", type=int, default=0, help="threads for both (0: all cores)")
+    args = ap.parse_args()
+    if args.list:
+        for name, fn in CASES.items():
+            doc = (fn.__doc__ or "").strip() if not name.startswith("sphere") else case_sphere_point.__doc__
+            print(f"{name}: {doc.strip().splitlines()[0]}")
+        return
+    names = args.cases or list(CASES)
+    for n in names:
+        if n not in CASES:
+            raise SystemExit(f"validate: unknown case '{n}'; cases: {', '.join(CASES)}")
+    if not os.path.exists(args.fly):
+        raise SystemExit(f"validate: {args.fly} not found; build fly first (./scripts/build)")
+    os.makedirs(args.out, exist_ok=True)
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    results = [run_case(n, args) for n in names]
+    with open(os.path.join(args.out, "summary.md"), "w") as f:
+        f.write(f"fly commit {commit}; Cycles {args.cycles_samples} samples × {args.cycles_pixels}² texels; "
+                f"fly {'--samples ' + str(args.fly_samples) if args.fly_samples else '--target-error ' + args.fly_target}"
+                f"{'' if args.fly_max_bounces is None else ' --max-bounces ' + str(args.fly_max_bounces)}\n\n")
+        for r in results:
+            f.write(format_case(r) + "\n")
+
+
+if __name__ == "__main__":
+    main()
