@@ -60,6 +60,7 @@ import bpy
 import mathutils
 
 REC709_Y = (0.2126, 0.7152, 0.0722)
+UNTEXTURED = False  # --untextured: albedo = the factor alone, every surface opaque
 SUPPORTED_OVERRIDE_KEYS = {"material", "diffuse", "reflection", "transmission", "bumpScale", "emission",
                            "doubleSided"}
 
@@ -266,6 +267,8 @@ def lambertian_material(mat, gltf_mat, scene):
 
     texture = upstream_node(principled.inputs["Base Color"], "TEX_IMAGE")
     vertex_colour = upstream_node(principled.inputs["Base Color"], "VERTEX_COLOR")
+    if UNTEXTURED:
+        texture, vertex_colour, alpha_mode = None, None, "OPAQUE"
     alpha_links = principled.inputs["Alpha"].links
     alpha_socket = alpha_links[0].from_socket if alpha_links else None
     alpha_value = principled.inputs["Alpha"].default_value
@@ -490,6 +493,8 @@ def sensor_object(sensors, quad_size, pixels):
 
 
 def cmd_irradiance(args):
+    global UNTEXTURED
+    UNTEXTURED = args.untextured
     start = time.time()
     scene = load_scene_file(args.scene)
     clear_blend()
@@ -633,6 +638,8 @@ def main():
     a.add_argument("--threads", type=int, default=0)
     a.add_argument("--quad-size", type=float, default=1e-3, help="sensor square's side, metres")
     a.add_argument("--normals", choices=("geometric", "shading"), default="geometric")
+    a.add_argument("--untextured", action="store_true",
+                   help="ignore base-colour textures, vertex colours and alpha (a check of the rest)")
     a.add_argument("--sun-angle-deg", type=float, default=0.0, help="angular diameter of directional lights")
     s = sub.add_parser("sensors", help="place sensors on the scene's surfaces")
     s.add_argument("--scene", required=True)

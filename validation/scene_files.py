@@ -139,10 +139,13 @@ def lambertian_overrides(scene, base_dir):
     overrides, seen = [], set()
     for model in scene.get("models", []):
         path = model["file"] if os.path.isabs(model["file"]) else os.path.join(base_dir, model["file"])
-        for i, m in enumerate(gltf_json(path).get("materials", [])):
+        doc = gltf_json(path)
+        used = {p["material"] for mesh in doc.get("meshes", []) for p in mesh.get("primitives", [])
+                if "material" in p}
+        for i, m in enumerate(doc.get("materials", [])):
             name = model.get("namePrefix", "") + m.get("name", f"material {i}")
-            if name in seen or "name" not in m:
-                continue
+            if name in seen or "name" not in m or i not in used:
+                continue  # materials only KHR_materials_variants names are not in fly's scene
             seen.add(name)
             factor = m.get("pbrMetallicRoughness", {}).get("baseColorFactor", [1, 1, 1, 1])
             o = {"material": name, "diffuse": [round(c, 7) for c in factor[:3]],

@@ -134,7 +134,7 @@ def case_mixed_lighting(work):
     out of the chair's shadow, seat and back) and from the four sides (the chair's sides)."""
     path = os.path.join(MODELS, "bevy/MixedLightingExample/MixedLightingExample.gltf")
     scene = {"fly": 1, "models": [{"file": path}]}
-    return {"scene": scene, "cast": {"spacing": 0.2, "offset": 0.002, "sideways": True}}
+    return {"scene": scene, "cast": {"spacing": 0.1, "offset": 0.002, "sideways": True, "box": 1.0}}
 
 
 def case_cornell_box(work):
@@ -250,7 +250,7 @@ def run_case(name, args):
         if cast.get("sideways"):
             extra.append("--sideways")
         if "from" in cast:
-            extra += ["--from", ",".join(str(c) for c in cast["from"])]
+            extra.append("--from=" + ",".join(str(c) for c in cast["from"]))
         run(blender_cmd(args, "sensors", "--scene", scene_path, "--out", sensors_path, *extra),
             os.path.join(work, "sensors.log"))
     sensors = read_csv(sensors_path)
@@ -270,7 +270,8 @@ def run_case(name, args):
     cycles_s = run(blender_cmd(args, "irradiance", "--scene", scene_path, "--points", sensors_path, "--out",
                                cycles_csv, "--info", info_path, "--samples", args.cycles_samples, "--pixels",
                                args.cycles_pixels, "--seed", args.seed, "--threads", args.threads,
-                               "--quad-size", spec.get("quad", args.quad_size)),
+                               "--quad-size", spec.get("quad", args.quad_size),
+                               *(["--untextured"] if args.cycles_untextured else [])),
                    os.path.join(work, "cycles.log"))
     with open(info_path) as f:
         info = json.load(f)
@@ -371,6 +372,9 @@ def main():
     ap.add_argument("--fly-max-bounces", type=int, help="fly's --max-bounces (default: fly's default)")
     ap.add_argument("--cycles-samples", type=int, default=256, help="Cycles samples per texel")
     ap.add_argument("--cycles-pixels", type=int, default=4, help="texels per side of a sensor's block")
+    ap.add_argument("--cycles-untextured", action="store_true",
+                    help="Cycles ignores textures, vertex colours and alpha (to check the rest of the set-up "
+                         "against a fly that does not read them)")
     ap.add_argument("--quad-size", type=float, default=1e-3, help="Cycles sensor square's side, metres")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--threads", type=int, default=0, help="threads for both (0: all cores)")
