@@ -256,11 +256,12 @@ def run_case(name, args):
     sensors = read_csv(sensors_path)
 
     fly_csv = os.path.join(work, "fly.csv")
-    fly_opts = ["--threads", str(args.threads), "--seed", str(args.seed)]
+    fly_opts = ["--threads", str(args.threads)]
     if args.fly_max_bounces is not None:
         fly_opts += ["--max-bounces", str(args.fly_max_bounces)]
     fly_opts += ["--samples", str(args.fly_samples)] if args.fly_samples else ["--target-error", args.fly_target]
-    fly_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly_csv] + fly_opts,
+    fly_opts_seed = fly_opts + ["--seed", str(args.seed)]
+    fly_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly_csv] + fly_opts_seed,
                 os.path.join(work, "fly.log"))
     fly_start_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out",
                        os.path.join(work, "fly-1spp.csv"), "--samples", "1", "--threads", str(args.threads)],
@@ -277,6 +278,29 @@ def run_case(name, args):
         info = json.load(f)
 
     fly_rows, cyc_rows = read_csv(fly_csv), read_csv(cycles_csv)
+    seed_check = None
+    if args.seed_check:
+        # A second run of each with another seed: the differences between independent estimates, in units
+        # of their combined reported standard error, have an RMS of 1 where the reported errors are honest.
+        fly2 = os.path.join(work, "fly-seed2.csv")
+        run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly2]
+            + fly_opts + ["--seed", str(args.seed + 1)], os.path.join(work, "fly-seed2.log"))
+        cyc2 = os.path.join(work, "cycles-seed2.csv")
+        run(blender_cmd(args, "irradiance", "--scene", scene_path, "--points", sensors_path, "--out", cyc2,
+                        "--samples", args.cycles_samples, "--pixels", args.cycles_pixels, "--seed", args.seed + 1,
+                        "--threads", args.threads, "--quad-size", spec.get("quad", args.quad_size),
+                        *(["--untextured"] if args.cycles_untextured else [])),
+            os.path.join(work, "cycles-seed2.log"))
+        seed_check = {}
+        for tool, a_rows, b_rows in (("fly", fly_rows, read_csv(fly2)), ("cycles", cyc_rows, read_csv(cyc2))):
+            zs = []
+            for a, b in zip(a_rows, b_rows):
+                d = float(a["illuminance_lux"]) - float(b["illuminance_lux"])
+                se = math.hypot(float(a["std_error_lux"]), float(b["std_error_lux"]))
+                if se > 0:
+                    zs.append(d / se)
+            seed_check[tool] = {"n": len(zs), "rms_z": rms(zs),
+                                "within_3": sum(abs(z) <= 3 for z in zs) / len(zs) if zs else float("nan")}
     exact = spec.get("exact", {})
     rows = []
     for i, (s, fr, cr) in enumerate(zip(sensors, fly_rows, cyc_rows)):
@@ -321,7 +345,10 @@ def run_case(name, args):
     }
     exact_rows = [r for r in rows if "exact" in r]
     result = {"case": name, "sensors": len(rows), "groups": table, "timing": timing,
-              "cycles_samples_per_sensor": info["samples"] * info["pixels"], "materials": info["materials"]}
+              "cycles_samples_per_sensor": info["samples"] * info["pixels"], "materials": info["materials"],
+              "fly_args": fly_opts_seed, "cycles_untextured": args.cycles_untextured}
+    if seed_check:
+        result["seed_check"] = seed_check
     if exact_rows:
         result["exact"] = {
             "fly_max_abs_rel": max(abs(r["fly_vs_exact"]) for r in exact_rows),
@@ -351,6 +378,11 @@ def format_case(res):
         lines.append(f"| {g} | {s['n']} | {s['mean_lux']:.4g} | {100 * s['within']:.1f} % | "
                      f"{100 * s['mean_rel']:+.2f} % | {100 * s['mean_abs_rel']:.2f} % | "
                      f"{100 * s['max_abs_rel']:.2f} % | {s['rms_z']:.2f} |")
+    if "seed_check" in res:
+        f, c = res["seed_check"]["fly"], res["seed_check"]["cycles"]
+        lines += ["", f"Two seeds: fly's differences / their σ have RMS {f['rms_z']:.2f} ({100 * f['within_3']:.1f} % "
+                  f"within 3, {f['n']} sensors with σ > 0); Cycles' RMS {c['rms_z']:.2f} ({100 * c['within_3']:.1f} % "
+                  f"within 3, {c['n']} sensors)"]
     if "exact" in res:
         e = res["exact"]
         lines += ["", f"Against the exact values: fly mean {100 * e['fly_mean_rel']:+.3f} %, max "
@@ -377,6 +409,8 @@ def main():
                          "against a fly that does not read them)")
     ap.add_argument("--quad-size", type=float, default=1e-3, help="Cycles sensor square's side, metres")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed-check", action="store_true",
+                    help="run both again with seed + 1 and check their reported errors against the difference")
     ap.add_argument("--threads", type=int, default=0, help="threads for both (0: all cores)")
     args = ap.parse_args()
     if args.list:
@@ -390,12 +424,18 @@ def main():
             raise SystemExit(f"validate: unknown case '{n}'; cases: {', '.join(CASES)}")
     if not os.path.exists(args.fly):
         raise SystemExit(f"validate: {args.fly} not found; build fly first (./scripts/build)")
+    args.out = os.path.abspath(args.out)
     os.makedirs(args.out, exist_ok=True)
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True).stdout.strip()
+    # The fly that ran: the last commit that changed anything outside the harness and its document.
+    commit = subprocess.run(["git", "-C", ROOT, "log", "-1", "--format=%h %cs %s", "--", ".",
+                             ":(exclude)validation", ":(exclude)docs/validation.md"],
+                            capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--", ".",
+                            ":(exclude)validation", ":(exclude)docs"], capture_output=True, text=True).stdout.strip()
+    commit += " (with uncommitted changes)" if dirty else ""
     results = [run_case(n, args) for n in names]
     with open(os.path.join(args.out, "summary.md"), "w") as f:
-        f.write(f"fly commit {commit}; Cycles {args.cycles_samples} samples × {args.cycles_pixels}² texels; "
+        f.write(f"fly at {commit}\n\nCycles {args.cycles_samples} samples × {args.cycles_pixels}² texels; "
                 f"fly {'--samples ' + str(args.fly_samples) if args.fly_samples else '--target-error ' + args.fly_target}"
                 f"{'' if args.fly_max_bounces is None else ' --max-bounces ' + str(args.fly_max_bounces)}\n\n")
         for r in results:
