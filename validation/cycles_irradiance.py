@@ -30,7 +30,9 @@
 # geometric, the default) so that Cycles does too; --normals shading keeps the files' vertex normals.
 #
 # Lights. A glTF or scene directional light of E lux is a Cycles sun of strength E (W/m² on a surface facing
-# it) and angle 0 (a delta direction, as in fly; --sun-angle-deg changes it). A point light of I cd is a
+# it) and angle 0 (a delta direction, as in fly; --sun-angle-deg changes it). A scene light may carry
+# "angleDeg", a key of this script's own (not fly's), for the angular diameter of fly's sun disc (0.533°),
+# which the driver writes where it spells out fly's sun of a site and time as a directional light. A point light of I cd is a
 # Cycles point lamp of power 4π I W with radius 0: Cycles' point lamp of power P has radiant intensity
 # P / (4π) W/sr (docs/validation.md checks this against the analytic sphere). The glTF importer's "COMPAT"
 # lighting mode converts KHR_lights_punctual this way; lights with `range` or spots are refused. The world
@@ -173,7 +175,7 @@ def add_scene_lights(scene, sun_angle_rad):
     for i, light in enumerate(scene.get("lights", [])):
         kind = light.get("type")
         for key in light:
-            if key not in ("name", "type", "position", "direction", "intensity", "color"):
+            if key not in ("name", "type", "position", "direction", "intensity", "color", "angleDeg"):
                 fail(f"lights[{i}]: key '{key}' is not supported by the Cycles reference")
         colour = light.get("color", [1, 1, 1])
         name = light.get("name", f"light {i}")
@@ -191,13 +193,15 @@ def add_scene_lights(scene, sun_angle_rad):
         else:
             fail(f"lights[{i}]: type '{kind}' is not supported by the Cycles reference (point, directional)")
         data.color = colour
+        if "angleDeg" in light:
+            data["flyAngleRad"] = math.radians(light["angleDeg"])
         bpy.context.scene.collection.objects.link(obj)
     for obj in bpy.data.objects:
         if obj.type != "LIGHT":
             continue
         data = obj.data
         if data.type == "SUN":
-            data.angle = sun_angle_rad
+            data.angle = data.get("flyAngleRad", sun_angle_rad)
         elif data.type == "POINT":
             data.shadow_soft_size = 0.0
         else:

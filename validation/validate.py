@@ -30,6 +30,7 @@ sys.path.insert(0, HERE)
 import scene_files  # noqa: E402
 
 MODELS = os.environ.get("FLY_MODELS", "/work/models")
+FLY = os.path.join(ROOT, "build", "cli", "fly")  # --fly
 TOLERANCE_SIGMAS = 3.0
 TOLERANCE_RELATIVE = 0.02
 
@@ -163,10 +164,60 @@ def case_flight_helmet(work):
     return {"scene": scene, "cast": {"spacing": 0.05, "offset": 0.001, "sideways": True, "box": 0.4}}
 
 
+def sun_of(site, time_local):
+    """fly's sun for a site and local time (`fly sun --json`): the unit direction towards it in the scene's
+    frame (north along −Z, east along +X: northAngle 0) and its direct normal illuminance (lux)."""
+    out = subprocess.run([FLY, "sun", "--lat", str(site["latitude"]), "--lon", str(site["longitude"]), "--time",
+                          time_local, "--tz", site["timeZone"], "--json"], capture_output=True, text=True, check=True)
+    sun = json.loads(out.stdout)
+    az, el = math.radians(sun["azimuth_deg"]), math.radians(sun["apparent_elevation_deg"])
+    return ([math.sin(az) * math.cos(el), math.sin(el), -math.cos(az) * math.cos(el)],
+            sun["direct_normal_illuminance_lux"])
+
+
+def case_sun_penumbra(work):
+    """fly's sun (a disc of 0.533°, `"sky": {"model": "none", "sun": true}`) in Helsinki at noon on
+    midsummer's day over a 20 m floor of albedo 0.5, with a 1 m square plate (albedo 0.5, double-sided) 2 m
+    above it. Cycles gets a sun lamp of the same direction, illuminance (fly's direct normal illuminance) and
+    angle. Sensors facing up on the floor across the plate's shadow edge (the penumbra is 2 m × 0.0093 = 19 mm
+    wide, over 6 cm in 3 mm steps) and in full sun, where E = E_n sin(elevation) exactly (the floor's
+    sensors see neither the floor nor the sky, only the plate's underside)."""
+    site = {"latitude": 60.17, "longitude": 24.94, "timeZone": "Europe/Helsinki"}
+    time_local = "2026-06-21T12:00"
+    to_sun, dni = sun_of(site, time_local)
+    floor, _ = scene_files.quad((0, 0, 0), 10, 10, (0, 0, 1), (1, 0, 0))
+    plate, _ = scene_files.quad((0, 2, 0), 0.5, 0.5, (0, 0, 1), (1, 0, 0))
+    scene_files.write_gltf(os.path.join(work, "plate.gltf"),
+                           [{"name": "Floor", "triangles": floor, "material": 0},
+                            {"name": "Plate", "triangles": plate, "material": 1}],
+                           [{"name": "Floor", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
+                                                                      "metallicFactor": 0}},
+                            {"name": "Plate", "doubleSided": True,
+                             "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0}}])
+    scene = {"fly": 1, "models": [{"file": os.path.join(work, "plate.gltf")}],
+             "site": site, "time": time_local, "sky": {"model": "none", "sun": True}}
+    cycles_scene = {"fly": 1, "models": scene["models"],
+                    "lights": [{"name": "sun", "type": "directional", "direction": [-c for c in to_sun],
+                                "intensity": dni, "angleDeg": 0.533}]}
+    sensors, exact = [], {}
+    for edge_z in (-0.25, 0.0, 0.25):
+        # The shadow of the plate's edge x = +0.5 (and of x = −0.5) at height 2 m, moved along −to_sun.
+        for edge_x, name in ((0.5, "edge+x"), (-0.5, "edge-x")):
+            t = 2.0 / to_sun[1]
+            cx, cz = edge_x - t * to_sun[0], edge_z - t * to_sun[2]
+            for k in range(-10, 11):
+                sensors.append((cx + 0.003 * k, 0.001, cz, 0, 1, 0, "penumbra-" + name))
+    for x, z in ((9, 9), (-9, 8), (8, -9)):
+        sensors.append((x, 0.001, z, 0, 1, 0, "full-sun"))
+        exact[len(sensors) - 1] = dni * to_sun[1]
+    return {"scene": scene, "cycles_scene": cycles_scene, "sensors": sensors, "exact": exact}
+
+
 CASES = {
     "plane-sun": case_plane_sun,
     "sphere-point-0.5": lambda w: case_sphere_point(w, 0.5),
     "sphere-point-0.9": lambda w: case_sphere_point(w, 0.9),
+    "sun-penumbra": case_sun_penumbra,
     "alpha-mask": case_alpha_mask,
     "mixed-lighting": case_mixed_lighting,
     "cornell-box": case_cornell_box,
@@ -235,6 +286,15 @@ def run_case(name, args):
     scene_path = os.path.join(work, "scene.json")
     with open(scene_path, "w") as f:
         json.dump(scene, f, indent=1)
+    # Cycles reads the same scene file, or, where fly computes a light (the sun of a site and time), a copy
+    # with that light spelt out.
+    cycles_scene_path = scene_path
+    if "cycles_scene" in spec:
+        cycles_scene = spec["cycles_scene"]
+        cycles_scene["overrides"] = scene["overrides"]
+        cycles_scene_path = os.path.join(work, "cycles-scene.json")
+        with open(cycles_scene_path, "w") as f:
+            json.dump(cycles_scene, f, indent=1)
     sensors_path = os.path.join(work, "sensors.csv")
     if "sensors" in spec:
         with open(sensors_path, "w") as f:
@@ -268,7 +328,7 @@ def run_case(name, args):
                       os.path.join(work, "fly-1spp.log"))
     cycles_csv = os.path.join(work, "cycles.csv")
     info_path = os.path.join(work, "cycles-info.json")
-    cycles_s = run(blender_cmd(args, "irradiance", "--scene", scene_path, "--points", sensors_path, "--out",
+    cycles_s = run(blender_cmd(args, "irradiance", "--scene", cycles_scene_path, "--points", sensors_path, "--out",
                                cycles_csv, "--info", info_path, "--samples", args.cycles_samples, "--pixels",
                                args.cycles_pixels, "--seed", args.seed, "--threads", args.threads,
                                "--quad-size", spec.get("quad", args.quad_size),
@@ -286,7 +346,7 @@ def run_case(name, args):
         run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly2]
             + fly_opts + ["--seed", str(args.seed + 1)], os.path.join(work, "fly-seed2.log"))
         cyc2 = os.path.join(work, "cycles-seed2.csv")
-        run(blender_cmd(args, "irradiance", "--scene", scene_path, "--points", sensors_path, "--out", cyc2,
+        run(blender_cmd(args, "irradiance", "--scene", cycles_scene_path, "--points", sensors_path, "--out", cyc2,
                         "--samples", args.cycles_samples, "--pixels", args.cycles_pixels, "--seed", args.seed + 1,
                         "--threads", args.threads, "--quad-size", spec.get("quad", args.quad_size),
                         *(["--untextured"] if args.cycles_untextured else [])),
@@ -422,6 +482,8 @@ def main():
     for n in names:
         if n not in CASES:
             raise SystemExit(f"validate: unknown case '{n}'; cases: {', '.join(CASES)}")
+    global FLY
+    FLY = args.fly = os.path.abspath(args.fly)
     if not os.path.exists(args.fly):
         raise SystemExit(f"validate: {args.fly} not found; build fly first (./scripts/build)")
     args.out = os.path.abspath(args.out)
