@@ -5,7 +5,7 @@
 //
 // Scenes: a 40 m square ground of 2·n² triangles with a 4 × 4 array of 1 m boxes, sized to 100k, 300k and 1M
 // triangles; a 400 cd lamp; Helsinki at 2026-06-21 15:00 with a clear sky and the sun; synthetic vertex light
-// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so ../shared/gpu/pack.sh can
+// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so scripts/pack-gpu can
 // carry it to a GPU machine.
 //
 // A frame is Renderer::render (clear, scene, sky) + Renderer::toneMap into the sRGB8 target; nothing is read
