@@ -406,7 +406,7 @@ def run_case(name, args):
     exact_rows = [r for r in rows if "exact" in r]
     result = {"case": name, "sensors": len(rows), "groups": table, "timing": timing,
               "cycles_samples_per_sensor": info["samples"] * info["pixels"], "materials": info["materials"],
-              "fly_args": fly_opts_seed, "cycles_untextured": args.cycles_untextured}
+              "fly_args": fly_opts_seed, "cycles_untextured": args.cycles_untextured, "fly_commit": args.commit}
     if seed_check:
         result["seed_check"] = seed_check
     if exact_rows:
@@ -426,7 +426,8 @@ def run_case(name, args):
 
 def format_case(res):
     t = res["timing"]
-    lines = [f"### {res['case']}", "",
+    lines = [f"### {res['case']}", "", f"fly at {res.get('fly_commit', '?')}; fly {' '.join(res.get('fly_args', []))}"
+             f"{'; Cycles without textures, vertex colours and alpha' if res.get('cycles_untextured') else ''}", "",
              f"{res['sensors']} sensors; fly {t['fly_s']:.1f} s (start-up {t['fly_start_s']:.1f} s, RMS relative "
              f"error {100 * t['fly_rms_rel']:.2f} %, to 1 %: {t['fly_to_1pct_s']:.1f} s); Cycles {t['cycles_s']:.1f} s "
              f"(bake {t['cycles_bake_s']:.1f} s, {res['cycles_samples_per_sensor']} samples per sensor, RMS "
@@ -453,11 +454,12 @@ def format_case(res):
 
 
 def format_overview(results):
-    lines = ["| case | sensors | within 3σ + 2 % | mean rel. diff | mean abs. rel. diff | max abs. rel. diff "
-             "| RMS of z | fly s (to 1 %) | Cycles s (to 1 %) |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| case | fly | sensors | within 3σ + 2 % | mean rel. diff | mean abs. rel. diff | max abs. rel. diff "
+             "| RMS of z | fly s (to 1 %) | Cycles s (to 1 %) |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         a, t = r["groups"][0][1], r["timing"]
-        lines.append(f"| {r['case']} | {a['n']} | {100 * a['within']:.1f} % | {100 * a['mean_rel']:+.2f} % | "
+        lines.append(f"| {r['case']}{' (Cycles untextured)' if r.get('cycles_untextured') else ''} | "
+                     f"{r.get('fly_commit', '?').split()[0]} | {a['n']} | {100 * a['within']:.1f} % | {100 * a['mean_rel']:+.2f} % | "
                      f"{100 * a['mean_abs_rel']:.2f} % | {100 * a['max_abs_rel']:.1f} % | {a['rms_z']:.2f} | "
                      f"{t['fly_s']:.1f} ({t['fly_to_1pct_s']:.1f}) | {t['cycles_s']:.1f} ({t['cycles_to_1pct_s']:.1f}) |")
     return "\n".join(lines) + "\n"
@@ -502,13 +504,14 @@ def main():
         raise SystemExit(f"validate: {args.fly} not found; build fly first (./scripts/build)")
     args.out = os.path.abspath(args.out)
     os.makedirs(args.out, exist_ok=True)
-    # The fly that ran: the last commit that changed anything outside the harness and its document.
-    commit = subprocess.run(["git", "-C", ROOT, "log", "-1", "--format=%h %cs %s", "--", ".",
-                             ":(exclude)validation", ":(exclude)docs/validation.md"],
+    # The fly that ran: the last commit that changed its sources.
+    sources = ["base", "sdb", "rdb", "raytracer", "sunsky", "cli", "cmake", "CMakeLists.txt"]
+    commit = subprocess.run(["git", "-C", ROOT, "log", "-1", "--format=%h %cs %s", "--"] + sources,
                             capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--", ".",
-                            ":(exclude)validation", ":(exclude)docs"], capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--"] + sources,
+                           capture_output=True, text=True).stdout.strip()
     commit += " (with uncommitted changes)" if dirty else ""
+    args.commit = commit
     if args.summary_only:
         results = []
         for n in names:
@@ -519,7 +522,7 @@ def main():
     else:
         results = [run_case(n, args) for n in names]
     with open(os.path.join(args.out, "summary.md"), "w") as f:
-        f.write(f"fly at {commit}\n\nCycles {args.cycles_samples} samples × {args.cycles_pixels}² texels; "
+        f.write(f"Summary written with the harness at {commit}\n\nCycles {args.cycles_samples} samples × {args.cycles_pixels}² texels; "
                 f"fly {'--samples ' + str(args.fly_samples) if args.fly_samples else '--target-error ' + args.fly_target}"
                 f"{'' if args.fly_max_bounces is None else ' --max-bounces ' + str(args.fly_max_bounces)}\n\n")
         f.write(format_overview(results) + "\n")
