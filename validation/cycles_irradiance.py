@@ -608,8 +608,8 @@ def cmd_sensors(args):
             n = -n
         if facing is None:
             facing = "up" if n.z > 0.5 else "down" if n.z < -0.5 else "side"
-        elif facing == "up" and n.z < math.cos(math.radians(25.8)):
-            continue  # a steep face seen from above: left to the sideways casts
+        elif facing == "up" and n.z <= 0.5:
+            continue  # a face steeper than 60°: left to the sideways casts
         if facing == "side" and abs(n.z) > 0.5:
             continue
         p = location + args.offset * n

@@ -223,6 +223,32 @@ def case_sun_penumbra(work):
     return {"scene": scene, "cycles_scene": cycles_scene, "sensors": sensors, "exact": exact}
 
 
+def case_khronos_yard(work):
+    """Khronos sample models placed by the scene file on a 12 m floor of albedo 0.5 under a 1500 lx light from
+    50° off the zenith: CesiumMilkTruck (4 textured materials, a node hierarchy), the Duck (textured; moved,
+    turned 40° about y and scaled 0.8) and TwoSidedPlane (a textured double-sided 2 m square, tilted 30° about
+    x, 1 m up). Sensors 2 mm off every surface seen from above (0.35 m lattice within 4 m) and from the four
+    sides."""
+    floor, floor_uv = scene_files.quad((0, 0, 0), 6, 6, (0, 0, 1), (1, 0, 0))
+    scene_files.write_gltf(os.path.join(work, "floor.gltf"),
+                           [{"name": "Yard", "triangles": floor, "uvs": floor_uv, "material": 0}],
+                           [{"name": "Yard", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
+                                                                     "metallicFactor": 0}}])
+    k = os.path.join(MODELS, "khronos")
+    theta, phi = math.radians(50.0), math.radians(-60.0)
+    scene = {"fly": 1,
+             "models": [{"file": os.path.join(k, "CesiumMilkTruck/glTF/CesiumMilkTruck.gltf")},
+                        {"file": os.path.join(k, "Duck/glTF/Duck.gltf"), "translation": [3.2, -0.08, 2.0],
+                         "rotationDeg": [0, 40, 0], "scale": 0.8},
+                        {"file": os.path.join(k, "TwoSidedPlane/glTF/TwoSidedPlane.gltf"),
+                         "translation": [-3.2, 1.0, -2.0], "rotationDeg": [30, 0, 0]},
+                        {"file": os.path.join(work, "floor.gltf")}],
+             "lights": [{"name": "sun", "type": "directional", "intensity": 1500.0,
+                         "direction": [math.sin(theta) * math.cos(phi), -math.cos(theta),
+                                       math.sin(theta) * math.sin(phi)]}]}
+    return {"scene": scene, "cast": {"spacing": 0.35, "offset": 0.002, "sideways": True, "box": 4.0}}
+
+
 CASES = {
     "plane-sun": case_plane_sun,
     "sphere-point-0.5": lambda w: case_sphere_point(w, 0.5),
@@ -233,6 +259,7 @@ CASES = {
     "cornell-box": case_cornell_box,
     "cornell-box-small": case_cornell_box_small,
     "flight-helmet": case_flight_helmet,
+    "khronos-yard": case_khronos_yard,
 }
 
 
