@@ -26,8 +26,10 @@
 # material (doubleSided false) no reflection and no emission: it only blocks light (raytracer/integrator.h).
 # Here a Backfacing switch gives such back faces a black Lambertian surface, which is the same.
 #
-# Normals. fly shades with geometric normals; the models are imported with flat shading (--normals
-# geometric, the default) so that Cycles does too; --normals shading keeps the files' vertex normals.
+# Normals. fly's baker shades with the files' vertex normals (interpolated), the geometric normal deciding
+# the side; --normals shading (the default) imports them so that Cycles does too; --normals geometric imports
+# flat shading, for a fly that shades with geometric normals. Normal maps are not used (Lambertian mode: fly's
+# overrides set bumpScale 0).
 #
 # Lights. A glTF or scene directional light of E lux is a Cycles sun of strength E (W/m² on a surface facing
 # it) and angle 0 (a delta direction, as in fly; --sun-angle-deg changes it). A scene light may carry
@@ -641,7 +643,7 @@ def main():
     a.add_argument("--seed", type=int, default=0)
     a.add_argument("--threads", type=int, default=0)
     a.add_argument("--quad-size", type=float, default=1e-3, help="sensor square's side, metres")
-    a.add_argument("--normals", choices=("geometric", "shading"), default="geometric")
+    a.add_argument("--normals", choices=("geometric", "shading"), default="shading")
     a.add_argument("--untextured", action="store_true",
                    help="ignore base-colour textures, vertex colours and alpha (a check of the rest)")
     a.add_argument("--sun-angle-deg", type=float, default=0.0, help="angular diameter of directional lights")

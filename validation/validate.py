@@ -391,6 +391,7 @@ def run_case(name, args):
                                cycles_csv, "--info", info_path, "--samples", args.cycles_samples, "--pixels",
                                args.cycles_pixels, "--seed", args.seed, "--threads", args.threads,
                                "--quad-size", spec.get("quad", args.quad_size),
+                               "--normals", args.cycles_normals,
                                *(["--untextured"] if args.cycles_untextured else [])),
                    os.path.join(work, "cycles.log"))
     with open(info_path) as f:
@@ -408,6 +409,7 @@ def run_case(name, args):
         run(blender_cmd(args, "irradiance", "--scene", cycles_scene_path, "--points", sensors_path, "--out", cyc2,
                         "--samples", args.cycles_samples, "--pixels", args.cycles_pixels, "--seed", args.seed + 1,
                         "--threads", args.threads, "--quad-size", spec.get("quad", args.quad_size),
+                        "--normals", args.cycles_normals,
                         *(["--untextured"] if args.cycles_untextured else [])),
             os.path.join(work, "cycles-seed2.log"))
         seed_check = {}
@@ -466,7 +468,7 @@ def run_case(name, args):
     exact_rows = [r for r in rows if "exact" in r]
     result = {"case": name, "sensors": len(rows), "groups": table, "timing": timing,
               "cycles_samples_per_sensor": info["samples"] * info["pixels"], "materials": info["materials"],
-              "fly_args": fly_opts_seed, "cycles_untextured": args.cycles_untextured, "fly_commit": fly_commit}
+              "fly_args": fly_opts_seed, "cycles_normals": args.cycles_normals, "cycles_untextured": args.cycles_untextured, "fly_commit": fly_commit}
     if seed_check:
         result["seed_check"] = seed_check
     if exact_rows:
@@ -544,6 +546,9 @@ def main():
     ap.add_argument("--cycles-untextured", action="store_true",
                     help="Cycles ignores textures, vertex colours and alpha (to check the rest of the set-up "
                          "against a fly that does not read them)")
+    ap.add_argument("--cycles-normals", choices=("shading", "geometric"), default="shading",
+                    help="Cycles shades with the files' vertex normals (as fly's baker does since 8825540) or "
+                         "with geometric normals (as it did before)")
     ap.add_argument("--quad-size", type=float, default=1e-3, help="Cycles sensor square's side, metres")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seed-check", action="store_true",
