@@ -62,6 +62,12 @@ import time
 
 import bpy
 import mathutils
+import numpy
+
+# Blender 3.4's glTF importer uses numpy.bool when it keeps the files' normals (set_poly_smoothing), an alias
+# that numpy 1.24 (Debian 12) removed: restore it, as the builtin it always stood for.
+if "bool" not in numpy.__dict__:
+    numpy.bool = bool
 
 REC709_Y = (0.2126, 0.7152, 0.0722)
 UNTEXTURED = False  # --untextured: albedo = the factor alone, every surface opaque
