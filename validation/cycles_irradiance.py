@@ -648,7 +648,7 @@ def main():
     a.add_argument("--pixels", type=int, default=4, help="texels per side of each sensor's block")
     a.add_argument("--seed", type=int, default=0)
     a.add_argument("--threads", type=int, default=0)
-    a.add_argument("--quad-size", type=float, default=1e-3, help="sensor square's side, metres")
+    a.add_argument("--quad-size", type=float, default=1e-4, help="sensor square's side, metres")
     a.add_argument("--normals", choices=("geometric", "shading"), default="shading")
     a.add_argument("--untextured", action="store_true",
                    help="ignore base-colour textures, vertex colours and alpha (a check of the rest)")

@@ -144,7 +144,7 @@ def case_cornell_box(work):
     Sensors 0.5 m off the surfaces hit by 160 rays from a point in the middle of the box."""
     path = os.path.join(MODELS, "bevy/CornellBox/CornellBox.glb")
     scene = {"fly": 1, "models": [{"file": path}]}
-    return {"scene": scene, "cast": {"from": [-278, 274, -280], "rays": 160, "offset": 0.5}}
+    return {"scene": scene, "cast": {"from": [-278, 274, -280], "rays": 160, "offset": 0.5}, "quad": 0.05}
 
 
 def case_cornell_box_small(work):
@@ -154,7 +154,7 @@ def case_cornell_box_small(work):
     path = os.path.join(MODELS, "bevy/CornellBox/CornellBox.glb")
     scene = {"fly": 1, "models": [{"file": path, "scale": 0.001}]}
     return {"scene": scene, "cast": {"from": [-0.278, 0.274, -0.280], "rays": 160, "offset": 0.0005},
-            "quad": 1e-6}
+            "quad": 5e-5}
 
 
 def case_flight_helmet(work):
@@ -549,7 +549,8 @@ def main():
     ap.add_argument("--cycles-normals", choices=("shading", "geometric"), default="shading",
                     help="Cycles shades with the files' vertex normals (as fly's baker does since 8825540) or "
                          "with geometric normals (as it did before)")
-    ap.add_argument("--quad-size", type=float, default=1e-3, help="Cycles sensor square's side, metres")
+    ap.add_argument("--quad-size", type=float, default=1e-4,
+                    help="Cycles sensor square's side, metres (cases of other scales set their own)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seed-check", action="store_true",
                     help="run both again with seed + 1 and check their reported errors against the difference")
