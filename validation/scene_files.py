@@ -26,11 +26,12 @@ def write_png_rgba(path, width, height, pixel):
         f.write(chunk(b"IEND", b""))
 
 
-def write_gltf(path, meshes, materials, images=()):
+def write_gltf(path, meshes, materials, images=(), filter_mode=9729):
     """meshes: [{name, triangles: [((x,y,z),(x,y,z),(x,y,z)), ...], uvs: optional per-corner (u,v) list,
     material: index}], each drawn once at the origin; triangles wind counter-clockwise seen from the front,
     and every corner gets the triangle's flat normal. materials: glTF material dicts. images: PNG file
-    names beside the glTF (texture i uses image i). Buffers are embedded as a data URI."""
+    names beside the glTF (texture i uses image i), sampled with filter_mode (glTF magFilter and minFilter:
+    9729 LINEAR, 9728 NEAREST) and REPEAT. Buffers are embedded as a data URI."""
     blob = bytearray()
     views, accessors, gltf_meshes, nodes = [], [], [], []
 
@@ -88,7 +89,7 @@ def write_gltf(path, meshes, materials, images=()):
     }
     if images:
         doc["images"] = [{"uri": name} for name in images]
-        doc["samplers"] = [{"magFilter": 9728, "minFilter": 9728, "wrapS": 10497, "wrapT": 10497}]
+        doc["samplers"] = [{"magFilter": filter_mode, "minFilter": filter_mode, "wrapS": 10497, "wrapT": 10497}]
         doc["textures"] = [{"source": i, "sampler": 0} for i in range(len(images))]
     with open(path, "w") as f:
         json.dump(doc, f)

@@ -91,10 +91,10 @@ def case_sphere_point(work, rho):
     return {"scene": scene, "sensors": sensors, "exact": exact}
 
 
-def case_alpha_mask(work):
+def case_alpha_mask(work, filter_mode=9729):
     """A 2 m square leaf (alphaMode MASK, cutoff 0.5, one-sided facing up, albedo 0.7, a texture of 8 × 8
-    cells alternately alpha 0.2 and 1, RGB 255: sRGB 1.0) 1 m above a 20 m floor (albedo 0.5) under a
-    1000 lx light from 30° off the zenith. Sensors on the floor under the leaf's shadow (cells of either
+    cells alternately alpha 0.2 and 1, RGB 255: sRGB 1.0; sampled LINEAR, or NEAREST in alpha-mask-nearest)
+    1 m above a 20 m floor (albedo 0.5) under a 1000 lx light from 30° off the zenith. Sensors on the floor under the leaf's shadow (cells of either
     kind), facing up; on the leaf's top; under the leaf facing down (its back face: black)."""
     scene_files.write_png_rgba(os.path.join(work, "mask.png"), 64, 64,
                                lambda x, y: (255, 255, 255, 51 if ((x // 8) + (y // 8)) % 2 else 255))
@@ -108,7 +108,7 @@ def case_alpha_mask(work):
          {"name": "Leaf", "alphaMode": "MASK", "alphaCutoff": 0.5,
           "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.7, 0.7, 1], "metallicFactor": 0,
                                    "baseColorTexture": {"index": 0}}}],
-        images=["mask.png"])
+        images=["mask.png"], filter_mode=filter_mode)
     theta = math.radians(30.0)
     scene = {"fly": 1, "models": [{"file": os.path.join(work, "mask.gltf")}],
              "lights": [{"name": "sun", "type": "directional", "intensity": 1000.0,
@@ -255,6 +255,7 @@ CASES = {
     "sphere-point-0.9": lambda w: case_sphere_point(w, 0.9),
     "sun-penumbra": case_sun_penumbra,
     "alpha-mask": case_alpha_mask,
+    "alpha-mask-nearest": lambda w: case_alpha_mask(w, 9728),
     "mixed-lighting": case_mixed_lighting,
     "cornell-box": case_cornell_box,
     "cornell-box-small": case_cornell_box_small,
