@@ -166,6 +166,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"sky_portals", job.settings.integrator.skyPortals},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
+      {"daylight", job.daylight},
       {"trace_rdb_fingerprint", hex(fingerprint)},
       {"samples_done", state.progress.samplesPerPoint},
       {"seconds", state.progress.seconds},
@@ -207,6 +208,7 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
       throw bad("format version " + j.at("version").dump() + ", this fly reads 1");
     c.job.scenePath = j.at("scene").get<std::string>();
     c.job.outDir = outDir.string();
+    c.job.daylight = j.value("daylight", nlohmann::json());
     const nlohmann::json& s = j.at("settings");
     raytracer::EstimateSettings& e = c.job.settings.estimate;
     e.maxSamples = s.at("max_samples").get<uint32_t>();

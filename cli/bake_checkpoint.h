@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "raytracer/baker.h"
@@ -32,6 +33,7 @@ struct BakeJob {
   std::string samplerName;  // "sobol" or "random", as the manifest records it
   bool exportGltf = false;
   double checkpointIntervalS = 0.0;  // > 0
+  nlohmann::json daylight;           // the scene's site, time and sky (cli/scene_daylight.h, daylightJson)
 };
 
 // DIR.checkpoint for DIR.

@@ -561,6 +561,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
                               .generic_string()},
       {"settings", d.settings},
       {"bounce_cap_bias", d.bounceCapBias},
+      {"daylight", d.daylight},
       {"samples_per_vertex", maps.samplesPerVertex},
       {"rays", maps.rays},
       {"bake_seconds", maps.seconds},

@@ -57,6 +57,7 @@ struct BakeDescription {
   // With a bounce cap: the light it removes (cli/bounce_cap_warning.h), manifest key bounce_cap_bias; null
   // without one.
   nlohmann::json bounceCapBias;
+  nlohmann::json daylight;                 // the site, time and sky baked with (cli/scene_daylight.h)
   float targetRelativeError = 0.0f;        // drawn in convergence.png; 0 = none
   std::vector<std::string> meshNames;      // per TraceMesh (rdb.meshes order); "" = unnamed
   std::vector<std::string> nodeNames;      // per TraceMesh

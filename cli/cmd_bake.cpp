@@ -18,10 +18,10 @@
 #include "cli/bounce_cap_warning.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
+#include "cli/scene_daylight.h"
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
 #include "rdb/trace_rdb_build.h"
-#include "sdb/scene_load.h"
 
 namespace fly::cli {
 
@@ -34,6 +34,7 @@ struct BakeOptions {
   bool exportGltf = false;
   std::string checkpoint;  // a duration; "" = no checkpoints
   std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
+  DaylightOptions daylight;
 };
 
 // The job from the command line, or for --resume from the checkpoint (with --threads and --checkpoint
@@ -58,6 +59,10 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
           " cannot change them (only --threads and --checkpoint can be given)");
     }
+  }
+  if (const std::vector<std::string> given = o.daylight.given(); !given.empty()) {
+    throw UsageError("bake --resume DIR continues under the daylight saved in the checkpoint; " + given.front() +
+                     " cannot change it");
   }
   loaded = loadBakeCheckpoint(o.resume);
   BakeJob job = loaded->job;
@@ -130,8 +135,14 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   o.out = job.outDir;
   o.exportGltf = job.exportGltf;
   o.sampling.sampler = job.samplerName;
-  const sdb::Scene scene = sdb::loadScene(o.scene);
+  // A resumed bake's daylight is the checkpoint's.
+  const LitScene lit = loadLitScene(o.scene, loaded ? DaylightOptions{} : o.daylight,
+                                    loaded ? job.daylight : nlohmann::json(),
+                                    (checkpointDirFor(o.out) / "checkpoint.json").string());
+  const sdb::Scene& scene = lit.scene;
+  std::fprintf(stderr, "light: %s\n", lit.light.c_str());
   if (!loaded) {
+    job.daylight = daylightJson(scene, lit.defaultDaylight);
     job.settings.estimate = estimateSettings(o.sampling, scene.bakeSettings());
     job.settings.integrator = integratorSettings(o.sampling, scene.bakeSettings());
   }
@@ -192,6 +203,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
     d.bounceCapBias = warnBounceCapBias(raytracer::estimateBounceCapBiasOnSurfaces(
         rdb, embree, settings.integrator, settings.estimate.threads, settings.estimate.seed));
   }
+  d.daylight = job.daylight;
   const raytracer::EstimateSettings& e = settings.estimate;
   d.settings = {
       {"max_samples", e.maxSamples},
@@ -285,6 +297,7 @@ Command addBakeCommand(CLI::App& app) {
       "--checkpoint", o->checkpoint,
       "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
       "can continue with --resume DIR; deleted when the bake completes");
+  o->daylight.add(*sub, &o->sampling.time);
   sub->add_option("--resume", o->resume,
                   "continue the interrupted bake into DIR from DIR.checkpoint/ with its saved settings; the "
                   "result equals an uninterrupted bake with the same samples");

@@ -15,11 +15,11 @@
 #include "cli/bake_options.h"
 #include "cli/bounce_cap_warning.h"
 #include "cli/command.h"
+#include "cli/scene_daylight.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
 #include "raytracer/sensor_grid.h"
 #include "rdb/trace_rdb_build.h"
-#include "sdb/scene_load.h"
 
 namespace fly::cli {
 
@@ -31,6 +31,7 @@ struct IlluminanceOptions {
   std::string grid;
   std::string out;
   SamplingOptions sampling;
+  DaylightOptions daylight;
 };
 
 // The sensors of a CSV file and its lines, so that the output repeats them.
@@ -201,7 +202,9 @@ int runIlluminance(const IlluminanceOptions& o) {
         "over the floors)");
   }
   const GridSpec grid = o.grid.empty() ? GridSpec{} : parseGrid(o.grid);  // bad values fail before the load
-  const sdb::Scene scene = sdb::loadScene(o.scene);
+  const LitScene lit = loadLitScene(o.scene, o.daylight);
+  const sdb::Scene& scene = lit.scene;
+  std::fprintf(stderr, "light: %s\n", lit.light.c_str());
   raytracer::EstimateSettings settings = estimateSettings(o.sampling, scene.bakeSettings());
   // Eight replicates per sensor, whatever their number: sensors are few and unlike (full sun beside
   // penumbra), so the replicates' gain pooled over them (progressive.h) would misstate single sensors'
@@ -262,6 +265,7 @@ Command addIlluminanceCommand(CLI::App& app) {
          "added")
       ->required();
   addSamplingOptions(*sub, o->sampling, "sensor");
+  o->daylight.add(*sub, &o->sampling.time);
   return {sub, [o] { return runIlluminance(*o); }};
 }
 

@@ -11,6 +11,7 @@
 
 #include "cli/baked_scene.h"
 #include "cli/command.h"
+#include "cli/scene_daylight.h"
 #include "sdb/features.h"
 #include "sdb/scene_load.h"
 #include "sdb/scene_stats.h"
@@ -22,6 +23,7 @@ namespace {
 struct InfoOptions {
   std::string scene;
   bool json = false;
+  DaylightOptions daylight;
 };
 
 // Rounded to the micrometre, so that 0.556f prints as 0.556 and not as its binary expansion.
@@ -46,7 +48,8 @@ std::string countsText(const std::map<std::string, size_t>& counts) {
   return s.empty() ? "" : " (" + s + ")";
 }
 
-nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f) {
+nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f,
+                        const LitScene& lit) {
   nlohmann::json j;
   j["file"] = scene.sourcePath.string();
   j["nodes"] = st.nodes;
@@ -77,13 +80,21 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   }
   j["time"] = scene.time().localDateTime.empty() ? nlohmann::json(nullptr)
                                                  : nlohmann::json(scene.time().localDateTime);
+  if (const std::optional<sdb::SunDirection>& d = scene.time().sunDirection) {
+    j["sun_direction"] = {{"azimuth_deg", d->azimuthDeg}, {"elevation_deg", d->elevationDeg}};
+  } else {
+    j["sun_direction"] = nullptr;
+  }
   j["sky"] = {{"model", sdb::skyModelName(scene.sky().model)}, {"sun", scene.sky().sun}};
   if (scene.sky().model == sdb::SkyModel::kCie) j["sky"]["cie_type"] = scene.sky().cieType;
+  if (scene.sky().model == sdb::SkyModel::kClear || scene.sky().sun) j["sky"]["turbidity"] = scene.sky().turbidity;
+  j["light"] = {{"default_daylight", lit.defaultDaylight}, {"description", lit.light}};
   j["features"] = f.names();
   return j;
 }
 
-void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f) {
+void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f,
+               const LitScene& lit) {
   std::ostringstream o;
   o << "scene      " << scene.sourcePath.string() << "\n";
   o << "nodes      " << st.nodes << "\n";
@@ -114,10 +125,16 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   } else {
     o << "site       none\n";
   }
-  o << "time       " << (scene.time().localDateTime.empty() ? "none" : scene.time().localDateTime) << "\n";
+  if (const std::optional<sdb::SunDirection>& d = scene.time().sunDirection) {
+    o << "time       none; sun placed at " << fixed(d->elevationDeg, 1) << "° elevation, azimuth "
+      << fixed(d->azimuthDeg, 1) << "°\n";
+  } else {
+    o << "time       " << (scene.time().localDateTime.empty() ? "none" : scene.time().localDateTime) << "\n";
+  }
   o << "sky        " << sdb::skyModelName(scene.sky().model);
   if (scene.sky().model == sdb::SkyModel::kCie) o << " type " << scene.sky().cieType;
   o << ", sun " << (scene.sky().sun ? "on" : "off") << "\n";
+  o << "light      " << lit.light << "\n";
   std::string feats;
   for (const std::string& n : f.names()) feats += (feats.empty() ? "" : " ") + n;
   o << "features   " << (feats.empty() ? "none" : feats) << "\n";
@@ -182,6 +199,7 @@ Command addInfoCommand(CLI::App& app) {
                   "scene file (.json), glTF model (.gltf, .glb) or baked scene directory")
       ->required();
   sub->add_flag("--json", opts->json, "print one JSON object instead of text (default: text)");
+  opts->daylight.add(*sub);
   return {sub, [opts]() {
             // A baked scene directory: the scene it was baked from (materials, lights, cameras, site and
             // time, as the GL engine shows it) and what the manifest says of the bake; when that scene is
@@ -190,27 +208,34 @@ Command addInfoCommand(CLI::App& app) {
             std::optional<nlohmann::json> bake;
             bool sourceFound = true;
             std::filesystem::path path = opts->scene;
+            nlohmann::json bakedDaylight;
+            std::string manifestPath;
             if (isBakedScene(path)) {
               bake = readBakedManifest(path);
+              manifestPath = (path / "manifest.json").string();
               if (const std::optional<std::filesystem::path> source = findBakedSourceScene(path, *bake)) {
                 path = *source;
+                bakedDaylight = bake->value("daylight", nlohmann::json());
               } else {
                 sourceFound = false;
                 path /= "scene.gltf";
               }
             }
-            const sdb::Scene scene = sdb::loadScene(path);
+            // The baked geometry alone (its scene file gone) is described without light.
+            const LitScene lit = sourceFound ? loadLitScene(path, opts->daylight, bakedDaylight, manifestPath)
+                                             : LitScene{sdb::loadScene(path), false, "none (the scene file is gone)"};
+            const sdb::Scene& scene = lit.scene;
             const sdb::SceneStats stats = sdb::computeStats(scene);
             const sdb::SceneFeatures features = sdb::computeFeatures(scene);
             if (opts->json) {
-              nlohmann::json j = infoJson(scene, stats, features);
+              nlohmann::json j = infoJson(scene, stats, features, lit);
               if (bake) {
                 j["bake"] = bakeSummaryJson(*bake);
                 j["bake"]["source_scene_found"] = sourceFound;
               }
               std::cout << j.dump(2) << "\n";
             } else {
-              printText(scene, stats, features);
+              printText(scene, stats, features, lit);
               if (bake) printBakeSummary(*bake, sourceFound);
             }
             return 0;

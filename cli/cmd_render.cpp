@@ -36,7 +36,7 @@ struct RenderOptions {
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
-  std::string time;
+  DaylightOptions daylight;
 };
 
 std::string lowerExtension(const std::string& path) {
@@ -62,7 +62,7 @@ int runRender(const RenderOptions& o) {
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
 
   // The scene, and the light maps of a baked directory.
-  const RasterScene loaded = loadRasterScene(o.scene, o.time);
+  const RasterScene loaded = loadRasterScene(o.scene, o.daylight);
   const std::filesystem::path& scenePath = loaded.scenePath;
   const std::optional<rdb::LightMapStore>& lightMaps = loaded.lightMaps;
   const rdb::RasterRdb rdb = buildRasterRdb(loaded.scene, lightMaps ? &*lightMaps : nullptr);
@@ -122,6 +122,7 @@ int runRender(const RenderOptions& o) {
     << (lightMaps ? ", baked light maps" : "") << ")\n";
   t << "view      " << viewName << "\n";
   t << "mode      " << raster::renderModeName(*mode) << "\n";
+  t << "light     " << loaded.light << "\n";
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
   t << "image     " << o.out << " (" << width << "×" << height;
@@ -163,8 +164,7 @@ Command addRenderCommand(CLI::App& app) {
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
-  sub->add_option("--time", o->time,
-                  "the site's local date and time instead of the scene's, e.g. 2026-06-21T08:00");
+  o->daylight.add(*sub);
   return {sub, [o]() { return runRender(*o); }};
 }
 

@@ -35,7 +35,7 @@ struct ViewOptions {
   std::string size = "1280x720";
   std::optional<double> exposureEv100;
   std::string op = "filmic";
-  std::string time;
+  DaylightOptions daylight;
   uint64_t frames = 0;
   std::string keys;
   std::string screenshot;
@@ -67,7 +67,8 @@ class SceneHost : public raster::ViewerHost {
 
   std::optional<rdb::RasterRdbChanges> stepTime(int minutes, std::string& message) override {
     if (!s_.scene.hasSite() || s_.scene.time().localDateTime.empty()) {
-      message = "no time of day: the scene has no site";
+      message = s_.scene.time().sunDirection ? "no time of day: the sun is placed directly (--sun-dir)"
+                                             : "no time of day: the scene has no site";
       return std::nullopt;
     }
     // Steps in UTC, so that a daylight-saving change neither repeats nor skips a step; the new time carries
@@ -143,7 +144,7 @@ int runView(const ViewOptions& o) {
   // GLFW 3.3 needs an X display (Wayland through XWayland).
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) throw std::runtime_error(kNoDisplay);
 
-  RasterScene scene = loadRasterScene(o.scene, o.time);
+  RasterScene scene = loadRasterScene(o.scene, o.daylight);
   rdb::RasterRdb rdb = buildRasterRdb(scene.scene, scene.lightMaps ? &*scene.lightMaps : nullptr);
   if (rdb.indices.empty()) throw InputError({scene.scenePath.string()}, "has no triangles to show");
 
@@ -171,7 +172,7 @@ int runView(const ViewOptions& o) {
             << "view      "
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
-            << "\nOpenGL    " << window->info().major << "." << window->info().minor << " core, "
+            << "\nlight     " << scene.light << "\nOpenGL    " << window->info().major << "." << window->info().minor << " core, "
             << window->info().renderer << " (" << window->info().platform << ")\n"
             << std::flush;
   SceneHost host(scene, rdb);
@@ -211,8 +212,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--size", o->size, "window size WIDTHxHEIGHT in pixels (default 1280x720)");
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
-  sub->add_option("--time", o->time,
-                  "the site's local date and time instead of the scene's, e.g. 2026-06-21T08:00");
+  o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
   sub->add_option(
       "--keys", o->keys,

@@ -6,7 +6,7 @@
 #include "base/error.h"
 #include "cli/baked_light_maps.h"
 #include "cli/baked_scene.h"
-#include "sdb/scene_load.h"
+#include "cli/scene_daylight.h"
 
 namespace fly::cli {
 
@@ -21,22 +21,21 @@ std::filesystem::path bakedScenePath(const std::filesystem::path& dir, const nlo
 
 }  // namespace
 
-RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const std::string& time) {
+RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const DaylightOptions& daylight) {
   RasterScene r;
   r.scenePath = sceneOrBakedDir;
+  nlohmann::json bakedDaylight;
+  std::string manifestPath;
   if (isBakedScene(r.scenePath)) {
     const nlohmann::json manifest = readBakedManifest(r.scenePath);
     r.lightMaps = readBakedLightMaps(r.scenePath);
+    manifestPath = (r.scenePath / "manifest.json").string();
+    bakedDaylight = manifest.value("daylight", nlohmann::json());
     r.scenePath = bakedScenePath(r.scenePath, manifest);
   }
-  r.scene = sdb::loadScene(r.scenePath);
-  if (!time.empty()) {
-    if (!r.scene.hasSite()) {
-      throw UsageError("--time needs a scene with a site (a scene file with \"site\"); " +
-                       r.scenePath.string() + " has none");
-    }
-    r.scene.setTime(sdb::SiteTime{time});
-  }
+  LitScene lit = loadLitScene(r.scenePath, daylight, bakedDaylight, manifestPath);
+  r.scene = std::move(lit.scene);
+  r.light = std::move(lit.light);
   return r;
 }
 
@@ -74,7 +73,8 @@ raster::RenderMode chooseRenderMode(const rdb::RasterRdb& rdb,
     throw UsageError(std::string("--mode ") + raster::renderModeName(*requested) + ": " + scenePath.string() +
                      (*requested == raster::RenderMode::kLightMap
                           ? " has no light maps (render a baked directory)"
-                          : " has neither sky nor sun"));
+                          : " has neither sky nor sun (give --lat --lon --time, or --sun-dir AZ,EL, "
+                            "to add daylight)"));
   }
   return *requested;
 }

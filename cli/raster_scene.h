@@ -9,6 +9,7 @@
 #include <string>
 
 #include "base/tone_map.h"
+#include "cli/site_options.h"
 #include "raster/renderer.h"
 #include "rdb/light_map_store.h"
 #include "rdb/raster_rdb.h"
@@ -20,13 +21,14 @@ struct RasterScene {
   std::filesystem::path scenePath;  // the scene file; for a baked directory, the scene it was baked from
   sdb::Scene scene;
   std::optional<rdb::LightMapStore> lightMaps;  // a baked directory's
+  std::string light;                            // what lights it (cli/scene_daylight.h, describeLight)
 };
 
-// Loads `sceneOrBakedDir`. A baked directory names its scene in manifest.json: that path as given to fly
-// bake, resolved against the current directory, else against the baked directory's parent. `time` (the
-// site's local date and time, "" = the scene's) replaces the scene's time: UsageError for a scene without a
-// site. InputError for unreadable input.
-RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const std::string& time = "");
+// Loads `sceneOrBakedDir` with its daylight (cli/scene_daylight.h, loadLitScene: a baked directory's recorded
+// daylight, then `daylight`'s options). A baked directory names its scene in manifest.json: that path as
+// given to fly bake, resolved against the current directory, else against the baked directory's parent.
+// UsageError for bad options, InputError for unreadable input.
+RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const DaylightOptions& daylight);
 
 // --size WIDTHxHEIGHT, each 1..16384 pixels; UsageError otherwise.
 void parseSize(const std::string& text, uint32_t& widthPx, uint32_t& heightPx);

@@ -1,5 +1,7 @@
 #include "cli/site_options.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -25,6 +27,82 @@ void SiteTimeOptions::add(CLI::App& sub) {
                  "mean air pressure, hPa (default: standard atmosphere at the elevation)");
   sub.add_option("--temperature", temperatureC,
                  "mean air temperature, degrees Celsius (default: standard atmosphere at the elevation)");
+}
+
+void DaylightOptions::add(CLI::App& sub, std::string* timeLimit) {
+  const std::string group =
+      "Daylight (each overrides the scene file's value; a plain glTF without lights is put in a clear sky with "
+      "the sun at 45° elevation, azimuth 135°, unless these place it; --sun-dir excludes --lat, --lon, --time "
+      "and --tz)";
+  if (timeLimit) {
+    sub.remove_option(sub.get_option("--time"));
+    sub.add_option_function<std::vector<std::string>>(
+           "--time",
+           [this, timeLimit](const std::vector<std::string>& values) {
+             for (const std::string& v : values) {
+               const bool date = v.size() >= 5 && std::all_of(v.begin(), v.begin() + 4, ::isdigit) && v[4] == '-';
+               std::string& target = date ? time : *timeLimit;
+               if (!target.empty()) {
+                 throw UsageError(std::string("--time given twice as a ") + (date ? "date and time" : "time limit") +
+                                  " (" + target + ", " + v + "): give one of each at most");
+               }
+               target = v;
+             }
+           },
+           "the site's date and time (as below), and/or the run-time limit (e.g. 60s or 5m; default: the "
+           "scene's bake.time): a value in the form of a date is the former, any other the latter; give "
+           "--time twice for both")
+        ->type_name("TIME");
+  } else {
+    sub.add_option("--time", time,
+                   "date and time at the site: local 2026-06-21T15:00 (in --tz or the scene's zone), UTC "
+                   "2026-06-21T12:00Z or with an offset 2026-06-21T15:00+03:00 (default: the scene's)")
+        ->group(group);
+  }
+  sub.add_option("--lat", latitudeDeg, "latitude of the site, degrees north, [-90, 90]; with --lon")
+      ->group(group);
+  sub.add_option("--lon", longitudeDeg, "longitude of the site, degrees east, [-180, 180]; with --lat")
+      ->group(group);
+  sub.add_option("--elevation", elevationM, "elevation of the site above sea level, metres, [-500, 9000] (default: the scene's, else 0)")
+      ->group(group);
+  sub.add_option("--north", northAngleDeg,
+                 "angle from the model's -Z axis to north, degrees clockwise seen from above, [-360, 360] "
+                 "(default: the scene's, else 0: north along -Z)")
+      ->group(group);
+  sub.add_option("--tz", timeZone,
+                 "time zone of the site: IANA name (Europe/Helsinki, daylight saving applied) or offset +03:00 "
+                 "(default: the scene's, else the zone --time carries)")
+      ->group(group);
+  sub.add_option("--sky", sky,
+                 "sky model: clear (Preetham distribution and colour at the IES Handbook level, with the sun), "
+                 "cie:N (CIE standard general sky type N = 1..15 at the IES Handbook level; 1-5 overcast "
+                 "without the sun, 6-15 with it) or perez (Perez all-weather sky and sun from --weather); "
+                 "default: the scene's, else clear")
+      ->group(group);
+  sub.add_option("--turbidity", turbidity,
+                 "Linke turbidity of the clear sky and the sun, [1.7, 10] (default: the scene's, else 3: clear)")
+      ->group(group);
+  sub.add_option("--weather", weatherFile, "EnergyPlus weather file (.epw) for --sky perez")->group(group);
+  sub.add_option("--sun-dir", sunDirection,
+                 "the sun placed directly instead of by site and time: AZIMUTH,ELEVATION in degrees (azimuth "
+                 "clockwise from north, [0, 360); apparent elevation, [-90, 90]), e.g. 135,45")
+      ->type_name("AZ,EL")
+      ->group(group);
+}
+
+std::vector<std::string> DaylightOptions::given() const {
+  std::vector<std::string> names;
+  if (latitudeDeg) names.push_back("--lat");
+  if (longitudeDeg) names.push_back("--lon");
+  if (elevationM) names.push_back("--elevation");
+  if (northAngleDeg) names.push_back("--north");
+  if (!time.empty()) names.push_back("--time");
+  if (!timeZone.empty()) names.push_back("--tz");
+  if (!sky.empty()) names.push_back("--sky");
+  if (turbidity) names.push_back("--turbidity");
+  if (!weatherFile.empty()) names.push_back("--weather");
+  if (!sunDirection.empty()) names.push_back("--sun-dir");
+  return names;
 }
 
 std::string localIso(const sunsky::UtcTime& utc, double utcOffsetHours) {

@@ -784,13 +784,13 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   glDisable(GL_CULL_FACE);
 
   // The scene with the program of this mode and the scene's features (modes that need the same variant share
-  // it: simple mode and sunlight mode without a sun differ only in uniforms): the per-vertex meshes in one
+  // it: simple and sunlight modes differ only in the ambient uniforms): the per-vertex meshes in one
   // draw, then the per-fragment surfaces (uploadDraws), the glass, the blended surfaces.
   if (gpu_->indexCount > 0) {
     const bool lightMaps = mode != RenderMode::kSimple && v.lightMap;
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
     const uint32_t shared = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
-                            (phong && sunlight && v.sun ? kVariantSun : 0u) |
+                            (phong && v.sun ? kVariantSun : 0u) |
                             (v.twoSided ? kVariantTwoSided : 0u) | (phong && v.goniometric ? kVariantGonio : 0u) |
                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
     const uint32_t variant = shared | (v.glass ? kVariantGlass : 0u);
@@ -802,7 +802,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
     vec3 sunLux(0.0f);
-    if (sunlight && v.sun) {
+    if (v.sun) {
       const rdb::RasterSky& s = *r.sky;
       const double solidAngleSr = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
       sunLux = s.sunRadianceCdM2 * float(solidAngleSr);
@@ -818,7 +818,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glUniform1i(p.lightCount, GLint(r.lights.size()));
       glUniform3fv(p.ambientUp, 1, &ambient.upLux[0]);
       glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
-      if (sunlight && v.sun) {
+      if (v.sun) {
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunLux[0]);
       }

@@ -1,7 +1,8 @@
 // The OpenGL engine: uploads a RasterRdb and renders a view into a floating-point framebuffer in cd/m², then
 // tone-maps it to sRGB in a last pass (luminance stays linear until then; base/tone_map.h). Modes (the FLY
 // paper, §1, §3, §6):
-//   simple:    per-vertex Phong from the scene's lights plus the directional ambient term (rdb/raster_rdb.h)
+//   simple:    per-vertex Phong from the scene's lights and its sun plus the directional ambient term
+//              (rdb/raster_rdb.h); no sky behind the scene
 //   lightMap:  per-vertex luminance albedo · E / π from the baked vertex light maps (front or back by facing
 //              on two-sided meshes); meshes with a light texture: albedo · E / π per fragment from its texels
 //              (bilinear); meshes without a light map are shaded as in simple mode

@@ -613,14 +613,17 @@ Rgb directIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3&
   return l.intensity * (cd * cosSurface * window / dist2);
 }
 
-// Progressive radiosity's ambient term (raster_rdb.h) for the simple mode.
+// The simple mode's ambient term (raster_rdb.h): the daylight's (buildSky first) plus progressive radiosity's
+// for the scene's lights and its emissive surfaces.
 void buildAmbient(RasterRdb& rdb) {
-  rdb.ambient = DirectionalAmbient{};
-  if (rdb.lights.empty() || rdb.indices.empty()) return;
+  rdb.ambient = rdb.daylightAmbient;
+  if (rdb.indices.empty()) return;
   std::vector<double> vertexArea(rdb.positionsM.size(), 0.0);
   double areaSum = 0.0, albedoSum = 0.0;
+  dvec3 emittedLm(0.0);
   for (const RasterMesh& rm : rdb.meshes) {
-    const float albedo = luminance(rdb.materials[rm.material].diffuse);
+    const RasterMaterial& material = rdb.materials[rm.material];
+    const float albedo = luminance(material.diffuse);
     for (uint32_t i = rm.firstIndex; i + 2 < rm.firstIndex + rm.indexCount; i += 3) {
       const uint32_t* v = &rdb.indices[i];
       const double a =
@@ -629,21 +632,26 @@ void buildAmbient(RasterRdb& rdb) {
       for (int k = 0; k < 3; ++k) vertexArea[v[k]] += a / 3.0;
       areaSum += a;
       albedoSum += a * albedo;
+      // A Lambertian emitter of luminance L sends π·L lm/m² from each emitting face.
+      emittedLm += kPi * (rm.twoSided ? 2.0 : 1.0) * a * dvec3(material.emissionCdM2);
     }
   }
   if (!(areaSum > 0.0)) return;
-  dvec3 eSum(0.0);
-  for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
-    if (vertexArea[v] == 0.0) continue;
-    Rgb e(0.0f);
-    for (const RasterLight& l : rdb.lights)
-      e += directIlluminanceLux(rdb, l, rdb.positionsM[v], rdb.normals[v]);
-    eSum += vertexArea[v] * dvec3(e);
-  }
   const double rho = std::min(0.9, albedoSum / areaSum);
-  const Rgb level(eSum / areaSum * (rho / (1.0 - rho)));
-  rdb.ambient.upLux = level;
-  rdb.ambient.downLux = level;
+  dvec3 level = emittedLm / areaSum / (1.0 - rho);
+  if (!rdb.lights.empty()) {
+    dvec3 eSum(0.0);
+    for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
+      if (vertexArea[v] == 0.0) continue;
+      Rgb e(0.0f);
+      for (const RasterLight& l : rdb.lights)
+        e += directIlluminanceLux(rdb, l, rdb.positionsM[v], rdb.normals[v]);
+      eSum += vertexArea[v] * dvec3(e);
+    }
+    level += eSum / areaSum * (rho / (1.0 - rho));
+  }
+  rdb.ambient.upLux += Rgb(level);
+  rdb.ambient.downLux += Rgb(level);
 }
 
 void buildSky(RasterRdb& rdb, const sdb::Scene& scene, const RasterBuildOptions& options) {
@@ -742,8 +750,8 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
   buildCornerFactors(rdb);
   buildTextures(rdb, scene, buildMaterials(rdb, scene));
   buildLights(rdb, scene);
-  buildAmbient(rdb);
   buildSky(rdb, scene, options);
+  buildAmbient(rdb);
   buildCameras(rdb, scene);
   buildVariants(rdb, scene);
   return rdb;
@@ -814,11 +822,11 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
     }
   }
   if (r.lights) buildLights(rdb, scene);
-  if (r.materials || !r.materialBlocks.empty() || r.lights) {
+  if (r.sky) buildSky(rdb, scene, options);
+  if (r.materials || !r.materialBlocks.empty() || r.lights || r.sky) {
     buildAmbient(rdb);
     r.ambient = true;
   }
-  if (r.sky) buildSky(rdb, scene, options);
   if (r.cameras) buildCameras(rdb, scene);
   if (r.lights || r.sky || r.materials || !r.materialBlocks.empty()) buildVariants(rdb, scene);
   return r;

@@ -169,7 +169,7 @@ struct RasterVariants {
   bool lightTexture = false; // some mesh has a light texture: light-map modes sample it per fragment
   bool twoSided = false;     // two-sided meshes: the vertex shader's front/back choice
   bool sky = false;          // a sky dome (sunlight mode's background)
-  bool sun = false;          // a sun disc and the sun as a directional light
+  bool sun = false;          // a sun disc (sunlight mode) and the sun as a directional light (both modes)
   bool goniometric = false;  // goniometric lights in the simple mode's Phong
   bool glass = false;        // a mesh of clear glass: a second pass shows what lies behind it
   // Surfaces shaded per fragment (textures, COLOR_0, alpha coverage; RasterRdb::shadedPerFragment):
@@ -191,10 +191,14 @@ struct RasterVariants {
 // over the faces meeting at a concave corner (angle-weighted unit face normals of every mesh touching the
 // point; 0 on a flat surface, 0.29 where two perpendicular faces meet, 0.42 at a room's three-face corner; 0
 // at convex corners). Levels: with daylight (sunlight mode), upLux = the sky's horizontal illuminance and
-// downLux = that of the ground (reflectance kRasterGroundAlbedo, rdb/raster_sky.h) lit by sky and sun; with
-// the scene's lights (simple mode) both are the ambient term of progressive radiosity (Cohen et al. 1988,
-// §4.2): ρ̄/(1 − ρ̄) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct illuminance at the
-// vertices and ρ̄ the area-weighted mean albedo (luminance), capped at 0.9.
+// downLux = that of the ground (reflectance kRasterGroundAlbedo, rdb/raster_sky.h) lit by sky and sun; in
+// simple mode, those of the daylight (when the scene has a sky or sun, whose sun the simple mode's Phong
+// also shades with) plus, on both, the ambient term of progressive radiosity (Cohen et al. 1988, §4.2):
+// for the scene's lights ρ̄/(1 − ρ̄) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct
+// illuminance at the vertices, and for its emissive surfaces, which the Phong does not shade with,
+// Ē_e / (1 − ρ̄), with Ē_e their flux (π·L per emitting face and m²) spread over every surface — the mean
+// illuminance of an enclosure (the integrating-sphere formula); ρ̄ is the area-weighted mean albedo
+// (luminance), capped at 0.9.
 inline constexpr float kCornerGain = 1.0f;
 struct DirectionalAmbient {
   Rgb upLux{0.0f};
@@ -246,7 +250,7 @@ struct RasterRdb {
 
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;
-  DirectionalAmbient ambient;          // simple mode (the scene's lights)
+  DirectionalAmbient ambient;          // simple mode (the daylight and the scene's lights)
   DirectionalAmbient daylightAmbient;  // sunlight mode (sky and sun)
 
   std::vector<RasterCamera> cameras;  // in id order

@@ -40,28 +40,38 @@ double cieSkyDefaultDiffuseLux(int cieType, double sunElevationDeg, double sunAz
   return daylightLux * sunsky::horizontalIlluminanceLux(twilight) / sunsky::iesClearSkyDiffuseLux(0.0);
 }
 
-namespace {
-
-
-}  // namespace
-
 std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
   const sdb::SkySettings& settings = scene.sky();
   if (settings.model == sdb::SkyModel::kNone && !settings.sun) return std::nullopt;
-  if (!scene.hasSite() || scene.time().localDateTime.empty()) {
-    throw std::invalid_argument("lowerDaylight: a sky or sun needs the scene's site and local time");
+  const std::optional<sdb::SunDirection>& direct = scene.time().sunDirection;
+  if (!direct && (!scene.hasSite() || scene.time().localDateTime.empty())) {
+    throw std::invalid_argument(
+        "lowerDaylight: a sky or sun needs the scene's site and local time, or a sun direction");
   }
-  const sdb::Site& site = scene.site();
+  if (direct && settings.model == sdb::SkyModel::kPerez) {
+    throw std::invalid_argument("lowerDaylight: a Perez sky's weather record needs a time, not a sun direction");
+  }
+  const sdb::Site site = scene.hasSite() ? scene.site() : sdb::Site{};
   const SourceLocation where{scene.sourcePath.string()};
 
   SceneDaylight d;
   d.frame = sunsky::makeSiteFrame(site.latitudeDeg, site.longitudeDeg, northReference(site), where);
-  sunsky::SpaInput spa;
-  spa.utc = sunsky::parseTime(scene.time().localDateTime, site.timeZone, "the scene's time");
-  spa.latitudeDeg = site.latitudeDeg;
-  spa.longitudeDeg = site.longitudeDeg;
-  spa.elevationM = site.elevationM;
-  d.sunPosition = sunsky::sunPosition(spa);
+  int dayOfYear = kDirectSunDayOfYear;
+  sunsky::UtcTime utc;  // of the scene's time; unset for a sun placed directly
+  if (direct) {
+    d.sunPosition.azimuthDeg = direct->azimuthDeg;
+    d.sunPosition.apparentZenithDeg = 90.0 - direct->elevationDeg;
+    d.sunPosition.trueZenithDeg = d.sunPosition.apparentZenithDeg;
+  } else {
+    sunsky::SpaInput spa;
+    spa.utc = sunsky::parseTime(scene.time().localDateTime, site.timeZone, "the scene's time");
+    utc = spa.utc;
+    spa.latitudeDeg = site.latitudeDeg;
+    spa.longitudeDeg = site.longitudeDeg;
+    spa.elevationM = site.elevationM;
+    d.sunPosition = sunsky::sunPosition(spa);
+    dayOfYear = sunsky::dayOfYear(spa.utc);
+  }
   const sunsky::SunPosition& sun = d.sunPosition;
   d.sunDirWorld = d.frame.worldFromEnu(
       sunsky::directionFromAzimuthElevation(sun.azimuthDeg, sun.apparentElevationDeg()));
@@ -72,7 +82,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
   disc.turbidity = settings.turbidity;
   // The clear-atmosphere model's valid pressure range; a site above ~9 km is outside what it was made for.
   disc.pressureHpa = std::clamp(sunsky::standardPressureHpa(site.elevationM), 300.0, 1100.0);
-  disc.dayOfYear = sunsky::dayOfYear(spa.utc);
+  disc.dayOfYear = dayOfYear;
 
   std::optional<double> directNormalLux;  // the weather's, for the sun of a Perez sky
   switch (settings.model) {
@@ -92,7 +102,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
     case sdb::SkyModel::kPerez: {
       // The scene-file reader has already resolved the path against the scene file's folder.
       const sunsky::EpwFile epw = sunsky::loadEpw(settings.weatherFile);
-      const sunsky::EpwSample w = sunsky::sampleAtUtc(epw, spa.utc);
+      const sunsky::EpwSample w = sunsky::sampleAtUtc(epw, utc);
       if (!w.dniWm2 || !w.dhiWm2) {
         throw InputError({epw.fileName},
                          "the weather record at " + scene.time().localDateTime +

@@ -30,7 +30,11 @@ sunsky::NorthReference northReference(const sdb::Site& site);
 // ([1.7, 10]) and the sun's azimuth (degrees clockwise from north) for that clear sky.
 double cieSkyDefaultDiffuseLux(int cieType, double sunElevationDeg, double sunAzimuthDeg, double turbidity);
 
-// Daylight of a scene at its site and local time.
+// The day of the year whose Earth–Sun distance a sun placed directly (sdb::SunDirection) is given: 3 April,
+// when the distance is the mean one (Spencer 1971's eccentricity correction is 1.000, sunsky/sun_disc.h).
+inline constexpr int kDirectSunDayOfYear = 93;
+
+// Daylight of a scene at its site and local time, or for its sun placed directly.
 struct SceneDaylight {
   sunsky::SiteFrame frame;
   sunsky::SunPosition sunPosition;
@@ -39,7 +43,10 @@ struct SceneDaylight {
   dvec3 sunDirWorld{0.0, 1.0, 0.0};   // unit, towards the sun (its apparent position), world space
 };
 
-// The scene's daylight, or nullopt when it asks for neither a sky nor a sun. Sky models (sdb::SkyModel):
+// The scene's daylight, or nullopt when it asks for neither a sky nor a sun. The sun's position: from the site
+// and local time by sunsky::sunPosition, or as placed directly (sdb::SiteTime::sunDirection; then a scene
+// without a site stands at latitude 0, longitude 0 with north along −Z, which only orients the azimuth).
+// Sky models (sdb::SkyModel):
 //   clear: sunsky::makeClearSky at the IES Lighting Handbook level (ClearSkyLevel::kIesHandbook);
 //   cie:   sunsky::makeCieSky at cieSkyDefaultDiffuseLux;
 //   perez: sunsky::makePerezSky from the weather file's direct normal and diffuse horizontal irradiance at the
@@ -48,7 +55,8 @@ struct SceneDaylight {
 // (sunDiscWithIlluminance), otherwise the clear-atmosphere disc of the scene's turbidity (clearSkySunDisc), at
 // the standard-atmosphere station pressure of the site's elevation. InputError (from sunsky) for a bad time or
 // time zone, a site out of range, or a missing or bad weather file; std::invalid_argument when the scene asks
-// for a sky or sun without a site and a local time (the scene-file reader already rejects that).
+// for a sky or sun without a site and a local time or a sun direction (the scene-file reader and the CLI
+// already reject that), or for a Perez sky from a weather file with a sun direction (the record needs a time).
 std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene);
 
 }  // namespace fly::rdb

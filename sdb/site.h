@@ -44,10 +44,20 @@ struct SkySettings {
   bool sun = false;          // the sun as a light source (disc of 0.533°)
 };
 
-// Local civil date and time at the site, ISO 8601 without zone ("2026-06-21T12:00" or with seconds);
-// the zone is Site::timeZone.
+// The sun placed directly instead of by the site's date and time (the FLY paper, §3: "direct specification
+// of sun position"). Its light is that of the sky model for this position; the Earth–Sun distance is the mean
+// one (rdb::kDirectSunDayOfYear).
+struct SunDirection {
+  double azimuthDeg = 0.0;    // clockwise from the site's north (Site::northAngleDeg from −Z), [0, 360)
+  double elevationDeg = 0.0;  // apparent elevation above the horizon (as seen, refraction included), [−90, 90]
+};
+
+// When the sun stands: the local civil date and time at the site, ISO 8601 ("2026-06-21T12:00" or with
+// seconds; the zone is Site::timeZone unless the text carries one), or a sun placed directly. At most one
+// of the two is set.
 struct SiteTime {
   std::string localDateTime;
+  std::optional<SunDirection> sunDirection;
 };
 
 }  // namespace fly::sdb

@@ -2,7 +2,7 @@
 // the variant's #defines (raster/renderer.cpp, Renderer::sceneProgram):
 //   FLY_LIGHT_MAP  vertex light maps: L = albedo · E / π (+ emission), for meshes that have one
 //   FLY_PHONG      the modified Phong (lights, the sun, the directional ambient term), for the others
-//   FLY_SUN        the sun as a directional light (sunlight mode)
+//   FLY_SUN        the sun as a directional light (simple and sunlight modes)
 //   FLY_TWO_SIDED  two-sided meshes: the vertex shader picks the front or back value by facing
 //   FLY_GONIO      goniometric lights' tables
 //   FLY_LIGHT_TEXTURE  light textures (with FLY_LIGHT_MAP): L = albedo · E_texel / π per fragment, bilinear, for

@@ -1,8 +1,9 @@
 // Checks a PNG that a test wrote:
-//   fly_png_check FILE WIDTH HEIGHT [same OTHER MAX_DIFF | differs OTHER]
+//   fly_png_check FILE WIDTH HEIGHT [same OTHER MAX_DIFF | differs OTHER | lit FRACTION]
 // FILE must be WIDTH × HEIGHT and not uniform (some channel takes two values); with "same", no channel of
 // any pixel differs from OTHER's by more than MAX_DIFF (0..255); with "differs", some channel of some pixel
-// differs by more than 8. Prints what it found; exit 0 when every check passes, 1 otherwise.
+// differs by more than 8; with "lit", at least FRACTION (0..1) of the pixels have a channel above 24 (of
+// 255): not black. Prints what it found; exit 0 when every check passes, 1 otherwise.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -13,7 +14,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 4 && argc != 6 && argc != 7) {
-    std::fprintf(stderr, "usage: fly_png_check FILE WIDTH HEIGHT [same OTHER MAX_DIFF | differs OTHER]\n");
+    std::fprintf(stderr, "usage: fly_png_check FILE WIDTH HEIGHT [same OTHER MAX_DIFF | differs OTHER | lit FRACTION]\n");
     return 2;
   }
   try {
@@ -34,7 +35,19 @@ int main(int argc, char** argv) {
       std::printf("FAIL: uniform image\n");
       ok = false;
     }
-    if (argc > 4) {
+    if (argc == 6 && std::string(argv[4]) == "lit") {
+      const int channels = a.channels;
+      size_t lit = 0;
+      for (size_t p = 0; p + size_t(channels) <= a.pixels.size(); p += size_t(channels)) {
+        lit += *std::max_element(a.pixels.begin() + long(p), a.pixels.begin() + long(p) + std::min(channels, 3)) > 24;
+      }
+      const double fraction = double(lit) / double(size_t(a.width) * size_t(a.height));
+      std::printf("%.1f %% of the pixels are lit (a channel above 24)\n", 100.0 * fraction);
+      if (fraction < std::atof(argv[5])) {
+        std::printf("FAIL: fewer than %.1f %%\n", 100.0 * std::atof(argv[5]));
+        ok = false;
+      }
+    } else if (argc > 4) {
       const std::string how = argv[4];
       const fly::ImageU8 b = fly::readPng(argv[5]);
       if (b.width != a.width || b.height != a.height || b.channels != a.channels) {

@@ -148,6 +148,23 @@ TEST(RasterRdbBuild, MaterialsLightsCamerasAndVariants) {
   EXPECT_NEAR(r.ambient.downLux.g, level, 1e-4 * level);
 }
 
+// Emissive surfaces, which the simple mode's Phong does not shade with, add their flux spread over every
+// surface as the mean illuminance of an enclosure, Ē_e / (1 − ρ̄) (the integrating-sphere formula).
+TEST(RasterRdbBuild, EmissiveSurfacesRaiseTheSimpleModesAmbientByTheirFlux) {
+  Corner c = corner();
+  const RasterRdb before = buildRasterRdb(c.scene);
+  sdb::Material m = c.scene.material(c.wood);
+  m.emissionLuminance = Rgb(50.0f);
+  c.scene.setMaterial(c.wood, m);
+  const RasterRdb r = buildRasterRdb(c.scene);
+  // The one-sided 1 m² wooden floor emits π · 50 lm over the three unit quads; ρ̄ as above.
+  const double rhoWood = luminance(Rgb(0.96f * 0.4f, 0.96f * 0.25f, 0.96f * 0.1f));
+  const double rho = (rhoWood + 2.0 * 0.7) / 3.0;
+  const double added = kPi * 50.0 / 3.0 / (1.0 - rho);
+  EXPECT_NEAR(r.ambient.upLux.g - before.ambient.upLux.g, added, 1e-4 * added);
+  EXPECT_NEAR(r.ambient.downLux.b - before.ambient.downLux.b, added, 1e-4 * added);
+}
+
 TEST(RasterRdbBuild, LightMapsAreMatchedByNodeAndMeshAndChecked) {
   Corner c = corner();
   RasterRdb plain = buildRasterRdb(c.scene);
