@@ -1,0 +1,672 @@
+# Irradiance (lux) at sensor points computed by Blender Cycles, as an independent reference for
+# `fly illuminance`. Run inside Blender (the Debian package `blender`, 3.4, whose glTF importer
+# io_scene_gltf2 is enabled under --factory-startup):
+#
+#   blender -b --factory-startup -P validation/cycles_irradiance.py -- irradiance \
+#       --scene SCENE.json --points SENSORS.csv --out OUT.csv [--samples 256] [--pixels 4] [--seed 0]
+#   blender -b --factory-startup -P validation/cycles_irradiance.py -- sensors \
+#       --scene SCENE.json --out SENSORS.csv [--spacing 0.25] [--offset 0.002]
+#
+# SCENE is a fly scene file (docs/scene-format.md), of which this script reads the subset a Lambertian
+# comparison needs: `models` (file, translation, rotationDeg, scale), `lights` (point and directional),
+# `overrides` by material name (diffuse; reflection and transmission only as zero; bumpScale, which a
+# Lambertian surface ignores; emission). Anything else is refused with a message, so that a comparison never
+# silently differs from what fly computes.
+#
+# Materials. Every material becomes Lambertian with fly's diffuse albedo: the override's `diffuse`, else
+# (1 − metallicFactor) × baseColorFactor, times the base-colour texture (sRGB-decoded by Blender, with the
+# importer's UV set, KHR_texture_transform and sampler) and COLOR_0, as fly's glTF conversion defines it.
+# Coverage (base colour alpha × texture alpha × COLOR_0 alpha) is kept: alphaMode MASK is a cut-out where
+# coverage < alphaCutoff, BLEND lets 1 − coverage of the light pass straight through (Cycles' Transparent
+# BSDF, which is fly's model exactly). Emission (emissiveFactor × KHR_materials_emissive_strength, cd/m²) is
+# Cycles' emission strength: Cycles is linear, so its W/m²/sr stand for cd/m² throughout, as its W/m² of a
+# sun stand for lux.
+#
+# Faces. Cycles shades both faces of every surface. fly, following glTF, gives the back face of a one-sided
+# material (doubleSided false) no reflection and no emission: it only blocks light (raytracer/integrator.h).
+# Here a Backfacing switch gives such back faces a black Lambertian surface, which is the same.
+#
+# Normals. fly's baker shades with the files' vertex normals (interpolated), the geometric normal deciding
+# the side; --normals shading (the default) imports them so that Cycles does too; --normals geometric imports
+# flat shading, for a fly that shades with geometric normals. Normal maps are not used (Lambertian mode: fly's
+# overrides set bumpScale 0).
+#
+# Lights. A glTF or scene directional light of E lux is a Cycles sun of strength E (W/m² on a surface facing
+# it) and angle 0 (a delta direction, as in fly; --sun-angle-deg changes it). A scene light may carry
+# "angleDeg", a key of this script's own (not fly's), for the angular diameter of fly's sun disc (0.533°),
+# which the driver writes where it spells out fly's sun of a site and time as a directional light. A point light of I cd is a
+# Cycles point lamp of power 4π I W with radius 0: Cycles' point lamp of power P has radiant intensity
+# P / (4π) W/sr (docs/validation.md checks this against the analytic sphere). The glTF importer's "COMPAT"
+# lighting mode converts KHR_lights_punctual this way; lights with `range` or spots are refused. The world
+# is black.
+#
+# Measurement. Each sensor is a square of side --quad-size metres centred on its point, facing its normal,
+# invisible to every ray that the bake traces (diffuse, glossy, transmission, shadow, volume; the scene has no
+# camera), so that it changes nothing in the scene. It is baked with bake type DIFFUSE, passes direct + indirect without colour: the value is
+# the irradiance over π of a Lambertian receiver (docs/validation.md checks the factor against a plane under a
+# sun), so E = π × value. Each sensor owns a block of --pixels × --pixels texels; the texels are independent
+# Monte-Carlo estimates of the same irradiance (Cycles scrambles its sample sequence per pixel), so the
+# sensor's value is their mean and its standard error their standard deviation / √(texels). The luminance of
+# each texel's colour (Rec.709 weights, as fly's illuminance_lux) is the texel's value.
+#
+# Render settings: no clamping, no light threshold, no adaptive sampling, no denoising, bounce limits of
+# 1024 (paths end by Cycles' Russian roulette, which is unbiased), so that Cycles' estimate is unbiased.
+import argparse
+import array
+import json
+import math
+import os
+import struct
+import sys
+import time
+
+import bpy
+import mathutils
+import numpy
+
+# Blender 3.4's glTF importer uses numpy.bool when it keeps the files' normals (set_poly_smoothing), an alias
+# that numpy 1.24 (Debian 12) removed: restore it, as the builtin it always stood for.
+if "bool" not in numpy.__dict__:
+    numpy.bool = bool
+
+REC709_Y = (0.2126, 0.7152, 0.0722)
+UNTEXTURED = False  # --untextured: albedo = the factor alone, every surface opaque
+SUPPORTED_OVERRIDE_KEYS = {"material", "diffuse", "reflection", "transmission", "bumpScale", "emission",
+                           "doubleSided"}
+
+
+def fail(message):
+    print("cycles_irradiance: error: " + message, file=sys.stderr)
+    sys.exit(3)
+
+
+# glTF (+Y up) to Blender (+Z up), the glTF importer's convention: (x, y, z) -> (x, -z, y).
+GLTF_TO_BLENDER = mathutils.Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
+BLENDER_TO_GLTF = GLTF_TO_BLENDER.inverted()
+
+
+def to_blender(v):
+    return mathutils.Vector((v[0], -v[2], v[1]))
+
+
+def to_gltf(v):
+    return (v[0], v[2], -v[1])
+
+
+def read_gltf_json(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:4] == b"glTF":
+        length = struct.unpack("<I", data[12:16])[0]
+        return json.loads(data[20:20 + length].decode("utf-8"))
+    return json.loads(data.decode("utf-8-sig"))
+
+
+def load_scene_file(path):
+    with open(path, encoding="utf-8-sig") as f:
+        scene = json.load(f)
+    base = os.path.dirname(os.path.abspath(path))
+    allowed = {"fly", "models", "lights", "overrides", "bake", "sky"}
+    for key in scene:
+        if key not in allowed:
+            fail(f"{path}: key '{key}' is not supported by the Cycles reference (supported: {sorted(allowed)})")
+    sky = scene.get("sky", {})
+    if sky.get("model", "none") != "none" or sky.get("sun", False):
+        fail(f"{path}: only a black world is supported (sky.model none, no sky sun); use a directional light")
+    for m in scene.get("models", []):
+        m["file"] = m["file"] if os.path.isabs(m["file"]) else os.path.join(base, m["file"])
+    return scene
+
+
+def clear_blend():
+    for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.materials, bpy.data.lights,
+                       bpy.data.cameras, bpy.data.images):
+        for item in list(collection):
+            collection.remove(item)
+
+
+def placement_matrix(model):
+    """parentFromLocal = T · R · S in glTF space, R = Rz · Ry · Rx (docs/scene-format.md, models)."""
+    t = model.get("translation", [0, 0, 0])
+    r = [math.radians(a) for a in model.get("rotationDeg", [0, 0, 0])]
+    s = model.get("scale", 1)
+    if not isinstance(s, list):
+        s = [s, s, s]
+    T = mathutils.Matrix.Translation(t)
+    R = (mathutils.Matrix.Rotation(r[2], 4, "Z") @ mathutils.Matrix.Rotation(r[1], 4, "Y")
+         @ mathutils.Matrix.Rotation(r[0], 4, "X"))
+    S = mathutils.Matrix.Diagonal((s[0], s[1], s[2], 1))
+    return T @ R @ S
+
+
+def import_models(scene, normals):
+    """Imports every model; returns {blender material name: glTF material dict}."""
+    materials = {}
+    for model in scene.get("models", []):
+        path = model["file"]
+        if not os.path.exists(path):
+            fail(f"model file {path} does not exist")
+        before = set(bpy.data.objects)
+        mats_before = set(bpy.data.materials)
+        result = bpy.ops.import_scene.gltf(filepath=path, import_shading="FLAT" if normals == "geometric"
+                                           else "NORMALS", convert_lighting_mode="COMPAT")
+        if result != {"FINISHED"}:
+            fail(f"Blender's glTF importer could not read {path}")
+        new_objects = [o for o in bpy.data.objects if o not in before]
+        gltf = read_gltf_json(path)
+        gltf_materials = gltf.get("materials", [])
+        for mat in bpy.data.materials:
+            if mat in mats_before:
+                continue
+            base = mat.name
+            match = [g for i, g in enumerate(gltf_materials) if g.get("name", f"Material_{i}") == base]
+            if not match and len(base) > 4 and base[-4] == "." and base[-3:].isdigit():
+                base = base[:-4]
+                match = [g for i, g in enumerate(gltf_materials) if g.get("name", f"Material_{i}") == base]
+            if not match:
+                fail(f"{path}: cannot match Blender material '{mat.name}' to a glTF material")
+            materials[mat.name] = dict(match[0], flyName=base)
+        placement = GLTF_TO_BLENDER @ placement_matrix(model) @ BLENDER_TO_GLTF
+        root = bpy.data.objects.new("placement:" + os.path.basename(path), None)
+        bpy.context.scene.collection.objects.link(root)
+        root.matrix_world = placement
+        for o in new_objects:
+            if o.parent is None:
+                world = o.matrix_world.copy()
+                o.parent = root
+                o.matrix_parent_inverse = mathutils.Matrix.Identity(4)
+                o.matrix_basis = world
+    return materials
+
+
+def add_scene_lights(scene, sun_angle_rad):
+    for i, light in enumerate(scene.get("lights", [])):
+        kind = light.get("type")
+        for key in light:
+            if key not in ("name", "type", "position", "direction", "intensity", "color", "angleDeg"):
+                fail(f"lights[{i}]: key '{key}' is not supported by the Cycles reference")
+        colour = light.get("color", [1, 1, 1])
+        name = light.get("name", f"light {i}")
+        if kind == "point":
+            data = bpy.data.lights.new(name, "POINT")
+            data.energy = 4.0 * math.pi * light["intensity"]
+            obj = bpy.data.objects.new(name, data)
+            obj.location = to_blender(light["position"])
+        elif kind == "directional":
+            data = bpy.data.lights.new(name, "SUN")
+            data.energy = light["intensity"]
+            obj = bpy.data.objects.new(name, data)
+            d = to_blender(light.get("direction", [0, -1, 0])).normalized()
+            obj.rotation_euler = d.to_track_quat("-Z", "Y").to_euler()
+        else:
+            fail(f"lights[{i}]: type '{kind}' is not supported by the Cycles reference (point, directional)")
+        data.color = colour
+        if "angleDeg" in light:
+            data["flyAngleRad"] = math.radians(light["angleDeg"])
+        bpy.context.scene.collection.objects.link(obj)
+    for obj in bpy.data.objects:
+        if obj.type != "LIGHT":
+            continue
+        data = obj.data
+        if data.type == "SUN":
+            data.angle = data.get("flyAngleRad", sun_angle_rad)
+        elif data.type == "POINT":
+            data.shadow_soft_size = 0.0
+        else:
+            fail(f"light '{obj.name}' of type {data.type} is not supported by the Cycles reference")
+        data.cycles.max_bounces = 1024
+        data.cycles.use_multiple_importance_sampling = True
+
+
+def upstream_node(socket, node_type):
+    """The first node of node_type found by walking links upstream of an input socket."""
+    seen = set()
+    stack = [link.from_node for link in socket.links]
+    while stack:
+        node = stack.pop()
+        if node.name in seen:
+            continue
+        seen.add(node.name)
+        if node.type == node_type:
+            return node
+        for inp in node.inputs:
+            stack.extend(link.from_node for link in inp.links)
+    return None
+
+
+def matches(pattern, name):
+    return name.startswith(pattern[:-1]) if pattern.endswith("*") else name == pattern
+
+
+def material_overrides(scene, fly_name):
+    result = {}
+    for i, o in enumerate(scene.get("overrides", [])):
+        if "material" not in o:
+            fail(f"overrides[{i}]: only overrides by material name are supported by the Cycles reference")
+        for key in o:
+            if key not in SUPPORTED_OVERRIDE_KEYS:
+                fail(f"overrides[{i}]: key '{key}' is not supported by the Cycles reference")
+        for key in ("reflection", "transmission"):
+            if key in o and any(c != 0 for c in o[key]):
+                fail(f"overrides[{i}]: {key} must be [0, 0, 0] (the Cycles reference is Lambertian)")
+        if matches(o["material"], fly_name):
+            result.update(o)
+    return result
+
+
+def lambertian_material(mat, gltf_mat, scene):
+    """Rebuilds mat as fly's Lambertian counterpart of the glTF material (see the header)."""
+    tree = mat.node_tree
+    nodes, links = tree.nodes, tree.links
+    principled = next((n for n in nodes if n.type == "BSDF_PRINCIPLED"), None)
+    if principled is None:
+        fail(f"material '{mat.name}': the importer made no Principled BSDF (unlit or specular-glossiness "
+             "materials are not supported)")
+    override = material_overrides(scene, gltf_mat["flyName"])
+    pbr = gltf_mat.get("pbrMetallicRoughness", {})
+    factor = pbr.get("baseColorFactor", [1, 1, 1, 1])
+    metallic = pbr.get("metallicFactor", 1.0)
+    diffuse = override.get("diffuse", [(1.0 - metallic) * c for c in factor[:3]])
+    if "emissiveTexture" in gltf_mat:
+        fail(f"material '{mat.name}': emissive textures are not supported by the Cycles reference")
+    emissive = gltf_mat.get("emissiveFactor", [0, 0, 0])
+    strength = gltf_mat.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get(
+        "emissiveStrength", 1.0)
+    emission = override.get("emission", [strength * c for c in emissive])
+    double_sided = override.get("doubleSided", gltf_mat.get("doubleSided", False))
+    alpha_mode = gltf_mat.get("alphaMode", "OPAQUE")
+    cutoff = gltf_mat.get("alphaCutoff", 0.5)
+
+    texture = upstream_node(principled.inputs["Base Color"], "TEX_IMAGE")
+    vertex_colour = upstream_node(principled.inputs["Base Color"], "VERTEX_COLOR")
+    if UNTEXTURED:
+        texture, vertex_colour, alpha_mode = None, None, "OPAQUE"
+    alpha_links = principled.inputs["Alpha"].links
+    alpha_socket = alpha_links[0].from_socket if alpha_links else None
+    alpha_value = principled.inputs["Alpha"].default_value
+    output = next(n for n in nodes if n.type == "OUTPUT_MATERIAL")
+    for link in list(output.inputs["Surface"].links):
+        links.remove(link)
+
+    # Albedo = diffuse × texture × vertex colour.
+    albedo = None
+    for source in (texture, vertex_colour):
+        if source is None:
+            continue
+        if albedo is None:
+            albedo = source.outputs["Color"]
+        else:
+            mul = nodes.new("ShaderNodeMixRGB")
+            mul.blend_type = "MULTIPLY"
+            mul.inputs["Fac"].default_value = 1.0
+            links.new(albedo, mul.inputs["Color1"])
+            links.new(source.outputs["Color"], mul.inputs["Color2"])
+            albedo = mul.outputs["Color"]
+    lambert = nodes.new("ShaderNodeBsdfDiffuse")
+    lambert.inputs["Roughness"].default_value = 0.0
+    if albedo is None:
+        lambert.inputs["Color"].default_value = list(diffuse) + [1.0]
+    else:
+        mul = nodes.new("ShaderNodeMixRGB")
+        mul.blend_type = "MULTIPLY"
+        mul.inputs["Fac"].default_value = 1.0
+        links.new(albedo, mul.inputs["Color1"])
+        mul.inputs["Color2"].default_value = list(diffuse) + [1.0]
+        links.new(mul.outputs["Color"], lambert.inputs["Color"])
+    surface = lambert.outputs["BSDF"]
+    if any(c > 0 for c in emission):
+        emit = nodes.new("ShaderNodeEmission")
+        emit.inputs["Color"].default_value = list(emission) + [1.0]
+        emit.inputs["Strength"].default_value = 1.0
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(surface, add.inputs[0])
+        links.new(emit.outputs["Emission"], add.inputs[1])
+        surface = add.outputs["Shader"]
+    if not double_sided:
+        geometry = nodes.new("ShaderNodeNewGeometry")
+        black = nodes.new("ShaderNodeBsdfDiffuse")
+        black.inputs["Color"].default_value = (0, 0, 0, 1)
+        mix = nodes.new("ShaderNodeMixShader")
+        links.new(geometry.outputs["Backfacing"], mix.inputs["Fac"])
+        links.new(surface, mix.inputs[1])
+        links.new(black.outputs["BSDF"], mix.inputs[2])
+        surface = mix.outputs["Shader"]
+    if alpha_mode in ("MASK", "BLEND") and (alpha_socket is not None or alpha_value < 1.0):
+        coverage = alpha_socket
+        if alpha_mode == "MASK":
+            below = nodes.new("ShaderNodeMath")
+            below.operation = "LESS_THAN"
+            if coverage is None:
+                below.inputs[0].default_value = alpha_value
+            else:
+                links.new(coverage, below.inputs[0])
+            below.inputs[1].default_value = cutoff
+            opaque = nodes.new("ShaderNodeMath")
+            opaque.operation = "SUBTRACT"
+            opaque.inputs[0].default_value = 1.0
+            links.new(below.outputs[0], opaque.inputs[1])
+            coverage = opaque.outputs[0]
+        transparent = nodes.new("ShaderNodeBsdfTransparent")
+        mix = nodes.new("ShaderNodeMixShader")
+        if coverage is None:
+            mix.inputs["Fac"].default_value = alpha_value
+        else:
+            links.new(coverage, mix.inputs["Fac"])
+        links.new(transparent.outputs["BSDF"], mix.inputs[1])
+        links.new(surface, mix.inputs[2])
+        surface = mix.outputs["Shader"]
+    links.new(surface, output.inputs["Surface"])
+    return {"name": mat.name, "diffuse": list(diffuse), "texture": texture.image.name if texture else None,
+            "vertexColour": vertex_colour is not None, "emission": list(emission),
+            "doubleSided": double_sided, "alphaMode": alpha_mode}
+
+
+def default_material():
+    """fly's material for primitives without one: diffuse 0.8 grey, one-sided (glTF's default material)."""
+    mat = bpy.data.materials.new("fly-default")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        nodes.remove(n)
+    output = nodes.new("ShaderNodeOutputMaterial")
+    nodes.new("ShaderNodeBsdfPrincipled")
+    links = mat.node_tree.links
+    links.new(nodes["Principled BSDF"].outputs[0], output.inputs["Surface"])
+    return mat
+
+
+def setup_materials(scene, gltf_materials):
+    report = []
+    fallback = None
+    for obj in bpy.data.objects:
+        if obj.type != "MESH":
+            continue
+        if not obj.material_slots or any(s.material is None for s in obj.material_slots):
+            if fallback is None:
+                fallback = default_material()
+                gltf_materials[fallback.name] = {"name": "default", "flyName": "default",
+                                                 "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1],
+                                                                          "metallicFactor": 0.0}}
+            if not obj.material_slots:
+                obj.data.materials.append(fallback)
+            for s in obj.material_slots:
+                if s.material is None:
+                    s.material = fallback
+    for mat in list(bpy.data.materials):
+        if mat.name in gltf_materials:
+            report.append(lambertian_material(mat, gltf_materials[mat.name], scene))
+    return report
+
+
+def configure_cycles(samples, seed, threads):
+    s = bpy.context.scene
+    s.render.engine = "CYCLES"
+    c = s.cycles
+    c.device = "CPU"
+    c.samples = samples
+    c.seed = seed
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.sample_clamp_direct = 0.0
+    c.sample_clamp_indirect = 0.0
+    c.light_sampling_threshold = 0.0
+    c.blur_glossy = 0.0
+    c.caustics_reflective = True
+    c.caustics_refractive = True
+    c.max_bounces = 1024
+    c.diffuse_bounces = 1024
+    c.glossy_bounces = 1024
+    c.transmission_bounces = 1024
+    c.volume_bounces = 0
+    c.transparent_max_bounces = 1024
+    c.min_light_bounces = 0
+    c.min_transparent_bounces = 0
+    s.render.threads_mode = "FIXED" if threads > 0 else "AUTO"
+    if threads > 0:
+        s.render.threads = threads
+    s.view_settings.view_transform = "Standard"
+    s.view_settings.look = "None"
+    s.view_settings.exposure = 0.0
+    s.view_settings.gamma = 1.0
+    world = bpy.data.worlds.new("black") if not bpy.data.worlds else bpy.data.worlds[0]
+    world.use_nodes = True
+    background = next(n for n in world.node_tree.nodes if n.type == "BACKGROUND")
+    background.inputs["Color"].default_value = (0, 0, 0, 1)
+    background.inputs["Strength"].default_value = 0.0
+    s.world = world
+
+
+def read_sensors(path):
+    with open(path) as f:
+        lines = [ln.rstrip("\r\n") for ln in f if ln.strip()]
+    header = [h.strip() for h in lines[0].split(",")]
+    idx = {k: header.index(k) for k in ("x", "y", "z", "nx", "ny", "nz")}
+    sensors = []
+    for ln in lines[1:]:
+        f = ln.split(",")
+        p = [float(f[idx[k]]) for k in ("x", "y", "z")]
+        n = [float(f[idx[k]]) for k in ("nx", "ny", "nz")]
+        sensors.append((p, n, ln))
+    return lines[0], sensors
+
+
+def sensor_object(sensors, quad_size, pixels):
+    """Tiny quads (Blender space), one texel block per sensor; returns (object, image, block origins)."""
+    count = len(sensors)
+    cell = pixels + 1
+    per_row = max(1, math.ceil(math.sqrt(count)))
+    rows = math.ceil(count / per_row)
+    width, height = per_row * cell, rows * cell
+    verts, faces, uvs, origins = [], [], [], []
+    h = 0.5 * quad_size
+    for i, (p, n, _) in enumerate(sensors):
+        centre = to_blender(p)
+        normal = to_blender(n).normalized()
+        helper = mathutils.Vector((1, 0, 0)) if abs(normal.x) < 0.9 else mathutils.Vector((0, 1, 0))
+        t = normal.cross(helper).normalized()
+        b = normal.cross(t)  # t × b = n: the corners below wind counter-clockwise about n
+        base = len(verts)
+        verts += [centre - h * t - h * b, centre + h * t - h * b, centre + h * t + h * b, centre - h * t + h * b]
+        faces.append((base, base + 1, base + 2, base + 3))
+        ox, oy = (i % per_row) * cell, (i // per_row) * cell
+        origins.append((ox, oy))
+        u0, v0, u1, v1 = ox / width, oy / height, (ox + pixels) / width, (oy + pixels) / height
+        uvs += [(u0, v0), (u1, v0), (u1, v1), (u0, v1)]
+    mesh = bpy.data.meshes.new("fly-sensors")
+    mesh.from_pydata([tuple(v) for v in verts], [], faces)
+    layer = mesh.uv_layers.new(name="sensors")
+    for loop in mesh.loops:
+        layer.data[loop.index].uv = uvs[loop.vertex_index]
+    for poly in mesh.polygons:
+        poly.use_smooth = False
+    obj = bpy.data.objects.new("fly-sensors", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    # Seen by no ray of the scene; camera visibility stays on, since Cycles leaves out an object that no
+    # ray can see, and this scene has no camera.
+    for attr in ("visible_diffuse", "visible_glossy", "visible_transmission",
+                 "visible_volume_scatter", "visible_shadow"):
+        setattr(obj, attr, False)
+    image = bpy.data.images.new("fly-sensors", width, height, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    mat = bpy.data.materials.new("fly-sensor")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        nodes.remove(n)
+    out = nodes.new("ShaderNodeOutputMaterial")
+    bsdf = nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (1, 1, 1, 1)
+    mat.node_tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    nodes.active = tex
+    obj.data.materials.append(mat)
+    return obj, image, origins
+
+
+def cmd_irradiance(args):
+    global UNTEXTURED
+    UNTEXTURED = args.untextured
+    start = time.time()
+    scene = load_scene_file(args.scene)
+    clear_blend()
+    gltf_materials = import_models(scene, args.normals)
+    add_scene_lights(scene, math.radians(args.sun_angle_deg))
+    report = setup_materials(scene, gltf_materials)
+    header, sensors = read_sensors(args.points)
+    configure_cycles(args.samples, args.seed, args.threads)
+    obj, image, origins = sensor_object(sensors, args.quad_size, args.pixels)
+    bpy.ops.object.select_all(action="DESELECT")
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    setup_s = time.time() - start
+    bpy.context.scene.render.bake.margin = 0
+    bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0, use_clear=True,
+                        target="IMAGE_TEXTURES")
+    bake_s = time.time() - start - setup_s
+    width, height = image.size
+    px = array.array("f", bytes(4 * 4 * width * height))
+    image.pixels.foreach_get(px)
+    k = args.pixels
+    rows = []
+    for (p, n, line), (ox, oy) in zip(sensors, origins):
+        values = []
+        for j in range(oy, oy + k):
+            for i in range(ox, ox + k):
+                o = 4 * (j * width + i)
+                values.append(math.pi * (REC709_Y[0] * px[o] + REC709_Y[1] * px[o + 1] + REC709_Y[2] * px[o + 2]))
+        m = len(values)
+        mean = sum(values) / m
+        var = sum((v - mean) ** 2 for v in values) / (m - 1)
+        rows.append(f"{line},{mean:.7g},{math.sqrt(var / m):.7g}")
+    with open(args.out, "w") as f:
+        f.write(header + ",illuminance_lux,std_error_lux\n")
+        f.write("\n".join(rows) + "\n")
+    info = {"sensors": len(sensors), "samples": args.samples, "pixels": k * k, "seed": args.seed,
+            "setup_s": round(setup_s, 3), "bake_s": round(bake_s, 3), "total_s": round(time.time() - start, 3),
+            "materials": report, "blender": bpy.app.version_string}
+    if args.info:
+        with open(args.info, "w") as f:
+            json.dump(info, f, indent=1)
+    print("cycles_irradiance: " + json.dumps({k: v for k, v in info.items() if k != "materials"}))
+
+
+def cmd_sensors(args):
+    """Sensors on the scene's surfaces, found by casting rays down and sideways (±x, ±z in glTF space) from a
+    lattice outside the scene's bounds; each sensor sits --offset metres off the hit surface and faces away
+    from it (towards where the ray came from). Groups: the hit object's name and the direction faced."""
+    scene = load_scene_file(args.scene)
+    clear_blend()
+    gltf_materials = import_models(scene, "geometric")
+    add_scene_lights(scene, 0.0)
+    bpy.context.view_layer.update()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    lo = [math.inf] * 3
+    hi = [-math.inf] * 3
+    for obj in bpy.data.objects:
+        if obj.type != "MESH":
+            continue
+        for c in obj.bound_box:
+            w = obj.matrix_world @ mathutils.Vector(c)
+            for a in range(3):
+                lo[a], hi[a] = min(lo[a], w[a]), max(hi[a], w[a])
+    sun = next((o for o in bpy.data.objects if o.type == "LIGHT" and o.data.type == "SUN"), None)
+    to_sun = (sun.matrix_world.to_quaternion() @ mathutils.Vector((0, 0, 1))) if sun else None
+    if args.box:
+        for a in (0, 1):
+            lo[a], hi[a] = max(lo[a], -args.box), min(hi[a], args.box)
+    size = max(hi[a] - lo[a] for a in range(3))
+    spacing = args.spacing
+    margin = 0.01 * size
+    casts = []  # (origin, direction, facing name)
+    # Blender axes: z up; glTF x = Blender x, glTF z = -Blender y.
+    def lattice(a_axis, b_axis):
+        na = int((hi[a_axis] - lo[a_axis]) / spacing)
+        nb = int((hi[b_axis] - lo[b_axis]) / spacing)
+        for ia in range(na + 1):
+            for ib in range(nb + 1):
+                yield (lo[a_axis] + (ia + 0.5 * (1 + (hi[a_axis] - lo[a_axis]) / spacing - na - 1)) * spacing,
+                       lo[b_axis] + (ib + 0.5 * (1 + (hi[b_axis] - lo[b_axis]) / spacing - nb - 1)) * spacing)
+    if args.origin:
+        # Rays from one point in a Fibonacci lattice of directions over the sphere.
+        origin = to_blender([float(c) for c in args.origin.split(",")])
+        golden = math.pi * (3.0 - math.sqrt(5.0))
+        for i in range(args.rays):
+            z = 1.0 - 2.0 * (i + 0.5) / args.rays
+            r = math.sqrt(1.0 - z * z)
+            casts.append((origin, mathutils.Vector((r * math.cos(golden * i), r * math.sin(golden * i), z)),
+                          None))
+    else:
+        for x, y in lattice(0, 1):
+            casts.append((mathutils.Vector((x, y, hi[2] + margin)), mathutils.Vector((0, 0, -1)), "up"))
+    if args.sideways:
+        for y, z in lattice(1, 2):
+            casts.append((mathutils.Vector((lo[0] - margin, y, z)), mathutils.Vector((1, 0, 0)), "side"))
+            casts.append((mathutils.Vector((hi[0] + margin, y, z)), mathutils.Vector((-1, 0, 0)), "side"))
+        for x, z in lattice(0, 2):
+            casts.append((mathutils.Vector((x, lo[1] - margin, z)), mathutils.Vector((0, 1, 0)), "side"))
+            casts.append((mathutils.Vector((x, hi[1] + margin, z)), mathutils.Vector((0, -1, 0)), "side"))
+    rows = []
+    for origin, direction, facing in casts:
+        hit, location, normal, _, obj, _ = bpy.context.scene.ray_cast(depsgraph, origin, direction)
+        if not hit:
+            continue
+        n = normal.normalized()
+        if n.dot(direction) > 0:
+            n = -n
+        if facing is None:
+            facing = "up" if n.z > 0.5 else "down" if n.z < -0.5 else "side"
+        elif facing == "up" and n.z <= 0.5:
+            continue  # a face steeper than 60°: left to the sideways casts
+        if facing == "side" and abs(n.z) > 0.5:
+            continue
+        p = location + args.offset * n
+        label = obj.name
+        if len(label) > 4 and label[-4] == "." and label[-3:].isdigit():
+            label = label[:-4]  # Blender's suffix for a repeated name
+        group = label + "-" + facing
+        if to_sun is not None:
+            lit, *_ = bpy.context.scene.ray_cast(depsgraph, p + 1e-4 * n, to_sun)
+            group += "-shadow" if lit or n.dot(to_sun) <= 0 else "-sunlit"
+        pg, ng = to_gltf(p), to_gltf(n)
+        rows.append(f"{pg[0]:.6f},{pg[1]:.6f},{pg[2]:.6f},{ng[0]:.6f},{ng[1]:.6f},{ng[2]:.6f},{group}")
+    with open(args.out, "w") as f:
+        f.write("x,y,z,nx,ny,nz,group\n" + "\n".join(rows) + "\n")
+    print(f"cycles_irradiance: {len(rows)} sensors written to {args.out}")
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    ap = argparse.ArgumentParser(prog="cycles_irradiance.py")
+    sub = ap.add_subparsers(dest="command", required=True)
+    a = sub.add_parser("irradiance", help="irradiance (lux) at the sensors of a CSV file")
+    a.add_argument("--scene", required=True)
+    a.add_argument("--points", required=True)
+    a.add_argument("--out", required=True)
+    a.add_argument("--info", help="JSON file for the run's timings and the materials as converted")
+    a.add_argument("--samples", type=int, default=256, help="Cycles samples per texel")
+    a.add_argument("--pixels", type=int, default=4, help="texels per side of each sensor's block")
+    a.add_argument("--seed", type=int, default=0)
+    a.add_argument("--threads", type=int, default=0)
+    a.add_argument("--quad-size", type=float, default=1e-4, help="sensor square's side, metres")
+    a.add_argument("--normals", choices=("geometric", "shading"), default="shading")
+    a.add_argument("--untextured", action="store_true",
+                   help="ignore base-colour textures, vertex colours and alpha (a check of the rest)")
+    a.add_argument("--sun-angle-deg", type=float, default=0.0, help="angular diameter of directional lights")
+    s = sub.add_parser("sensors", help="place sensors on the scene's surfaces")
+    s.add_argument("--scene", required=True)
+    s.add_argument("--out", required=True)
+    s.add_argument("--spacing", type=float, default=0.25, help="lattice spacing, metres")
+    s.add_argument("--offset", type=float, default=2e-3, help="distance off the surface, metres")
+    s.add_argument("--sideways", action="store_true", help="also cast along ±x and ±z")
+    s.add_argument("--box", type=float, default=0.0, help="limit the lattice to |x|, |z| <= BOX (glTF axes)")
+    s.add_argument("--from", dest="origin", help="instead of the lattice, cast from this point x,y,z (glTF)")
+    s.add_argument("--rays", type=int, default=100, help="rays cast --from the point")
+    args = ap.parse_args(argv)
+    if args.command == "irradiance":
+        cmd_irradiance(args)
+    else:
+        cmd_sensors(args)
+
+
+main()
