@@ -84,11 +84,13 @@ inline void writeScratchFile(const std::filesystem::path& path, std::string_view
 
 // Fills `dir` with the files the repository's sample scenes and test scenes refer to (scenes/*/*,
 // tests/data/scene_file/*), flat, so that a seed made from one of them finds its buffers, models, IES and
-// weather files beside it. FLY_SOURCE_DIR is the repository's root (a compile definition).
+// weather files beside it. The repository's root is FLY_SOURCE_DIR (a compile definition), or the
+// environment variable FLY_FUZZ_SOURCE_DIR for targets run from a copy of the tree elsewhere.
 inline void copyFixtures(const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
-  const fs::path root = FLY_SOURCE_DIR;
+  const char* moved = std::getenv("FLY_FUZZ_SOURCE_DIR");
+  const fs::path root = moved ? moved : FLY_SOURCE_DIR;
   std::vector<fs::path> folders = {root / "tests/data/scene_file"};
   for (const fs::directory_entry& e : fs::directory_iterator(root / "scenes")) {
     if (e.is_directory()) folders.push_back(e.path());
