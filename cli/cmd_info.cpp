@@ -9,7 +9,7 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/baked_scene.h"
+#include "cli/baked_manifest.h"
 #include "cli/command.h"
 #include "sdb/features.h"
 #include "sdb/scene_load.h"

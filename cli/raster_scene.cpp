@@ -5,7 +5,7 @@
 
 #include "base/error.h"
 #include "cli/baked_light_maps.h"
-#include "cli/baked_scene.h"
+#include "cli/baked_manifest.h"
 #include "sdb/scene_load.h"
 
 namespace fly::cli {
