@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <stdexcept>
@@ -66,6 +67,17 @@ nlohmann::json historyJson(const std::vector<raytracer::ConvergencePoint>& histo
     rows.push_back({p.seconds, p.samples, p.relativeErrorP95, p.raysPerSecond});
   }
   return rows;
+}
+
+// `v` (named `what` in the message) as T, which must hold it exactly. nlohmann's get<uint32_t>() would
+// convert 1e30 (undefined behaviour) and wrap -1 around; std::out_of_range (a damaged checkpoint) instead.
+template <class T>
+T unsignedValue(const nlohmann::json& v, const std::string& what) {
+  if (!v.is_number_unsigned() || v.get<uint64_t>() > std::numeric_limits<T>::max()) {
+    throw std::out_of_range(what + " must be an integer from 0 to " +
+                            std::to_string(std::numeric_limits<T>::max()) + ", not " + v.dump());
+  }
+  return static_cast<T>(v.get<uint64_t>());
 }
 
 }  // namespace
@@ -211,18 +223,18 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.daylight = j.value("daylight", nlohmann::json());
     const nlohmann::json& s = j.at("settings");
     raytracer::EstimateSettings& e = c.job.settings.estimate;
-    e.maxSamples = s.at("max_samples").get<uint32_t>();
-    e.firstPassSamples = s.at("first_pass_samples").get<uint32_t>();
+    e.maxSamples = unsignedValue<uint32_t>(s.at("max_samples"), "max_samples");
+    e.firstPassSamples = unsignedValue<uint32_t>(s.at("first_pass_samples"), "first_pass_samples");
     e.targetRelativeError = s.at("target_relative_error").get<float>();
     if (!s.at("time_limit_s").is_null()) e.timeLimitS = s.at("time_limit_s").get<double>();
     c.job.samplerName = s.at("sampler").get<std::string>();
     if (c.job.samplerName != "sobol" && c.job.samplerName != "random") throw bad("unknown sampler");
     e.sampler =
         c.job.samplerName == "random" ? raytracer::SamplerKind::kRandom : raytracer::SamplerKind::kSobol;
-    e.replicates = s.at("replicates").get<uint32_t>();
-    e.seed = s.at("seed").get<uint64_t>();
-    e.threads = s.at("threads").get<uint32_t>();
-    c.job.settings.integrator.maxBounces = s.at("max_bounces").get<uint32_t>();
+    e.replicates = unsignedValue<uint32_t>(s.at("replicates"), "replicates");
+    e.seed = unsignedValue<uint64_t>(s.at("seed"), "seed");
+    e.threads = unsignedValue<uint32_t>(s.at("threads"), "threads");
+    c.job.settings.integrator.maxBounces = unsignedValue<uint32_t>(s.at("max_bounces"), "max_bounces");
     // Checkpoints from before the setting existed baked without sun caustics.
     c.job.settings.integrator.caustics = s.value("caustics", false);
     // ... and without sky portals.
@@ -231,9 +243,12 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);
     for (const nlohmann::json& row : j.at("history")) {
+      if (!row.is_array() || row.size() != 4) {
+        throw bad("a history row is not [seconds, samples, relative error, rays per second]");
+      }
       raytracer::ConvergencePoint p;
       p.seconds = row.at(0).get<double>();
-      p.samples = row.at(1).get<uint32_t>();
+      p.samples = unsignedValue<uint32_t>(row.at(1), "a history row's samples");
       p.relativeErrorP95 = row.at(2).get<float>();
       p.raysPerSecond = row.at(3).get<double>();
       c.state.history.push_back(p);

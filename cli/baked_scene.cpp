@@ -575,11 +575,6 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
   writeFileAtomic(dir / "manifest.json", manifest.dump(2) + "\n");
 }
 
-bool isBakedScene(const fs::path& dir) {
-  std::error_code ec;
-  return fs::is_directory(dir, ec) && fs::is_regular_file(dir / "manifest.json", ec);
-}
-
 void checkBakeOutput(const fs::path& dir) {
   std::error_code ec;
   if (fs::exists(fs::symlink_status(dir, ec)) && !isBakedScene(dir)) {
@@ -626,46 +621,6 @@ uint32_t objectSamples(const raytracer::VertexLightMaps& maps, const rdb::TraceM
   for (size_t v = m.firstVertex; v < m.firstVertex + m.vertexCount && v < maps.frontSamples.size(); ++v)
     samples = std::max(samples, maps.frontSamples[v]);
   return samples;
-}
-
-json readBakedManifest(const fs::path& dir) {
-  const fs::path path = dir / "manifest.json";
-  const std::string text = readInputFile(path, "baked scene manifest");
-  json manifest = json::parse(text, nullptr, false);
-  if (manifest.is_discarded() || !manifest.is_object()) {
-    throw InputError({path.string()}, "is not valid JSON", "bake the scene again with fly bake");
-  }
-  if (manifest.value("format", "") != kBakedSceneFormat) {
-    throw InputError({path.string(), 0, 0, "/format"}, "is not a fly baked-scene manifest",
-                     "give the directory that fly bake --out wrote");
-  }
-  const json version = manifest.value("format_version", json());
-  if (!version.is_number_integer() || version.get<int>() != kBakedSceneFormatVersion) {
-    throw InputError({path.string(), 0, 0, "/format_version"},
-                     "has format version " + version.dump() + "; this fly reads version " +
-                         std::to_string(kBakedSceneFormatVersion),
-                     "bake the scene again with this fly");
-  }
-  return manifest;
-}
-
-std::optional<fs::path> findBakedSourceScene(const fs::path& dir, const json& manifest) {
-  std::vector<fs::path> candidates;
-  if (manifest.contains("scene_from_bake") && manifest["scene_from_bake"].is_string() &&
-      !manifest["scene_from_bake"].get<std::string>().empty())
-    candidates.push_back(dir / manifest["scene_from_bake"].get<std::string>());
-  if (manifest.contains("scene_absolute") && manifest["scene_absolute"].is_string())
-    candidates.emplace_back(manifest["scene_absolute"].get<std::string>());
-  if (manifest.contains("scene") && manifest["scene"].is_string()) {
-    const fs::path recorded = manifest["scene"].get<std::string>();
-    candidates.push_back(recorded);
-    if (recorded.is_relative()) candidates.push_back(dir.parent_path() / recorded);
-  }
-  for (const fs::path& c : candidates) {
-    std::error_code ec;
-    if (fs::is_regular_file(c, ec)) return c;
-  }
-  return std::nullopt;
 }
 
 }  // namespace fly::cli

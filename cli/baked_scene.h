@@ -42,13 +42,11 @@
 #include <string>
 #include <vector>
 
+#include "cli/baked_manifest.h"
 #include "raytracer/baker.h"
 #include "rdb/trace_rdb.h"
 
 namespace fly::cli {
-
-inline constexpr const char* kBakedSceneFormat = "fly-baked-scene";
-inline constexpr int kBakedSceneFormatVersion = 1;
 
 // What the manifest records besides the light maps: names from the SDB (the TraceRdb holds ids only).
 struct BakeDescription {
@@ -76,9 +74,6 @@ void writeBakedScene(const std::filesystem::path& dir, const rdb::TraceRdb& rdb,
 // exactly.
 std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history);
 
-// Whether `dir` holds a baked scene (a manifest.json).
-bool isBakedScene(const std::filesystem::path& dir);
-
 // Throws UsageError when `dir` exists and is not a baked scene (a file, or a directory of something else):
 // a bake replaces only an earlier bake.
 void checkBakeOutput(const std::filesystem::path& dir);
@@ -93,17 +88,5 @@ void writeDirectoryAtomic(const std::filesystem::path& dir,
 // The samples an object's vertices took: the most of any (an object settled before the last pass took fewer
 // than the bake's samplesPerVertex; raytracer/progressive.h, kSettledPercentile).
 uint32_t objectSamples(const raytracer::VertexLightMaps& maps, const rdb::TraceMesh& m);
-
-// Reads DIR/manifest.json. InputError naming the file when it is missing, not JSON, or not a baked scene of a
-// format version this program reads.
-nlohmann::json readBakedManifest(const std::filesystem::path& dir);
-
-// The scene file a bake was made from, which the GL engine shows and `fly info` describes (the baked
-// scene.gltf keeps the geometry and light maps only), looked for in turn at the manifest's "scene_from_bake"
-// (relative to the baked directory, so that a project folder copied whole to another machine still works),
-// "scene_absolute" (both written since session 5), and its "scene" as fly bake was given it, relative to the
-// working directory or to the baked directory's parent. None when it exists at none of these.
-std::optional<std::filesystem::path> findBakedSourceScene(const std::filesystem::path& dir,
-                                                          const nlohmann::json& manifest);
 
 }  // namespace fly::cli

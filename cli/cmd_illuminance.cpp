@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "base/error.h"
 #include "base/file_io.h"
@@ -16,6 +15,7 @@
 #include "cli/bounce_cap_warning.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
+#include "cli/sensor_csv.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
 #include "raytracer/sensor_grid.h"
@@ -34,98 +34,6 @@ struct IlluminanceOptions {
   DaylightOptions daylight;
 };
 
-// The sensors of a CSV file and its lines, so that the output repeats them.
-struct SensorTable {
-  std::string header;
-  std::vector<std::string> lines;
-  std::vector<vec3> positionsM;
-  std::vector<vec3> normals;
-};
-
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string field;
-  std::istringstream s(line);
-  while (std::getline(s, field, ',')) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
-
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  const size_t b = s.find_last_not_of(" \t\r");
-  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
-}
-
-SensorTable readSensors(const std::string& path) {
-  const std::string text = readInputFile(path, "sensor file");
-  SensorTable t;
-  std::istringstream in(text);
-  std::string line;
-  int lineNo = 0;
-  int col[6] = {-1, -1, -1, -1, -1, -1};
-  static const char* kNames[6] = {"x", "y", "z", "nx", "ny", "nz"};
-  size_t columns = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (trim(line).empty()) continue;
-    if (line.find('"') != std::string::npos) {
-      throw InputError({path, lineNo}, "quoted fields are not supported",
-                       "write plain comma-separated numbers");
-    }
-    const std::vector<std::string> fields = splitCsv(line);
-    if (t.header.empty()) {
-      t.header = line;
-      columns = fields.size();
-      for (size_t i = 0; i < fields.size(); ++i) {
-        for (int k = 0; k < 6; ++k) {
-          if (trim(fields[i]) == kNames[k]) col[k] = int(i);
-        }
-      }
-      for (int k = 0; k < 6; ++k) {
-        if (col[k] < 0) {
-          throw InputError(
-              {path, lineNo}, std::string("the header has no column \"") + kNames[k] + "\"",
-              "the first line must name the columns, e.g. x,y,z,nx,ny,nz (metres, world space; the "
-              "sensor's normal)");
-        }
-      }
-      continue;
-    }
-    if (fields.size() != columns) {
-      throw InputError(
-          {path, lineNo},
-          "has " + std::to_string(fields.size()) + " fields, the header " + std::to_string(columns),
-          "give every row the header's columns");
-    }
-    float v[6];
-    for (int k = 0; k < 6; ++k) {
-      const std::string f = trim(fields[size_t(col[k])]);
-      const char* end = f.data() + f.size();
-      const auto [ptr, ec] = std::from_chars(f.data(), end, v[k]);
-      if (ec != std::errc() || ptr != end || !std::isfinite(v[k])) {
-        throw InputError(
-            {path, lineNo},
-            std::string("column \"") + kNames[k] + "\": '" + printableExcerpt(f) + "' is not a finite number",
-            "write decimal numbers such as 1.25 or -3e2");
-      }
-    }
-    const vec3 n(v[3], v[4], v[5]);
-    if (!(glm::length(n) > 0.0f)) {
-      throw InputError({path, lineNo}, "the sensor's normal (nx, ny, nz) is zero",
-                       "give the direction the sensor faces, e.g. 0,1,0 for a horizontal sensor facing up");
-    }
-    t.lines.push_back(line);
-    t.positionsM.emplace_back(v[0], v[1], v[2]);
-    t.normals.push_back(glm::normalize(n));
-  }
-  if (t.header.empty())
-    throw InputError({path}, "the sensor file has no header line", "start with x,y,z,nx,ny,nz");
-  if (t.lines.empty()) throw InputError({path}, "the sensor file has no sensors", "add one row per sensor");
-  return t;
-}
-
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -142,12 +50,12 @@ struct GridSpec {
 
 // --grid HEIGHT,SPACING in metres, e.g. 0.85,0.5.
 GridSpec parseGrid(const std::string& s) {
-  const std::vector<std::string> fields = splitCsv(s);
+  const std::vector<std::string> fields = splitCsvFields(s);
   GridSpec g;
   float* values[2] = {&g.heightM, &g.spacingM};
   bool ok = fields.size() == 2;
   for (size_t i = 0; ok && i < 2; ++i) {
-    const std::string f = trim(fields[i]);
+    const std::string f = trimBlanks(fields[i]);
     const char* end = f.data() + f.size();
     const auto [ptr, ec] = std::from_chars(f.data(), end, *values[i]);
     ok = ec == std::errc() && ptr == end && std::isfinite(*values[i]);
@@ -213,7 +121,8 @@ int runIlluminance(const IlluminanceOptions& o) {
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
   const SensorTable sensors =
-      o.grid.empty() ? readSensors(o.points) : gridSensors(o.grid, grid, o.scene, rdb, embree);
+      o.grid.empty() ? parseSensorCsv(readInputFile(o.points, "sensor file"), o.points)
+                     : gridSensors(o.grid, grid, o.scene, rdb, embree);
   const raytracer::IntegratorSettings integratorOptions = integratorSettings(o.sampling, scene.bakeSettings());
   const raytracer::Integrator integrator(rdb, embree, integratorOptions);
   const raytracer::EstimateResult result =

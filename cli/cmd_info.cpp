@@ -9,7 +9,7 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/baked_scene.h"
+#include "cli/baked_manifest.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
 #include "sdb/features.h"
@@ -141,54 +141,6 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   std::cout << o.str();
 }
 
-// The objects' light textures: object index, name, files, size and density.
-nlohmann::json lightTexturesJson(const nlohmann::json& m) {
-  nlohmann::json list = nlohmann::json::array();
-  const nlohmann::json& objects = m.at("objects");
-  for (size_t i = 0; i < objects.size(); ++i) {
-    if (!objects[i].contains("light_texture")) continue;
-    nlohmann::json t = objects[i].at("light_texture");
-    t["object"] = i;
-    t["name"] = objects[i].value("mesh_name", "").empty() ? objects[i].value("node_name", "")
-                                                          : objects[i].value("mesh_name", "");
-    list.push_back(std::move(t));
-  }
-  return list;
-}
-
-nlohmann::json bakeSummaryJson(const nlohmann::json& m) {
-  return {{"scene", m.at("scene")},
-          {"samples_per_vertex", m.at("samples_per_vertex")},
-          {"relative_error_p95", m.at("relative_error_p95")},
-          {"bake_seconds", m.at("bake_seconds")},
-          {"rays", m.at("rays")},
-          {"objects", m.at("objects").size()},
-          {"light_textures", lightTexturesJson(m)},
-          {"fly_version", m.at("fly_version")}};
-}
-
-void printBakeSummary(const nlohmann::json& m, bool sourceFound) {
-  std::ostringstream o;
-  o << "baked from " << m.at("scene").get<std::string>() << " by fly "
-    << m.at("fly_version").get<std::string>() << "\n";
-  if (!sourceFound) {
-    o << "warning    that scene file no longer exists: above is the baked geometry only (matte materials, no "
-         "lights, cameras or site); fly render and fly view need the scene file back at that path\n";
-  }
-  o << "bake       " << m.at("samples_per_vertex").get<uint64_t>()
-    << " samples per vertex, 95th percentile of "
-    << "relative standard error " << fixed(100.0 * m.at("relative_error_p95").get<double>(), 2) << " %, "
-    << fixed(m.at("bake_seconds").get<double>(), 1) << " s, " << m.at("objects").size() << " objects\n";
-  for (const nlohmann::json& t : lightTexturesJson(m)) {
-    o << "light tex  object " << t.at("object").get<size_t>() << " \"" << t.at("name").get<std::string>()
-      << "\": " << t.at("width").get<uint32_t>() << " x " << t.at("height").get<uint32_t>() << " texels, "
-      << fixed(t.at("texels_per_metre").get<double>(), 1) << " texels/m"
-      << (t.value("automatic", false) ? " (automatic)" : "") << ", " << t.at("front").get<std::string>()
-      << (t.contains("back") ? " + back" : "") << "\n";
-  }
-  std::cout << o.str();
-}
-
 }  // namespace
 
 Command addInfoCommand(CLI::App& app) {
@@ -236,7 +188,7 @@ Command addInfoCommand(CLI::App& app) {
               std::cout << j.dump(2) << "\n";
             } else {
               printText(scene, stats, features, lit);
-              if (bake) printBakeSummary(*bake, sourceFound);
+              if (bake) std::cout << bakeSummaryText(*bake, sourceFound);
             }
             return 0;
           }};

@@ -5,8 +5,10 @@
 
 #include "base/error.h"
 #include "cli/baked_light_maps.h"
+#include "cli/baked_manifest.h"
 #include "cli/baked_scene.h"
 #include "cli/scene_daylight.h"
+#include "sdb/scene_load.h"
 
 namespace fly::cli {
 

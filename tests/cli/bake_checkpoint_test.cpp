@@ -1,0 +1,108 @@
+#include "cli/bake_checkpoint.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "base/error.h"
+
+namespace fly::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BakeCheckpointTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    parent_ = fs::temp_directory_path() /
+              ("fly_bake_checkpoint_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(parent_);
+    fs::create_directories(parent_);
+    job_.scenePath = "scene.json";
+    job_.outDir = (parent_ / "bake").string();
+    job_.settings.estimate.maxSamples = 256;
+    job_.settings.estimate.firstPassSamples = 8;
+    job_.settings.estimate.replicates = 4;
+    job_.settings.estimate.threads = 3;
+    job_.settings.estimate.seed = 42;
+    job_.settings.integrator.maxBounces = 5;
+    job_.samplerName = "sobol";
+    job_.checkpointIntervalS = 60.0;
+    state_.progress.pointCount = 2;
+    state_.progress.replicates = 4;
+    state_.progress.samplesPerPoint = 8;
+    state_.progress.sums.assign(2 * (2 + 4), dvec3(1.0));
+    state_.history = {{.seconds = 0.5, .samples = 8, .relativeErrorP95 = 0.125f, .raysPerSecond = 320.0}};
+    saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  }
+  void TearDown() override { fs::remove_all(parent_); }
+
+  fs::path jsonPath() const { return checkpointDirFor(job_.outDir) / "checkpoint.json"; }
+
+  // Rewrites checkpoint.json with `edit` applied.
+  template <class F>
+  void editJson(F edit) {
+    std::ifstream in(jsonPath());
+    nlohmann::json j = nlohmann::json::parse(in);
+    in.close();
+    edit(j);
+    std::ofstream(jsonPath()) << j.dump(2);
+  }
+
+  // The message of the InputError loading throws ("no error" when it loads).
+  std::string loadError() const {
+    try {
+      loadBakeCheckpoint(job_.outDir);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+
+  fs::path parent_;
+  BakeJob job_;
+  raytracer::BakeCheckpoint state_;
+};
+
+TEST_F(BakeCheckpointTest, LoadGivesBackWhatWasSaved) {
+  const LoadedCheckpoint c = loadBakeCheckpoint(job_.outDir);
+  EXPECT_EQ(c.fingerprint, 0x0123456789abcdefull);
+  EXPECT_EQ(c.job.settings.estimate.maxSamples, 256u);
+  EXPECT_EQ(c.job.settings.estimate.firstPassSamples, 8u);
+  EXPECT_EQ(c.job.settings.estimate.replicates, 4u);
+  EXPECT_EQ(c.job.settings.estimate.threads, 3u);
+  EXPECT_EQ(c.job.settings.estimate.seed, 42u);
+  EXPECT_EQ(c.job.settings.integrator.maxBounces, 5u);
+  ASSERT_EQ(c.state.history.size(), 1u);
+  EXPECT_EQ(c.state.history[0].samples, 8u);
+  EXPECT_EQ(c.state.progress.sums.size(), 12u);
+}
+
+// Counts that do not fit their type are a damaged checkpoint, not a float-to-integer conversion out of range
+// (undefined behaviour, found by fuzzing: tests/fuzz/corpus/bake_checkpoint/regression-*.json) or a
+// wrap-around of -1 to 4294967295 threads.
+TEST_F(BakeCheckpointTest, CountsOutOfRangeAreRejectedWithTheirName) {
+  editJson([](nlohmann::json& j) { j["settings"]["max_samples"] = 1e30; });
+  EXPECT_NE(loadError().find("max_samples must be an integer from 0 to 4294967295, not 1e+30"), std::string::npos)
+      << loadError();
+  editJson([](nlohmann::json& j) {
+    j["settings"]["max_samples"] = 256;
+    j["settings"]["threads"] = -1;
+  });
+  EXPECT_NE(loadError().find("threads must be an integer"), std::string::npos) << loadError();
+  editJson([](nlohmann::json& j) {
+    j["settings"]["threads"] = 3;
+    j["history"][0][1] = 2.5;
+  });
+  EXPECT_NE(loadError().find("samples must be an integer"), std::string::npos) << loadError();
+  editJson([](nlohmann::json& j) { j["history"] = {{1.0, 8}}; });
+  EXPECT_NE(loadError().find("a history row is not"), std::string::npos) << loadError();
+}
+
+}  // namespace
+}  // namespace fly::cli
