@@ -9,9 +9,11 @@
 //      with all bounces, one bounce and direct light only.
 //   3. Scaling: bake time for 10k, 100k and 1M triangles, 1 thread against all.
 //   4. Memory: peak resident set size after the largest bake.
+//   5. Textures: the baker's rays/s on the scene of part 1 with textured ground and boxes (base colour
+//      textures, one box an alpha cut-out) against the same scene untextured.
 //
-// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling]...   (--quick: 10k triangles only, a
-// smaller QMC reference; --part: only the parts named)
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|textures]...   (--quick: 10k triangles
+// only, a smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -49,21 +51,53 @@ double secondsSince(Clock::time_point start) {
 
 void addSunAndSky(rdb::TraceRdb& rdb);
 
+// A width × width RGBA texture of sRGB colours whose channels are uniform in [lo, hi] (a fixed PCG32
+// stream), alpha 255, or with `stripes` alpha 0 on every other run of 8 columns.
+std::vector<uint8_t> noiseTexture(uint32_t width, int lo, int hi, bool stripes, uint64_t stream) {
+  Pcg32 rng(stream, 11);
+  std::vector<uint8_t> texels;
+  for (uint32_t y = 0; y < width; ++y) {
+    for (uint32_t x = 0; x < width; ++x) {
+      for (int c = 0; c < 3; ++c)
+        texels.push_back(static_cast<uint8_t>(lo + int(rng.next() % uint32_t(hi - lo + 1))));
+      texels.push_back(stripes && (x / 8) % 2 == 1 ? 0 : 255);
+    }
+  }
+  return texels;
+}
+
 // The benchmark scene: a square ground of 2·cells² triangles, 40 m wide, with a 4 × 4 array of boxes (five
 // faces of two triangles each) that cast shadows under a sun at 35° elevation and a sky brighter at the
-// zenith. Ground albedo 0.5, boxes 0.7, so indirect light matters too.
-rdb::TraceRdb makeScene(uint32_t cells) {
+// zenith. Ground albedo 0.5, boxes 0.7, so indirect light matters too. textured: the ground's albedo is a
+// 512² noise texture (sRGB 160 … 215, a mean near 0.5) repeated every 4 m, the boxes' a 64² one (200 … 230,
+// near 0.7), and the first box is an alpha cut-out of vertical stripes (half of it open).
+rdb::TraceRdb makeScene(uint32_t cells, bool textured = false) {
   rdb::TraceRdbBuilder b;
   const uint32_t groundMaterial = b.material(Rgb(0.5f));
-  const uint32_t boxMaterial = b.material(Rgb(0.7f));
-  auto grid = [&b](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n, uint32_t material) {
-    b.grid(origin, edgeU, edgeV, n, material);
-  };
+  const uint32_t solidBoxMaterial = b.material(Rgb(0.7f));
+  const uint32_t cutOutMaterial = b.material(Rgb(0.7f));
+  if (textured) {
+    rdb::TraceTextureSlot slot;
+    slot.texture = b.texture(512, 512, 4, noiseTexture(512, 160, 215, false, 1));
+    b.rdb.materials[groundMaterial].diffuseColor = Rgb(1.0f);
+    b.rdb.materials[groundMaterial].diffuseTexture = slot;
+    slot.texture = b.texture(64, 64, 4, noiseTexture(64, 200, 230, false, 2));
+    b.rdb.materials[solidBoxMaterial].diffuseColor = Rgb(1.0f);
+    b.rdb.materials[solidBoxMaterial].diffuseTexture = slot;
+    slot.texture = b.texture(64, 64, 4, noiseTexture(64, 200, 230, true, 3));
+    b.rdb.materials[cutOutMaterial].diffuseColor = Rgb(1.0f);
+    b.rdb.materials[cutOutMaterial].diffuseTexture = slot;
+    b.rdb.materials[cutOutMaterial].alpha = rdb::TraceAlpha::kMask;
+  }
+  auto grid = [&b](const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n, uint32_t material,
+                   float uvScale = 1.0f) { b.grid(origin, edgeU, edgeV, n, material, false, uvScale); };
 
   constexpr float kHalfM = 20.0f;
-  grid(vec3(-kHalfM, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(2 * kHalfM, 0, 0), cells, groundMaterial);
+  grid(vec3(-kHalfM, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(2 * kHalfM, 0, 0), cells, groundMaterial,
+       2.0f * kHalfM / 4.0f);
   for (int bz = 0; bz < 4; ++bz) {
     for (int bx = 0; bx < 4; ++bx) {
+      const uint32_t boxMaterial = bx == 0 && bz == 0 ? cutOutMaterial : solidBoxMaterial;
       const float x0 = -16.0f + 9.0f * static_cast<float>(bx);
       const float z0 = -16.0f + 9.0f * static_cast<float>(bz);
       const float sx = 2.5f;
@@ -253,6 +287,33 @@ double minimalTracerRaysPerSecond(const rdb::TraceRdb& rdb, const EmbreeScene& s
   return static_cast<double>(rays) / seconds;
 }
 
+// Part 5: rays/s of the textured scene against the untextured one, baker runs alternating, best of each.
+void benchTextures(uint32_t maxThreads) {
+  constexpr uint32_t kSamples = 64;
+  constexpr int kRepetitions = 3;
+  const rdb::TraceRdb plain = makeScene(cellsFor(10000));
+  const rdb::TraceRdb textured = makeScene(cellsFor(10000), true);
+  const EmbreeScene plainScene(plain);
+  const EmbreeScene texturedScene(textured);
+  std::printf("\n5. Textures: %zu triangles, %u samples per vertex, best of %d\n", plain.triangleCount(),
+              kSamples, kRepetitions);
+  for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
+    double plainRate = 0.0, texturedRate = 0.0, plainSampleRate = 0.0, texturedSampleRate = 0.0;
+    for (int r = 0; r < kRepetitions; ++r) {
+      const VertexLightMaps a = bake(plain, plainScene, kSamples, threads);
+      const VertexLightMaps t = bake(textured, texturedScene, kSamples, threads);
+      plainRate = std::max(plainRate, static_cast<double>(a.rays) / a.seconds);
+      texturedRate = std::max(texturedRate, static_cast<double>(t.rays) / t.seconds);
+      plainSampleRate = std::max(plainSampleRate, 1.0 / a.seconds);
+      texturedSampleRate = std::max(texturedSampleRate, 1.0 / t.seconds);
+    }
+    std::printf(
+        "   threads %u: untextured %.3g rays/s, textured %.3g rays/s: ratio %.2f (bake time ratio "
+        "untextured/textured %.2f)\n",
+        threads, plainRate, texturedRate, texturedRate / plainRate, texturedSampleRate / plainSampleRate);
+  }
+}
+
 void benchThroughput(uint32_t maxThreads, const char* name, const rdb::TraceRdb& rdb) {
   constexpr uint32_t kSamples = 64;
   // Baker and baseline alternate, and each keeps its best run: the one least slowed by the machine's other
@@ -397,6 +458,7 @@ int main(int argc, char** argv) {
   bool throughput = false;
   bool qmc = false;
   bool scaling = false;
+  bool textures = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -408,20 +470,22 @@ int main(int argc, char** argv) {
         qmc = true;
       } else if (part == "scaling") {
         scaling = true;
+      } else if (part == "textures") {
+        textures = true;
       } else {
-        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc or scaling\n",
+        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling or textures\n",
                      part.c_str());
         return 2;
       }
     } else {
       std::fprintf(stderr,
                    "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick] "
-                   "[--part throughput|qmc|scaling]...\n",
+                   "[--part throughput|qmc|scaling|textures]...\n",
                    argv[i]);
       return 2;
     }
   }
-  if (!throughput && !qmc && !scaling) throughput = qmc = scaling = true;
+  if (!throughput && !qmc && !scaling && !textures) throughput = qmc = scaling = textures = true;
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
   if (throughput) {
     fly::raytracer::benchThroughput(threads, "open ground with boxes",
@@ -435,5 +499,6 @@ int main(int argc, char** argv) {
     fly::raytracer::benchQmc(threads, quick, 0);
   }
   if (scaling) fly::raytracer::benchScaling(threads, quick);
+  if (textures) fly::raytracer::benchTextures(threads);
   return 0;
 }

@@ -5,7 +5,7 @@
 //
 // Scenes: a 40 m square ground of 2·n² triangles with a 4 × 4 array of 1 m boxes, sized to 100k, 300k and 1M
 // triangles; a 400 cd lamp; Helsinki at 2026-06-21 15:00 with a clear sky and the sun; synthetic vertex light
-// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so ../shared/gpu/pack.sh can
+// maps on every mesh. Headless (EGL); links neither OpenImageIO nor Embree, so scripts/pack-gpu can
 // carry it to a GPU machine.
 //
 // A frame is Renderer::render (clear, scene, sky) + Renderer::toneMap into the sRGB8 target; nothing is read
@@ -25,9 +25,19 @@
 //              first version of this benchmark timed frames, kept for comparison.
 // "mean L" is the mean luminance (cd/m²) of the last frame's float image, to compare devices' output.
 //
-// Usage: fly-bench-raster [--size WxH] [--quick]   (default 1920x1080; --quick: the 100k scene only)
+// Textured: the 300k scene (the 100k one with --quick) again with material textures, each mode timed the same
+// way, with its ratio against the untextured scene's row of that mode ("× plain"): the ground's base colour
+// (2048², repeated 8 × 8 times over it) and normal map (2048²), the boxes' base colour and emission (1024²
+// each), every one RGBA8 with a full mip chain and anisotropic filtering; procedural (value noise and
+// stripes), so nothing is read from disk. Light-map mode samples the base colour and emission textures; the
+// Phong modes the normal map too. Then light-map mode again with anisotropic filtering capped at 8, 4 and 1
+// samples (rows "lm-afN").
+//
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured]   (default 1920x1080; --quick: the 100k scene
+// only; --textured: the 300k scene only, plain and textured)
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -51,13 +61,65 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-sdb::Scene makeScene(uint32_t cells) {
+// A size × size RGB texture of smooth value noise (a lattice of random values every 16 texels, bilinear),
+// tinted by `tint`; with `normalMap`, the noise taken as a height field and encoded as tangent-space normals.
+sdb::TextureId addNoiseTexture(sdb::Scene& s, int size, const Rgb& tint, bool normalMap, uint32_t seed) {
+  const int cell = 16, lattice = size / cell + 2;
+  std::vector<float> grid(size_t(lattice) * size_t(lattice));
+  for (float& g : grid) {
+    seed = seed * 1664525u + 1013904223u;  // Numerical Recipes' LCG
+    g = float(seed >> 8) / float(1u << 24);
+  }
+  auto height = [&](int x, int y) {
+    const float fx = float(x) / cell, fy = float(y) / cell;
+    const int ix = int(fx), iy = int(fy);
+    const float tx = fx - float(ix), ty = fy - float(iy);
+    auto at = [&](int i, int j) { return grid[size_t(j) * size_t(lattice) + size_t(i)]; };
+    return (1 - ty) * ((1 - tx) * at(ix, iy) + tx * at(ix + 1, iy)) +
+           ty * ((1 - tx) * at(ix, iy + 1) + tx * at(ix + 1, iy + 1));
+  };
+  sdb::Texture t;
+  t.name = normalMap ? "noise-normal" : "noise";
+  t.sourcePath = "<generated>";
+  t.width = t.height = size;
+  t.channels = 3;
+  t.pixels.resize(size_t(size) * size_t(size) * 3);
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      uint8_t* p = &t.pixels[(size_t(y) * size_t(size) + size_t(x)) * 3];
+      const float h = height(x, y);
+      if (normalMap) {
+        const float dx = 4.0f * (height(std::min(x + 1, size - 1), y) - h);
+        const float dy = 4.0f * (height(x, std::min(y + 1, size - 1)) - h);
+        const vec3 n = glm::normalize(vec3(-dx, dy, 1.0f));
+        for (int c = 0; c < 3; ++c) p[c] = uint8_t(std::lround((n[c] * 0.5f + 0.5f) * 255.0f));
+      } else {
+        for (int c = 0; c < 3; ++c) p[c] = uint8_t(std::lround(255.0f * std::clamp(tint[c] * (0.5f + h), 0.0f, 1.0f)));
+      }
+    }
+  }
+  return s.addTexture(std::move(t)).id;
+}
+
+// With `textured`, the materials read the textures described at the top.
+sdb::Scene makeScene(uint32_t cells, bool textured = false) {
   sdb::Scene s;
   sdb::Material ground;
   ground.diffuseColor = Rgb(0.5f);
-  const sdb::MaterialId groundId = s.addMaterial(ground).id;
   sdb::Material paint;
   paint.diffuseColor = Rgb(0.7f, 0.6f, 0.5f);
+  if (textured) {
+    ground.diffuseColor = Rgb(1.0f);
+    ground.diffuseTexture.texture = addNoiseTexture(s, 2048, Rgb(0.6f, 0.55f, 0.45f), false, 1);
+    ground.diffuseTexture.transform.scale = vec2(8.0f);
+    ground.bumpTexture.texture = addNoiseTexture(s, 2048, Rgb(1.0f), true, 2);
+    ground.bumpTexture.transform.scale = vec2(8.0f);
+    paint.diffuseColor = Rgb(1.0f);
+    paint.diffuseTexture.texture = addNoiseTexture(s, 1024, Rgb(0.8f, 0.6f, 0.5f), false, 3);
+    paint.emissionLuminance = Rgb(50.0f);
+    paint.emissionTexture.texture = addNoiseTexture(s, 1024, Rgb(1.0f, 0.8f, 0.3f), false, 4);
+  }
+  const sdb::MaterialId groundId = s.addMaterial(ground).id;
   const sdb::MaterialId paintId = s.addMaterial(paint).id;
   sdb::Mesh g;
   constexpr float kHalfM = 20.0f;
@@ -66,6 +128,7 @@ sdb::Scene makeScene(uint32_t cells) {
       g.positions.push_back(vec3(-kHalfM + 2 * kHalfM * float(i) / float(cells), 0.0f,
                                  -kHalfM + 2 * kHalfM * float(j) / float(cells)));
       g.normals.push_back(vec3(0, 1, 0));
+      if (textured) g.uv0.push_back(vec2(float(i) / float(cells), float(j) / float(cells)));
     }
   }
   for (uint32_t j = 0; j < cells; ++j) {
@@ -90,6 +153,7 @@ sdb::Scene makeScene(uint32_t cells) {
         p[v] = k >= 2 ? 1.0f : 0.0f;
         box.positions.push_back(p - vec3(0.5f, 0.0f, 0.5f));
         box.normals.push_back(normal);
+        if (textured) box.uv0.push_back(vec2(p[u], 1.0f - p[v]));
       }
       box.indices.insert(box.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
     }
@@ -240,28 +304,33 @@ FrameTimes timeFrames(Renderer& renderer, const View& view, RenderMode mode, uin
   return t;
 }
 
-void printRow(const char* triangles, const char* mode, const FrameTimes& t, double baselineMs) {
-  char scene[16] = "-", tone[16] = "-";
+// One row; with `plainMs`, also the ratio of this row's ms/frame to that (the untextured scene's).
+void printRow(const char* triangles, const char* mode, const FrameTimes& t, double baselineMs,
+              double plainMs = NAN) {
+  char scene[16] = "-", tone[16] = "-", plain[16] = "";
   if (std::isfinite(t.gpuSceneMs)) {
     std::snprintf(scene, sizeof scene, "%.3f", t.gpuSceneMs);
     std::snprintf(tone, sizeof tone, "%.3f", t.gpuToneMs);
   }
-  std::printf("%-9s %-9s %9.1f %9.3f %7.2f %9s %8s %8.3f %9.3f %11.4g\n", triangles, mode,
+  if (std::isfinite(plainMs)) std::snprintf(plain, sizeof plain, "%8.3f", t.pipelinedMs / plainMs);
+  std::printf("%-9s %-9s %9.1f %9.3f %7.2f %9s %8s %8.3f %9.3f %11.4g %s\n", triangles, mode,
               1e3 / t.pipelinedMs, t.pipelinedMs, t.pipelinedMs / baselineMs, scene, tone, t.cpuMs,
-              t.finishMs, t.meanLuminanceCdM2);
+              t.finishMs, t.meanLuminanceCdM2, plain);
   std::fflush(stdout);
 }
 
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
-  bool quick = false;
+  bool quick = false, texturedOnly = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--textured") == 0) {
+      texturedOnly = true;
     } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
-      std::fprintf(stderr, "usage: fly-bench-raster [--size WxH] [--quick]\n");
+      std::fprintf(stderr, "usage: fly-bench-raster [--size WxH] [--quick | --textured]\n");
       return 2;
     }
   }
@@ -290,8 +359,11 @@ int run(int argc, char** argv) {
   const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
   printRow("0", "empty", baseline, baseline.pipelinedMs);
 
-  const std::vector<uint32_t> cells =
-      quick ? std::vector<uint32_t>{221} : std::vector<uint32_t>{221, 387, 707};
+  const uint32_t texturedCells = quick ? 221 : 387;
+  const std::vector<uint32_t> cells = quick || texturedOnly ? std::vector<uint32_t>{texturedCells}
+                                                            : std::vector<uint32_t>{221, 387, 707};
+  constexpr RenderMode kModes[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
+  FrameTimes plainTimes[3];  // the untextured texturedCells scene, per mode
   for (uint32_t n : cells) {
     const sdb::Scene scene = makeScene(n);
     const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
@@ -301,10 +373,42 @@ int run(int argc, char** argv) {
     renderer.upload(r);
     const View view = viewOfCamera(r.cameras.at(0));
     const std::string triangles = std::to_string(r.triangleCount());
-    for (RenderMode mode : {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight}) {
-      printRow(triangles.c_str(), renderModeName(mode), timeFrames(renderer, view, mode, w, h, gpuTimers),
-               baseline.pipelinedMs);
+    for (int m = 0; m < 3; ++m) {
+      const FrameTimes t = timeFrames(renderer, view, kModes[m], w, h, gpuTimers);
+      if (n == texturedCells) plainTimes[m] = t;
+      printRow(triangles.c_str(), renderModeName(kModes[m]), t, baseline.pipelinedMs);
     }
+  }
+
+  // The textured scene against the untextured one of the same size, mode by mode.
+  const sdb::Scene scene = makeScene(texturedCells, true);
+  const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
+  const rdb::LightMapStore maps = syntheticLightMaps(plain);
+  const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &maps);
+  Renderer renderer;
+  renderer.upload(r);
+  const View view = viewOfCamera(r.cameras.at(0));
+  std::printf("\ntextured: %zu textures (%zu MB of RGBA8 level 0), anisotropic filtering %gx\n", r.textures.size(),
+              [&] {
+                size_t bytes = 0;
+                for (const rdb::RasterTexture& t : r.textures) bytes += t.rgba8.size();
+                return bytes >> 20;
+              }(),
+              double(renderer.stats().maxAnisotropy));
+  std::printf("%-9s %-9s %9s %9s %8s %9s %8s %8s %9s %11s %8s\n", "triangles", "mode", "fps", "ms/frame", "× base",
+              "scene", "tone", "ms", "ms/frame", "mean L cd/m²", "× plain");
+  const std::string triangles = std::to_string(r.triangleCount()) + "t";
+  for (int m = 0; m < 3; ++m) {
+    const FrameTimes t = timeFrames(renderer, view, kModes[m], w, h, gpuTimers);
+    printRow(triangles.c_str(), renderModeName(kModes[m]), t, baseline.pipelinedMs, plainTimes[m].pipelinedMs);
+  }
+  // Light-map mode with less anisotropic filtering (what the texture samples cost).
+  for (float samples : {8.0f, 4.0f, 1.0f}) {
+    renderer.setMaxAnisotropy(samples);
+    char mode[16];
+    std::snprintf(mode, sizeof mode, "lm-af%g", double(renderer.stats().maxAnisotropy));
+    const FrameTimes t = timeFrames(renderer, view, RenderMode::kLightMap, w, h, gpuTimers);
+    printRow(triangles.c_str(), mode, t, baseline.pipelinedMs, plainTimes[1].pipelinedMs);
   }
   return 0;
 }

@@ -22,7 +22,9 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
                  "sobol (Owen-scrambled, quasi-Monte Carlo) or random (plain Monte Carlo)")
       ->capture_default_str();
   sub.add_option("--max-bounces", o.maxBounces,
-                 "interreflections before the path ends (default: the scene's bake.maxBounces, 8)");
+                 "cap on the interreflections of a path (default: the scene's bake.maxBounces, else none: "
+                 "paths end by Russian roulette, the unbiased answer); a cap removes light, which fly "
+                 "estimates and reports");
   sub.add_option("--threads", o.threads, "worker threads (default 0: all cores)")->capture_default_str();
   sub.add_option("--seed", o.seed,
                  "seed of the sample scrambling; runs with different seeds are independent estimates, "
@@ -89,7 +91,11 @@ raytracer::EstimateSettings estimateSettings(const SamplingOptions& o, const sdb
 
 raytracer::IntegratorSettings integratorSettings(const SamplingOptions& o, const sdb::BakeSettings& bake) {
   raytracer::IntegratorSettings settings;
-  settings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces;
+  settings.maxBounces = o.maxBounces ? *o.maxBounces : bake.maxBounces.value_or(raytracer::kPathLengthGuard);
+  if (settings.maxBounces > raytracer::kPathLengthGuard) {
+    throw UsageError("--max-bounces " + std::to_string(settings.maxBounces) + ": at most " +
+                     std::to_string(raytracer::kPathLengthGuard) + "; leave it out for unbounded paths");
+  }
   settings.caustics = o.caustics;
   settings.skyPortals = !o.noSkyPortals;
   return settings;

@@ -18,7 +18,7 @@ struct SamplingOptions {
   std::optional<uint32_t> samples;     // a power of two; none = the scene's bake.samples, else 65536
   std::string sampler = "sobol";       // sobol or random
   uint32_t threads = 0;                // 0 = all cores
-  std::optional<uint32_t> maxBounces;  // none = the scene's bake.maxBounces
+  std::optional<uint32_t> maxBounces;  // none = the scene's bake.maxBounces, else unbounded
   uint64_t seed = 0;                   // scrambling / random-number seed (EstimateSettings::seed)
   bool caustics = false;               // IntegratorSettings::caustics
   bool noSkyPortals = false;           // IntegratorSettings::skyPortals = false
@@ -38,7 +38,8 @@ double parseDuration(const std::string& s, const std::string& option = "--time")
 // UsageError for a malformed flag (sampler, samples not a power of two, target error, time).
 raytracer::EstimateSettings estimateSettings(const SamplingOptions& o, const sdb::BakeSettings& bake);
 
-// The integrator's settings: --max-bounces, else the scene's bake.maxBounces.
+// The integrator's settings: --max-bounces, else the scene's bake.maxBounces, else unbounded
+// (kPathLengthGuard). UsageError above kPathLengthGuard.
 raytracer::IntegratorSettings integratorSettings(const SamplingOptions& o, const sdb::BakeSettings& bake);
 
 }  // namespace fly::cli

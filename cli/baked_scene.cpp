@@ -560,6 +560,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
                               .lexically_relative(fs::absolute(dir).lexically_normal())
                               .generic_string()},
       {"settings", d.settings},
+      {"bounce_cap_bias", d.bounceCapBias},
       {"daylight", d.daylight},
       {"samples_per_vertex", maps.samplesPerVertex},
       {"rays", maps.rays},

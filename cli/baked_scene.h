@@ -54,6 +54,9 @@ inline constexpr int kBakedSceneFormatVersion = 1;
 struct BakeDescription {
   std::string scenePath;
   nlohmann::json settings;                 // the resolved options, as the command reports them
+  // With a bounce cap: the light it removes (cli/bounce_cap_warning.h), manifest key bounce_cap_bias; null
+  // without one.
+  nlohmann::json bounceCapBias;
   nlohmann::json daylight;                 // the site, time and sky baked with (cli/scene_daylight.h)
   float targetRelativeError = 0.0f;        // drawn in convergence.png; 0 = none
   std::vector<std::string> meshNames;      // per TraceMesh (rdb.meshes order); "" = unnamed

@@ -15,6 +15,7 @@
 #include "base/error.h"
 #include "cli/bake_checkpoint.h"
 #include "cli/bake_options.h"
+#include "cli/bounce_cap_warning.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
@@ -198,6 +199,10 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
 
   BakeDescription d;
   d.scenePath = o.scene;
+  if (settings.integrator.maxBounces < raytracer::kPathLengthGuard) {
+    d.bounceCapBias = warnBounceCapBias(raytracer::estimateBounceCapBiasOnSurfaces(
+        rdb, embree, settings.integrator, settings.estimate.threads, settings.estimate.seed));
+  }
   d.daylight = job.daylight;
   const raytracer::EstimateSettings& e = settings.estimate;
   d.settings = {

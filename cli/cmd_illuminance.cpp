@@ -2,6 +2,7 @@
 // error, from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as
 // Radiance's rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
 // (raytracer/sensor_grid.h).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "base/error.h"
 #include "base/file_io.h"
 #include "cli/bake_options.h"
+#include "cli/bounce_cap_warning.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
 #include "raytracer/embree_scene.h"
@@ -203,14 +205,23 @@ int runIlluminance(const IlluminanceOptions& o) {
   const LitScene lit = loadLitScene(o.scene, o.daylight);
   const sdb::Scene& scene = lit.scene;
   std::fprintf(stderr, "light: %s\n", lit.light.c_str());
-  const raytracer::EstimateSettings settings = estimateSettings(o.sampling, scene.bakeSettings());
+  raytracer::EstimateSettings settings = estimateSettings(o.sampling, scene.bakeSettings());
+  // Eight replicates per sensor, whatever their number: sensors are few and unlike (full sun beside
+  // penumbra), so the replicates' gain pooled over them (progressive.h) would misstate single sensors'
+  // errors — by up to 2× against an independent path tracer (docs/validation.md).
+  settings.replicates = std::min(8u, settings.firstPassSamples);
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
   const SensorTable sensors =
       o.grid.empty() ? readSensors(o.points) : gridSensors(o.grid, grid, o.scene, rdb, embree);
-  const raytracer::Integrator integrator(rdb, embree, integratorSettings(o.sampling, scene.bakeSettings()));
+  const raytracer::IntegratorSettings integratorOptions = integratorSettings(o.sampling, scene.bakeSettings());
+  const raytracer::Integrator integrator(rdb, embree, integratorOptions);
   const raytracer::EstimateResult result =
       raytracer::estimateIrradiance(integrator, sensors.positionsM, sensors.normals, settings);
+  if (integratorOptions.maxBounces < raytracer::kPathLengthGuard) {
+    warnBounceCapBias(raytracer::estimateBounceCapBias(rdb, embree, integratorOptions, sensors.positionsM,
+                                                       sensors.normals, {}, settings.threads, settings.seed));
+  }
 
   std::string csv = sensors.header + ",illuminance_lux,std_error_lux\n";
   for (size_t i = 0; i < sensors.lines.size(); ++i) {

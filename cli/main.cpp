@@ -7,6 +7,8 @@
 #include "base/error.h"
 #include "base/log.h"
 #include "cli/command.h"
+#include "sdb/gltf_import.h"
+#include "sdb/oiio_image_decoder.h"
 
 namespace {
 
@@ -46,6 +48,8 @@ int run(int argc, char** argv) {
     app.exit(e);  // prints the message
     return fly::kExitUsage;
   }
+  // glTF textures in every format OpenImageIO reads (PNG, JPEG, WebP, HDR, EXR, TIFF), not only PNG and JPEG.
+  fly::sdb::setImageDecoder(&fly::sdb::decodeImageOiio);
   if (verbose) fly::log::setLevel(fly::log::Level::kDebug);
   if (quiet) fly::log::setLevel(fly::log::Level::kError);
   for (const fly::cli::Command& c : commands) {

@@ -1,5 +1,5 @@
-# Fails when a source file includes a header from a folder its layer may not use (../shared/DESIGN.md,
-# "Folders and what each may include"). Run as part of every build (target fly_layer_check) and by a test.
+# Fails when a source file includes a header from a folder its layer may not use (docs/architecture.md,
+# "Which folder may include which"). Run as part of every build (target fly_layer_check) and by a test.
 #   cmake -DFLY_ROOT=<source tree> -P check_layers.cmake
 cmake_minimum_required(VERSION 3.25)
 set(_allowed_base "base")
@@ -25,5 +25,5 @@ foreach(_layer base sunsky sdb rdb raytracer raster)
   endforeach()
 endforeach()
 if(_violations)
-  message(FATAL_ERROR "Layer violations (see ../shared/DESIGN.md, 'Folders and what each may include'):\n${_violations}")
+  message(FATAL_ERROR "Layer violations (see docs/architecture.md, 'Which folder may include which'):\n${_violations}")
 endif()

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -69,15 +70,19 @@ namespace {
 
 // The shader's std430 blocks (raster/shaders/scene_glsl.h).
 struct GpuMaterial {
-  vec4 diffuse, specular, emission, transmission, reflection;
+  vec4 diffuse, specular, emission, transmission, reflection, coverage;
 };
 struct GpuLight {
   vec4 positionType, directionRange, cAxisOffset, intensity, cone;
 };
 
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
-  return {vec4(m.diffuse, 0.0f), vec4(m.specular, m.phongExponent), vec4(m.emissionCdM2, 0.0f),
-          vec4(m.transmission, m.fresnelF0), vec4(m.reflection, 0.0f)};
+  return {vec4(m.diffuse, 0.0f),
+          vec4(m.specular, m.phongExponent),
+          vec4(m.emissionCdM2, 0.0f),
+          vec4(m.transmission, m.fresnelF0),
+          vec4(m.reflection, 0.0f),
+          vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode)))};
 }
 
 unsigned compileStage(GLenum type, const std::string& source, const std::string& name) {
@@ -116,7 +121,14 @@ enum VariantBit : uint32_t {
   kVariantGonio = 1u << 4,
   kVariantLightTexture = 1u << 5,
   kVariantGlass = 1u << 6,
-  kVariantCount = 1u << 7,
+  // The per-fragment surfaces' program (kSurfaceVertex, kSurfaceFragment) and its own #defines.
+  kVariantPerFragment = 1u << 7,
+  kVariantTextures = 1u << 8,
+  kVariantNormalMap = 1u << 9,
+  kVariantUv1 = 1u << 10,
+  kVariantVertexColor = 1u << 11,
+  kVariantAlphaMask = 1u << 12,
+  kVariantBlendPass = 1u << 13,
 };
 
 // Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
@@ -127,6 +139,17 @@ struct BackgroundProgram {
 struct ToneMapProgram {
   GLuint program = 0;
   GLint op = -1, exposureScale = -1, whitePoint = -1;
+};
+
+// One draw of per-fragment surfaces (rdb::RasterRdb::shadedPerFragment): a material's opaque or cut-out meshes,
+// or one blended mesh, as a range of the draw-ordered index buffer (Renderer::uploadDraws).
+struct SurfaceDraw {
+  size_t firstIndex = 0;
+  GLsizei indexCount = 0;
+  uint32_t material = 0;
+  bool mask = false;
+  bool blend = false;
+  vec3 centreM{0.0f};  // blended: the mesh's bounding-box centre, sorted by its view depth
 };
 
 // A light texture's place in the array texture (kSceneFragment's LightRect): rect = x, y, width, height in
@@ -175,7 +198,8 @@ void decodeLuminance(uint32_t x, uint32_t y, float* rgb) {
 struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
-        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1;
+        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
+        material = -1;
 };
 
 struct Renderer::Gpu {
@@ -191,17 +215,34 @@ struct Renderer::Gpu {
   // through itself (render). Made at the first such render of a size.
   GLuint behindColor = 0;
   GLuint srgbFbo = 0, srgbColor = 0;
-  SceneProgram scene[kVariantCount];
+  // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
+  // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges), and
+  // for blended ones the blend target (RGBA32F, kBlendComposite) with its framebuffer (sharing `depth`).
+  GLuint uv0 = 0, uv1 = 0, colors = 0, tangents = 0, drawIndices = 0;
+  std::vector<GLuint> textures;
+  GLuint blendFbo = 0, blendColor = 0;
+  GLuint composite = 0;
+  std::vector<SurfaceDraw> surfaceDraws;  // opaque and cut-out first (by material), then blended
+  std::vector<size_t> blendOrder;         // per frame: the blended draws back to front
+  GLsizei perVertexIndexCount = 0;        // the first range of the element buffer: per-vertex meshes
+  float maxAnisotropy = 1.0f;             // the textures' (setMaxAnisotropy); 1 without anisotropic filtering
+  float driverMaxAnisotropy = 1.0f;       // min(kMaxAnisotropy, the driver's), 1 without
+  std::map<uint32_t, SceneProgram> scene;  // by variant (VariantBit)
   BackgroundProgram background, sky;
   ToneMapProgram toneMap;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
-  GLsizei indexCount = 0;    // of the whole scene (every mesh's indices, in one draw)
+  GLsizei indexCount = 0;    // of the whole scene
   bool everyMeshLightMapped = false;
 
   ~Gpu() {
-    const GLuint buffers[] = {positions, normals, corners,   surfaces, frontLux,
-                              backLux,   indices, materials, lights,   gonio};
+    const GLuint buffers[] = {positions, normals, corners,   surfaces, frontLux, backLux, indices,
+                              materials, lights,  gonio,     uv0,      uv1,      colors,  tangents,
+                              drawIndices};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
+    glDeleteTextures(GLsizei(textures.size()), textures.data());
+    glDeleteTextures(1, &blendColor);
+    glDeleteFramebuffers(1, &blendFbo);
+    glDeleteProgram(composite);
     glDeleteVertexArrays(1, &vao);
     glDeleteTextures(1, &skyTexture);
     const GLuint lightBuffers[] = {lightMapUv, lightSlots, lightRects};
@@ -213,7 +254,7 @@ struct Renderer::Gpu {
     glDeleteRenderbuffers(1, &depth);
     glDeleteFramebuffers(1, &floatFbo);
     glDeleteFramebuffers(1, &srgbFbo);
-    for (const SceneProgram& p : scene) glDeleteProgram(p.program);
+    for (const auto& [variant, p] : scene) glDeleteProgram(p.program);
     glDeleteProgram(background.program);
     glDeleteProgram(sky.program);
     glDeleteProgram(toneMap.program);
@@ -226,6 +267,23 @@ Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbufferPx);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texturePx);
   gpu_->maxImageSizePx = std::min(renderbufferPx, texturePx);
+  // Anisotropic filtering: core in GL 4.6, else ARB_/EXT_texture_filter_anisotropic (the same enums).
+  if (epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") ||
+      epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic")) {
+    GLfloat maxAniso = 1.0f;
+    glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &maxAniso);
+    gpu_->maxAnisotropy = std::clamp(maxAniso, 1.0f, kMaxAnisotropy);
+  }
+  gpu_->driverMaxAnisotropy = gpu_->maxAnisotropy;
+  stats_.maxAnisotropy = gpu_->maxAnisotropy;
+}
+
+void Renderer::setMaxAnisotropy(float samples) {
+  if (!(samples >= 1.0f)) throw std::invalid_argument("anisotropic filtering takes at least 1 sample");
+  gpu_->maxAnisotropy = std::min(samples, gpu_->driverMaxAnisotropy);
+  stats_.maxAnisotropy = gpu_->maxAnisotropy;
+  if (gpu_->driverMaxAnisotropy <= 1.0f) return;
+  for (GLuint tex : gpu_->textures) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
 }
 
 Renderer::~Renderer() = default;
@@ -277,15 +335,27 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantTwoSided, "twosided", "FLY_TWO_SIDED"},
                    {kVariantGonio, "gonio", "FLY_GONIO"},
                    {kVariantLightTexture, "lighttexture", "FLY_LIGHT_TEXTURE"},
-                   {kVariantGlass, "glass", "FLY_GLASS"}};
+                   {kVariantGlass, "glass", "FLY_GLASS"},
+                   {kVariantPerFragment, "perfragment", "FLY_PER_FRAGMENT"},
+                   {kVariantTextures, "textures", "FLY_TEXTURES"},
+                   {kVariantNormalMap, "normalmap", "FLY_NORMAL_MAP"},
+                   {kVariantUv1, "uv1", "FLY_UV1"},
+                   {kVariantVertexColor, "vertexcolor", "FLY_VERTEX_COLOR"},
+                   {kVariantAlphaMask, "mask", "FLY_ALPHA_MASK"},
+                   {kVariantBlendPass, "blend", "FLY_BLEND_PASS"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
-  const std::string fragment = std::string(shaders::kLuminanceEncoding) + shaders::kSceneFragment;
-  const GLuint p = compileProgram(
-      name, defines, {{GL_VERTEX_SHADER, shaders::kSceneVertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+  const bool perFragment = variant & kVariantPerFragment;
+  const std::string vertex = std::string(shaders::kSceneCommon) +
+                             (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
+  const std::string fragment =
+      std::string(shaders::kLuminanceEncoding) +
+      (perFragment ? std::string(shaders::kSceneCommon) + shaders::kSurfaceFragment : shaders::kSceneFragment);
+  const GLuint p = compileProgram(name, defines,
+                                  {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
   sp.clipFromWorld = loc("uClipFromWorld");
   sp.eye = loc("uEyeM");
@@ -297,6 +367,9 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.sunDir = loc("uSunDirWorld");
   sp.sunNormalLux = loc("uSunNormalLux");
   sp.glassPass = loc("uGlassPass");
+  sp.textureSlots = loc("uTextureSlots");
+  sp.uvRows = loc("uUvRows");
+  sp.material = loc("uMaterial");
   sp.program = p;
   return sp;
 }
@@ -304,6 +377,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
 void Renderer::upload(const rdb::RasterRdb& rdb) {
   rdb_ = &rdb;
   uploadGeometry();
+  uploadTextures();
   uploadMaterials();
   uploadLights();
   uploadSky();
@@ -357,8 +431,22 @@ void Renderer::uploadGeometry() {
   } else {
     glDisableVertexArrayAttrib(vao, 4);
   }
+  // Per-fragment surfaces' attributes, where the scene has them.
+  auto optional = [&](GLuint index, GLuint& buffer, const auto& values, GLint components) {
+    if (values.empty()) {
+      glDisableVertexArrayAttrib(vao, index);
+      return;
+    }
+    storeBuffer(buffer, values);
+    attrib(index, buffer, components, GLsizei(components * sizeof(float)));
+  };
+  optional(8, gpu_->uv0, r.uv0, 2);
+  optional(9, gpu_->uv1, r.uv1, 2);
+  optional(10, gpu_->colors, r.colors, 4);
+  optional(11, gpu_->tangents, r.tangents, 4);
   glVertexArrayElementBuffer(vao, gpu_->indices);
-  // The meshes' index ranges follow each other (rdb/raster_rdb.h), so one draw covers them all.
+  // The meshes' index ranges follow each other (rdb/raster_rdb.h), so one draw covers them all (uploadDraws
+  // reorders them where some are drawn per fragment).
   gpu_->indexCount = GLsizei(r.indices.size());
   gpu_->everyMeshLightMapped =
       std::all_of(r.meshes.begin(), r.meshes.end(), [](const rdb::RasterMesh& m) { return m.hasLightMap; });
@@ -476,7 +564,97 @@ void Renderer::uploadMaterials() {
   glVertexArrayAttribIFormat(gpu_->vao, 5, 1, GL_UNSIGNED_INT, 0);
   glVertexArrayAttribBinding(gpu_->vao, 5, 5);
   glEnableVertexArrayAttrib(gpu_->vao, 5);
+  uploadDraws();
   ++stats_.materialTableUploads;
+}
+
+// The draws of a scene with per-fragment surfaces (rdb::RasterRdb::shadedPerFragment): the per-vertex meshes'
+// indices first (one draw, as in a scene without such surfaces), then per material its opaque or cut-out
+// meshes (one draw each: a draw binds one material's textures), then each blended mesh. Without per-fragment
+// surfaces the element buffer stays the scene's indices in mesh order.
+void Renderer::uploadDraws() {
+  const rdb::RasterRdb& r = *rdb_;
+  gpu_->surfaceDraws.clear();
+  gpu_->perVertexIndexCount = gpu_->indexCount;
+  const bool any = std::any_of(r.meshes.begin(), r.meshes.end(),
+                               [&](const rdb::RasterMesh& m) { return r.shadedPerFragment(m); });
+  if (!any) {
+    glVertexArrayElementBuffer(gpu_->vao, gpu_->indices);
+    return;
+  }
+  std::vector<uint32_t> ordered;
+  ordered.reserve(r.indices.size());
+  auto append = [&](const rdb::RasterMesh& m) {
+    ordered.insert(ordered.end(), r.indices.begin() + std::ptrdiff_t(m.firstIndex),
+                   r.indices.begin() + std::ptrdiff_t(m.firstIndex + m.indexCount));
+  };
+  for (const rdb::RasterMesh& m : r.meshes) {
+    if (!r.shadedPerFragment(m)) append(m);
+  }
+  gpu_->perVertexIndexCount = GLsizei(ordered.size());
+  // Opaque, then cut-out materials (a program with discard after those without), each material's meshes in
+  // one draw.
+  for (const rdb::RasterAlphaMode mode : {rdb::RasterAlphaMode::kOpaque, rdb::RasterAlphaMode::kMask}) {
+    for (uint32_t material = 0; material < r.materials.size(); ++material) {
+      if (r.materials[material].alphaMode != mode) continue;
+      SurfaceDraw d;
+      d.firstIndex = ordered.size();
+      d.material = material;
+      d.mask = mode == rdb::RasterAlphaMode::kMask;
+      for (const rdb::RasterMesh& m : r.meshes) {
+        if (m.material == material && r.shadedPerFragment(m)) append(m);
+      }
+      d.indexCount = GLsizei(ordered.size() - d.firstIndex);
+      if (d.indexCount > 0) gpu_->surfaceDraws.push_back(d);
+    }
+  }
+  for (const rdb::RasterMesh& m : r.meshes) {
+    if (r.materials[m.material].alphaMode != rdb::RasterAlphaMode::kBlend || m.indexCount == 0) continue;
+    SurfaceDraw d;
+    d.firstIndex = ordered.size();
+    d.material = m.material;
+    d.blend = true;
+    Bounds3 b;
+    for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) b.extend(r.positionsM[v]);
+    d.centreM = 0.5f * (b.min + b.max);
+    append(m);
+    d.indexCount = GLsizei(m.indexCount);
+    gpu_->surfaceDraws.push_back(d);
+  }
+  storeBuffer(gpu_->drawIndices, ordered);
+  glVertexArrayElementBuffer(gpu_->vao, gpu_->drawIndices);
+}
+
+// Each rdb::RasterTexture as an immutable GL texture with a full mip chain (glGenerateTextureMipmap),
+// trilinear and anisotropic filtering where the driver has it, REPEAT wrapping (glTF's default sampler).
+void Renderer::uploadTextures() {
+  const rdb::RasterRdb& r = *rdb_;
+  glDeleteTextures(GLsizei(gpu_->textures.size()), gpu_->textures.data());
+  gpu_->textures.assign(r.textures.size(), 0);
+  GLint maxSizePx = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSizePx);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (size_t i = 0; i < r.textures.size(); ++i) {
+    const rdb::RasterTexture& t = r.textures[i];
+    if (t.width > uint32_t(maxSizePx) || t.height > uint32_t(maxSizePx)) {
+      throw std::runtime_error("a texture of " + std::to_string(t.width) + "×" + std::to_string(t.height) +
+                               " texels exceeds the OpenGL driver's limit of " + std::to_string(maxSizePx) +
+                               " per side: scale the image down");
+    }
+    GLuint& tex = gpu_->textures[i];
+    glCreateTextures(GL_TEXTURE_2D, 1, &tex);
+    const GLsizei levels = GLsizei(std::floor(std::log2(double(std::max(t.width, t.height))))) + 1;
+    glTextureStorage2D(tex, levels, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, GLsizei(t.width), GLsizei(t.height));
+    glTextureSubImage2D(tex, 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA, GL_UNSIGNED_BYTE,
+                        t.rgba8.data());
+    glGenerateTextureMipmap(tex);
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    if (gpu_->driverMaxAnisotropy > 1.0f) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  }
+  stats_.textureUploads += int(r.textures.size());
 }
 
 void Renderer::uploadLights() {
@@ -522,6 +700,9 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   glDeleteTextures(1, &gpu_->srgbColor);
   glDeleteTextures(1, &gpu_->behindColor);
   gpu_->behindColor = 0;
+  glDeleteTextures(1, &gpu_->blendColor);
+  glDeleteFramebuffers(1, &gpu_->blendFbo);
+  gpu_->blendColor = gpu_->blendFbo = 0;
   glDeleteRenderbuffers(1, &gpu_->depth);
   const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
   glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->floatColor);
@@ -602,50 +783,95 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
 
-  // The scene, in one draw, with the program of this mode and the scene's features (modes that need the
-  // same variant share it: simple and sunlight modes differ only in the ambient uniforms).
+  // The scene with the program of this mode and the scene's features (modes that need the same variant share
+  // it: simple and sunlight modes differ only in the ambient uniforms): the per-vertex meshes in one
+  // draw, then the per-fragment surfaces (uploadDraws), the glass, the blended surfaces.
   if (gpu_->indexCount > 0) {
     const bool lightMaps = mode != RenderMode::kSimple && v.lightMap;
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
-    const uint32_t variant = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
-                             (phong && v.sun ? kVariantSun : 0u) |
-                             (v.twoSided ? kVariantTwoSided : 0u) |
-                             (phong && v.goniometric ? kVariantGonio : 0u) |
-                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u) |
-                             (v.glass ? kVariantGlass : 0u);
-    const SceneProgram& p = sceneProgram(variant);
-    glUseProgram(p.program);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glUniformMatrix4fv(p.clipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
+    const uint32_t shared = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
+                            (phong && v.sun ? kVariantSun : 0u) |
+                            (v.twoSided ? kVariantTwoSided : 0u) | (phong && v.goniometric ? kVariantGonio : 0u) |
+                            (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
+    const uint32_t variant = shared | (v.glass ? kVariantGlass : 0u);
+    const uint32_t surfaceVariant = shared | kVariantPerFragment | (v.textures ? kVariantTextures : 0u) |
+                                    (phong && v.normalMaps ? kVariantNormalMap : 0u) |
+                                    (v.textures && v.uv1 ? kVariantUv1 : 0u) |
+                                    (v.vertexColors ? kVariantVertexColor : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
-    glUniform3fv(p.eye, 1, &eye[0]);
-    glUniform3fv(p.viewDir, 1, &viewDir[0]);
-    glUniform1i(p.orthographic, view.orthographic ? 1 : 0);
-    glUniform1i(p.lightCount, GLint(r.lights.size()));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
-    glUniform3fv(p.ambientUp, 1, &ambient.upLux[0]);
-    glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
-    if (phong && v.sun) {
+    vec3 sunLux(0.0f);
+    if (v.sun) {
       const rdb::RasterSky& s = *r.sky;
       const double solidAngleSr = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
-      const vec3 sunLux = s.sunRadianceCdM2 * float(solidAngleSr);
-      glUniform3fv(p.sunDir, 1, &s.sunDirWorld[0]);
-      glUniform3fv(p.sunNormalLux, 1, &sunLux[0]);
+      sunLux = s.sunRadianceCdM2 * float(solidAngleSr);
     }
+    // Binds a scene program and sets its uniforms.
+    auto use = [&](uint32_t programVariant) -> const SceneProgram& {
+      const SceneProgram& p = sceneProgram(programVariant);
+      glUseProgram(p.program);
+      glUniformMatrix4fv(p.clipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
+      glUniform3fv(p.eye, 1, &eye[0]);
+      glUniform3fv(p.viewDir, 1, &viewDir[0]);
+      glUniform1i(p.orthographic, view.orthographic ? 1 : 0);
+      glUniform1i(p.lightCount, GLint(r.lights.size()));
+      glUniform3fv(p.ambientUp, 1, &ambient.upLux[0]);
+      glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
+      if (v.sun) {
+        glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
+        glUniform3fv(p.sunNormalLux, 1, &sunLux[0]);
+      }
+      return p;
+    };
+    // Sets a per-fragment draw's material and binds its textures (units 5–7, kSurfaceFragment): which it has
+    // (a slot the material does not use is never sampled) and their UV maps.
+    auto bindTextures = [&](const SceneProgram& p, const SurfaceDraw& d) {
+      const rdb::RasterMaterial& m = r.materials[d.material];
+      glUniform1ui(p.material, d.material);
+      const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
+      GLuint bits = 0;
+      vec4 rows[6];
+      for (GLuint k = 0; k < 3; ++k) {
+        rows[2 * k] = vec4(slots[k]->uvRow0, float(slots[k]->texCoord));
+        rows[2 * k + 1] = vec4(slots[k]->uvRow1, 0.0f);
+        if (!*slots[k]) continue;
+        glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
+        bits |= 1u << k;
+      }
+      glUniform1ui(p.textureSlots, bits);
+      glUniform4fv(p.uvRows, 6, &rows[0][0]);
+    };
+    auto draw = [](size_t firstIndex, GLsizei count) {
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(firstIndex * sizeof(uint32_t)));
+    };
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
     const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
-    if (variant & kVariantLightTexture) {
+    if (lightMaps && v.lightTexture) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
       glBindTextureUnit(2, gpu_->lightTextures);
     }
     glBindVertexArray(gpu_->vao);
     if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
     if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
-    if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
-    glDrawElements(GL_TRIANGLES, gpu_->indexCount, GL_UNSIGNED_INT, nullptr);
-    if (variant & kVariantGlass) {
+    if (gpu_->perVertexIndexCount > 0) {
+      const SceneProgram& p = use(variant);
+      if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
+      draw(0, gpu_->perVertexIndexCount);
+    }
+    uint32_t current = ~0u;
+    const SceneProgram* program = nullptr;
+    for (const SurfaceDraw& d : gpu_->surfaceDraws) {
+      if (d.blend) continue;
+      const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
+      if (want != current) program = &use(current = want);
+      bindTextures(*program, d);
+      draw(d.firstIndex, d.indexCount);
+    }
+    if ((variant & kVariantGlass) && gpu_->perVertexIndexCount > 0) {
       // The glass over a copy of that image, which it shows through itself times T(θ) (kSceneFragment). The
       // nearest pane wins where panes overlap (its depth hides the farther one's): what lies behind a pane
       // is seen through that pane alone.
@@ -660,8 +886,51 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0, 0,
                          0, w, h, 1);
       glBindTextureUnit(4, gpu_->behindColor);
+      const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
-      glDrawElements(GL_TRIANGLES, gpu_->indexCount, GL_UNSIGNED_INT, nullptr);
+      draw(0, gpu_->perVertexIndexCount);
+    }
+    if (v.alphaBlend) {
+      // Blended surfaces, after everything else, back to front by their meshes' centres' view depth, without
+      // depth writes, "over" into the blend target (cleared to C = 0, T = 1), then composited over the image
+      // (kBlendComposite). Within a mesh, triangles keep their order.
+      std::vector<size_t>& order = gpu_->blendOrder;
+      order.clear();
+      for (size_t i = 0; i < gpu_->surfaceDraws.size(); ++i) {
+        if (gpu_->surfaceDraws[i].blend) order.push_back(i);
+      }
+      auto depth = [&](size_t i) { return glm::dot(gpu_->surfaceDraws[i].centreM - eye, viewDir); };
+      std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return depth(a) > depth(b); });
+      if (!gpu_->blendColor) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->blendColor);
+        glTextureStorage2D(gpu_->blendColor, 1, GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
+        glCreateFramebuffers(1, &gpu_->blendFbo);
+        glNamedFramebufferTexture(gpu_->blendFbo, GL_COLOR_ATTACHMENT0, gpu_->blendColor, 0);
+        glNamedFramebufferRenderbuffer(gpu_->blendFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, gpu_->depth);
+      }
+      glBindFramebuffer(GL_FRAMEBUFFER, gpu_->blendFbo);
+      const GLfloat empty[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+      glClearNamedFramebufferfv(gpu_->blendFbo, GL_COLOR, 0, empty);
+      glEnable(GL_BLEND);
+      glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
+      glDepthMask(GL_FALSE);
+      const SceneProgram& p = use(surfaceVariant | kVariantBlendPass);
+      for (size_t i : order) {
+        const SurfaceDraw& d = gpu_->surfaceDraws[i];
+        bindTextures(p, d);
+        draw(d.firstIndex, d.indexCount);
+      }
+      glDepthMask(GL_TRUE);
+      glDisable(GL_BLEND);
+      glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
+      if (!gpu_->composite) {
+        gpu_->composite = compileProgram("blend", shaders::kLuminanceEncoding,
+                                         {{GL_COMPUTE_SHADER, shaders::kBlendComposite}});
+      }
+      glUseProgram(gpu_->composite);
+      glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
+      glBindImageTexture(1, gpu_->blendColor, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+      dispatchPerPixel(widthPx, heightPx);
     }
     glBindVertexArray(0);
   }

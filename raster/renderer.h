@@ -10,12 +10,19 @@
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
+// Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per
+// fragment with the same terms: base colour texel × factor × COLOR_0 as the albedo, the emission texel, normal
+// maps for the Phong and sun terms; cut-outs (alpha MASK) discard below their cut-off; blended surfaces (BLEND)
+// are drawn last, back to front by their mesh's centre, without depth writes, into an RGBA32F "over" target
+// composited over the image. They are drawn one material per draw (its textures bound), after the one draw of
+// the per-vertex meshes; a scene without them draws exactly as before.
 // Only the shader variants a scene's features call for are compiled, on first use. Needs a current context
 // (raster/gl_context.h) for its whole life.
 // A frame's GPU work, kept lean for GPUs whose graphics pipeline is a small part of the chip (the H100: see
 // docs/benchmarks.md, fly-bench-raster): a compute pass writes the background (black, or the sky) into every
 // pixel in place of a colour clear; the whole scene is one indexed draw (per-mesh material and flags come per
-// vertex); the tone-map pass is a compute pass. Per frame the CPU only sets uniforms of cached programs. The
+// vertex; per-fragment surfaces add one draw per material); the tone-map pass is a compute pass. Per frame the
+// CPU only sets uniforms of cached programs. The
 // float image takes 8 bytes a pixel, not RGBA32F's 16: RGB with a shared exponent in an RG32UI target
 // (shaders::kLuminanceEncoding: full float range, each channel within 1.9·10⁻⁶ of the pixel's largest).
 #pragma once
@@ -66,8 +73,14 @@ struct RendererStats {
   int skyUploads = 0;
   int scenePasses = 0;  // geometry (and sky) passes into the float framebuffer
   int toneMapPasses = 0;
+  int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
+  float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
+
+// The most anisotropic filtering material textures get, where the driver has it (GL 4.6, or
+// GL_ARB_/EXT_texture_filter_anisotropic): 16 samples, the usual ceiling.
+inline constexpr float kMaxAnisotropy = 16.0f;
 
 class Renderer {
  public:
@@ -98,6 +111,10 @@ class Renderer {
   // widthPx × heightPx.
   void present(uint32_t widthPx, uint32_t heightPx) const;
 
+  // The most samples anisotropic filtering takes on material textures, ≥ 1 (1: trilinear only); capped at
+  // kMaxAnisotropy and the driver's limit (stats().maxAnisotropy says what applies). Default: that cap.
+  void setMaxAnisotropy(float samples);
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -112,7 +129,9 @@ class Renderer {
   const SceneProgram& sceneProgram(uint32_t variant);
   void uploadGeometry();
   void uploadLightTextures();
+  void uploadTextures();
   void uploadMaterials();
+  void uploadDraws();
   void uploadLights();
   void uploadSky();
   void resize(uint32_t widthPx, uint32_t heightPx);

@@ -59,7 +59,15 @@ float alphaOf(float glossiness) {
 
 }  // namespace
 
-Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace) {
+Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m) {
+  const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
+  const Rgb r = glm::clamp(m.reflection, 0.0f, 1.0f) * (m.fresnel ? q * q : 1.0f);
+  const Rgb t = (Rgb(1.0f) - r) * glm::clamp(m.transmission, 0.0f, 1.0f);
+  return glm::max(Rgb(1.0f) - r - t, Rgb(0.0f)) * glm::clamp(m.diffuseColor, 0.0f, 1.0f);
+}
+
+Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage) {
+  coverage_ = std::isfinite(coverage) ? std::clamp(coverage, 0.0f, 1.0f) : 1.0f;
   reflection_ = glm::clamp(m.reflection, 0.0f, 1.0f);
   transmission_ = glm::clamp(m.transmission, 0.0f, 1.0f);
   fresnel_ = m.fresnel;
@@ -93,16 +101,17 @@ Rgb Bsdf::albedo(float cosO) const {
   if (hasDiffuse_) a += diffuseKd_ * (Rgb(1.0f) - reflected);
   if (hasReflection_) a += reflected;
   if (hasTransmission_) a += transmission_ * (Rgb(1.0f) - reflected);
-  return a;
+  return coverage_ * a + Rgb(1.0f - coverage_);
 }
 
-vec3 Bsdf::lobeProbabilities(float cosO) const {
+vec4 Bsdf::lobeProbabilities(float cosO) const {
   const Rgb reflected = reflection_ * fresnel(cosO);
-  const vec3 w(hasDiffuse_ ? mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
-               hasReflection_ ? mean(reflected) : 0.0f,
-               hasTransmission_ ? mean(transmission_ * (Rgb(1.0f) - reflected)) : 0.0f);
-  const float sum = w.x + w.y + w.z;
-  return sum > 0.0f ? w / sum : vec3(0.0f);
+  const vec4 w(hasDiffuse_ ? coverage_ * mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
+               hasReflection_ ? coverage_ * mean(reflected) : 0.0f,
+               hasTransmission_ ? coverage_ * mean(transmission_ * (Rgb(1.0f) - reflected)) : 0.0f,
+               1.0f - coverage_);
+  const float sum = w.x + w.y + w.z + w.w;
+  return sum > 0.0f ? w / sum : vec4(0.0f);
 }
 
 Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
@@ -125,11 +134,11 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
     const float g = ggxReflection(wo, vec3(wi.x, wi.y, -wi.z), alphaT_, h, pdfUnused);
     f += transmission_ * (Rgb(1.0f) - reflection_ * fresnel(glm::dot(wo, h))) * g;
   }
-  return f;
+  return coverage_ * f;
 }
 
 float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
-  const vec3 p = lobeProbabilities(wo.z);
+  const vec4 p = lobeProbabilities(wo.z);
   vec3 h;
   float lobePdf = 0.0f;
   float sum = 0.0f;
@@ -147,18 +156,28 @@ float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
 }
 
 bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const {
-  const vec3 p = lobeProbabilities(wo.z);
-  if (p.x + p.y + p.z <= 0.0f) return false;
+  const vec4 p = lobeProbabilities(wo.z);
+  if (p.x + p.y + p.z + p.w <= 0.0f) return false;
   // The lobe whose interval of [0, 1) holds uLobe; rounding past the last interval falls to the last lobe.
-  int lobe = uLobe < p.x ? 0 : (uLobe < p.x + p.y ? 1 : 2);
-  while (p[lobe] == 0.0f) lobe = (lobe + 2) % 3;
+  int lobe = uLobe < p.x ? 0 : (uLobe < p.x + p.y ? 1 : (uLobe < p.x + p.y + p.z ? 2 : 3));
+  while (p[lobe] == 0.0f) lobe = (lobe + 3) % 4;
+  if (lobe == 3 || (lobe == 2 && clearTransmission_)) {
+    // Straight through: clear glass and the uncovered fraction are one delta lobe, chosen with the sum of
+    // their probabilities.
+    const float pStraight = (clearTransmission_ ? p.z : 0.0f) + p.w;
+    out.wi = -wo;
+    out.pdf = pStraight;
+    out.weight = straightTransmittance(wo.z) / pStraight;
+    out.lobe = Lobe::kStraight;
+    return true;
+  }
   if (lobe == 0) {
     out.wi = sampleCosineHemisphere(u);
   } else if (lobe == 1) {
     if (alphaR_ == 0.0f) {
       out.wi = vec3(-wo.x, -wo.y, wo.z);
       out.pdf = p.y;
-      out.weight = reflection_ * (fresnel(wo.z) / p.y);
+      out.weight = reflection_ * (coverage_ * fresnel(wo.z) / p.y);
       out.lobe = Lobe::kMirror;
       return true;
     }
@@ -166,13 +185,6 @@ bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const
     out.wi = 2.0f * glm::dot(wo, h) * h - wo;
     if (out.wi.z <= 0.0f) return false;
   } else {
-    if (clearTransmission_) {
-      out.wi = -wo;
-      out.pdf = p.z;
-      out.weight = straightTransmittance(wo.z) / p.z;
-      out.lobe = Lobe::kStraight;
-      return true;
-    }
     const vec3 h = sampleGgxVisibleNormal(wo, alphaT_, u);
     const vec3 mirrored = 2.0f * glm::dot(wo, h) * h - wo;
     if (mirrored.z <= 0.0f) return false;

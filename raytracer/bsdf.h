@@ -41,7 +41,12 @@
 // D(θo), R(θo), T(θo)) and samples it; eval() and pdf() cover the non-delta lobes (the mixture's density,
 // for multiple importance sampling with light sampling); the mirror and clear transmission are deltas.
 //
-// Textures (per-texel colours) and anisotropy are not modelled here: the TraceRdb carries constant colours.
+// Coverage c (glTF alpha, partial coverage): the surface is there with probability c. Every lobe above is
+// scaled by c, and a fraction 1 − c passes straight through, unbent and without Fresnel, as the light between
+// the fibres of a curtain: the straight-through transmittance is (1 − c) + c T_clear(θ), one delta lobe.
+//
+// A Bsdf holds one point's colours: the integrator builds one per material, or per ray hit for materials that
+// vary over their surface (raytracer/surface_point.h). Anisotropy is not modelled.
 #pragma once
 
 #include <algorithm>
@@ -81,8 +86,8 @@ class Bsdf {
     Lobe lobe = Lobe::kNonDelta;
   };
 
-  // frontFace: false for the back face of a one-sided material (transmission only).
-  Bsdf(const rdb::TraceMaterial& m, bool frontFace);
+  // frontFace: false for the back face of a one-sided material (transmission only). coverage in [0, 1].
+  Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage = 1.0f);
 
   // f(ωo, ωi) of the non-delta lobes in 1/sr, local directions with wo.z > 0; ωi on either side.
   Rgb eval(const vec3& wo, const vec3& wi) const;
@@ -95,30 +100,38 @@ class Bsdf {
   // Straight-through transmittance at |cos θ| = absCos: T(θ) for clear glass, 0 otherwise. The shadow rays of
   // light sampling pass clear glass with this factor.
   Rgb straightTransmittance(float absCos) const {
-    return clearTransmission_ ? transmission_ * (Rgb(1.0f) - reflection_ * fresnel(absCos)) : Rgb(0.0f);
+    const Rgb clear =
+        clearTransmission_ ? transmission_ * (Rgb(1.0f) - reflection_ * fresnel(absCos)) : Rgb(0.0f);
+    return Rgb(1.0f - coverage_) + coverage_ * clear;
   }
   // The albedo for light leaving towards ωo, cos θo = cosO (exact for the diffuse, mirror and clear lobes, an
   // estimate for glossy ones): the lobe weights and Russian roulette's survival guide.
   Rgb albedo(float cosO) const;
 
-  bool isBlack() const { return !hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
-  // Diffuse only (no reflection, no transmission): then f = lambertAlbedo() / π, sample() draws cos θ / π,
-  // its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the common case.
-  bool isLambertian() const { return hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  bool isBlack() const { return covered() && !hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  // Diffuse only (no reflection, no transmission, full coverage): then f = lambertAlbedo() / π, sample()
+  // draws cos θ / π, its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the
+  // common case.
+  bool isLambertian() const { return covered() && hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
   const Rgb& lambertAlbedo() const { return diffuseKd_; }
   // Whether eval() can be non-zero: light sampling is pointless otherwise.
   bool hasNonDelta() const {
-    return hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission();
+    return coverage_ > 0.0f && (hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission());
   }
   // Whether non-delta light arrives from below the surface (frosted transmission).
-  bool hasNonDeltaTransmission() const { return frostedTransmission(); }
-  bool passesStraight() const { return clearTransmission_; }
+  bool hasNonDeltaTransmission() const { return coverage_ > 0.0f && frostedTransmission(); }
+  // Whether light passes straight through (clear glass or partial coverage).
+  bool passesStraight() const { return clearTransmission_ || !covered(); }
+  // Clear glass: straight-through transmission by the material (not by partial coverage).
+  bool hasClearTransmission() const { return clearTransmission_; }
 
  private:
   float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
-  // Lobe choice probabilities at cos θo: diffuse, reflection, transmission (sum 1 unless black).
-  vec3 lobeProbabilities(float cosO) const;
+  bool covered() const { return coverage_ >= 1.0f; }
+  // Lobe choice probabilities at cos θo: diffuse, reflection, transmission, passing uncovered (sum 1 unless
+  // black).
+  vec4 lobeProbabilities(float cosO) const;
 
   Rgb diffuseKd_{0.0f};     // (1 − t)·d: the diffuse colour before the rule's (1 − R) factor
   Rgb diffuseNorm_{0.0f};   // 1 / (1 − r F̄), 0 where the diffuse share is 0
@@ -132,6 +145,12 @@ class Bsdf {
   bool hasReflection_ = false;
   bool hasTransmission_ = false;
   bool clearTransmission_ = false;
+  float coverage_ = 1.0f;
 };
+
+// The diffuse albedo D(0) of the energy rule at normal incidence (sdb::applyEnergyRule, with Fresnel
+// reflection r F0) for m's diffuseColor, reflection and transmission, each clamped to [0, 1]: what
+// TraceMaterial::diffuse holds for constant colours, evaluated for a point's textured ones.
+Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m);
 
 }  // namespace fly::raytracer

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "base/log.h"
+#include "raytracer/surface_point.h"
 
 namespace fly::raytracer {
 namespace {
@@ -38,7 +39,14 @@ void setRay(RTCRay& ray, const vec3& origin, const vec3& dir, float tMaxM) {
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) {
+EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
+  for (const rdb::TraceMaterial& m : rdb.materials)
+    hasCutOuts_ = hasCutOuts_ || m.alpha == rdb::TraceAlpha::kMask;
+  if (hasCutOuts_ && rdb.triangleMaterial.size() != rdb.triangleCount()) {
+    throw std::invalid_argument("EmbreeScene: " + std::to_string(rdb.triangleMaterial.size()) +
+                                " triangle materials for " + std::to_string(rdb.triangleCount()) +
+                                " triangles");
+  }
   const size_t triangleCount = rdb.triangleCount();
   normals_.assign(triangleCount, vec3(0.0f));
   areasM2_.assign(triangleCount, 0.0f);
@@ -95,8 +103,8 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) {
                                                        3 * sizeof(uint32_t), triangleOfPrimitive_.size()));
     std::copy(validIndices.begin(), validIndices.end(), indices);
     rtcSetGeometryUserData(geometry, this);
-    rtcSetGeometryIntersectFilterFunction(geometry, rejectHitsLeavingOrigin);
-    rtcSetGeometryOccludedFilterFunction(geometry, rejectHitsLeavingOrigin);
+    rtcSetGeometryIntersectFilterFunction(geometry, filterHits);
+    rtcSetGeometryOccludedFilterFunction(geometry, filterHits);
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene_, geometry);
     rtcReleaseGeometry(geometry);
@@ -109,7 +117,7 @@ EmbreeScene::~EmbreeScene() {
   rtcReleaseDevice(device_);
 }
 
-void EmbreeScene::rejectHitsLeavingOrigin(const RTCFilterFunctionNArguments* args) {
+void EmbreeScene::filterHits(const RTCFilterFunctionNArguments* args) {
   const auto* self = static_cast<const EmbreeScene*>(args->geometryUserPtr);
   for (unsigned int i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
@@ -120,7 +128,18 @@ void EmbreeScene::rejectHitsLeavingOrigin(const RTCFilterFunctionNArguments* arg
     // The filter sees the candidate hit's distance in tfar.
     const float t = RTCRayN_tfar(args->ray, args->N, i);
     const uint32_t triangle = self->triangleOfPrimitive_[RTCHitN_primID(args->hit, args->N, i)];
-    if (t <= rayOffsetM(maxAbs(origin)) && glm::dot(self->normals_[triangle], dir) > 0.0f) args->valid[i] = 0;
+    if (t <= rayOffsetM(maxAbs(origin)) && glm::dot(self->normals_[triangle], dir) > 0.0f) {
+      args->valid[i] = 0;
+      continue;
+    }
+    if (self->hasCutOuts_) {
+      const rdb::TraceMaterial& m = self->rdb_.materials[self->rdb_.triangleMaterial[triangle]];
+      if (m.alpha == rdb::TraceAlpha::kMask) {
+        const TrianglePoint at{triangle,
+                               vec2(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))};
+        if (coverageAt(self->rdb_, m, at) < m.alphaCutoff) args->valid[i] = 0;
+      }
+    }
   }
 }
 

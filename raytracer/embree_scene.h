@@ -57,8 +57,9 @@ struct LoggedRay {
 
 class EmbreeScene {
  public:
-  // Builds and commits one triangle geometry from rdb's positions and indices. Degenerate triangles (zero
-  // area or non-finite vertices) are left out: no ray ever hits them. Embree errors reach fly::log::error; a
+  // Builds and commits one triangle geometry from rdb's positions and indices; keeps a reference to rdb,
+  // which must outlive it. Degenerate triangles (zero area or non-finite vertices) are left out: no ray ever
+  // hits them. Embree errors reach fly::log::error; a
   // device that cannot be created throws std::runtime_error.
   explicit EmbreeScene(const rdb::TraceRdb& rdb);
   ~EmbreeScene();
@@ -69,7 +70,8 @@ class EmbreeScene {
   // rayOffsetM(maxAbs(origin)) of the origin: a point moved off its own face may still lie on another that
   // meets it at an inner edge or corner (the wall beside a floor point on their shared edge), which a ray
   // leaving that wall would otherwise hit at t ≈ 0. A face ahead of the origin, however near, is hit: no
-  // light leaks through the corner.
+  // light leaks through the corner. Nor do they see alpha cut-outs: points of a TraceAlpha::kMask material
+  // whose coverage (raytracer/surface_point.h) is below its alphaCutoff, for every ray alike.
 
   // Is anything hit before tMaxM? dir is unit; tMaxM may be infinite. Safe to call from many threads.
   bool occluded(const vec3& origin, const vec3& dir, float tMaxM) const;
@@ -89,9 +91,12 @@ class EmbreeScene {
   uint32_t validTriangleCount() const { return static_cast<uint32_t>(triangleOfPrimitive_.size()); }
 
  private:
-  // Embree's intersection and occlusion filter: rejects the hits at the origin described above.
-  static void rejectHitsLeavingOrigin(const RTCFilterFunctionNArguments* args);
+  // Embree's intersection and occlusion filter: rejects the hits at the origin and in cut-outs described
+  // above.
+  static void filterHits(const RTCFilterFunctionNArguments* args);
 
+  const rdb::TraceRdb& rdb_;
+  bool hasCutOuts_ = false;  // some material is an alpha mask
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
   std::vector<uint32_t> triangleOfPrimitive_;  // Embree primitive id → TraceRdb triangle

@@ -30,6 +30,9 @@ constexpr uint32_t kGroupsPerVertex = 3;
 // 17 % (QMC) for 2.4 % more rays per sample (docs/benchmarks.md).
 constexpr uint32_t kFirstRouletteVertex = 3;
 
+// The least cosine between a hit's shading normal and the direction back along the ray (sampleIrradiance).
+constexpr float kMinShadingCos = 0.01f;
+
 // Direction of the sky table's (u, v) = (φ / 2π, 1 − μ), φ = atan2(d.z, d.x) (TraceSky).
 vec3 skyDirection(const vec2& uv) {
   const float mu = 1.0f - uv.y;
@@ -58,6 +61,25 @@ float goniometricCandela(const rdb::TraceGoniometricTable& table, float gammaRad
   auto at = [&](uint32_t ci, uint32_t gi) { return table.candelaCd[ci * table.gammaSteps + gi]; };
   return (1.0f - fc) * ((1.0f - fg) * at(c0, g0) + fg * at(c0, g1)) +
          fc * ((1.0f - fg) * at(c1, g0) + fg * at(c1, g1));
+}
+
+// The mean emitted luminance of material m over its emission texture's texels (cd/m²), or of its constant.
+float meanEmittedLuminance(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m) {
+  if (!m.emissionTexture) return std::max(luminance(m.emissionCdM2), 0.0f);
+  const rdb::TraceTexture& tex = rdb.textures.at(m.emissionTexture.texture);
+  double sum = 0.0;
+  rdb::TraceTextureSlot texel = m.emissionTexture;
+  texel.uvFromU = vec2(1.0f, 0.0f);
+  texel.uvFromV = vec2(0.0f, 1.0f);
+  texel.uvOffset = vec2(0.0f);
+  for (uint32_t y = 0; y < tex.height; ++y) {
+    for (uint32_t x = 0; x < tex.width; ++x) {
+      // At the texel's centre the bilinear lookup is the texel.
+      const vec2 centre((float(x) + 0.5f) / float(tex.width), (float(y) + 0.5f) / float(tex.height));
+      sum += std::max(luminance(m.emissionCdM2 * Rgb(sampleTexture(rdb, texel, centre, true))), 0.0f);
+    }
+  }
+  return float(sum / (double(tex.width) * double(tex.height)));
 }
 
 }  // namespace
@@ -115,14 +137,50 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
+  // Per-vertex attributes: one per vertex where materials read them (TraceRdb).
+  bool readsUv[2] = {false, false};
+  bool readsTangents = false;
+  for (const rdb::TraceMaterial& m : rdb.materials) {
+    for (const rdb::TraceTextureSlot* slot : {&m.diffuseTexture, &m.reflectionTexture, &m.glossinessTexture,
+                                              &m.transmissionTexture, &m.emissionTexture, &m.normalTexture}) {
+      if (!*slot) continue;
+      if (slot->texture >= rdb.textures.size()) {
+        throw std::invalid_argument("Integrator: texture " + std::to_string(slot->texture) + " of " +
+                                    std::to_string(rdb.textures.size()) + " textures");
+      }
+      readsUv[slot->texCoord == 1 ? 1 : 0] = true;
+    }
+    readsTangents = readsTangents || bool(m.normalTexture);
+  }
+  for (const rdb::TraceTexture& tex : rdb.textures) {
+    if (tex.width < 1 || tex.height < 1 || tex.channels < 1 || tex.channels > 4 ||
+        tex.texels.size() != size_t{tex.width} * tex.height * tex.channels) {
+      throw std::invalid_argument("Integrator: a texture's size, channels and texels disagree");
+    }
+  }
+  const size_t vertices = rdb.positionsM.size();
+  if (rdb.normals.size() != vertices || (readsUv[0] && rdb.uv0.size() != vertices) ||
+      (readsUv[1] && rdb.uv1.size() != vertices) || (!rdb.colors.empty() && rdb.colors.size() != vertices) ||
+      (readsTangents && rdb.tangents.size() != vertices)) {
+    throw std::invalid_argument(
+        "Integrator: normals, texture coordinates, colours or tangents that materials "
+        "read are given for some vertices only");
+  }
+
   emitterPmfOfTriangle_.assign(rdb.triangleCount(), 0.0f);
   if (!rdb.emissiveTriangles.empty()) {
     std::vector<float> powers;
     powers.reserve(rdb.emissiveTriangles.size());
+    // Triangles are chosen by area × the material's mean luminance: its emission, or with an emission
+    // texture the mean over the texture's texels of the emission times the texel (any weight that is positive
+    // wherever a triangle emits keeps the estimate unbiased; the texture is evaluated at the sampled point).
+    std::vector<float> materialLuminance(rdb.materials.size(), -1.0f);
     for (uint32_t t : rdb.emissiveTriangles) {
-      const rdb::TraceMaterial& m = rdb.materials[rdb.triangleMaterial.at(t)];
+      const uint32_t mi = rdb.triangleMaterial.at(t);
+      const rdb::TraceMaterial& m = rdb.materials[mi];
+      if (materialLuminance[mi] < 0.0f) materialLuminance[mi] = meanEmittedLuminance(rdb, m);
       const float sides = m.doubleSided ? 2.0f : 1.0f;
-      powers.push_back(sides * scene.triangleAreaM2(t) * std::max(luminance(m.emissionCdM2), 0.0f));
+      powers.push_back(sides * scene.triangleAreaM2(t) * materialLuminance[mi]);
     }
     Distribution1D emitters(powers);
     if (!emitters.allZero()) {
@@ -136,15 +194,20 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
   frontBsdfs_.reserve(rdb.materials.size());
   backBsdfs_.reserve(rdb.materials.size());
   for (const rdb::TraceMaterial& m : rdb.materials) {
-    frontBsdfs_.emplace_back(m, true);
-    backBsdfs_.emplace_back(m, m.doubleSided);
-    hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().passesStraight();
+    // Partial coverage of a constant material is its opacity; cut-outs are opaque where rays hit them.
+    const float coverage = m.alpha == rdb::TraceAlpha::kBlend ? m.opacity : 1.0f;
+    frontBsdfs_.emplace_back(m, true, coverage);
+    backBsdfs_.emplace_back(m, m.doubleSided, coverage);
+    varies_.push_back(m.hasTextures() || !rdb.colors.empty() ? 1 : 0);
+    hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().hasClearTransmission();
+    passesStraight_ =
+        passesStraight_ || frontBsdfs_.back().passesStraight() || m.alpha == rdb::TraceAlpha::kBlend;
     rdb::TraceMaterial regularised = m;
     if (!settings_.caustics) {
       regularised.reflectionGlossiness = std::max(m.reflectionGlossiness, kRegularizedGlossiness);
     }
-    deltaLightFrontBsdfs_.emplace_back(regularised, true);
-    deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided);
+    deltaLightFrontBsdfs_.emplace_back(regularised, true, coverage);
+    deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided, coverage);
   }
 
   if (settings_.skyPortals && skyDistribution_ && hasClearGlass_) buildPortals();
@@ -205,7 +268,7 @@ void Integrator::buildPortals() {
   };
   std::vector<Candidate> candidates;
   for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
-    if (!frontBsdfs_[rdb_.triangleMaterial[t]].passesStraight() || !(scene_.triangleAreaM2(t) > 0.0f))
+    if (!frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() || !(scene_.triangleAreaM2(t) > 0.0f))
       continue;
     const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
     const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
@@ -441,6 +504,25 @@ float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float
   return (1.0f - kPortalFraction) * table + kPortalFraction * portalPdf(x, d, portalAreaM2);
 }
 
+Integrator::PointBsdfs Integrator::bsdfsAt(uint32_t mi, bool front, const TrianglePoint& at,
+                                           std::optional<Bsdf>& point,
+                                           std::optional<Bsdf>& pointDeltaLight) const {
+  const rdb::TraceMaterial& m = rdb_.materials[mi];
+  const bool frontFace = front || m.doubleSided;
+  if (!varies_[mi]) {
+    return {frontFace ? &frontBsdfs_[mi] : &backBsdfs_[mi],
+            frontFace ? &deltaLightFrontBsdfs_[mi] : &deltaLightBackBsdfs_[mi]};
+  }
+  PointMaterial pm = materialAt(rdb_, m, at);
+  const float coverage = m.alpha == rdb::TraceAlpha::kBlend ? pm.coverage : 1.0f;
+  point.emplace(pm.material, frontFace, coverage);
+  if (!settings_.caustics) {
+    pm.material.reflectionGlossiness = std::max(pm.material.reflectionGlossiness, kRegularizedGlossiness);
+  }
+  pointDeltaLight.emplace(pm.material, frontFace, coverage);
+  return {&*point, &*pointDeltaLight};
+}
+
 float Integrator::emitterPdf(uint32_t t, float distM, float absCosLight) const {
   if (absCosLight <= 0.0f) return 0.0f;
   return emitterPmfOfTriangle_[t] / scene_.triangleAreaM2(t) * distM * distM / absCosLight;
@@ -457,7 +539,7 @@ vec3 Integrator::hitPoint(const Hit& hit) const {
 
 Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const {
   ++rays;
-  if (!hasClearGlass_) return scene_.occluded(origin, dir, tMaxM) ? Rgb(0.0f) : Rgb(1.0f);
+  if (!passesStraight_) return scene_.occluded(origin, dir, tMaxM) ? Rgb(0.0f) : Rgb(1.0f);
   const bool bounded = std::isfinite(tMaxM);
   const vec3 end = bounded ? origin + tMaxM * dir : vec3(0.0f);
   Rgb transmittance(1.0f);
@@ -466,7 +548,9 @@ Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uin
   for (uint32_t panes = 0;; ++panes) {
     const std::optional<Hit> hit = scene_.intersect(o, dir, tMax);
     if (!hit) return transmittance;
-    const Bsdf& pane = frontBsdfs_[rdb_.triangleMaterial[hit->triangle]];
+    const uint32_t mi = rdb_.triangleMaterial[hit->triangle];
+    std::optional<Bsdf> point, pointDeltaLight;
+    const Bsdf& pane = *bsdfsAt(mi, true, {hit->triangle, hit->barycentric}, point, pointDeltaLight).bsdf;
     if (!pane.passesStraight() || panes == kMaxPanesPassed) return Rgb(0.0f);
     const float cosPane = glm::dot(hit->geometricNormal, dir);
     transmittance *= pane.straightTransmittance(std::abs(cosPane));
@@ -491,6 +575,9 @@ bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb&
     pdf = cosineHemispherePdf(cosTheta);
     return true;
   }
+  // The geometric side decides which side light arrives on; the shading normal must agree.
+  const float cosGeometric = glm::dot(v.ng, d);
+  if (cosGeometric == 0.0f || (cosGeometric > 0.0f) != (cosTheta > 0.0f)) return false;
   if (bsdf->isLambertian()) {
     if (!(cosTheta > 0.0f)) return false;
     fCos = bsdf->lambertAlbedo() * (cosTheta / kPiF);
@@ -511,7 +598,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
   if (light.type == rdb::PunctualType::kDirectional) {
     const vec3 toLight = -light.directionWorld;
     if (!response(v, v.deltaLightBsdf, toLight, fCos, pdfUnused)) return Rgb(0.0f);
-    const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.n, toLight) > 0.0f ? v.n : -v.n, v.magnitudeM);
+    const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.ng, toLight) > 0.0f ? v.ng : -v.ng, v.magnitudeM);
     return light.intensity * fCos * visibility(origin, toLight, std::numeric_limits<float>::infinity(), rays);
   }
   const vec3 toLight = light.positionM - v.p;
@@ -537,7 +624,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
     factor *= goniometricCandela(rdb_.goniometricTables[light.goniometricTable], gamma, c);
   }
   if (factor <= 0.0f) return Rgb(0.0f);
-  const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.n, dir) > 0.0f ? v.n : -v.n, v.magnitudeM);
+  const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.ng, dir) > 0.0f ? v.ng : -v.ng, v.magnitudeM);
   return light.intensity * fCos * (factor / (distM * distM)) * visibility(origin, dir, distM, rays);
 }
 
@@ -548,7 +635,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
   Rgb sum(0.0f);
   // The ray origin on the side of the light.
   auto originTowards = [&](const vec3& d) {
-    return offsetRayOrigin(v.p, glm::dot(v.n, d) > 0.0f ? v.n : -v.n, v.magnitudeM);
+    return offsetRayOrigin(v.p, glm::dot(v.ng, d) > 0.0f ? v.ng : -v.ng, v.magnitudeM);
   };
   Rgb fCos;
   float pdfBsdf;
@@ -650,7 +737,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
       const vec3 toTarget = target - origin;
       const float targetDistM = glm::length(toTarget);
       if (pdf > 0.0f && std::isfinite(pdf) && targetDistM > 0.0f) {
-        sum += m.emissionCdM2 * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) *
+        sum += emissionAt(rdb_, m, {t, vec2(b.y, b.z)}) * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) *
                visibility(origin, toTarget / targetDistM, targetDistM, rays);
       }
     }
@@ -665,7 +752,9 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos
   // θ), over the Russian-roulette survival probabilities.
   Rgb beta(1.0f);
-  Vertex v{p, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, nullptr, onb(n), vec3(0.0f)};
+  Vertex v{p, n, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, nullptr, onb(n), vec3(0.0f)};
+  // A hit's scattering functions when its material varies over the surface (bsdfsAt).
+  std::optional<Bsdf> pointBsdf, pointDeltaLightBsdf;
   // Light that the next ray finds is MIS-weighted against light sampling at the last non-delta vertex, with
   // the density pdfLast of its continuation and the distance travelledM from it (straight through clear
   // panes included), unless the last scattering was a mirror (`specular`): light sampling cannot find that.
@@ -736,6 +825,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       const vec3 wi = sampleCosineHemisphere(uContinue);
       if (!(wi.z > 0.0f)) break;
       d = glm::normalize(v.frame.toWorld(wi));
+      if (!(glm::dot(d, v.ng) > 0.0f)) break;  // below the geometric surface: no light comes from there
       beta *= v.bsdf->lambertAlbedo();
       ++reflections;
       specular = false;
@@ -746,6 +836,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       Bsdf::Sample s;
       if (!v.bsdf->sample(v.woLocal, uLobe, uContinue, s)) break;
       d = glm::normalize(v.frame.toWorld(s.wi));
+      // Where the shading and geometric surfaces disagree on the side, no light comes from there.
+      if (s.lobe != Bsdf::Lobe::kStraight && (glm::dot(d, v.ng) > 0.0f) != (s.wi.z > 0.0f)) break;
       beta *= s.weight;
       if (s.lobe != Bsdf::Lobe::kStraight) {
         ++reflections;
@@ -759,7 +851,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
 
     ++rays;
     const std::optional<Hit> hit =
-        scene_.intersect(offsetRayOrigin(v.p, glm::dot(v.n, d) > 0.0f ? v.n : -v.n, v.magnitudeM), d,
+        scene_.intersect(offsetRayOrigin(v.p, glm::dot(v.ng, d) > 0.0f ? v.ng : -v.ng, v.magnitudeM), d,
                          std::numeric_limits<float>::infinity());
     if (!hit) {
       if (skyDistribution_ && d.y >= 0.0f) {
@@ -781,22 +873,35 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     const uint32_t t = hit->triangle;
     const uint32_t mi = rdb_.triangleMaterial[t];
     const rdb::TraceMaterial& m = rdb_.materials[mi];
+    const TrianglePoint at{t, hit->barycentric};
     if (emitterDistribution_ && emitterPmfOfTriangle_[t] > 0.0f && (front || m.doubleSided)) {
-      sum += beta * m.emissionCdM2 *
+      sum += beta * emissionAt(rdb_, m, at) *
              (specular ? 1.0f : powerHeuristic(pdfLast, emitterPdf(t, travelledM, std::abs(cosLight))));
     }
-    const Bsdf& bsdf = front || m.doubleSided ? frontBsdfs_[mi] : backBsdfs_[mi];
+    const PointBsdfs bsdfs = bsdfsAt(mi, front, at, pointBsdf, pointDeltaLightBsdf);
+    const Bsdf& bsdf = *bsdfs.bsdf;
     straightOnly = reflections >= maxReflections;
     if (bsdf.isBlack() || (straightOnly && !bsdf.passesStraight())) break;
 
     const vec3 x = hitPoint(*hit);
     const vec3 side = front ? hit->geometricNormal : -hit->geometricNormal;
-    const Onb frame = onb(side);
+    const float cosGeometric = -glm::dot(side, d);
+    if (!(cosGeometric > 0.0f)) break;
+    // The shading normal on the side the ray came from. Where the direction back along the ray is below it
+    // (an interpolated or mapped normal tilted away from the viewer), it is bent towards the geometric normal
+    // until that direction is kMinShadingCos above it, so that no path finds a black surface (a facet of a
+    // smooth low-poly mesh seen at a grazing angle).
+    vec3 ns = shadingNormalAt(rdb_, m, at, hit->geometricNormal);
+    if (!front) ns = -ns;
+    const float cosShading = -glm::dot(ns, d);
+    if (cosShading < kMinShadingCos) {
+      ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
+    }
+    const Onb frame = onb(ns);
     const vec3 wo = frame.toLocal(-d);
     if (!(wo.z > 0.0f)) break;
-    const Bsdf& deltaLightBsdf =
-        front || m.doubleSided ? deltaLightFrontBsdfs_[mi] : deltaLightBackBsdfs_[mi];
-    v = Vertex{x, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, &deltaLightBsdf, frame, wo};
+    v = Vertex{x,     ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, bsdfs.deltaLight,
+               frame, wo};
 
     // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
     // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).

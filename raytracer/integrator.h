@@ -59,8 +59,30 @@
 // capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than paths die: infinite
 // variance.)
 //
-// Not yet: shading normals (surfaces shade with their geometric normal), textures, anisotropy, refraction
-// through thick glass.
+// Materials at a hit (raytracer/surface_point.h): textures of every slot (base colour × COLOR_0, reflection,
+// glossiness, transmission, emission; bilinear, glTF wrap modes, KHR_texture_transform), with the energy rule
+// applied to the point's colours. Emissive triangles with an emission texture are chosen by area × the
+// material's mean emission over the texture's texels, and the texture is evaluated at the sampled point (and
+// where a path hits), so emitter sampling stays unbiased.
+//
+// Alpha coverage: cut-outs (TraceAlpha::kMask) are left out by Embree's filter functions where coverage <
+// alphaCutoff, for path rays and shadow rays alike (raytracer/embree_scene.h). Partial coverage (kBlend) is a
+// delta lobe of the Bsdf that passes 1 − coverage straight through, unbent and without Fresnel; shadow rays
+// pass it with that transmittance as they pass clear glass. The lobe is chosen with the vertex's lobe-choice
+// dimension, so the estimate stays a function of (point, sample) alone.
+//
+// Shading normals: interpolated vertex normals, bent by normal maps, shade every hit; the geometric normal
+// decides the side. Light arriving from below the geometric surface counts nothing, nor does a sampled
+// direction that the shading and geometric normals put on different sides (no light through the back of a
+// surface; the energy of those directions is lost, never gained: f |cos θ_s| integrates to at most the
+// albedo over the directions kept). A path gathers radiance, for which f with the shading cosine is the
+// correct integrand (Veach, PhD thesis, 1997, §5.3: the adjoint correction |ωo·N_s||ωi·N_g| / (|ωo·N_g|
+// |ωi·N_s|) belongs to importance transport, which no path here carries). Where the direction back along a
+// ray lies below the shading normal, the normal is bent towards the geometric one until it lies
+// kMinShadingCos above (integrator.cpp), so that no facet of a smooth low-poly mesh turns black at grazing
+// angles. The sensor integrates the hemisphere of the normal it is given.
+//
+// Not modelled: anisotropy, refraction through thick glass.
 //
 // Sides: the sensor integrates the hemisphere of n (pass −n for the back side of a two-sided surface). The
 // back face of a one-sided material only transmits (Bsdf); without transmission it ends a path: it blocks
@@ -81,6 +103,7 @@
 #include "raytracer/embree_scene.h"
 #include "raytracer/progressive.h"
 #include "raytracer/sampler.h"
+#include "raytracer/surface_point.h"
 #include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
 
@@ -155,7 +178,8 @@ class Integrator {
  private:
   struct Vertex {
     vec3 p;            // on the surface (not offset)
-    vec3 n;            // unit, the side being lit (the side of the path's previous vertex)
+    vec3 n;            // unit shading normal on the side being lit (the side of the path's previous vertex)
+    vec3 ng;           // unit geometric normal on that side (n at the sensor): ray offsets, light leaks
     float magnitudeM;  // for rayOffsetM()
     const Bsdf* bsdf;  // null at the sensor, which weighs incident light by cos θ
     // For light sampling of the sun and punctual lights: bsdf, or without caustics its regularised twin
@@ -174,9 +198,10 @@ class Integrator {
   Rgb directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter, float uPunctual,
                   S& sampler, uint64_t& rays) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
-  // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor), and the density
-  // per steradian with which v's continuation samples d. False when v takes no light from d.
-  // bsdf: v.bsdf or v.deltaLightBsdf.
+  // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor; θ from the
+  // shading normal), and the density per steradian with which v's continuation samples d. False when v takes
+  // no light from d, also where d lies on the other side of the geometric surface than of the shading one
+  // (no light through the back of a surface). bsdf: v.bsdf or v.deltaLightBsdf.
   bool response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf) const;
   // The fraction of light that reaches origin from unit direction dir over [0, tMaxM] (tMaxM may be ∞): 1
   // when nothing is in the way, the product of T(θ) of the clear panes crossed, 0 when anything else is hit.
@@ -202,6 +227,14 @@ class Integrator {
   // Density per steradian with which directLight samples the point at distance distM on emissive triangle t,
   // seen at |cos θ_light| = absCosLight.
   float emitterPdf(uint32_t t, float distM, float absCosLight) const;
+  // The scattering functions at a point of material mi, on its front face or not: the material's own, or
+  // for a material that varies over its surface the point's, built in `point` and `pointDeltaLight`.
+  struct PointBsdfs {
+    const Bsdf* bsdf;
+    const Bsdf* deltaLight;  // for light sampling of the sun and punctual lights (Vertex::deltaLightBsdf)
+  };
+  PointBsdfs bsdfsAt(uint32_t mi, bool front, const TrianglePoint& at, std::optional<Bsdf>& point,
+                     std::optional<Bsdf>& pointDeltaLight) const;
 
   const rdb::TraceRdb& rdb_;
   const EmbreeScene& scene_;
@@ -218,7 +251,11 @@ class Integrator {
   // The same for light sampling of the sun and punctual lights: regularised without caustics.
   std::vector<Bsdf> deltaLightFrontBsdfs_;
   std::vector<Bsdf> deltaLightBackBsdfs_;
-  bool hasClearGlass_ = false;  // some material passes light straight through (visibility())
+  // Per material: evaluated per point (textures, or COLOR_0 in the TraceRdb; raytracer/surface_point.h).
+  std::vector<uint8_t> varies_;
+  // Some material passes light straight through (clear glass or partial coverage: visibility()).
+  bool passesStraight_ = false;
+  bool hasClearGlass_ = false;  // some material is clear glass (sky portals)
   // Sky portals: a clear-glass triangle as a corner and two edges, with its unit normal, its area summed
   // with those before it in its plane, and what a barycentric test of a point in its plane needs.
   struct Portal {

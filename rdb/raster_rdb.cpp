@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <string>
@@ -27,14 +28,65 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
          indices == o.indices && meshes == o.meshes && materials == o.materials &&
          boundsM.min == o.boundsM.min && boundsM.max == o.boundsM.max && frontLux == o.frontLux &&
          backLux == o.backLux && lightMapUv == o.lightMapUv && lightTextures == o.lightTextures &&
-         lights == o.lights && goniometricCd == o.goniometricCd &&
+         uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors && tangents == o.tangents &&
+         textures == o.textures && lights == o.lights && goniometricCd == o.goniometricCd &&
          ambient == o.ambient && daylightAmbient == o.daylightAmbient && cameras == o.cameras &&
          sameSky(sky, o.sky) && variants == o.variants;
 }
 
+bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
+  const RasterMaterial& m = materials[mesh.material];
+  return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || mesh.hasColors;
+}
+
 namespace {
 
-RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
+// An entry of the texture table: an SDB texture and whether it is sampled as sRGB.
+struct TextureKey {
+  uint32_t sdbTextureId = 0;
+  bool srgb = false;
+  bool operator==(const TextureKey&) const = default;
+};
+
+// Where lowerRasterMaterial finds (or puts) a texture's index in RasterRdb::textures: `keys` is the table in
+// order; with `append`, a texture not yet in it is added, else it gets kNone and `missing` is set.
+struct TextureTable {
+  std::vector<TextureKey> keys;
+  bool append = true;
+  bool missing = false;
+
+  uint32_t indexOf(TextureKey k) {
+    const auto it = std::find(keys.begin(), keys.end(), k);
+    if (it != keys.end()) return uint32_t(it - keys.begin());
+    if (!append) {
+      missing = true;
+      return RasterTextureRef::kNone;
+    }
+    keys.push_back(k);
+    return uint32_t(keys.size() - 1);
+  }
+};
+
+// The textures the engine reads are those of materials that are not clear glass (glass is shaded per
+// vertex, in its own pass).
+bool readsTextures(const sdb::Material& m) {
+  return !m.hasClearTransmission();
+}
+
+RasterTextureRef lowerTextureRef(const sdb::TextureRef& ref, bool srgb, TextureTable& table) {
+  RasterTextureRef r;
+  if (!ref) return r;
+  r.texture = table.indexOf({ref.texture.value, srgb});
+  r.texCoord = uint32_t(std::clamp(ref.texCoord, 0, 1));
+  // KHR_texture_transform: uv' = offset + R · (scale ⊙ uv), R = [cos, sin; −sin, cos] (row-major).
+  const sdb::UvTransform& t = ref.transform;
+  const float c = std::cos(t.rotationRad), s = std::sin(t.rotationRad);
+  r.uvRow0 = vec3(c * t.scale.x, s * t.scale.y, t.offset.x);
+  r.uvRow1 = vec3(-s * t.scale.x, c * t.scale.y, t.offset.y);
+  return r;
+}
+
+RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialId, TextureTable& table) {
   RasterMaterial r;
   r.diffuse = m.effective().diffuse;
   r.specular = glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f));
@@ -46,8 +98,157 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
     r.fresnelF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
   }
+  if (readsTextures(m)) {
+    r.baseColorTexture = lowerTextureRef(m.diffuseTexture, true, table);
+    r.emissionTexture = lowerTextureRef(m.emissionTexture, true, table);
+    r.normalTexture = lowerTextureRef(m.bumpTexture, false, table);
+    r.normalScale = std::max(0.0f, m.bumpScale);
+    switch (m.alphaMode) {
+      case sdb::AlphaMode::kOpaque:
+        r.alphaMode = RasterAlphaMode::kOpaque;
+        break;
+      case sdb::AlphaMode::kMask:
+        r.alphaMode = RasterAlphaMode::kMask;
+        break;
+      case sdb::AlphaMode::kBlend:
+        r.alphaMode = RasterAlphaMode::kBlend;
+        break;
+    }
+    r.alphaCutoff = std::clamp(m.alphaCutoff, 0.0f, 1.0f);
+    r.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
+  }
   r.sdbMaterialId = sdbMaterialId;
   return r;
+}
+
+// Whether two blocks of one material read the same textures with the same UV sets and use coverage the same
+// way: then an edit between them changes only the block (factors, transforms, cut-off, opacity).
+bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
+  auto same = [](const RasterTextureRef& x, const RasterTextureRef& y) {
+    return x.texture == y.texture && x.texCoord == y.texCoord;
+  };
+  return same(a.baseColorTexture, b.baseColorTexture) && same(a.emissionTexture, b.emissionTexture) &&
+         same(a.normalTexture, b.normalTexture) && a.alphaMode == b.alphaMode;
+}
+
+// An SDB texture as RGBA8 (RasterTexture). InputError when its pixels do not match its size.
+RasterTexture lowerTexture(const sdb::Scene& scene, const TextureKey& key) {
+  const sdb::Texture& t = scene.texture(sdb::TextureId{key.sdbTextureId});
+  const int bytes = t.bitsPerChannel == 16 ? 2 : 1;
+  if (t.width < 1 || t.height < 1 || t.channels < 1 || t.channels > 4 ||
+      (t.bitsPerChannel != 8 && t.bitsPerChannel != 16) ||
+      t.pixels.size() != size_t(t.width) * size_t(t.height) * size_t(t.channels) * size_t(bytes)) {
+    throw InputError({t.sourcePath}, "texture \"" + t.name + "\" has " + std::to_string(t.pixels.size()) +
+                                         " bytes, which do not match its " + std::to_string(t.width) + "×" +
+                                         std::to_string(t.height) + " pixels of " + std::to_string(t.channels) +
+                                         " " + std::to_string(t.bitsPerChannel) + "-bit channels",
+                     "re-export the image");
+  }
+  RasterTexture r;
+  r.sdbTextureId = key.sdbTextureId;
+  r.srgb = key.srgb;
+  r.width = uint32_t(t.width);
+  r.height = uint32_t(t.height);
+  const size_t texels = size_t(t.width) * size_t(t.height);
+  r.rgba8.resize(texels * 4);
+  const int ch = t.channels;
+  for (size_t i = 0; i < texels; ++i) {
+    uint8_t v[4];
+    for (int c = 0; c < ch; ++c) {
+      const size_t at = (i * size_t(ch) + size_t(c)) * size_t(bytes);
+      if (bytes == 2) {
+        uint16_t x;
+        std::memcpy(&x, &t.pixels[at], 2);
+        v[c] = uint8_t((uint32_t(x) * 255u + 32767u) / 65535u);
+      } else {
+        v[c] = t.pixels[at];
+      }
+    }
+    uint8_t* out = &r.rgba8[4 * i];
+    if (ch <= 2) {  // grey, grey + alpha
+      out[0] = out[1] = out[2] = v[0];
+      out[3] = ch == 2 ? v[1] : 255;
+    } else {
+      out[0] = v[0];
+      out[1] = v[1];
+      out[2] = v[2];
+      out[3] = ch == 4 ? v[3] : 255;
+    }
+  }
+  return r;
+}
+
+// Which per-vertex attributes a mesh with material `m` needs (RasterRdb::uv0 … tangents).
+struct AttributeNeeds {
+  bool uv[2] = {false, false};
+  bool tangents = false;
+  int tangentSet = 0;  // the normal map's UV set
+  bool colors = false;
+};
+
+AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
+  AttributeNeeds n;
+  if (!readsTextures(m)) return n;
+  for (const sdb::TextureRef* ref : {&m.diffuseTexture, &m.emissionTexture, &m.bumpTexture}) {
+    if (*ref) n.uv[std::clamp(ref->texCoord, 0, 1)] = true;
+  }
+  if (m.bumpTexture) {
+    n.tangents = true;
+    n.tangentSet = std::clamp(m.bumpTexture.texCoord, 0, 1);
+  }
+  n.colors = !mesh.colors.empty();
+  return n;
+}
+
+// Any unit vector perpendicular to unit `n`.
+vec3 perpendicular(const vec3& n) {
+  const vec3 a = std::abs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+  return glm::normalize(glm::cross(n, a));
+}
+
+// The world tangent frame of a normal-mapped mesh's vertices (RasterRdb::tangents): the file's, placed, or
+// generated from UV set `uv` (Lengyel's method, see raster_rdb.h).
+std::vector<vec4> placedTangents(const sdb::Mesh& mesh, const PlacedMesh& placed, const mat4& worldFromLocal,
+                                 const std::vector<vec2>& uv) {
+  const size_t n = mesh.vertexCount();
+  std::vector<vec4> out(n);
+  if (!mesh.tangents.empty()) {
+    const glm::dmat3 linear(worldFromLocal);
+    const float handedness = glm::determinant(linear) < 0.0 ? -1.0f : 1.0f;
+    for (size_t i = 0; i < n; ++i) {
+      const vec3 normal = placed.normals[i];
+      const dvec3 t = linear * dvec3(vec3(mesh.tangents[i]));
+      const std::optional<vec3> u = unitOrNone(t - glm::dot(t, dvec3(normal)) * dvec3(normal));
+      out[i] = vec4(u.value_or(perpendicular(normal)), (mesh.tangents[i].w < 0.0f ? -1.0f : 1.0f) * handedness);
+    }
+    return out;
+  }
+  std::vector<dvec3> dpdu(n, dvec3(0.0)), dpdup(n, dvec3(0.0));  // ∂p/∂u and ∂p/∂(−v) sums
+  if (uv.size() == n) {
+    for (size_t t = 0; t + 2 < placed.indices.size(); t += 3) {
+      const uint32_t* v = &placed.indices[t];
+      const dvec3 p0(placed.positionsM[v[0]]);
+      const dvec3 e1 = dvec3(placed.positionsM[v[1]]) - p0, e2 = dvec3(placed.positionsM[v[2]]) - p0;
+      // Texture-space edges with the image's up (−v) as the second axis.
+      const double du1 = double(uv[v[1]].x) - uv[v[0]].x, dv1 = -(double(uv[v[1]].y) - uv[v[0]].y);
+      const double du2 = double(uv[v[2]].x) - uv[v[0]].x, dv2 = -(double(uv[v[2]].y) - uv[v[0]].y);
+      const double det = du1 * dv2 - du2 * dv1;
+      if (!(std::abs(det) > 1e-20) || !std::isfinite(det)) continue;  // no UV area
+      const dvec3 su = (e1 * dv2 - e2 * dv1) / det, sv = (e2 * du1 - e1 * du2) / det;
+      for (int k = 0; k < 3; ++k) {
+        dpdu[v[k]] += su;
+        dpdup[v[k]] += sv;
+      }
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const dvec3 normal(placed.normals[i]);
+    const std::optional<vec3> u = unitOrNone(dpdu[i] - glm::dot(dpdu[i], normal) * normal);
+    const vec3 t = u.value_or(perpendicular(placed.normals[i]));
+    const float w = glm::dot(glm::cross(normal, dvec3(t)), dpdup[i]) < 0.0 ? -1.0f : 1.0f;
+    out[i] = vec4(t, w);
+  }
+  return out;
 }
 
 // Splits the vertices of light-textured mesh `rm` (its SDB vertices and kept triangles already in `rdb`)
@@ -108,10 +309,20 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
   rdb.backLux.clear();
   rdb.lightMapUv.clear();
   rdb.lightTextures.clear();
+  rdb.uv0.clear();
+  rdb.uv1.clear();
+  rdb.colors.clear();
+  rdb.tangents.clear();
   rdb.boundsM = Bounds3{};
   std::vector<const MeshLightMap*> maps;
   std::vector<std::vector<uint32_t>> copySource;  // per mesh: the source (SDB) vertex of each seam copy
   std::vector<std::vector<vec2>> meshUv;          // per mesh: light-map UV per vertex, or empty
+  // Per mesh: its SDB vertices' texture attributes where it needs them, else empty.
+  struct MeshAttributes {
+    std::vector<vec2> uv0, uv1;
+    std::vector<vec4> colors, tangents;
+  };
+  std::vector<MeshAttributes> attributes;
   scene.forEachNode([&](sdb::NodeId nodeId, const mat4& worldFromLocal) {
     for (sdb::MeshId meshId : scene.node(nodeId).meshes) {
       const sdb::Mesh& mesh = scene.mesh(meshId);
@@ -151,12 +362,46 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
                                      map->lightTexture->frontLux,
                                      mesh.twoSided ? map->lightTexture->backLux : std::vector<Rgb>{}});
       }
+      const AttributeNeeds needs = attributeNeeds(scene.material(mesh.material), mesh);
+      MeshAttributes a;
+      const std::vector<vec2>* sourceUv[2] = {&mesh.uv0, &mesh.uv1};
+      std::vector<vec2>* uvOut[2] = {&a.uv0, &a.uv1};
+      for (int set = 0; set < 2; ++set) {
+        if (!needs.uv[set]) continue;
+        *uvOut[set] = sourceUv[set]->size() == mesh.vertexCount() ? *sourceUv[set]
+                                                                 : std::vector<vec2>(mesh.vertexCount(), vec2(0.0f));
+      }
+      if (needs.colors) {
+        a.colors = mesh.colors;
+        rm.hasColors = true;
+      }
+      if (needs.tangents) a.tangents = placedTangents(mesh, placed, worldFromLocal, *sourceUv[needs.tangentSet]);
+      attributes.push_back(std::move(a));
       maps.push_back(map);
       copySource.push_back(std::move(copies));
       meshUv.push_back(std::move(uv));
       rdb.meshes.push_back(rm);
     }
   });
+  // The texture attributes in flat arrays, where some mesh has them; seam copies take their source's.
+  const auto flatten = [&](auto& out, auto member, const auto& fill) {
+    const bool any = std::any_of(attributes.begin(), attributes.end(),
+                                 [&](const MeshAttributes& a) { return !(a.*member).empty(); });
+    if (!any) return;
+    out.assign(rdb.positionsM.size(), fill);
+    for (size_t i = 0; i < attributes.size(); ++i) {
+      const auto& values = attributes[i].*member;
+      if (values.empty()) continue;
+      const RasterMesh& rm = rdb.meshes[i];
+      std::copy(values.begin(), values.end(), out.begin() + rm.firstVertex);
+      for (size_t k = 0; k < copySource[i].size(); ++k)
+        out[rm.firstVertex + values.size() + k] = values[copySource[i][k]];
+    }
+  };
+  flatten(rdb.uv0, &MeshAttributes::uv0, vec2(0.0f));
+  flatten(rdb.uv1, &MeshAttributes::uv1, vec2(0.0f));
+  flatten(rdb.colors, &MeshAttributes::colors, vec4(1.0f));
+  flatten(rdb.tangents, &MeshAttributes::tangents, vec4(1.0f, 0.0f, 0.0f, 1.0f));
   const bool anyMap =
       std::any_of(maps.begin(), maps.end(), [](const MeshLightMap* m) { return m != nullptr; });
   bool anyBack = false;
@@ -246,17 +491,37 @@ void buildCornerFactors(RasterRdb& rdb) {
   }
 }
 
-// Material table: index 0 the default material, then the meshes' materials in first-use order.
-void buildMaterials(RasterRdb& rdb, const sdb::Scene& scene) {
+// Material table: index 0 the default material, then the meshes' materials in first-use order. Returns the
+// texture table's keys in the order the materials first use them.
+std::vector<TextureKey> buildMaterials(RasterRdb& rdb, const sdb::Scene& scene) {
+  TextureTable table;
   rdb.materials.clear();
-  rdb.materials.push_back(lowerRasterMaterial(scene.material(sdb::MaterialId{}), 0));
+  rdb.materials.push_back(lowerRasterMaterial(scene.material(sdb::MaterialId{}), 0, table));
   std::map<uint32_t, uint32_t> index{{0u, 0u}};
   for (RasterMesh& rm : rdb.meshes) {
     const sdb::MaterialId id = scene.mesh(sdb::MeshId{rm.sdbMeshId}).material;
     const auto [it, added] = index.try_emplace(id.value, uint32_t(rdb.materials.size()));
-    if (added) rdb.materials.push_back(lowerRasterMaterial(scene.material(id), id.value));
+    if (added) rdb.materials.push_back(lowerRasterMaterial(scene.material(id), id.value, table));
     rm.material = it->second;
   }
+  return table.keys;
+}
+
+void buildTextures(RasterRdb& rdb, const sdb::Scene& scene, const std::vector<TextureKey>& keys) {
+  rdb.textures.clear();
+  for (const TextureKey& k : keys) rdb.textures.push_back(lowerTexture(scene, k));
+}
+
+std::vector<TextureKey> textureKeys(const RasterRdb& rdb) {
+  std::vector<TextureKey> keys;
+  for (const RasterTexture& t : rdb.textures) keys.push_back({t.sdbTextureId, t.srgb});
+  return keys;
+}
+
+bool anyAlphaOrTexture(const RasterRdb& rdb) {
+  return !rdb.textures.empty() || std::any_of(rdb.materials.begin(), rdb.materials.end(), [](const RasterMaterial& m) {
+           return m.alphaMode != RasterAlphaMode::kOpaque;
+         });
 }
 
 void buildLights(RasterRdb& rdb, const sdb::Scene& scene) {
@@ -455,6 +720,18 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   rdb.variants.glass = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
     return maxComponent(rdb.materials[m.material].transmission) > 0.0f;
   });
+  RasterVariants& v = rdb.variants;
+  v.textures = v.normalMaps = v.uv1 = v.vertexColors = v.alphaMask = v.alphaBlend = false;
+  for (const RasterMesh& mesh : rdb.meshes) {
+    const RasterMaterial& m = rdb.materials[mesh.material];
+    v.textures |= m.hasTexture();
+    v.normalMaps |= bool(m.normalTexture);
+    for (const RasterTextureRef* t : {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture})
+      v.uv1 |= bool(*t) && t->texCoord == 1;
+    v.vertexColors |= mesh.hasColors;
+    v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;
+    v.alphaBlend |= m.alphaMode == RasterAlphaMode::kBlend;
+  }
 }
 
 void checkOptions(const RasterBuildOptions& o) {
@@ -471,7 +748,7 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
   RasterRdb rdb;
   buildGeometry(rdb, scene, lightMaps);
   buildCornerFactors(rdb);
-  buildMaterials(rdb, scene);
+  buildTextures(rdb, scene, buildMaterials(rdb, scene));
   buildLights(rdb, scene);
   buildSky(rdb, scene, options);
   buildAmbient(rdb);
@@ -512,22 +789,34 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
       case sdb::EntityType::kSky:
         r.sky = true;
         break;
-      case sdb::EntityType::kTexture:  // the engine shades with material colours only
+      case sdb::EntityType::kTexture:  // other pixels: the texture table (an added one is not used yet)
+        if (c.kind != sdb::ChangeKind::kAdded) r.geometry = true;
+        break;
       case sdb::EntityType::kBake:
         break;
     }
   }
-  if (r.geometry) {
+  const auto rebuild = [&] {
     rdb = buildRasterRdb(scene, lightMaps, options);
     return RasterRdbChanges{true, true, {}, true, true, true, true};
-  }
+  };
+  if (r.geometry) return rebuild();
   if (r.materials) {
-    buildMaterials(rdb, scene);
+    // An assignment may change the textures, attributes and draws the scene needs: rebuilt wherever
+    // textures or coverage are involved before or after.
+    const bool before = anyAlphaOrTexture(rdb);
+    const std::vector<TextureKey> keys = buildMaterials(rdb, scene);
+    if (before || !keys.empty() || anyAlphaOrTexture(rdb)) return rebuild();
   } else {
+    // The texture table in order, for the edited blocks to find their textures in (lookup only).
+    TextureTable table{textureKeys(rdb), false, false};
     for (uint32_t id : editedMaterials) {
       for (uint32_t i = 0; i < rdb.materials.size(); ++i) {
         if (rdb.materials[i].sdbMaterialId != id) continue;
-        rdb.materials[i] = lowerRasterMaterial(scene.material(sdb::MaterialId{id}), id);
+        const RasterMaterial block = lowerRasterMaterial(scene.material(sdb::MaterialId{id}), id, table);
+        // Other textures, UV sets or alpha mode: other tables, attributes and draws.
+        if (table.missing || !sameTextureLayout(block, rdb.materials[i])) return rebuild();
+        rdb.materials[i] = block;
         r.materialBlocks.push_back(i);
       }
     }

@@ -24,6 +24,38 @@ struct ChangeSet;
 
 namespace fly::rdb {
 
+// A material's image texture as the GPU takes it: RGBA8, row-major from the top row (glTF's v = 0 is the
+// top row and GL's t = 0 its first row, so uv samples it as given). 1- and 2-channel sources are grey (and
+// alpha), 3-channel ones opaque; 16-bit channels are rounded to 8 bits (v₈ = round(v₁₆ · 255 / 65535)).
+struct RasterTexture {
+  uint32_t sdbTextureId = 0;
+  // sRGB-encoded colour (base colour, emission): the GPU decodes it to linear when it samples; otherwise
+  // linear data (normal maps). One SDB texture used both ways appears twice.
+  bool srgb = false;
+  uint32_t width = 0, height = 0;  // texels, ≥ 1
+  std::vector<uint8_t> rgba8;      // 4 bytes a texel
+
+  bool operator==(const RasterTexture&) const = default;
+};
+
+// A material's use of a RasterTexture.
+struct RasterTextureRef {
+  static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+  uint32_t texture = kNone;  // index into RasterRdb::textures, or kNone
+  uint32_t texCoord = 0;     // which UV set: 0 = RasterRdb::uv0, 1 = RasterRdb::uv1
+  // KHR_texture_transform (sdb::UvTransform) as the rows of the affine map uv' = (dot(uvRow0.xy, uv) +
+  // uvRow0.z, dot(uvRow1.xy, uv) + uvRow1.z) = T(offset) · R(rotation) · S(scale) · uv, with the
+  // extension's R = [cos r, sin r; −sin r, cos r] (counter-clockwise in UV space, whose v points down).
+  vec3 uvRow0{1.0f, 0.0f, 0.0f};
+  vec3 uvRow1{0.0f, 1.0f, 0.0f};
+
+  explicit operator bool() const { return texture != kNone; }
+  bool operator==(const RasterTextureRef&) const = default;
+};
+
+// How a material's coverage is used (sdb::AlphaMode, glTF 2.0 §3.9.4).
+enum class RasterAlphaMode : uint32_t { kOpaque = 0, kMask = 1, kBlend = 2 };
+
 // A material block: what the three modes shade with.
 struct RasterMaterial {
   Rgb diffuse{0.8f};   // Lambertian albedo after the energy rule (sdb::Material::effective()), [0,1]
@@ -39,7 +71,23 @@ struct RasterMaterial {
   Rgb transmission{0.0f};  // transmissionColor, [0,1]
   Rgb reflection{0.0f};    // reflectionColor, [0,1]
   float fresnelF0 = -1.0f;
+  // Textures (each optional). The base colour's texel (sRGB-decoded) times COLOR_0 multiplies `diffuse` —
+  // the energy rule is linear in the diffuse input, so this is the rule applied per texel
+  // (sdb::applyEnergyRule) — and its alpha the coverage; the emission texel multiplies emissionCdM2; the
+  // normal map (glTF normalTexture: tangent space, +Y towards the image's top) bends the normal of the Phong
+  // and sun terms, its x and y scaled by normalScale.
+  RasterTextureRef baseColorTexture;
+  RasterTextureRef emissionTexture;
+  RasterTextureRef normalTexture;
+  float normalScale = 1.0f;  // [0, ∞)
+  // Coverage = opacity × base colour texel alpha × COLOR_0 alpha, used as alphaMode says: kMask covers where
+  // coverage ≥ alphaCutoff, kBlend covers the fraction `coverage` (what lies behind shows through the rest).
+  RasterAlphaMode alphaMode = RasterAlphaMode::kOpaque;
+  float alphaCutoff = 0.5f;  // [0, 1]
+  float opacity = 1.0f;      // [0, 1]
   uint32_t sdbMaterialId = 0;
+
+  bool hasTexture() const { return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture); }
 
   bool operator==(const RasterMaterial&) const = default;
 };
@@ -58,6 +106,7 @@ struct RasterMesh {
   bool hasLightMap = false;  // RasterRdb::frontLux (and backLux when two-sided) hold this mesh's values
   static constexpr uint32_t kNoLightTexture = std::numeric_limits<uint32_t>::max();
   uint32_t lightTexture = kNoLightTexture;  // index into RasterRdb::lightTextures, or none
+  bool hasColors = false;  // RasterRdb::colors holds this mesh's COLOR_0 (else it reads (1, 1, 1, 1) there)
 
   bool operator==(const RasterMesh&) const = default;
 };
@@ -123,6 +172,13 @@ struct RasterVariants {
   bool sun = false;          // a sun disc (sunlight mode) and the sun as a directional light (both modes)
   bool goniometric = false;  // goniometric lights in the simple mode's Phong
   bool glass = false;        // a mesh of clear glass: a second pass shows what lies behind it
+  // Surfaces shaded per fragment (textures, COLOR_0, alpha coverage; RasterRdb::shadedPerFragment):
+  bool textures = false;      // some material samples a texture (RasterRdb::textures is not empty)
+  bool normalMaps = false;    // some material has a normal map: RasterRdb::tangents
+  bool uv1 = false;           // some texture is read with the second UV set: RasterRdb::uv1
+  bool vertexColors = false;  // some mesh has COLOR_0: RasterRdb::colors
+  bool alphaMask = false;     // some material is a cut-out (kMask)
+  bool alphaBlend = false;    // some material is blended (kBlend): drawn after the rest, back to front
 
   bool operator==(const RasterVariants&) const = default;
 };
@@ -176,6 +232,22 @@ struct RasterRdb {
   std::vector<vec2> lightMapUv;
   std::vector<RasterLightTexture> lightTextures;  // in mesh order
 
+  // Per-vertex attributes of textured and COLOR_0 surfaces, aligned with positionsM, each empty unless some
+  // mesh needs it (a mesh that does not reads zeros, or white for colors): UV sets 0 and 1 (the source's, in
+  // texture space; a mesh without the set its material reads gets zeros); COLOR_0, linear RGBA; and for
+  // normal-mapped meshes the world tangent frame: xyz the unit tangent (towards +u), w = ±1 with bitangent =
+  // w · cross(normal, tangent) (towards −v, the image's top), as glTF. Tangents come from the file when it
+  // has them (placed with worldFromLocal, w times the sign of its determinant), else they are generated per
+  // vertex from the normal map's UV set (Lengyel 2001, "Computing Tangent Space Basis Vectors": each
+  // triangle's ∂p/∂u and ∂p/∂v summed over the triangles at a vertex, made orthogonal to the normal; w from
+  // the side ∂p/∂(−v) lies on). Seam copies of light-textured meshes carry their source vertex's values.
+  std::vector<vec2> uv0;
+  std::vector<vec2> uv1;
+  std::vector<vec4> colors;
+  std::vector<vec4> tangents;
+  // The materials' textures, in the materials' first-use order (base colour, emission, normal map).
+  std::vector<RasterTexture> textures;
+
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;
   DirectionalAmbient ambient;          // simple mode (the daylight and the scene's lights)
@@ -188,13 +260,18 @@ struct RasterRdb {
   RasterVariants variants;
 
   size_t triangleCount() const { return indices.size() / 3; }
+  // Whether the engine shades `mesh` per fragment: its material has a texture or alpha coverage, or the mesh
+  // has COLOR_0; clear glass stays in its own pass, shaded per vertex without textures.
+  bool shadedPerFragment(const RasterMesh& mesh) const;
   bool operator==(const RasterRdb&) const;
 };
 
 // What RasterRdb::update re-made, so the engine re-uploads only that.
 struct RasterRdbChanges {
   bool geometry = false;   // vertices, indices, meshes, light maps, corner factors: everything below too
-  bool materials = false;  // the whole material table (an assignment changed the table)
+  // The whole material table (an assignment changed the table). Changes that alter which textures or
+  // per-vertex attributes the scene needs, or a material's alpha mode, rebuild everything (geometry).
+  bool materials = false;
   std::vector<uint32_t> materialBlocks;  // else: these blocks only
   bool lights = false;                   // lights, goniometric tables
   bool ambient = false;                  // the directional ambient levels
@@ -219,7 +296,8 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
                          const RasterBuildOptions& options = {});
 
 // Brings `rdb` (built from the scene before `changes`) up to date with `scene`, re-making only what changed:
-// a material edit re-makes that block (and the ambient level), a time, site or sky change re-makes the sky
+// a material edit re-makes that block (and the ambient level) unless it changes which textures, UV sets or
+// alpha mode the material uses (then, as for an edited texture, everything is rebuilt), a time, site or sky change re-makes the sky
 // and daylight ambient, a light edit the lights and ambient, a camera edit the cameras; any change of
 // geometry, hierarchy or attachments rebuilds. The result equals buildRasterRdb(scene, lightMaps, options).
 RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const sdb::ChangeSet& changes,

@@ -13,9 +13,49 @@
 
 namespace fly::rdb {
 
-// A material as the integrator uses it: the realistic material's energy rule already applied.
+// A material texture decoded once for the baker: 8 bits per channel, texels row-major from the top row of the
+// image (v = 0 at the top, as glTF), channels interleaved. 16-bit sources are rounded to 8 bits (an error of
+// at most 1/510 of full scale, far below a bake's Monte-Carlo noise). Colour slots (base colour, emission)
+// are sRGB-encoded and decoded per texel at lookup by a 256-entry table, before bilinear filtering.
+//
+// No mip-maps: a baker's lookup is a point sample of the material at a ray hit, averaged over thousands of
+// paths per light-map point, so a texture's detail is integrated by the Monte-Carlo estimate itself; a
+// filtered (mip-mapped) lookup would average over a ray footprint that the baker has no use for and would
+// bias the per-point values that the alpha cut-out test and the energy rule need.
+struct TraceTexture {
+  uint32_t width = 0;           // texels, ≥ 1
+  uint32_t height = 0;          // texels, ≥ 1
+  uint32_t channels = 0;        // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+  std::vector<uint8_t> texels;  // width · height · channels bytes
+};
+
+// How texture coordinates outside [0, 1] map into the image (glTF sampler wrapS / wrapT).
+enum class TraceWrap : uint8_t { kRepeat, kClampToEdge, kMirroredRepeat };
+
+// A material's use of a texture: which one, which UV set, the KHR_texture_transform and the wrap modes.
+// The transform uv' = offset + R(rotation) (scale ⊙ uv), R(θ) = [cos θ, sin θ; −sin θ, cos θ] (the
+// extension's T · R · S), stored as its columns: uv' = uvFromU · u + uvFromV · v + uvOffset.
+struct TraceTextureSlot {
+  static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+  uint32_t texture = kNone;  // index into TraceRdb::textures, or none
+  uint32_t texCoord = 0;     // 0 = TraceRdb::uv0, 1 = TraceRdb::uv1
+  TraceWrap wrapS = TraceWrap::kRepeat;
+  TraceWrap wrapT = TraceWrap::kRepeat;
+  vec2 uvFromU{1.0f, 0.0f};
+  vec2 uvFromV{0.0f, 1.0f};
+  vec2 uvOffset{0.0f};
+
+  explicit operator bool() const { return texture != kNone; }
+};
+
+// glTF alpha coverage (sdb::AlphaMode): opaque, cut out below alphaCutoff, or partly covered.
+enum class TraceAlpha : uint8_t { kOpaque, kMask, kBlend };
+
+// A material as the integrator uses it: the realistic material's energy rule already applied to its
+// constants; textured materials apply it per point to the textured colours (raytracer/surface_point.h).
 struct TraceMaterial {
   Rgb diffuse{0.8f};        // Lambertian albedo after the energy rule (at normal incidence), [0,1]
+  Rgb diffuseColor{0.8f};   // the diffuse colour before the energy rule, [0,1] (sdb::Material::diffuseColor)
   Rgb reflection{0.0f};     // reflectionColor; with `fresnel` multiplied by Schlick(F0(ior)) at the hit angle
   Rgb transmission{0.0f};   // transmissionColor (before the energy rule's (1 − reflect) factor)
   bool fresnel = true;      // Fresnel (Schlick) or uniform reflection
@@ -25,6 +65,25 @@ struct TraceMaterial {
   Rgb emissionCdM2{0.0f};   // emitted luminance, cd/m²
   bool doubleSided = false; // emits from both faces (glTF doubleSided)
   uint32_t sdbMaterialId = 0;
+
+  // Textures; each multiplies the constant above it (sdb::Material).
+  TraceTextureSlot diffuseTexture;     // sRGB colour × diffuseColor; its alpha (2 or 4 channels) × coverage
+  TraceTextureSlot reflectionTexture;  // linear colour × reflection
+  TraceTextureSlot glossinessTexture;  // linear, first channel × reflectionGlossiness
+  TraceTextureSlot transmissionTexture;  // linear colour (grey: first channel) × transmission
+  TraceTextureSlot emissionTexture;      // sRGB colour × emissionCdM2
+  TraceTextureSlot normalTexture;        // tangent-space normal map (glTF normalTexture), linear
+  float normalScale = 1.0f;              // scales the map's x and y (glTF normalTexture.scale), ≥ 0
+
+  // Coverage = opacity × the diffuse texture's alpha × COLOR_0's alpha, used as `alpha` says.
+  TraceAlpha alpha = TraceAlpha::kOpaque;
+  float opacity = 1.0f;      // [0,1]
+  float alphaCutoff = 0.5f;  // kMask: covered where coverage ≥ alphaCutoff, [0,1]
+
+  bool hasTextures() const {
+    return bool(diffuseTexture) || bool(reflectionTexture) || bool(glossinessTexture) ||
+           bool(transmissionTexture) || bool(emissionTexture) || bool(normalTexture);
+  }
 };
 
 // A placed mesh: a contiguous range of triangles and vertices in the flat arrays.
@@ -102,6 +161,16 @@ struct TraceRdb {
   // Geometry: world positions and unit shading normals per vertex, 3 vertex indices per triangle.
   std::vector<vec3> positionsM;
   std::vector<vec3> normals;
+  // Per-vertex attributes that materials read, each empty when no material needs it (otherwise one per
+  // vertex, with the default where a mesh has none): texture coordinates of the sets that texture slots use
+  // (default 0, 0); COLOR_0, linear RGBA, when some mesh has it (default 1); unit world tangents (w = ±1, the
+  // bitangent's sign: B = w · N × T) when some material has a normal map, from the file or else generated
+  // per vertex from the UV derivatives of its triangles (rdb/trace_rdb_build.h).
+  std::vector<vec2> uv0;
+  std::vector<vec2> uv1;
+  std::vector<vec4> colors;
+  std::vector<vec4> tangents;
+  std::vector<TraceTexture> textures;  // the textures that materials use, each once
   std::vector<uint32_t> indices;
   std::vector<uint32_t> triangleMaterial;  // index into materials, one per triangle
   std::vector<TraceMaterial> materials;

@@ -1,6 +1,7 @@
 #include "rdb/trace_rdb_build.h"
 
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -27,7 +28,119 @@ TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   t.emissionCdM2 = m.emissionLuminance;
   t.doubleSided = m.doubleSided;
   t.sdbMaterialId = sdbMaterialId;
+  t.diffuseColor = glm::clamp(m.diffuseColor, 0.0f, 1.0f);
+  t.normalScale = m.bumpScale;
+  switch (m.alphaMode) {
+    case sdb::AlphaMode::kOpaque:
+      t.alpha = TraceAlpha::kOpaque;
+      break;
+    case sdb::AlphaMode::kMask:
+      t.alpha = TraceAlpha::kMask;
+      break;
+    case sdb::AlphaMode::kBlend:
+      t.alpha = TraceAlpha::kBlend;
+      break;
+  }
+  t.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
+  t.alphaCutoff = m.alphaCutoff;
   return t;
+}
+
+TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureIndex) {
+  TraceTextureSlot slot;
+  slot.texture = textureIndex;
+  slot.texCoord = ref.texCoord == 1 ? 1 : 0;
+  auto wrap = [](sdb::WrapMode w) {
+    switch (w) {
+      case sdb::WrapMode::kClampToEdge:
+        return TraceWrap::kClampToEdge;
+      case sdb::WrapMode::kMirroredRepeat:
+        return TraceWrap::kMirroredRepeat;
+      case sdb::WrapMode::kRepeat:
+        break;
+    }
+    return TraceWrap::kRepeat;
+  };
+  slot.wrapS = wrap(ref.wrapS);
+  slot.wrapT = wrap(ref.wrapT);
+  // KHR_texture_transform: uv' = T · R · S · uv with R's columns (cos θ, −sin θ) and (sin θ, cos θ), which
+  // maps the extension's example (offset (0, 1), rotation π/2, scale 0.5) onto the image's lower-left
+  // quadrant.
+  const sdb::UvTransform& x = ref.transform;
+  const float c = std::cos(x.rotationRad);
+  const float s = std::sin(x.rotationRad);
+  slot.uvFromU = vec2(c, -s) * x.scale.x;
+  slot.uvFromV = vec2(s, c) * x.scale.y;
+  slot.uvOffset = x.offset;
+  return slot;
+}
+
+TraceTexture lowerTexture(const sdb::Texture& t) {
+  if (t.width <= 0 || t.height <= 0 || t.channels < 1 || t.channels > 4 ||
+      (t.bitsPerChannel != 8 && t.bitsPerChannel != 16) ||
+      t.pixels.size() !=
+          size_t(t.width) * size_t(t.height) * size_t(t.channels) * size_t(t.bitsPerChannel / 8)) {
+    throw std::invalid_argument("texture \"" + t.name + "\" has inconsistent size, channels or pixel data");
+  }
+  TraceTexture out;
+  out.width = uint32_t(t.width);
+  out.height = uint32_t(t.height);
+  out.channels = uint32_t(t.channels);
+  const size_t values = size_t(t.width) * size_t(t.height) * size_t(t.channels);
+  if (t.bitsPerChannel == 8) {
+    out.texels = t.pixels;
+  } else {
+    out.texels.resize(values);
+    for (size_t i = 0; i < values; ++i) {
+      uint16_t v;
+      std::memcpy(&v, t.pixels.data() + 2 * i, 2);
+      out.texels[i] = uint8_t((uint32_t(v) * 255u + 32767u) / 65535u);
+    }
+  }
+  return out;
+}
+
+std::vector<vec4> generateTangents(std::span<const vec3> positions, std::span<const vec3> normals,
+                                   std::span<const vec2> uv, std::span<const uint32_t> indices) {
+  const size_t n = positions.size();
+  std::vector<dvec3> tangentSum(n, dvec3(0.0)), bitangentSum(n, dvec3(0.0));
+  if (uv.size() == n) {
+    for (size_t k = 0; k + 2 < indices.size(); k += 3) {
+      const uint32_t i0 = indices[k], i1 = indices[k + 1], i2 = indices[k + 2];
+      const dvec3 e1 = dvec3(positions[i1]) - dvec3(positions[i0]);
+      const dvec3 e2 = dvec3(positions[i2]) - dvec3(positions[i0]);
+      const dvec2 d1 = dvec2(uv[i1]) - dvec2(uv[i0]);
+      const dvec2 d2 = dvec2(uv[i2]) - dvec2(uv[i0]);
+      // ∂p/∂u and ∂p/∂v of the triangle (Lengyel, "Mathematics for 3D Game Programming and Computer
+      // Graphics", 3rd ed., §7.8.3), weighted by the triangle's area: e = Δu · T + Δv · B.
+      const double det = d1.x * d2.y - d2.x * d1.y;
+      if (!(std::abs(det) > 0.0) || !std::isfinite(det)) continue;
+      const double area = 0.5 * glm::length(glm::cross(e1, e2));
+      const dvec3 t = (e1 * d2.y - e2 * d1.y) / det;
+      const dvec3 b = (e2 * d1.x - e1 * d2.x) / det;
+      const double tl = glm::length(t), bl = glm::length(b);
+      if (!(tl > 0.0) || !(bl > 0.0) || !std::isfinite(tl) || !std::isfinite(bl)) continue;
+      for (uint32_t i : {i0, i1, i2}) {
+        tangentSum[i] += area * t / tl;
+        bitangentSum[i] += area * b / bl;
+      }
+    }
+  }
+  std::vector<vec4> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    const dvec3 nn(normals[i]);
+    // Gram–Schmidt against the normal; any perpendicular where the UVs give no direction.
+    dvec3 t = tangentSum[i] - glm::dot(tangentSum[i], nn) * nn;
+    std::optional<vec3> unit = unitOrNone(t);
+    if (!unit) {
+      const dvec3 helper = std::abs(nn.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+      unit = unitOrNone(glm::cross(helper, nn));
+    }
+    const vec3 tangent = unit.value_or(vec3(1, 0, 0));
+    const float w = glm::dot(glm::cross(nn, dvec3(tangent)), bitangentSum[i]) < 0.0 ? -1.0f : 1.0f;
+    out[i] = vec4(tangent, w);
+  }
+  return out;
 }
 
 TraceGoniometricTable tabulateGoniometric(const sdb::IesProfile& profile, uint32_t gammaSteps, uint32_t cSteps) {
@@ -93,6 +206,7 @@ class Builder {
       for (sdb::MeshId mesh : node.meshes) addMesh(id, mesh, worldFromLocal);
       if (node.light) addLight(node, worldFromLocal);
     });
+    keepNeededAttributes();
     addDaylight();
     return std::move(rdb_);
   }
@@ -100,8 +214,36 @@ class Builder {
  private:
   uint32_t materialIndex(sdb::MaterialId id) {
     const auto [it, added] = materialIndex_.try_emplace(id.value, uint32_t(rdb_.materials.size()));
-    if (added) rdb_.materials.push_back(lowerMaterial(scene_.material(id), id.value));
+    if (added) rdb_.materials.push_back(lowerWithTextures(scene_.material(id), id.value));
     return it->second;
+  }
+
+  TraceMaterial lowerWithTextures(const sdb::Material& m, uint32_t sdbMaterialId) {
+    TraceMaterial t = lowerMaterial(m, sdbMaterialId);
+    auto slot = [&](const sdb::TextureRef& ref) {
+      if (!ref) return TraceTextureSlot{};
+      const auto [it, added] = textureIndex_.try_emplace(ref.texture.value, uint32_t(rdb_.textures.size()));
+      if (added) rdb_.textures.push_back(lowerTexture(scene_.texture(ref.texture)));
+      needUv_[ref.texCoord == 1 ? 1 : 0] = true;
+      return lowerTextureRef(ref, it->second);
+    };
+    t.diffuseTexture = slot(m.diffuseTexture);
+    t.reflectionTexture = slot(m.reflectionTexture);
+    t.glossinessTexture = slot(m.reflectionGlossinessTexture);
+    t.transmissionTexture = slot(m.transmissionTexture);
+    t.emissionTexture = slot(m.emissionTexture);
+    t.normalTexture = slot(m.bumpTexture);
+    return t;
+  }
+
+  // Drops the per-vertex attributes that no material reads (TraceRdb).
+  void keepNeededAttributes() {
+    bool tangents = false;
+    for (const TraceMaterial& m : rdb_.materials) tangents = tangents || bool(m.normalTexture);
+    if (!needUv_[0]) rdb_.uv0.clear();
+    if (!needUv_[1]) rdb_.uv1.clear();
+    if (!anyColors_) rdb_.colors.clear();
+    if (!tangents) rdb_.tangents.clear();
   }
 
   void addMesh(sdb::NodeId nodeId, sdb::MeshId meshId, const mat4& worldFromLocal) {
@@ -123,6 +265,49 @@ class Builder {
     }
     rdb_.normals.insert(rdb_.normals.end(), placed.normals.begin(), placed.normals.end());
     rdb_.skippedTriangles += placed.skippedTriangles;
+    // Per-vertex attributes for the materials (keepNeededAttributes drops the unused ones).
+    auto append = [](auto& to, const auto& from, size_t count, const auto& fallback) {
+      if (from.size() == count) {
+        to.insert(to.end(), from.begin(), from.end());
+      } else {
+        to.insert(to.end(), count, fallback);
+      }
+    };
+    append(rdb_.uv0, mesh.uv0, mesh.vertexCount(), vec2(0.0f));
+    append(rdb_.uv1, mesh.uv1, mesh.vertexCount(), vec2(0.0f));
+    append(rdb_.colors, mesh.colors, mesh.vertexCount(), vec4(1.0f));
+    anyColors_ = anyColors_ || !mesh.colors.empty();
+    const TraceMaterial& tmat = rdb_.materials[material];
+    if (tmat.normalTexture) {
+      std::vector<vec4> tangents;
+      if (mesh.tangents.size() == mesh.vertexCount()) {
+        // Tangents are directions: the linear part of worldFromLocal, and a mirroring transform flips the
+        // bitangent's sign.
+        const glm::dmat3 linear(worldFromLocal);
+        const double sign = glm::determinant(linear) < 0.0 ? -1.0 : 1.0;
+        for (size_t i = 0; i < mesh.vertexCount(); ++i) {
+          const dvec3 n(placed.normals[i]);
+          dvec3 t = linear * dvec3(vec3(mesh.tangents[i]));
+          t -= glm::dot(t, n) * n;
+          const std::optional<vec3> unit = unitOrNone(t);
+          tangents.push_back(unit ? vec4(*unit, float(sign) * (mesh.tangents[i].w < 0.0f ? -1.0f : 1.0f))
+                                  : vec4(0.0f));
+        }
+      }
+      const std::vector<vec4> generated =
+          generateTangents(placed.positionsM, placed.normals,
+                           tmat.normalTexture.texCoord == 1 ? mesh.uv1 : mesh.uv0, placed.indices);
+      if (tangents.empty()) {
+        tangents = generated;
+      } else {
+        for (size_t i = 0; i < tangents.size(); ++i) {
+          if (tangents[i] == vec4(0.0f)) tangents[i] = generated[i];  // a degenerate tangent in the file
+        }
+      }
+      rdb_.tangents.insert(rdb_.tangents.end(), tangents.begin(), tangents.end());
+    } else {
+      rdb_.tangents.insert(rdb_.tangents.end(), mesh.vertexCount(), vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    }
     for (size_t k = 0; k < placed.sdbTriangle.size(); ++k) {
       if (emissive) rdb_.emissiveTriangles.push_back(uint32_t(rdb_.triangleCount()));
       for (size_t c = 0; c < 3; ++c) rdb_.indices.push_back(tm.firstVertex + placed.indices[3 * k + c]);
@@ -263,6 +448,9 @@ class Builder {
   const TraceBuildOptions& options_;
   TraceRdb rdb_;
   std::map<uint32_t, uint32_t> materialIndex_;  // SDB material id → index into rdb_.materials
+  std::map<uint32_t, uint32_t> textureIndex_;   // SDB texture id → index into rdb_.textures
+  bool needUv_[2] = {false, false};             // some texture slot reads TEXCOORD_0 / TEXCOORD_1
+  bool anyColors_ = false;                      // some placed mesh has COLOR_0
 };
 
 }  // namespace

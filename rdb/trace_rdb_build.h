@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "rdb/trace_rdb.h"
 #include "sdb/ies.h"
@@ -55,8 +57,23 @@ struct TraceBuildOptions {
 // singular transform; std::invalid_argument for options out of range.
 TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options = {});
 
-// The TraceMaterial of an SDB material (its energy rule evaluated at normal incidence).
+// The TraceMaterial of an SDB material (its energy rule evaluated at normal incidence), without its texture
+// slots (buildTraceRdb fills them).
 TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId);
+
+// A texture slot for texture index textureIndex: the UV set, wrap modes and KHR_texture_transform of ref.
+TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureIndex);
+
+// An SDB texture as 8-bit texels (16-bit values rounded). std::invalid_argument when its sizes disagree.
+TraceTexture lowerTexture(const sdb::Texture& t);
+
+// Unit tangents per vertex for normal mapping when the file gives none: at each vertex the area-weighted sum
+// of its triangles' ∂p/∂u (from the UV derivatives), made perpendicular to the vertex normal, and w = ±1 the
+// sign that makes w · N × T point along the summed ∂p/∂v. This per-vertex method agrees with MikkTSpace
+// (which glTF names for files without tangents) on smooth, consistently mapped meshes; where the UVs give no
+// direction (no UVs, degenerate mapping) the tangent is any unit vector perpendicular to the normal.
+std::vector<vec4> generateTangents(std::span<const vec3> positions, std::span<const vec3> normals,
+                                   std::span<const vec2> uv, std::span<const uint32_t> indices);
 
 // The profile's luminous intensity on TraceGoniometricTable's grid. The light's frame (sdb/light.h) maps to the
 // profile's (sdb/ies.h, candelaTowards): its −Z is the photometric axis z (γ = 0), its +X the C = 0° plane x,

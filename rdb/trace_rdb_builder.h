@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "base/color.h"
 #include "base/math.h"
@@ -17,13 +19,20 @@ struct TraceRdbBuilder {
   uint32_t material(const Rgb& diffuse, const Rgb& emissionCdM2 = Rgb(0.0f)) {
     TraceMaterial m;
     m.diffuse = diffuse;
+    m.diffuseColor = diffuse;  // no reflection or transmission: the energy rule leaves it as it is
     m.emissionCdM2 = emissionCdM2;
     rdb.materials.push_back(m);
     return static_cast<uint32_t>(rdb.materials.size() - 1);
   }
-  // (n + 1)² shared vertices from origin along edgeU and edgeV, facing cross(edgeU, edgeV).
+  // A texture of width × height texels and `channels` channels (TraceTexture's layout); returns its index.
+  uint32_t texture(uint32_t width, uint32_t height, uint32_t channels, std::vector<uint8_t> texels) {
+    rdb.textures.push_back({width, height, channels, std::move(texels)});
+    return static_cast<uint32_t>(rdb.textures.size() - 1);
+  }
+  // (n + 1)² shared vertices from origin along edgeU and edgeV, facing cross(edgeU, edgeV), with texture
+  // coordinates uv0 = uvScale · (fraction along edgeU, fraction along edgeV).
   void grid(const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n, uint32_t mat,
-            bool twoSided = false) {
+            bool twoSided = false, float uvScale = 1.0f) {
     TraceMesh mesh;
     mesh.firstVertex = static_cast<uint32_t>(rdb.positionsM.size());
     mesh.firstTriangle = static_cast<uint32_t>(rdb.triangleCount());
@@ -34,6 +43,8 @@ struct TraceRdbBuilder {
         rdb.positionsM.push_back(origin + edgeU * (static_cast<float>(i) / static_cast<float>(n)) +
                                  edgeV * (static_cast<float>(j) / static_cast<float>(n)));
         rdb.normals.push_back(normal);
+        rdb.uv0.push_back(uvScale * vec2(static_cast<float>(i), static_cast<float>(j)) /
+                          static_cast<float>(n));
       }
     }
     auto at = [&](uint32_t i, uint32_t j) { return mesh.firstVertex + j * (n + 1) + i; };

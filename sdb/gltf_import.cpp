@@ -37,18 +37,29 @@
 //  - normalTexture → bumpTexture with bumpScale = normalTexture.scale.
 //  - occlusionTexture is ignored: the baker computes occlusion from the geometry.
 //  - doubleSided → Material::doubleSided and Mesh::twoSided.
+//  - KHR_materials_clearcoat → applyClearCoat and KHR_materials_sheen → applySheen (material_layers.h, where
+//    the approximations are stated); when the coat is the lobe, clearcoatTexture (red) → reflectionTexture and
+//    clearcoatRoughnessTexture (green) → reflectionGlossinessTexture.
 //  - A primitive without a material gets fly's default material (Material{}, a light grey paint, named
 //    "default") rather than glTF's default (§3.9.6: a white rough metal), which would act as a blurred mirror
 //    in a bake.
 // Sources: glTF 2.0 specification §3.9 "Materials" and Appendix B
 // (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html); the Khronos extension specifications
 // KHR_materials_transmission, KHR_materials_volume, KHR_materials_ior, KHR_materials_specular,
-// KHR_materials_emissive_strength, KHR_texture_transform and KHR_lights_punctual
-// (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Khronos).
+// KHR_materials_emissive_strength, KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_variants,
+// KHR_texture_transform, KHR_lights_punctual, KHR_draco_mesh_compression and KHR_texture_basisu
+// (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Khronos), EXT_meshopt_compression and
+// EXT_texture_webp (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Vendor).
 //
-// Textures (PNG or JPEG, glTF 2.0 §3.8.2) are decoded by tinygltf's stb_image loader into RGBA with 8 or 16
-// bits per channel. A single channel that a material parameter reads (roughness = green, transmission = red)
-// is copied into a one-channel (grey) texture of its own.
+// Textures are decoded by the installed ImageDecoder (setImageDecoder; the fly program's reads PNG, JPEG,
+// WebP, HDR, EXR and TIFF through OpenImageIO) or else by tinygltf's stb_image loader (PNG and JPEG, the formats
+// glTF 2.0 §3.8.2 allows), into RGBA with 8 or 16 bits per channel. A single channel that a material parameter
+// reads (roughness = green, transmission and clear coat = red) is copied into a one-channel (grey) texture of
+// its own.
+//
+// Import budget (GltfImportOptions::maxDecodedBytes, kMaxTextureDimension): every accessor, decoded meshopt
+// view and image is charged its decoded size from what the file declares (accessor counts, image headers)
+// before it is decoded, so a file that claims more fails with an InputError instead of an allocation.
 //
 // The import is all or nothing: everything is converted and checked first, then added to the Scene, so an
 // InputError leaves the scene as it was.
@@ -57,6 +68,9 @@
 #include <tiny_gltf.h>
 
 #include "sdb/gltf_files.h"
+#include "sdb/draco_decode.h"
+#include "sdb/material_layers.h"
+#include "sdb/meshopt_decode.h"
 
 #include <algorithm>
 #include <array>
@@ -72,12 +86,14 @@
 #include <numeric>
 #include <optional>
 #include <regex>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 
 #include "base/error.h"
 #include "base/file_io.h"
@@ -94,15 +110,59 @@ static_assert(std::endian::native == std::endian::little,
 
 // Extensions whose content the importer converts (see the comment block above and gltf_import.h).
 // KHR_mesh_quantization only widens the component types allowed for attributes, which readAccessor handles.
-constexpr std::array<std::string_view, 8> kSupportedExtensions = {
-    "KHR_lights_punctual",        "KHR_materials_emissive_strength",
-    "KHR_materials_ior",          "KHR_materials_specular",
-    "KHR_materials_transmission", "KHR_materials_volume",
-    "KHR_mesh_quantization",      "KHR_texture_transform"};
+// KHR_materials_variants: the default materials (those without a variant) are imported.
+constexpr std::array<std::string_view, 14> kSupportedExtensions = {
+    "EXT_meshopt_compression",         "KHR_draco_mesh_compression", "KHR_lights_punctual",
+    "KHR_materials_clearcoat",         "KHR_materials_emissive_strength",
+    "KHR_materials_ior",               "KHR_materials_sheen",        "KHR_materials_specular",
+    "KHR_materials_transmission",      "KHR_materials_variants",     "KHR_materials_volume",
+    "KHR_mesh_quantization",           "KHR_texture_transform",      "EXT_texture_webp"};
 
+const ImageDecoder& installedImageDecoder();
+
+// EXT_texture_webp needs an image decoder that reads WebP (the fly program installs one).
 bool isSupportedExtension(const std::string& name) {
+  if (name == "EXT_texture_webp" && !installedImageDecoder()) return false;
   return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), name) !=
          kSupportedExtensions.end();
+}
+
+// What fly does with extensions it does not convert, and what a user whose file requires one can do.
+struct UnsupportedExtension {
+  std::string_view name;
+  std::string_view ignored;  // what is lost when the file only uses it (a warning)
+  std::string_view hint;     // how to get a file fly reads when the file requires it
+};
+constexpr std::array<UnsupportedExtension, 9> kUnsupportedExtensions = {{
+    {"EXT_texture_webp", "its WebP textures are not decoded (no image decoder that reads WebP is installed); "
+                         "the fallback PNG or JPEG images are used where the file gives them",
+     "use the fly program, which decodes WebP through OpenImageIO, or convert the textures to PNG or JPEG"},
+    {"KHR_texture_basisu", "its KTX2 (Basis Universal) textures are not decoded; the fallback PNG or JPEG "
+                           "images are used where the file gives them",
+     "convert the KTX2 textures to PNG or JPEG (e.g. with KTX-Software's `ktx extract`) and refer to those"},
+    {"KHR_materials_unlit", "unlit materials are shaded as lit, with their base colour as the diffuse colour "
+                            "(fly computes physical light, and an unlit surface has none)",
+     "export the materials as ordinary metallic-roughness materials"},
+    {"KHR_materials_anisotropy", "the anisotropy of the reflection is ignored (the lobe is isotropic)",
+     "export the file without KHR_materials_anisotropy"},
+    {"KHR_materials_iridescence", "the thin-film iridescence is ignored", "export the file without it"},
+    {"KHR_materials_dispersion", "dispersion is ignored (one ior for all wavelengths)",
+     "export the file without it"},
+    {"KHR_materials_diffuse_transmission", "diffuse transmission is ignored (the surface is opaque there)",
+     "export the file without it"},
+    {"EXT_mesh_gpu_instancing", "the instances are not imported (only each node's own mesh)",
+     "export the file with instancing resolved into ordinary nodes (e.g. glTF-Transform's `flatten`/"
+     "`uninstance`)"},
+    {"KHR_materials_pbrSpecularGlossiness", "specular-glossiness materials are read as their fallback "
+                                            "metallic-roughness ones",
+     "convert the materials to metallic-roughness (e.g. glTF-Transform's `metalrough`)"},
+}};
+
+const UnsupportedExtension* findUnsupported(const std::string& name) {
+  for (const UnsupportedExtension& e : kUnsupportedExtensions) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
 }
 
 const char* const kHintInvalid =
@@ -163,6 +223,82 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
   return true;
 }
 
+// Image file formats, told by their signatures.
+enum class ImageFormat { kPng, kJpeg, kWebp, kExr, kHdr, kTiff, kKtx2, kDds, kUnknown };
+
+ImageFormat imageFormat(std::span<const uint8_t> b) {
+  auto starts = [&](std::initializer_list<uint8_t> sig, size_t at = 0) {
+    return b.size() >= at + sig.size() && std::equal(sig.begin(), sig.end(), b.begin() + std::ptrdiff_t(at));
+  };
+  if (starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return ImageFormat::kPng;
+  if (starts({0xff, 0xd8, 0xff})) return ImageFormat::kJpeg;
+  if (starts({'R', 'I', 'F', 'F'}) && starts({'W', 'E', 'B', 'P'}, 8)) return ImageFormat::kWebp;
+  if (starts({0x76, 0x2f, 0x31, 0x01})) return ImageFormat::kExr;
+  if (starts({'#', '?'})) return ImageFormat::kHdr;
+  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42})) return ImageFormat::kTiff;
+  if (starts({0xab, 'K', 'T', 'X', ' ', '2', '0', 0xbb, '\r', '\n', 0x1a, '\n'})) return ImageFormat::kKtx2;
+  if (starts({'D', 'D', 'S', ' '})) return ImageFormat::kDds;
+  return ImageFormat::kUnknown;
+}
+
+const char* formatName(ImageFormat f) {
+  switch (f) {
+    case ImageFormat::kPng: return "a PNG image";
+    case ImageFormat::kJpeg: return "a JPEG image";
+    case ImageFormat::kWebp: return "a WebP image";
+    case ImageFormat::kExr: return "an OpenEXR image";
+    case ImageFormat::kHdr: return "a Radiance HDR image";
+    case ImageFormat::kTiff: return "a TIFF image";
+    case ImageFormat::kKtx2: return "a KTX2 texture";
+    case ImageFormat::kDds: return "a DDS texture";
+    case ImageFormat::kUnknown: break;
+  }
+  return "not an image format fly knows";
+}
+
+struct ImageSize {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  int bitsPerChannel = 8;  // as decoded: 16 for 16-bit PNGs, 8 otherwise
+};
+
+uint32_t be16(const uint8_t* p) { return uint32_t(p[0]) << 8 | p[1]; }
+uint32_t be32(const uint8_t* p) { return be16(p) << 16 | be16(p + 2); }
+
+// The pixel size a PNG (its IHDR chunk, ISO/IEC 15948 §11.2.2) or a JPEG (its SOFn segment, ITU-T T.81
+// §B.2.2) declares, read without decoding; nullopt when the header is missing or cut off.
+std::optional<ImageSize> imageSize(std::span<const uint8_t> b, ImageFormat format) {
+  if (format == ImageFormat::kPng) {
+    if (b.size() < 25 || std::memcmp(b.data() + 12, "IHDR", 4) != 0) return std::nullopt;
+    return ImageSize{be32(b.data() + 16), be32(b.data() + 20), b[24] == 16 ? 16 : 8};
+  }
+  size_t p = 2;  // after SOI
+  while (p + 4 <= b.size()) {
+    if (b[p] != 0xff) return std::nullopt;
+    const uint8_t marker = b[p + 1];
+    if (marker == 0xff) {  // fill byte
+      ++p;
+      continue;
+    }
+    const size_t length = be16(b.data() + p + 2);
+    const bool sof = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
+    if (sof) {
+      if (p + 9 > b.size()) return std::nullopt;
+      return ImageSize{be16(b.data() + p + 7), be16(b.data() + p + 5), 8};
+    }
+    if (marker == 0xda || length < 2) return std::nullopt;  // scan data before any frame header
+    p += 2 + length;
+  }
+  return std::nullopt;
+}
+
+ImageDecoder& imageDecoderSlot() {
+  static ImageDecoder decoder;
+  return decoder;
+}
+
+const ImageDecoder& installedImageDecoder() { return imageDecoderSlot(); }
+
 // The parts of a texture reference (glTF textureInfo), wherever it appears.
 struct TexInfo {
   int index = -1;
@@ -222,9 +358,50 @@ class Importer {
     return options_.namePrefix + (gltfName.empty() ? kind + std::to_string(index) : gltfName);
   }
 
+  // --- The import budget (GltfImportOptions::maxDecodedBytes), charged before each allocation.
+  void charge(uint64_t bytes, const std::string& path, const std::string& what) const {
+    if (bytes > budgetLeft_) {
+      fail(path,
+           what + " would take " + bytesText(bytes) + " decoded, more than the " + bytesText(budgetLeft_) +
+               " left of fly's import budget of " + bytesText(options_.maxDecodedBytes) +
+               " (docs/scene-format.md, \"Import budget\")",
+           "simplify the model or split it into parts, or scale its textures down");
+    }
+    budgetLeft_ -= bytes;
+  }
+
+  static std::string bytesText(uint64_t bytes) {
+    std::ostringstream s;
+    s.precision(3);
+    if (bytes >= (uint64_t(1) << 30)) {
+      s << double(bytes) / double(uint64_t(1) << 30) << " GiB";
+    } else if (bytes >= (uint64_t(1) << 20)) {
+      s << double(bytes) / double(uint64_t(1) << 20) << " MiB";
+    } else {
+      s << bytes << " bytes";
+    }
+    return s.str();
+  }
+
+  // A declared image size against kMaxTextureDimension and the budget (RGBA as decoded), before decoding;
+  // returns the bytes charged.
+  uint64_t checkImageSize(const ImageSize& size, const std::string& path, const std::string& what) {
+    if (size.width == 0 || size.height == 0) fail(path, what + " declares an image of 0 pixels", kHintTruncated);
+    if (size.width > uint32_t(kMaxTextureDimension) || size.height > uint32_t(kMaxTextureDimension)) {
+      fail(path,
+           what + " is " + std::to_string(size.width) + " × " + std::to_string(size.height) +
+               " px; fly imports textures of at most " + std::to_string(kMaxTextureDimension) +
+               " px a side (docs/scene-format.md, \"Import budget\")",
+           "scale the texture down to at most " + std::to_string(kMaxTextureDimension) + " px a side");
+    }
+    const uint64_t bytes = uint64_t(size.width) * size.height * 4 * uint64_t(size.bitsPerChannel / 8);
+    charge(bytes, path, what);
+    return bytes;
+  }
+
   // --- Loading.
   void load() {
-    const std::string bytes = readInputFile(file_, "glTF file");  // missing, directory, 0 bytes → InputError
+    std::string bytes = readInputFile(file_, "glTF file");  // missing, directory, 0 bytes → InputError
     if (bytes.size() > UINT_MAX) fail("", "the file is larger than 4 GiB, which tinygltf cannot read");
     std::error_code ec;
     baseDir_ = fs::absolute(file_, ec).parent_path();
@@ -237,13 +414,14 @@ class Importer {
     // tinygltf's warnings only report image files it could not read; decodedImage() reports those with the
     // material that uses them.
     std::string tinyWarn;
-    const auto size = static_cast<unsigned int>(bytes.size());
     const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
     bool ok = false;
     if (binary) {
       checkGlbLayout(bytes);
+      patchCompressedMeshJson(bytes, true);
       ok = loader.LoadBinaryFromMemory(&model_, &err, &tinyWarn,
-                                       reinterpret_cast<const unsigned char*>(bytes.data()), size,
+                                       reinterpret_cast<const unsigned char*>(bytes.data()),
+                                       unsigned(bytes.size()),
                                        baseDir_.string());
     } else {
       std::string ext = file_.extension().string();
@@ -253,9 +431,13 @@ class Importer {
         fail("", "the file is not a binary glTF: it does not start with the GLB magic 'glTF'",
              "the file is damaged or not a .glb; export it again");
       }
-      ok = loader.LoadASCIIFromString(&model_, &err, &tinyWarn, bytes.data(), size, baseDir_.string());
+      patchCompressedMeshJson(bytes, false);
+      ok = loader.LoadASCIIFromString(&model_, &err, &tinyWarn, bytes.data(), unsigned(bytes.size()),
+                                      baseDir_.string());
     }
     if (!ok) failLoad(err, binary);
+    preferWebpSources();
+    decodeMeshoptViews();
     // tinygltf reports some problems in `err` and carries on, e.g. a textureInfo without "index".
     std::istringstream lines(err);
     for (std::string line; std::getline(lines, line);) {
@@ -302,6 +484,152 @@ class Importer {
            "the GLB file is truncated: its BIN chunk needs bytes " + std::to_string(binStart + 8) + ".." +
                std::to_string(binEnd) + " but the file is " + std::to_string(length) + " bytes long",
            kHintTruncated);
+    }
+  }
+
+  // Compressed meshes hold JSON that tinygltf refuses, changed here in the text it parses (`bytes`: the .gltf
+  // text or the GLB file):
+  // - EXT_meshopt_compression: a fallback buffer (one that loaders which decode the extension never read) may
+  //   have no data at all. It gets a one-byte data URI; the views that refer to it are decoded from the
+  //   compressed data (decodeMeshoptViews), and any other use of it fails bufferViewData's range check.
+  // - KHR_draco_mesh_compression: the indices accessor of a compressed primitive has no buffer view (the
+  //   triangles are in the Draco stream). The primitive's "indices" is dropped; the stream gives them.
+  void patchCompressedMeshJson(std::string& bytes, bool glb) const {
+    if (bytes.find("EXT_meshopt_compression") == std::string::npos &&
+        bytes.find("KHR_draco_mesh_compression") == std::string::npos) {
+      return;
+    }
+    const size_t jsonStart = glb ? 20 : 0;
+    const size_t jsonLength = glb ? readU32(bytes, 12) : bytes.size();
+    nlohmann::json doc = nlohmann::json::parse(bytes.begin() + std::ptrdiff_t(jsonStart),
+                                               bytes.begin() + std::ptrdiff_t(jsonStart + jsonLength), nullptr,
+                                               false);
+    if (doc.is_discarded() || !doc.is_object()) return;  // tinygltf reports the JSON error
+    auto extensionOf = [](const nlohmann::json& o, const char* name) -> const nlohmann::json* {
+      if (!o.is_object() || !o.contains("extensions") || !o["extensions"].is_object()) return nullptr;
+      const nlohmann::json& e = o["extensions"];
+      return e.contains(name) && e[name].is_object() ? &e[name] : nullptr;
+    };
+    bool changed = false;
+    if (doc.contains("buffers") && doc["buffers"].is_array()) {
+      for (nlohmann::json& b : doc["buffers"]) {
+        const nlohmann::json* ext = extensionOf(b, "EXT_meshopt_compression");
+        if (!ext || b.contains("uri") || ext->value("fallback", false) != true) continue;
+        b["uri"] = "data:application/octet-stream;base64,AA==";
+        b["byteLength"] = 1;
+        changed = true;
+      }
+    }
+    if (doc.contains("meshes") && doc["meshes"].is_array()) {
+      for (nlohmann::json& mesh : doc["meshes"]) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (nlohmann::json& prim : mesh["primitives"]) {
+          if (extensionOf(prim, "KHR_draco_mesh_compression") && prim.contains("indices")) {
+            prim.erase("indices");
+            changed = true;
+          }
+        }
+      }
+    }
+    if (!changed) return;
+    std::string json = doc.dump();
+    if (!glb) {
+      bytes = std::move(json);
+      return;
+    }
+    while (json.size() % 4) json += ' ';  // GLB chunks are 4-byte aligned (glTF 2.0 §4.4)
+    const size_t oldJsonEnd = jsonStart + jsonLength + (4 - jsonLength % 4) % 4;
+    std::string out = bytes.substr(0, 12);
+    auto u32 = [&out](size_t v) {
+      for (int k = 0; k < 4; ++k) out += char((v >> (8 * k)) & 0xff);
+    };
+    u32(json.size());
+    u32(0x4E4F534Au);
+    out += json;
+    if (oldJsonEnd < bytes.size()) out += bytes.substr(oldJsonEnd);
+    const auto total = uint32_t(out.size());
+    std::memcpy(out.data() + 8, &total, 4);
+    bytes = std::move(out);
+  }
+
+  // EXT_meshopt_compression: each compressed buffer view is decoded once, after loading; bufferViewData then
+  // hands out the decoded bytes.
+  void decodeMeshoptViews() {
+    for (size_t v = 0; v < model_.bufferViews.size(); ++v) {
+      const tinygltf::BufferView& bv = model_.bufferViews[v];
+      auto it = bv.extensions.find("EXT_meshopt_compression");
+      if (it == bv.extensions.end()) continue;
+      const tinygltf::Value& e = it->second;
+      const std::string path = "/bufferViews/" + std::to_string(v) + "/extensions/EXT_meshopt_compression";
+      const std::string label = "buffer view " + std::to_string(v) + " (EXT_meshopt_compression)";
+      auto number = [&](const char* key, bool required) -> size_t {
+        const tinygltf::Value& n = e.Get(key);
+        if (n.Type() == tinygltf::NULL_TYPE && !required) return 0;
+        if (!n.IsNumber() || n.GetNumberAsDouble() < 0.0) {
+          fail(path + "/" + key, label + " needs '" + key + "', a number ≥ 0");
+        }
+        return size_t(n.GetNumberAsDouble());
+      };
+      const size_t buffer = number("buffer", true);
+      const size_t offset = number("byteOffset", false);
+      const size_t length = number("byteLength", true);
+      const size_t stride = number("byteStride", true);
+      const size_t count = number("count", true);
+      const std::string modeName = e.Get("mode").IsString() ? e.Get("mode").Get<std::string>() : "";
+      const std::string filterName = e.Get("filter").IsString() ? e.Get("filter").Get<std::string>() : "NONE";
+      MeshoptMode mode = MeshoptMode::kAttributes;
+      if (modeName == "TRIANGLES") {
+        mode = MeshoptMode::kTriangles;
+      } else if (modeName == "INDICES") {
+        mode = MeshoptMode::kIndices;
+      } else if (modeName != "ATTRIBUTES") {
+        fail(path + "/mode", label + " has mode '" + modeName + "'; the extension defines ATTRIBUTES, TRIANGLES "
+                                                                 "and INDICES");
+      }
+      MeshoptFilter filter = MeshoptFilter::kNone;
+      if (filterName == "OCTAHEDRAL") {
+        filter = MeshoptFilter::kOctahedral;
+      } else if (filterName == "QUATERNION") {
+        filter = MeshoptFilter::kQuaternion;
+      } else if (filterName == "EXPONENTIAL") {
+        filter = MeshoptFilter::kExponential;
+      } else if (filterName != "NONE") {
+        fail(path + "/filter", label + " has filter '" + filterName + "'; the extension defines NONE, "
+                                                                     "OCTAHEDRAL, QUATERNION and EXPONENTIAL");
+      }
+      if (buffer >= model_.buffers.size()) {
+        fail(path + "/buffer", label + " refers to buffer " + std::to_string(buffer) + ", but the file has " +
+                                   std::to_string(model_.buffers.size()) + " buffers");
+      }
+      const std::vector<unsigned char>& data = model_.buffers[buffer].data;
+      if (satMulAdd(offset, length, 1) > data.size()) {
+        fail(path, label + " reads bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
+                       " of buffer " + std::to_string(buffer) + ", which has " + std::to_string(data.size()),
+             kHintTruncated);
+      }
+      const size_t decodedBytes = satMulAdd(0, count, stride);
+      if (decodedBytes != bv.byteLength) {
+        fail(path, label + " decodes to " + std::to_string(count) + " × " + std::to_string(stride) +
+                       " bytes, but the buffer view's byteLength is " + std::to_string(bv.byteLength));
+      }
+      charge(decodedBytes, path + "/count", label);
+      try {
+        meshoptViews_[v] = decodeMeshoptView({data.data() + offset, length}, count, stride, mode, filter);
+      } catch (const std::runtime_error& err) {
+        fail(path, label + " cannot be decoded: " + err.what(), kHintTruncated);
+      }
+    }
+  }
+
+  // EXT_texture_webp: a texture's WebP image replaces its fallback ("source") when a decoder that reads WebP
+  // is installed.
+  void preferWebpSources() {
+    if (!isSupportedExtension("EXT_texture_webp")) return;
+    for (tinygltf::Texture& t : model_.textures) {
+      auto it = t.extensions.find("EXT_texture_webp");
+      if (it != t.extensions.end() && it->second.Get("source").IsNumber()) {
+        t.source = it->second.Get("source").GetNumberAsInt();
+      }
     }
   }
 
@@ -352,20 +680,36 @@ class Importer {
   // only used can be ignored.
   void checkExtensions() {
     for (const std::string& ext : model_.extensionsRequired) {
-      if (!isSupportedExtension(ext)) {
-        fail("/extensionsRequired",
-             "the file requires the glTF extension '" + ext + "', which fly does not support",
-             "export the file without " + ext +
-                 " (for example without mesh compression and with PNG or JPEG textures)");
-      }
+      if (isSupportedExtension(ext)) continue;
+      const UnsupportedExtension* known = findUnsupported(ext);
+      fail("/extensionsRequired", "the file requires the glTF extension '" + ext + "', which fly does not support",
+           known ? std::string(known->hint)
+                 : "export the file without " + ext + "; docs/scene-format.md lists the extensions fly reads");
     }
     for (const std::string& ext : model_.extensionsUsed) {
       const bool required = std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(),
                                       ext) != model_.extensionsRequired.end();
-      if (!required && !isSupportedExtension(ext)) {
-        warn("the glTF extension '" + ext + "' is not supported; what it adds is ignored");
-      }
+      if (required || isSupportedExtension(ext)) continue;
+      const UnsupportedExtension* known = findUnsupported(ext);
+      warn("the glTF extension '" + ext + "' is not supported: " +
+           (known ? std::string(known->ignored) : std::string("what it adds is ignored")));
     }
+    warnVariants();
+  }
+
+  // KHR_materials_variants: the materials a primitive has without a variant are imported.
+  void warnVariants() {
+    auto it = model_.extensions.find("KHR_materials_variants");
+    if (it == model_.extensions.end()) return;
+    const tinygltf::Value& variants = it->second.Get("variants");
+    std::string names;
+    for (size_t k = 0; variants.IsArray() && k < variants.ArrayLen(); ++k) {
+      const tinygltf::Value& n = variants.Get(int(k)).Get("name");
+      names += std::string(names.empty() ? "" : ", ") + "'" + (n.IsString() ? n.Get<std::string>() : "?") + "'";
+    }
+    if (names.empty()) return;
+    warn("the file has material variants (KHR_materials_variants) " + names +
+         "; the default materials are imported, as a viewer shows the file before a variant is chosen");
   }
 
   void warnUnsupportedContent() {
@@ -436,19 +780,41 @@ class Importer {
         warn("the file has " + std::to_string(model_.scenes.size()) + " scenes; scene " + std::to_string(s) +
              quotedName(model_.scenes[s].name) + " is imported and the others are ignored");
       }
-      roots = model_.scenes[s].nodes;
+      const std::vector<int>& listedRoots = model_.scenes[s].nodes;
+      const std::string path = "/scenes/" + std::to_string(s) + "/nodes";
       std::vector<bool> listed(count, false);
-      for (int r : roots) {
-        const std::string path = "/scenes/" + std::to_string(s) + "/nodes";
+      for (int r : listedRoots) {
         if (r < 0 || size_t(r) >= count) {
           fail(path, "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
                          ", but the file has " + std::to_string(count) + " nodes");
         }
-        if (parentOf[size_t(r)] >= 0 || listed[size_t(r)]) {
-          fail(path, "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
-                         " as a root, but it is another node's child or listed twice");
-        }
         listed[size_t(r)] = true;
+      }
+      // glTF 2.0 §3.5.2 makes a scene's nodes root nodes. Some exporters list a child instead (Kenney's models
+      // list their one node under an unlisted "tmpParent"); such a node is imported as a root with its own
+      // transform, as glTF viewers show it, unless an ancestor of it is listed and brings it along.
+      std::vector<bool> taken(count, false);
+      for (int r : listedRoots) {
+        const std::string label = "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
+                                  quotedName(model_.nodes[size_t(r)].name);
+        if (taken[size_t(r)]) {
+          warn(label + " twice; it is imported once");
+          continue;
+        }
+        bool ancestorListed = false;
+        for (int a = parentOf[size_t(r)]; a >= 0 && !ancestorListed; a = parentOf[size_t(a)]) {
+          ancestorListed = listed[size_t(a)];
+        }
+        if (ancestorListed) {
+          warn(label + " as a root, but an ancestor of it is listed too; it is imported once, under its parent");
+          continue;
+        }
+        if (parentOf[size_t(r)] >= 0) {
+          warn(label + " as a root, but it is a child of node " + std::to_string(parentOf[size_t(r)]) +
+               "; it is imported as a root with its own transform, as glTF viewers show it");
+        }
+        taken[size_t(r)] = true;
+        roots.push_back(r);
       }
     } else {
       // Without scenes nothing says what to show (§3.5.1); take every parentless node so that a file of loose
@@ -706,6 +1072,11 @@ class Importer {
                         std::to_string(model_.bufferViews.size()) + " buffer views");
     }
     const tinygltf::BufferView& bv = model_.bufferViews[size_t(view)];
+    auto decoded = meshoptViews_.find(size_t(view));
+    if (decoded != meshoptViews_.end()) {
+      *byteLength = decoded->second.size();
+      return decoded->second.data();
+    }
     const std::string path = "/bufferViews/" + std::to_string(view);
     if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size()) {
       fail(path + "/buffer", "buffer view " + std::to_string(view) + " refers to buffer " +
@@ -820,6 +1191,10 @@ class Importer {
     out.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
     const auto components = size_t(out.components);
     const size_t elementSize = compSize * components;
+    // Charged as fly stores it (4-byte floats and indices), before the file's data is looked at, so that a
+    // claimed size beyond the budget fails here rather than in an allocation.
+    charge(satMulAdd(0, a.count, components * 4), path + "/count",
+           label + ", " + std::to_string(a.count) + " elements of " + typeName(a.type) + ",");
     // An accessor without a buffer view is all zeros (plus its sparse values); cap its size, since nothing in
     // the file bounds it.
     if (a.bufferView < 0 && a.count > (size_t(1) << 28)) {
@@ -915,6 +1290,94 @@ class Importer {
     }
   }
 
+  // --- KHR_draco_mesh_compression: a primitive's attributes and triangles in one Draco bit stream.
+  struct DracoPrimitive {
+    DracoMesh mesh;
+    std::map<std::string, int> ids;  // glTF attribute semantic → Draco attribute unique id
+  };
+
+  std::optional<DracoPrimitive> dracoPrimitive(const tinygltf::Primitive& prim, const std::string& where,
+                                               const std::string& path) const {
+    auto it = prim.extensions.find("KHR_draco_mesh_compression");
+    if (it == prim.extensions.end()) return std::nullopt;
+    const tinygltf::Value& ext = it->second;
+    const std::string dpath = path + "/extensions/KHR_draco_mesh_compression";
+    if (!ext.Get("bufferView").IsNumber()) {
+      fail(dpath + "/bufferView", where + ": KHR_draco_mesh_compression needs a 'bufferView'");
+    }
+    const tinygltf::Value& attrs = ext.Get("attributes");
+    if (!attrs.IsObject()) fail(dpath + "/attributes", where + ": KHR_draco_mesh_compression needs 'attributes'");
+    DracoPrimitive d;
+    std::map<int, DracoAttributeRequest> requests;
+    for (const std::string& semantic : attrs.Keys()) {
+      const tinygltf::Value& id = attrs.Get(semantic);
+      auto a = prim.attributes.find(semantic);
+      if (!id.IsNumber() || a == prim.attributes.end()) {
+        fail(dpath + "/attributes/" + semantic,
+             where + ": the compressed attribute " + semantic +
+                 " needs a Draco id (a number) and an accessor among the primitive's attributes");
+      }
+      if (a->second < 0 || size_t(a->second) >= model_.accessors.size()) {
+        fail(path + "/attributes/" + semantic, semantic + " of " + where + " refers to accessor " +
+                                                   std::to_string(a->second) + ", but the file has " +
+                                                   std::to_string(model_.accessors.size()) + " accessors");
+      }
+      const tinygltf::Accessor& acc = model_.accessors[size_t(a->second)];
+      const size_t compSize = componentSize(acc.componentType);
+      if (compSize == 0) {
+        fail("/accessors/" + std::to_string(a->second) + "/componentType",
+             "accessor " + std::to_string(a->second) + " has componentType " +
+                 std::to_string(acc.componentType) + ", which glTF 2.0 does not allow");
+      }
+      const int components = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
+      // Charged at the size the accessor declares, before the stream is decoded.
+      charge(satMulAdd(0, acc.count, size_t(components) * 4), "/accessors/" + std::to_string(a->second) + "/count",
+             "accessor " + std::to_string(a->second) + " (" + semantic + " of " + where + "), " +
+                 std::to_string(acc.count) + " elements of " + typeName(acc.type) + ",");
+      const bool isFloat = acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+      const bool isSigned =
+          acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT;
+      requests[id.GetNumberAsInt()] = {components, isFloat, int(compSize), isSigned};
+      d.ids[semantic] = id.GetNumberAsInt();
+    }
+    if (!d.ids.count("POSITION")) fail(dpath + "/attributes", where + ": the Draco stream has no POSITION");
+    size_t size = 0;
+    const unsigned char* bytes =
+        bufferViewData(ext.Get("bufferView").GetNumberAsInt(), where + " (Draco data)", dpath + "/bufferView", &size);
+    try {
+      d.mesh = decodeDracoMesh({bytes, size}, requests);
+    } catch (const std::runtime_error& e) {
+      fail(dpath, where + ": the Draco-compressed mesh cannot be decoded: " + e.what(), kHintTruncated);
+    }
+    const size_t declared = model_.accessors[size_t(prim.attributes.at("POSITION"))].count;
+    if (d.mesh.pointCount != declared) {
+      fail(dpath, where + ": the Draco stream has " + std::to_string(d.mesh.pointCount) +
+                      " points but the POSITION accessor declares " + std::to_string(declared),
+           kHintTruncated);
+    }
+    return d;
+  }
+
+  // A decoded Draco attribute as accessor data, converted by glTF's rules for the accessor's componentType.
+  AccessorData dracoAttribute(const DracoPrimitive& d, const std::string& semantic, int accessor,
+                              const std::string& role, std::initializer_list<int> types) const {
+    const tinygltf::Accessor& a = model_.accessors[size_t(accessor)];
+    const std::string path = "/accessors/" + std::to_string(accessor);
+    if (std::find(types.begin(), types.end(), a.type) == types.end()) {
+      fail(path + "/type", "accessor " + std::to_string(accessor) + " (" + role + ") has type " + typeName(a.type) +
+                               ", which " + semantic + " does not allow");
+    }
+    const std::vector<uint8_t>& bytes = d.mesh.attributes.at(d.ids.at(semantic));
+    AccessorData out;
+    out.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    const size_t compSize = componentSize(a.componentType);
+    out.values.resize(bytes.size() / compSize);
+    for (size_t k = 0; k < out.values.size(); ++k) {
+      out.values[k] = component(bytes.data() + k * compSize, a.componentType, a.normalized);
+    }
+    return out;
+  }
+
   // Triangle list from a primitive's vertex sequence (glTF 2.0 §3.7.2.1, "Topology types"):
   // strips p_i = {v_i, v_(i+(1+i%2)), v_(i+(2−i%2))}, fans p_i = {v_(i+1), v_(i+2), v_0}.
   std::vector<uint32_t> triangleList(const std::vector<uint32_t>& v, int mode, const std::string& where) {
@@ -976,13 +1439,19 @@ class Importer {
     // Vertex attributes (glTF 2.0 §3.7.2.1). Integer types other than those the core allows come from
     // KHR_mesh_quantization and are converted the same way.
     const std::string apath = path + "/attributes/";
-    const AccessorData pos =
-        readAccessor(positionAccessor, "POSITION of " + where, apath + "POSITION", {TINYGLTF_TYPE_VEC3});
+    const std::optional<DracoPrimitive> draco = dracoPrimitive(prim, where, path);
+    // An attribute from the Draco stream when the primitive is compressed and lists it, else its accessor.
+    auto attributeData = [&](const std::string& semantic, int accessor, std::initializer_list<int> types) {
+      const std::string role = semantic + " of " + where;
+      if (draco && draco->ids.count(semantic)) return dracoAttribute(*draco, semantic, accessor, role, types);
+      return readAccessor(accessor, role, apath + semantic, types);
+    };
+    const AccessorData pos = attributeData("POSITION", positionAccessor, {TINYGLTF_TYPE_VEC3});
     const size_t n = pos.count();
     auto read = [&](const char* semantic, std::initializer_list<int> types) -> AccessorData {
       const int a = attribute(semantic);
       if (a < 0) return {};
-      AccessorData d = readAccessor(a, std::string(semantic) + " of " + where, apath + semantic, types);
+      AccessorData d = attributeData(semantic, a, types);
       if (d.count() != n) {
         fail("/accessors/" + std::to_string(a), "accessor " + std::to_string(a) + " (" + semantic + " of " +
                                                     where + ") has " + std::to_string(d.count()) +
@@ -1032,7 +1501,22 @@ class Importer {
 
     // Vertex sequence: the indices, or 0..n−1 for a non-indexed primitive.
     std::vector<uint32_t> sequence;
-    if (prim.indices >= 0) {
+    if (draco) {
+      // The compressed stream's triangles replace the indices accessor (KHR_draco_mesh_compression).
+      if (mode != TINYGLTF_MODE_TRIANGLES) {
+        fail(path + "/mode", where + " is Draco-compressed, which KHR_draco_mesh_compression allows for "
+                                     "triangle lists (mode 4) only");
+      }
+      sequence = draco->mesh.indices;
+      for (size_t k = 0; k < sequence.size(); ++k) {
+        if (sequence[k] >= n) {
+          fail(path + "/extensions/KHR_draco_mesh_compression",
+               where + ": the Draco stream has index " + std::to_string(sequence[k]) + " at position " +
+                   std::to_string(k) + ", past its " + std::to_string(n) + " points",
+               kHintTruncated);
+        }
+      }
+    } else if (prim.indices >= 0) {
       const std::string role = "indices of " + where;
       const AccessorData idx = readAccessor(prim.indices, role, path + "/indices", {TINYGLTF_TYPE_SCALAR});
       const tinygltf::Accessor& ia = model_.accessors[size_t(prim.indices)];
@@ -1400,12 +1884,51 @@ class Importer {
       m.reflectionModel = ReflectionModel::kFresnel;
       m.reflectionColor = specularColor * specular;
     }
+    bool coatIsLobe = false;
+    const tinygltf::Value* coat = extension(gm, "KHR_materials_clearcoat");
+    const std::string cpath = path + "/extensions/KHR_materials_clearcoat";
+    if (coat) {
+      ClearCoat c;
+      c.amount = unitFactor(extNumber(*coat, "clearcoatFactor", 0.0, cpath), cpath + "/clearcoatFactor",
+                            label + " clearcoatFactor");
+      c.glossiness = unitFactor(extNumber(*coat, "clearcoatRoughnessFactor", 0.0, cpath),
+                                cpath + "/clearcoatRoughnessFactor", label + " clearcoatRoughnessFactor");
+      const CoatedMaterial coated = applyClearCoat(m, c);
+      m = coated.material;
+      coatIsLobe = coated.coatIsLobe;
+      if (c.amount > 0.0f && !coatIsLobe) {
+        warn(label + ": its clear coat is dropped: the " + (metallic >= 0.5f ? "metal's" : "base's") +
+             " own reflection is the larger or sharper one, and fly's material has one reflection lobe");
+      }
+      if (coat->Has("clearcoatNormalTexture")) {
+        warn(label + ": clearcoatNormalTexture is not imported; the coat follows the base's normals");
+      }
+    }
+    if (const tinygltf::Value* e = extension(gm, "KHR_materials_sheen")) {
+      const std::string spath = path + "/extensions/KHR_materials_sheen";
+      const Rgb sheenColor = unitColor(extNumbers(*e, "sheenColorFactor", {0.0, 0.0, 0.0}, spath),
+                                       spath + "/sheenColorFactor", label + " sheenColorFactor");
+      const float sheenRoughness =
+          unitFactor(extNumber(*e, "sheenRoughnessFactor", 0.0, spath), spath + "/sheenRoughnessFactor",
+                     label + " sheenRoughnessFactor");
+      m = applySheen(m, sheenColor, sheenRoughness);
+      if (e->Has("sheenColorTexture") || e->Has("sheenRoughnessTexture")) {
+        warn(label + ": the textures of KHR_materials_sheen are not imported; its factors are");
+      }
+    }
     if (pbr.baseColorTexture.index >= 0) {
       m.diffuseTexture = textureRef(
           texInfo(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions),
           ppath + "/baseColorTexture", label + " baseColorTexture", Channels::kAll);
     }
-    if (pbr.metallicRoughnessTexture.index >= 0) {
+    if (coatIsLobe) {
+      // The lobe is the coat's: its factor (red) and roughness (green) textures take the reflection slots.
+      m.reflectionTexture = textureRef(extensionTexInfo(*coat, "clearcoatTexture", cpath),
+                                       cpath + "/clearcoatTexture", label + " clearcoatTexture", Channels::kRed);
+      m.reflectionGlossinessTexture =
+          textureRef(extensionTexInfo(*coat, "clearcoatRoughnessTexture", cpath),
+                     cpath + "/clearcoatRoughnessTexture", label + " clearcoatRoughnessTexture", Channels::kGreen);
+    } else if (pbr.metallicRoughnessTexture.index >= 0) {
       const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
       m.reflectionGlossinessTexture =
           textureRef(texInfo(t.index, t.texCoord, t.extensions), ppath + "/metallicRoughnessTexture",
@@ -1532,8 +2055,35 @@ class Importer {
            "texture " + std::to_string(info.index) + " refers to image " + std::to_string(t.source) +
                ", but the file has " + std::to_string(model_.images.size()) + " images");
     }
+    if (t.sampler >= 0) {
+      if (size_t(t.sampler) >= model_.samplers.size()) {
+        fail("/textures/" + std::to_string(info.index) + "/sampler",
+             "texture " + std::to_string(info.index) + " refers to sampler " + std::to_string(t.sampler) +
+                 ", but the file has " + std::to_string(model_.samplers.size()) + " samplers");
+      }
+      const tinygltf::Sampler& s = model_.samplers[size_t(t.sampler)];
+      const std::string spath = "/samplers/" + std::to_string(t.sampler);
+      ref.wrapS = wrapMode(s.wrapS, spath + "/wrapS");
+      ref.wrapT = wrapMode(s.wrapT, spath + "/wrapT");
+    }
     ref.texture = imageTexture(size_t(t.source), channels, what);
     return ref;
+  }
+
+  // A sampler's wrapS or wrapT (glTF 2.0 §5.26: 33071, 33648 or 10497, the default).
+  WrapMode wrapMode(int value, const std::string& path) {
+    switch (value) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return WrapMode::kRepeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return WrapMode::kClampToEdge;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return WrapMode::kMirroredRepeat;
+      default:
+        fail(path,
+             "wrap mode " + std::to_string(value) +
+                 " is not one of glTF's 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT), 10497 (REPEAT)");
+    }
   }
 
   // `usedBy` names the first material slot that uses the image, for messages.
@@ -1601,28 +2151,68 @@ class Importer {
     if (size == 0) fail(path, label + " has no data", kHintTruncated);
     const std::string data = img.uri.empty() ? "its embedded data" : "'" + source + "'";
     if (size > size_t(INT_MAX)) fail(path, label + " is larger than 2 GiB");
-    // glTF 2.0 §3.8.2 allows PNG and JPEG only. Checking the signature keeps other formats away from
-    // stb_image, whose 16-bit PNM path in the version tinygltf uses writes fewer bytes than tinygltf copies.
-    static constexpr unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    static constexpr unsigned char kJpeg[3] = {0xff, 0xd8, 0xff};
-    const bool png = size >= 8 && std::memcmp(bytes, kPng, 8) == 0;
-    const bool jpeg = size >= 3 && std::memcmp(bytes, kJpeg, 3) == 0;
-    if (!png && !jpeg) {
-      fail(path, label + ": " + data + " is neither PNG nor JPEG, the image formats glTF 2.0 allows",
-           "convert the texture to PNG or JPEG");
-    }
-    tinygltf::Image out;
-    out.name = img.name;
-    std::string err;
-    std::string unused;
-    // With no options stb_image expands every image to RGBA; 16-bit PNGs keep 16 bits.
-    if (!tinygltf::LoadImageData(&out, int(i), &err, &unused, 0, 0, bytes, int(size), nullptr)) {
-      while (!err.empty() && (err.back() == '\n' || err.back() == '.')) err.pop_back();
-      fail(path, label + ": " + data + " cannot be decoded: " + err,
-           "the image is damaged or uses a PNG or JPEG variant stb_image does not read (e.g. 12-bit or "
-           "arithmetic-coded JPEG); save it again as an ordinary PNG or JPEG");
+    const std::span<const uint8_t> encoded(bytes, size);
+    const ImageFormat format = imageFormat(encoded);
+    if (format == ImageFormat::kKtx2) {
+      fail(path,
+           label + ": " + data + " is a KTX2 (Basis Universal) texture, the format of the glTF extension "
+                                 "KHR_texture_basisu, which fly cannot decode",
+           "convert the texture to PNG or JPEG (e.g. with KTX-Software: `ktx extract " +
+               (img.uri.empty() ? std::string("TEXTURE.ktx2") : percentDecode(img.uri)) +
+               " OUT.png`) and refer to the PNG or JPEG in the glTF file");
     }
     Texture t;
+    std::vector<std::string> notes;
+    uint64_t charged = 0;
+    if (format == ImageFormat::kPng || format == ImageFormat::kJpeg) {
+      // The header's size is checked against the budget before anything is decoded.
+      const std::optional<ImageSize> header = imageSize(encoded, format);
+      if (!header) fail(path, label + ": " + data + " has no readable image header", kHintTruncated);
+      charged = checkImageSize(*header, path, label + ": " + data);
+    }
+    if (const ImageDecoder& decoder = installedImageDecoder()) {
+      budgetLeft_ += charged;  // the decoder checks the size itself; the budget is charged what it returns
+      try {
+        t = decoder(encoded, size_t(std::min<uint64_t>(budgetLeft_, SIZE_MAX)), notes);
+      } catch (const std::runtime_error& e) {
+        fail(path, label + ": " + data + ": " + e.what(),
+             "the image is damaged or in a variant the decoder does not read; save it again as an ordinary "
+             "PNG or JPEG");
+      }
+      const size_t expected = size_t(t.width) * size_t(t.height) * 4 * size_t(t.bitsPerChannel / 8);
+      if (t.channels != 4 || (t.bitsPerChannel != 8 && t.bitsPerChannel != 16) || t.width <= 0 ||
+          t.height <= 0 || t.pixels.size() != expected) {
+        throw std::logic_error("the installed image decoder returned a texture that breaks its contract");
+      }
+      charge(t.pixels.size(), path, label + ": " + data);
+    } else {
+      if (format != ImageFormat::kPng && format != ImageFormat::kJpeg) {
+        fail(path,
+             label + ": " + data + " is " + formatName(format) +
+                 "; without an image decoder installed fly reads PNG and JPEG, the formats glTF 2.0 allows",
+             "convert the texture to PNG or JPEG, or use the fly program, which decodes WebP, HDR, EXR and "
+             "TIFF through OpenImageIO");
+      }
+      // stb_image, which tinygltf uses, expands every image to RGBA when given no options; 16-bit PNGs keep 16
+      // bits. The format check keeps other formats away from it: its 16-bit PNM path in the version tinygltf
+      // uses writes fewer bytes than tinygltf copies.
+      tinygltf::Image out;
+      out.name = img.name;
+      std::string err;
+      std::string unused;
+      if (!tinygltf::LoadImageData(&out, int(i), &err, &unused, 0, 0, bytes, int(size), nullptr)) {
+        while (!err.empty() && (err.back() == '\n' || err.back() == '.')) err.pop_back();
+        fail(path, label + ": " + data + " cannot be decoded: " + err,
+             "the image is damaged or uses a PNG or JPEG variant stb_image does not read (e.g. 12-bit or "
+             "arithmetic-coded JPEG); save it again as an ordinary PNG or JPEG");
+      }
+      t.width = out.width;
+      t.height = out.height;
+      t.channels = out.component;
+      t.bitsPerChannel = out.bits;
+      t.pixels = std::move(out.image);
+    }
+    for (const std::string& n : notes) warn(label + ": " + n);
     t.name = options_.namePrefix;
     if (!img.name.empty()) {
       t.name += img.name;
@@ -1632,11 +2222,6 @@ class Importer {
       t.name += "image" + std::to_string(i);
     }
     t.sourcePath = source;
-    t.width = out.width;
-    t.height = out.height;
-    t.channels = out.component;
-    t.bitsPerChannel = out.bits;
-    t.pixels = std::move(out.image);
     return decoded_[i] = std::move(t);
   }
 
@@ -1694,6 +2279,7 @@ class Importer {
   fs::path baseDir_;
   tinygltf::Model model_;
   GltfImportResult result_;
+  mutable uint64_t budgetLeft_ = options_.maxDecodedBytes;  // charge() runs in const readers too
 
   // Converted entities waiting for commit(); placeholder ids index them.
   std::vector<Texture> textures_;
@@ -1705,6 +2291,7 @@ class Importer {
 
   // From glTF indices to placeholders, so that shared entities are converted once.
   std::map<size_t, Texture> decoded_;
+  std::map<size_t, std::vector<uint8_t>> meshoptViews_;  // EXT_meshopt_compression views, decoded
   std::map<std::pair<size_t, Channels>, TextureId> textureIds_;
   std::map<size_t, MaterialId> materialIds_;
   std::map<size_t, CameraId> cameraIds_;
@@ -1714,6 +2301,8 @@ class Importer {
 };
 
 }  // namespace
+
+void setImageDecoder(ImageDecoder decoder) { imageDecoderSlot() = std::move(decoder); }
 
 GltfImportResult importGltf(Scene& scene, const std::filesystem::path& file,
                             const GltfImportOptions& options) {

@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "sdb/material_layers.h"
+
 namespace fly::sdb {
 
 // Values: diffuse reflectances are linear Rec.709 albedos of typical samples; metal reflectances are the
@@ -46,6 +48,13 @@ Material brushed(Material m) {
   return m;
 }
 
+// A base under a clear lacquer (ior 1.5) covering the whole surface (material_layers.h): the lacquer is the
+// reflection lobe; a metallic base's reflectance becomes part of the diffuse colour. Car paints have a mirror-
+// smooth coat (glossiness 0.03), moulded coated plastic a slightly softer one (0.05).
+Material lacquered(const Material& base, float coatGlossiness = 0.03f) {
+  return applyClearCoat(base, ClearCoat{1.0f, coatGlossiness}).material;
+}
+
 Material glass(std::string_view name, float transmissionGlossiness) {
   Material m = base(name);
   m.diffuseColor = Rgb(0.0f);
@@ -64,19 +73,19 @@ const std::array<MaterialPreset, 16>& table() {
       {"shiny-plastic", "plastic", "grey injection-moulded polymer, IOR 1.5, smooth",
        dielectric("shiny-plastic", Rgb(0.5f), 1.5f, 0.15f)},
       {"coated-plastic", "plastic", "plastic under a clear lacquer, IOR 1.5, a sharp coat highlight",
-       dielectric("coated-plastic", Rgb(0.5f), 1.5f, 0.05f)},
+       lacquered(dielectric("coated-plastic", Rgb(0.5f), 1.5f, 0.15f), 0.05f)},
       {"brushed-metal", "metal", "brushed aluminium, F0 (0.913, 0.922, 0.924), anisotropic",
        brushed(metal("brushed-metal", Rgb(0.913f, 0.922f, 0.924f), 0.35f))},
       {"polished-metal", "metal", "polished steel (iron F0 (0.562, 0.565, 0.578)), near mirror",
        metal("polished-metal", Rgb(0.562f, 0.565f, 0.578f), 0.05f)},
-      {"car-paint", "car-paint", "solid red paint under a clear coat, IOR 1.5",
-       dielectric("car-paint", Rgb(0.5f, 0.03f, 0.03f), 1.5f, 0.03f)},
+      {"car-paint", "car-paint", "solid red paint under a clear coat (ior 1.5, glossiness 0.03)",
+       lacquered(dielectric("car-paint", Rgb(0.5f, 0.03f, 0.03f), 1.5f, 0.4f))},
       {"metallic-car-paint", "car-paint",
-       "silver metallic paint: a bright, low-saturation base for the flake layer under a clear coat; give "
-       "measuredBrdf for the angular flake response",
-       dielectric("metallic-car-paint", Rgb(0.45f, 0.46f, 0.48f), 1.5f, 0.03f)},
+       "silver metallic paint: rough aluminium-like flakes (reflectance 0.45–0.48) under a clear coat, the "
+       "flakes' reflection taken as diffuse; give measuredBrdf for the angular flake response",
+       lacquered(metal("metallic-car-paint", Rgb(0.45f, 0.46f, 0.48f), 0.45f))},
       {"pearl-car-paint", "car-paint", "pearl white paint under a clear coat",
-       dielectric("pearl-car-paint", Rgb(0.8f, 0.78f, 0.74f), 1.5f, 0.03f)},
+       lacquered(dielectric("pearl-car-paint", Rgb(0.8f, 0.78f, 0.74f), 1.5f, 0.4f))},
       {"concrete", "stone", "grey cast concrete, albedo 0.45", dielectric("concrete", Rgb(0.45f), 1.5f, 0.9f)},
       {"marble", "stone", "polished white marble, albedo 0.75", dielectric("marble", Rgb(0.75f, 0.74f, 0.72f), 1.49f, 0.2f)},
       {"tiles", "stone", "glazed ceramic tiles, albedo 0.6", dielectric("tiles", Rgb(0.6f, 0.58f, 0.55f), 1.5f, 0.1f)},

@@ -1026,8 +1026,9 @@ class SceneFileReader {
       }
       bake.timeLimitS = seconds ? *seconds : src_.number(*t, atLeast(0), "seconds");
     }
-    bake.maxBounces =
-        static_cast<uint32_t>(r.integer("maxBounces", 0, 1000, "indirect bounces").value_or(bake.maxBounces));
+    if (const std::optional<int64_t> b = r.integer("maxBounces", 0, 10000, "indirect bounces")) {
+      bake.maxBounces = static_cast<uint32_t>(*b);
+    }
     bake.texelsPerMetre =
         r.number("texelsPerMetre", leftOpen(0, 1000), "texels/m").value_or(bake.texelsPerMetre);
     // Patterns are expanded here, so that the bake settings hold the names themselves, and the meshes they name

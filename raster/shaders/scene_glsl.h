@@ -9,37 +9,30 @@
 //                  meshes that have one
 //   FLY_GLASS      clear glass: drawn in a second pass over a copy of the first, adding T(θ) times what lies
 //                  behind it (rdb/raster_rdb.h, RasterMaterial::transmission)
+// The surfaces that rdb::RasterRdb::shadedPerFragment names (textures, COLOR_0, alpha coverage) are drawn by
+// kSurfaceVertex + kSurfaceFragment, which shade per fragment with the same terms, and these #defines too:
+//   FLY_TEXTURES      base colour, emission and normal textures (RasterMaterial's texture slots)
+//   FLY_NORMAL_MAP    normal maps (per-vertex tangents) for the Phong and sun terms
+//   FLY_UV1           a second UV set
+//   FLY_VERTEX_COLOR  COLOR_0 multiplies the base colour and the coverage
+//   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
+//   FLY_BLEND_PASS    a blended surface: writes (coverage · L, coverage) into the blend target, composited
+//                     over the image by kBlendComposite
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
 namespace fly::raster::shaders {
 
-// Per vertex: luminance towards the eye (cd/m², linear Rec.709) for the front and the back face. The whole
-// scene is one draw: what differs between meshes comes per vertex in aSurface (bits 0–29 the material's
-// index, bit 30 two-sided, bit 31 has a light map; raster/renderer.cpp, surfaceBits).
-inline constexpr const char* kSceneVertex = R"GLSL(
-layout(location = 0) in vec3 aPositionM;
-layout(location = 1) in vec3 aNormal;
-layout(location = 2) in float aCorner;
-layout(location = 3) in vec3 aFrontLux;
-layout(location = 4) in vec3 aBackLux;
-layout(location = 5) in uint aSurface;
-#ifdef FLY_LIGHT_TEXTURE
-layout(location = 6) in vec2 aLightMapUv;  // rdb/lightmap_uv.h's convention
-// The slot of the mesh's front light texture (raster/renderer.cpp, uploadLightTextures); bit 31: the back's
-// slot follows it; 0xffffffff: no light texture.
-layout(location = 7) in uint aLightSlot;
-out vec2 vLightMapUv;
-flat out uint vLightSlot;      // the slot of the side this vertex faces, 0xffffffff: none
-flat out vec3 vAlbedoOverPi;   // sr⁻¹
-#endif
-
+// What the scene's vertex and fragment stages share (prepended to both): the material and light tables, the
+// view and lighting uniforms, and the modified Phong.
+inline constexpr const char* kSceneCommon = R"GLSL(
 struct Material {
   vec4 diffuse;       // rgb albedo
   vec4 specular;      // rgb reflectance at normal incidence, w Blinn–Phong exponent
   vec4 emission;      // rgb cd/m²
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
   vec4 reflection;    // rgb reflection colour
+  vec4 coverage;      // x opacity, y alpha cut-off, z normal scale, w alpha mode (0 opaque, 1 mask, 2 blend)
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 
@@ -64,13 +57,6 @@ uniform vec3 uAmbientUpLux;
 uniform vec3 uAmbientDownLux;
 uniform vec3 uSunDirWorld;   // unit, towards the sun
 uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun
-
-out vec3 vLuminance;
-flat out uint vTwoSided;
-#ifdef FLY_GLASS
-out vec3 vTransmittance;  // T(θ) towards the eye
-flat out uint vGlass;
-#endif
 
 const float kPi = 3.14159265358979;
 const float kCornerGain = FLY_CORNER_GAIN;
@@ -107,7 +93,8 @@ void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponen
   specularLux += eLux * cosSurface * (exponent + 8.0) / (8.0 * kPi) * pow(max(dot(n, h), 0.0), exponent);
 }
 
-vec3 phong(Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
+// Luminance (cd/m²) of a surface of Lambertian albedo `albedo` and material m's reflection lobe at p.
+vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   vec3 diffuseLux = vec3(0.0);
   vec3 specularLux = vec3(0.0);
   for (int i = 0; i < uLightCount; ++i) {
@@ -145,8 +132,38 @@ vec3 phong(Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   // The directional ambient term (rdb/raster_rdb.h, DirectionalAmbient).
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
                     (1.0 + kCornerGain * corner);
-  return m.diffuse.rgb / kPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
+  return albedo / kPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
 }
+#endif
+)GLSL";
+
+// Per vertex: luminance towards the eye (cd/m², linear Rec.709) for the front and the back face. What differs
+// between meshes comes per vertex in aSurface (bits 0–29 the material's index, bit 30 two-sided, bit 31 has
+// a light map; raster/renderer.cpp, surfaceBits), so a scene without per-fragment surfaces is one draw.
+inline constexpr const char* kSceneVertex = R"GLSL(
+layout(location = 0) in vec3 aPositionM;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in float aCorner;
+layout(location = 3) in vec3 aFrontLux;
+layout(location = 4) in vec3 aBackLux;
+layout(location = 5) in uint aSurface;
+#ifdef FLY_LIGHT_TEXTURE
+layout(location = 6) in vec2 aLightMapUv;  // rdb/lightmap_uv.h's convention
+// The slot of the mesh's front light texture (raster/renderer.cpp, uploadLightTextures); bit 31: the back's
+// slot follows it; 0xffffffff: no light texture.
+layout(location = 7) in uint aLightSlot;
+out vec2 vLightMapUv;
+flat out uint vLightSlot;      // the slot of the side this vertex faces, 0xffffffff: none
+flat out vec3 vAlbedoOverPi;   // sr⁻¹
+#endif
+
+out vec3 vLuminance;
+#ifdef FLY_TWO_SIDED
+flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying costs every triangle its setup)
+#endif
+#ifdef FLY_GLASS
+out vec3 vTransmittance;  // T(θ) towards the eye
+flat out uint vGlass;
 #endif
 
 void main() {
@@ -182,10 +199,12 @@ void main() {
   }
 #endif
 #ifdef FLY_PHONG
-  if (!useLightMap) l = phong(m, aPositionM, back ? -n : n, toEye, aCorner);
+  if (!useLightMap) l = phong(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye, aCorner);
 #endif
   vLuminance = l + m.emission.rgb;
+#ifdef FLY_TWO_SIDED
   vTwoSided = twoSided ? 1u : 0u;
+#endif
 #ifdef FLY_GLASS
   // The energy rule's transmittance at the angle the pane is seen (sdb::Material::effectiveAt): T(θ) =
   // t · (1 − clamp(r · F(θ))), F Schlick's, from either face.
@@ -239,7 +258,9 @@ vec3 flyDecodeLuminance(uvec2 p) {
 // it is clear glass, whose both faces pass light).
 inline constexpr const char* kSceneFragment = R"GLSL(
 in vec3 vLuminance;
+#ifdef FLY_TWO_SIDED
 flat in uint vTwoSided;
+#endif
 layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
 #ifdef FLY_GLASS
 in vec3 vTransmittance;
@@ -273,12 +294,272 @@ void main() {
     l += vAlbedoOverPi * texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
   }
 #endif
+#ifdef FLY_TWO_SIDED
   l = (gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0);
+#else
+  l = gl_FrontFacing ? l : vec3(0.0);
+#endif
 #ifdef FLY_GLASS
   // Either face of a pane passes light.
   if (vGlass != 0u) l += vTransmittance * flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
 #endif
   oLuminance = flyEncodeLuminance(l);
+}
+)GLSL";
+
+// The per-fragment surfaces' vertex stage: what kSurfaceFragment interpolates. The light-map values of both
+// faces pass through, so the fragment picks its face by gl_FrontFacing.
+inline constexpr const char* kSurfaceVertex = R"GLSL(
+layout(location = 0) in vec3 aPositionM;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in float aCorner;
+layout(location = 3) in vec3 aFrontLux;
+layout(location = 4) in vec3 aBackLux;
+layout(location = 5) in uint aSurface;
+#ifdef FLY_LIGHT_TEXTURE
+layout(location = 6) in vec2 aLightMapUv;
+layout(location = 7) in uint aLightSlot;
+out vec2 vLightMapUv;
+flat out uint vLightSlot;
+#endif
+#ifdef FLY_TEXTURES
+layout(location = 8) in vec2 aUv0;
+out vec2 vUv0;
+#ifdef FLY_UV1
+layout(location = 9) in vec2 aUv1;
+out vec2 vUv1;
+#endif
+#endif
+#ifdef FLY_VERTEX_COLOR
+layout(location = 10) in vec4 aColor;  // COLOR_0, linear RGBA
+out vec4 vColor;
+#endif
+#ifdef FLY_NORMAL_MAP
+layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(normal, tangent)
+out vec4 vTangent;
+#endif
+// Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
+#ifdef FLY_PHONG
+out vec3 vPositionM;
+out vec3 vNormal;
+out float vCorner;
+#endif
+#ifdef FLY_LIGHT_MAP
+out vec3 vFrontLux;
+#ifdef FLY_TWO_SIDED
+out vec3 vBackLux;
+#endif
+#endif
+// The surface flags (two-sided, has a light map) where they can differ between meshes of the variant.
+#if defined(FLY_TWO_SIDED) || (defined(FLY_PHONG) && defined(FLY_LIGHT_MAP))
+#define FLY_SURFACE_FLAGS
+flat out uint vSurface;
+#endif
+
+void main() {
+  gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
+#ifdef FLY_PHONG
+  vPositionM = aPositionM;
+  vNormal = aNormal;
+  vCorner = aCorner;
+#endif
+#ifdef FLY_LIGHT_MAP
+  vFrontLux = aFrontLux;
+#ifdef FLY_TWO_SIDED
+  vBackLux = aBackLux;
+#endif
+#endif
+#ifdef FLY_SURFACE_FLAGS
+  vSurface = aSurface;
+#endif
+#ifdef FLY_LIGHT_TEXTURE
+  vLightMapUv = aLightMapUv;
+  vLightSlot = aLightSlot;
+#endif
+#ifdef FLY_TEXTURES
+  vUv0 = aUv0;
+#ifdef FLY_UV1
+  vUv1 = aUv1;
+#endif
+#endif
+#ifdef FLY_VERTEX_COLOR
+  vColor = aColor;
+#endif
+#ifdef FLY_NORMAL_MAP
+  vTangent = aTangent;
+#endif
+}
+)GLSL";
+
+// Per fragment: the base colour (factor × texel × COLOR_0; its alpha, times the opacity, the coverage), the
+// normal (normal map), then the same terms as kSceneVertex's: albedo · E / π from the light map (the
+// interpolated vertex values of the face seen, or the light texture's texel), or the modified Phong; plus
+// the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
+// blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
+inline constexpr const char* kSurfaceFragment = R"GLSL(
+#ifdef FLY_PHONG
+in vec3 vPositionM;
+in vec3 vNormal;
+in float vCorner;
+#endif
+#ifdef FLY_LIGHT_MAP
+in vec3 vFrontLux;
+#ifdef FLY_TWO_SIDED
+in vec3 vBackLux;
+#endif
+#endif
+#if defined(FLY_TWO_SIDED) || (defined(FLY_PHONG) && defined(FLY_LIGHT_MAP))
+#define FLY_SURFACE_FLAGS
+flat in uint vSurface;  // its flags (bits 30, 31: kSceneVertex)
+#endif
+// The draw's material (one per draw): a uniform index, so the GPU loads its block once for all fragments.
+uniform uint uMaterial;
+#ifdef FLY_LIGHT_TEXTURE
+in vec2 vLightMapUv;
+flat in uint vLightSlot;
+struct LightRect {
+  vec4 rect;
+  vec4 layer;
+};
+layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[]; };
+layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
+#endif
+#ifdef FLY_TEXTURES
+in vec2 vUv0;
+#ifdef FLY_UV1
+in vec2 vUv1;
+#endif
+layout(binding = 5) uniform sampler2D uBaseColorTexture;
+layout(binding = 6) uniform sampler2D uEmissionTexture;
+layout(binding = 7) uniform sampler2D uNormalTexture;
+// The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map; and per slot its affine
+// UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z), row0.w the
+// UV set (0 or 1). Uniforms (one material per draw), so that every invocation of a 2 × 2 quad — helper
+// invocations outside the triangle too — computes the UVs whose differences pick the mip level, and the
+// samples are taken in uniform control flow, before any discard.
+uniform uint uTextureSlots;
+uniform vec4 uUvRows[6];  // base colour row0, row1; emission row0, row1; normal map row0, row1
+#endif
+#ifdef FLY_VERTEX_COLOR
+in vec4 vColor;
+#endif
+#ifdef FLY_NORMAL_MAP
+in vec4 vTangent;
+#endif
+#ifdef FLY_BLEND_PASS
+layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", back to front
+#else
+layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
+#endif
+
+#ifdef FLY_TEXTURES
+vec2 flyTextureUv(vec4 row0, vec4 row1) {
+#ifdef FLY_UV1
+  vec2 uv = row0.w > 0.5 ? vUv1 : vUv0;
+#else
+  vec2 uv = vUv0;
+#endif
+  return vec2(dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z);
+}
+#endif
+
+void main() {
+  Material m = materials[uMaterial];
+#ifdef FLY_TWO_SIDED
+  bool twoSided = (vSurface & 0x40000000u) != 0u;
+#else
+  bool twoSided = false;  // no mesh of the scene is
+#endif
+  vec4 base = vec4(m.diffuse.rgb, m.coverage.x);
+  vec3 emission = m.emission.rgb;
+#ifdef FLY_TEXTURES
+  vec3 normalTexel = vec3(0.5, 0.5, 1.0);
+  if ((uTextureSlots & 1u) != 0u) base *= texture(uBaseColorTexture, flyTextureUv(uUvRows[0], uUvRows[1]));
+  if ((uTextureSlots & 2u) != 0u) emission *= texture(uEmissionTexture, flyTextureUv(uUvRows[2], uUvRows[3])).rgb;
+#ifdef FLY_NORMAL_MAP
+  if ((uTextureSlots & 4u) != 0u) normalTexel = texture(uNormalTexture, flyTextureUv(uUvRows[4], uUvRows[5])).xyz;
+#endif
+#endif
+#ifdef FLY_VERTEX_COLOR
+  base *= vColor;
+#endif
+#ifdef FLY_ALPHA_MASK
+  if (base.a < m.coverage.y) discard;
+#endif
+  bool back = !gl_FrontFacing;
+  vec3 l = vec3(0.0);
+  bool useLightMap = false;
+#ifdef FLY_LIGHT_MAP
+#ifdef FLY_PHONG
+  useLightMap = (vSurface & 0x80000000u) != 0u;
+#else
+  useLightMap = true;  // every mesh has a light map (the renderer leaves FLY_PHONG out only then)
+#endif
+  if (useLightMap) {
+#ifdef FLY_TWO_SIDED
+    vec3 eLux = (back && twoSided) ? vBackLux : vFrontLux;
+#else
+    vec3 eLux = vFrontLux;
+#endif
+#ifdef FLY_LIGHT_TEXTURE
+    if (vLightSlot != 0xffffffffu) {
+      uint slot = (vLightSlot & 0x7fffffffu) + ((back && (vLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
+      LightRect r = lightRects[slot];
+      vec2 t = clamp(vLightMapUv * r.rect.zw, vec2(0.5), r.rect.zw - vec2(0.5));
+      eLux = texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
+    }
+#endif
+    l = base.rgb * eLux / kPi;
+  }
+#endif
+#ifdef FLY_PHONG
+  if (!useLightMap) {
+    vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
+    vec3 n = normalize(vNormal);
+#ifdef FLY_NORMAL_MAP
+    if ((uTextureSlots & 4u) != 0u) {
+      // glTF's tangent space: x along the tangent, y along w · cross(n, t), z along n.
+      vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
+      float tl = dot(t, t);
+      if (tl > 1e-12) {
+        t *= inversesqrt(tl);
+        vec3 b = (vTangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+        vec3 s = normalTexel * 2.0 - 1.0;
+        s.xy *= m.coverage.z;
+        vec3 bent = t * s.x + b * s.y + n * s.z;
+        if (dot(bent, bent) > 1e-12) n = normalize(bent);
+      }
+    }
+#endif
+    l = phong(base.rgb, m, vPositionM, (back && twoSided) ? -n : n, toEye, vCorner);
+  }
+#endif
+  l += emission;
+  // The back of a one-sided surface shows black (kSceneFragment).
+  l = (!back || twoSided) ? l : vec3(0.0);
+#ifdef FLY_BLEND_PASS
+  float a = clamp(base.a, 0.0, 1.0);
+  oBlend = vec4(l * a, a);
+#else
+  oLuminance = flyEncodeLuminance(l);
+#endif
+}
+)GLSL";
+
+// Blended surfaces over the image: the blend target holds, per pixel, C = Σ over the surfaces back to front of
+// "over" (C ← a · L + (1 − a) · C) and T = Π (1 − a), so what the pixel shows is C + T · (the image behind).
+inline constexpr const char* kBlendComposite = R"GLSL(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rg32ui) uniform uimage2D uLuminance;  // kLuminanceEncoding
+layout(binding = 1, rgba32f) uniform readonly image2D uBlend;
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = imageSize(uLuminance);
+  if (p.x >= size.x || p.y >= size.y) return;
+  vec4 b = imageLoad(uBlend, p);
+  if (b.a >= 1.0) return;  // no blended surface in this pixel
+  vec3 behind = flyDecodeLuminance(imageLoad(uLuminance, p).xy);
+  imageStore(uLuminance, p, uvec4(flyEncodeLuminance(b.rgb + b.a * behind), 0u, 0u));
 }
 )GLSL";
 

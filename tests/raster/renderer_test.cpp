@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "base/color.h"
 #include "base/log.h"
 #include "base/tone_map.h"
 #include "raster/gl_context.h"
@@ -382,6 +383,164 @@ TEST(Renderer, SimpleModeGoniometricLight) {
   const float l = float(0.5 / kPi * 2.0 * e);
   expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 1e-4f);
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+phong+gonio"}));
+}
+
+// An 8-bit texture of `channels` channels from its bytes, row-major from the top row.
+sdb::TextureId addTexture(sdb::Scene& s, int w, int h, int channels, std::vector<uint8_t> bytes) {
+  sdb::Texture t;
+  t.name = "t";
+  t.sourcePath = "<embedded>";
+  t.width = w;
+  t.height = h;
+  t.channels = channels;
+  t.pixels = std::move(bytes);
+  return s.addTexture(std::move(t)).id;
+}
+
+// quadXY with uv0 = ((x + 1)/2, 0.5 − y): u from 0 to 1 left to right, v from 0 at the top to 1 at the bottom.
+sdb::Mesh uvQuad(sdb::MaterialId material) {
+  sdb::Mesh m = test::quadXY(material);
+  for (const vec3& p : m.positions) m.uv0.push_back(vec2((p.x + 1.0f) * 0.5f, 0.5f - p.y));
+  return m;
+}
+
+// The light-map mode of a textured surface: base colour factor × the texel (sRGB-decoded by the GPU) ×
+// COLOR_0 × E / π, and its emission texel × the emission factor added; a 1 × 1 texture reads the same
+// texel everywhere (every mip level is that texel).
+TEST(Renderer, TexturedLightMapIsFactorTimesTexelTimesColourTimesIrradianceOverPi) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.5f, 0.6f, 0.7f);
+  m.diffuseTexture.texture = addTexture(s, 1, 1, 3, {188, 120, 60});
+  m.emissionLuminance = Rgb(20.0f);
+  m.emissionTexture.texture = addTexture(s, 1, 1, 3, {255, 128, 0});
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  sdb::Mesh mesh = uvQuad(mat);
+  mesh.colors.assign(4, vec4(0.8f, 1.0f, 0.5f, 1.0f));
+  const sdb::MeshId meshId = s.addMesh(mesh).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  rdb::LightMapStore store;
+  store.meshes.push_back({node.value, meshId.value, kFrontLux, {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  const Rgb albedo = Rgb(0.5f, 0.6f, 0.7f) * srgbToLinear(Rgb(188, 120, 60) / 255.0f) * Rgb(0.8f, 1.0f, 0.5f);
+  const Rgb emission = 20.0f * srgbToLinear(Rgb(255, 128, 0) / 255.0f);
+  std::vector<Rgb> vertexLum = luminanceOf(kFrontLux, albedo);
+  for (Rgb& l : vertexLum) l += emission;
+  // GPUs may decode 8-bit sRGB up to about half a code value off (llvmpipe: +0.3 % at 60/255); a missing
+  // decode would be 2–5× off.
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, vertexLum, false), 1e-2f);
+  EXPECT_EQ(renderer.stats().programs,
+            (std::vector<std::string>{"background", "scene+lightmap+perfragment+textures+vertexcolor"}));
+  EXPECT_EQ(renderer.stats().textureUploads, 2);
+}
+
+// A normal map bends the normal of the Phong terms: a 1000 lx directional light along the quad's normal and
+// the ambient level (1000 lx, as in SimpleModeDirectionalLightPlusAmbientOnAMatteQuad) give L = ρ/π ·
+// (1000 · n'_z + 1000), with n' the texel's normal (2 · texel − 1, normalised) in the tangent frame (tangent
+// +X from u, bitangent +Y towards the image's top, normal +Z); with normalScale 0 the map is flat.
+TEST(Renderer, NormalMapsBendTheNormalOfThePhongTerms) {
+  context();
+  for (float scale : {1.0f, 0.0f}) {
+    sdb::Scene s;
+    sdb::Material m;
+    m.diffuseColor = Rgb(0.5f);
+    m.bumpTexture.texture = addTexture(s, 1, 1, 3, {204, 128, 230});
+    m.bumpScale = scale;
+    const sdb::MaterialId mat = s.addMaterial(m).id;
+    s.addNode({.name = "quad", .meshes = {s.addMesh(uvQuad(mat)).id}});
+    sdb::Light sun;
+    sun.type = sdb::LightType::kDirectional;
+    sun.intensity = 1000.0f;
+    s.addNode({.name = "light", .light = s.addLight(sun).id});
+    const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+    ASSERT_TRUE(r.variants.normalMaps);
+    Renderer renderer;
+    renderer.upload(r);
+    renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+    vec3 n = vec3(204, 128, 230) / 255.0f * 2.0f - 1.0f;
+    n.x *= scale;
+    n.y *= scale;
+    n = glm::normalize(n);
+    const float l = 0.5f / kPiF * (1000.0f * n.z + r.ambient.upLux.g);
+    expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 2e-4f);
+  }
+}
+
+// An alpha cut-out: a 4 × 1 texture with alpha 0, 0, 1, 1 and cut-off 0.5 shows the quad where u ∈ [0.5, 1)
+// (texel centres 0.625, 0.875: coverage 1) and nothing (the black background) where u ∈ (0.125, 0.375)
+// (coverage 0); between them the bilinear alpha crosses the cut-off.
+TEST(Renderer, AlphaMaskDiscardsBelowTheCutOff) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.5f);
+  m.diffuseTexture.texture = addTexture(s, 4, 1, 4, {255, 255, 255, 0, 255, 255, 255, 0, 255, 255, 255, 255,
+                                                     255, 255, 255, 255});
+  m.alphaMode = sdb::AlphaMode::kMask;
+  m.alphaCutoff = 0.5f;
+  m.emissionLuminance = Rgb(10.0f);
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  s.addNode({.name = "quad", .meshes = {s.addMesh(uvQuad(mat)).id}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+  ASSERT_TRUE(r.variants.alphaMask);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+  const std::vector<float> img = renderer.luminanceRgb();
+  for (uint32_t j = 9; j < 23; ++j) {  // rows inside the quad (y ∈ (−0.5, 0.5) is rows 8..23)
+    for (uint32_t i = 0; i < 64; ++i) {
+      const float u = ((-2.0f + 4.0f * (float(i) + 0.5f) / 64.0f) + 1.0f) * 0.5f;
+      const float g = img[(size_t(j) * 64 + i) * 3 + 1];
+      if (u > 0.13f && u < 0.37f) {
+        EXPECT_EQ(g, 0.0f) << "pixel " << i << ", " << j;
+      } else if (u > 0.5f && u < 1.0f) {
+        EXPECT_NEAR(g, 10.0f, 1e-4f) << "pixel " << i << ", " << j;
+      }
+    }
+  }
+  EXPECT_NE(std::find(renderer.stats().programs.begin(), renderer.stats().programs.end(),
+                      "scene+phong+perfragment+textures+mask"),
+            renderer.stats().programs.end());
+}
+
+// Blended surfaces are drawn back to front over what lies behind them: a wall of luminance L_b (emission, no
+// lights) behind two blended quads listed front first, A (1 m in front, emission (100, 0, 0), opacity 0.25)
+// and B (0.5 m in front, emission (0, 100, 0), opacity 0.5), show 0.25 A + 0.75 (0.5 B + 0.5 L_b) where all
+// three overlap — the order sorted by depth, not the meshes' order.
+TEST(Renderer, BlendedSurfacesAreDrawnBackToFrontOverTheRest) {
+  context();
+  sdb::Scene s;
+  auto emitter = [&](const Rgb& cdM2, float opacity, bool blend) {
+    sdb::Material m;
+    m.diffuseColor = Rgb(0.0f);
+    m.emissionLuminance = cdM2;
+    m.opacity = opacity;
+    m.alphaMode = blend ? sdb::AlphaMode::kBlend : sdb::AlphaMode::kOpaque;
+    return s.addMaterial(m).id;
+  };
+  const Rgb wall(10, 20, 30), a(100, 0, 0), b(0, 100, 0);
+  auto place = [](float z) { return frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0, 0, z)); };
+  s.addNode({.name = "A", .parentFromLocal = place(1.0f), .meshes = {s.addMesh(test::quadXY(emitter(a, 0.25f, true))).id}});
+  s.addNode({.name = "B", .parentFromLocal = place(0.5f), .meshes = {s.addMesh(test::quadXY(emitter(b, 0.5f, true))).id}});
+  s.addNode({.name = "wall", .meshes = {s.addMesh(test::quadXY(emitter(wall, 1.0f, false))).id}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+  ASSERT_TRUE(r.variants.alphaBlend);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+  const Rgb expected = 0.25f * a + 0.75f * (0.5f * b + 0.5f * wall);
+  const std::vector<float> img = renderer.luminanceRgb();
+  const size_t centre = (size_t(16) * 64 + 32) * 3;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(img[centre + size_t(c)], expected[c], 1e-4f * 100.0f);
+  // From behind (the quads are one-sided: their backs show black, over which the same rule applies; the
+  // wall's back is black too) the nearest is the wall: only its black back is seen.
+  renderer.render(orthoView(true), RenderMode::kSimple, 64, 32);
+  const std::vector<float> back = renderer.luminanceRgb();
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(back[centre + size_t(c)], 0.0f);
 }
 
 TEST(Renderer, ExposureOrOperatorChangesReRunOnlyTheToneMapPass) {

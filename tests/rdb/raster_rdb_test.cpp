@@ -6,6 +6,10 @@
 #include "test_meshes.h"
 
 #include <cmath>
+#include <cstring>
+#include <functional>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "base/error.h"
 #include "sdb/scene.h"
@@ -26,7 +30,8 @@ struct Corner {
   sdb::CameraId camera;
 };
 
-Corner corner() {
+// `editFloor` changes the floor's mesh before it is added (texture coordinates, colours, tangents).
+Corner corner(const std::function<void(sdb::Mesh&)>& editFloor = {}) {
   Corner c;
   sdb::Material paint;
   paint.name = "paint";
@@ -38,7 +43,9 @@ Corner corner() {
   wood.reflectionColor = Rgb(1.0f);
   wood.reflectionGlossiness = 0.3f;
   c.wood = c.scene.addMaterial(wood).id;
-  c.floor = c.scene.addNode({.name = "floor", .meshes = {c.scene.addMesh(quadXZ(c.wood)).id}}).id;
+  sdb::Mesh floor = quadXZ(c.wood);
+  if (editFloor) editFloor(floor);
+  c.floor = c.scene.addNode({.name = "floor", .meshes = {c.scene.addMesh(floor).id}}).id;
   c.wallX = c.scene.addNode({.name = "wallX", .meshes = {c.scene.addMesh(quadYZ(c.paint)).id}}).id;
   // Wall z = 0: the YZ quad turned −90° about +Y (x → z, z → −x), facing +Z, spanning x ∈ [0, 1].
   c.wallZ = c.scene
@@ -346,6 +353,214 @@ TEST(RasterRdbUpdate, LightTexturesSurviveUpdatesAsARebuild) {
   }
   EXPECT_EQ(r.meshes[0].vertexCount, 6u);
   EXPECT_TRUE(r.variants.lightTexture);
+}
+
+// A textured room corner: the floor's material reads a 16-bit RGB base colour (2 × 1 texels) through a
+// KHR_texture_transform and a 1-channel emission texture, both with UV set 0, and a grey + alpha normal map
+// with UV set 1; the walls stay untextured. The floor's UVs: uv0 = (x, z), uv1 = (x, 1 − z).
+struct TexturedCorner {
+  Corner c;
+  sdb::TextureId rgb16, grey, greyAlpha;
+};
+
+sdb::Texture texture(const std::string& name, int w, int h, int channels, int bits,
+                     const std::vector<uint16_t>& values) {
+  sdb::Texture t;
+  t.name = name;
+  t.sourcePath = "<embedded>";
+  t.width = w;
+  t.height = h;
+  t.channels = channels;
+  t.bitsPerChannel = bits;
+  for (uint16_t v : values) {
+    if (bits == 16) {
+      uint8_t b[2];
+      std::memcpy(b, &v, 2);  // native-endian pairs (sdb/texture.h)
+      t.pixels.insert(t.pixels.end(), b, b + 2);
+    } else {
+      t.pixels.push_back(uint8_t(v));
+    }
+  }
+  return t;
+}
+
+void floorUvs(sdb::Mesh& m) {
+  for (const vec3& p : m.positions) {
+    m.uv0.push_back(vec2(p.x, p.z));
+    m.uv1.push_back(vec2(p.x, 1.0f - p.z));
+  }
+}
+
+TexturedCorner texturedCorner(const std::function<void(sdb::Mesh&)>& editFloor = floorUvs) {
+  TexturedCorner t{corner(editFloor), {}, {}, {}};
+  Scene& s = t.c.scene;
+  t.rgb16 = s.addTexture(texture("base", 2, 1, 3, 16, {65535, 0, 32768, 257, 65534, 128})).id;
+  t.grey = s.addTexture(texture("glow", 1, 1, 1, 8, {200})).id;
+  t.greyAlpha = s.addTexture(texture("bumps", 1, 2, 2, 8, {128, 10, 255, 20})).id;
+  sdb::Material wood = s.material(t.c.wood);
+  wood.diffuseTexture.texture = t.rgb16;
+  wood.diffuseTexture.transform = {vec2(0.0f, 1.0f), float(kPi / 2.0), vec2(0.5f)};
+  wood.emissionTexture.texture = t.grey;
+  wood.emissionLuminance = Rgb(10.0f);
+  wood.bumpTexture.texture = t.greyAlpha;
+  wood.bumpTexture.texCoord = 1;
+  wood.bumpScale = 0.5f;
+  s.setMaterial(t.c.wood, wood);
+  return t;
+}
+
+// uv' of a RasterTextureRef's transform.
+vec2 transformed(const RasterTextureRef& r, const vec2& uv) {
+  return vec2(glm::dot(vec2(r.uvRow0), uv) + r.uvRow0.z, glm::dot(vec2(r.uvRow1), uv) + r.uvRow1.z);
+}
+
+TEST(RasterRdbTextures, TexturesAreRgba8InTheirSlotsEncodingWithTransformsAndUvSets) {
+  TexturedCorner t = texturedCorner();
+  const RasterRdb r = buildRasterRdb(t.c.scene);
+  ASSERT_EQ(r.textures.size(), 3u);  // first use: base colour, emission, normal map
+  EXPECT_EQ(r.textures[0].sdbTextureId, t.rgb16.value);
+  EXPECT_TRUE(r.textures[0].srgb);
+  EXPECT_EQ(r.textures[0].width, 2u);
+  EXPECT_EQ(r.textures[0].height, 1u);
+  // round(v · 255 / 65535): 65535 → 255, 0 → 0, 32768 → 128 (127.50…), 257 → 1, 65534 → 255, 128 → 0.
+  EXPECT_EQ(r.textures[0].rgba8, (std::vector<uint8_t>{255, 0, 128, 255, 1, 255, 0, 255}));
+  EXPECT_TRUE(r.textures[1].srgb);
+  EXPECT_EQ(r.textures[1].rgba8, (std::vector<uint8_t>{200, 200, 200, 255}));
+  EXPECT_FALSE(r.textures[2].srgb);  // a normal map is linear
+  EXPECT_EQ(r.textures[2].rgba8, (std::vector<uint8_t>{128, 128, 128, 10, 255, 255, 255, 20}));
+
+  const RasterMaterial& wood = r.materials[1];
+  EXPECT_EQ(wood.baseColorTexture.texture, 0u);
+  EXPECT_EQ(wood.emissionTexture.texture, 1u);
+  EXPECT_EQ(wood.normalTexture.texture, 2u);
+  EXPECT_EQ(wood.normalTexture.texCoord, 1u);
+  EXPECT_EQ(wood.normalScale, 0.5f);
+  EXPECT_FALSE(r.materials[2].hasTexture());
+  // The extension's example: offset (0, 1), rotation 90°, scale 0.5 shows the lower left quadrant of the
+  // image turned 90° clockwise: (0,0) → (0,1), (1,0) → (0,0.5), (0,1) → (0.5,1), (1,1) → (0.5,0.5).
+  const std::pair<vec2, vec2> corners[] = {
+      {{0, 0}, {0, 1}}, {{1, 0}, {0, 0.5f}}, {{0, 1}, {0.5f, 1}}, {{1, 1}, {0.5f, 0.5f}}};
+  for (const auto& [uv, expected] : corners) {
+    const vec2 got = transformed(wood.baseColorTexture, uv);
+    EXPECT_NEAR(got.x, expected.x, 1e-6f);
+    EXPECT_NEAR(got.y, expected.y, 1e-6f);
+  }
+  EXPECT_EQ(transformed(wood.emissionTexture, vec2(0.3f, 0.7f)), vec2(0.3f, 0.7f));  // identity
+
+  EXPECT_TRUE(r.variants.textures);
+  EXPECT_TRUE(r.variants.normalMaps);
+  EXPECT_TRUE(r.variants.uv1);
+  EXPECT_FALSE(r.variants.vertexColors);
+  EXPECT_FALSE(r.variants.alphaMask || r.variants.alphaBlend);
+  // Per-vertex attributes: the floor's, zeros for the walls (which read none).
+  ASSERT_EQ(r.uv0.size(), r.positionsM.size());
+  ASSERT_EQ(r.uv1.size(), r.positionsM.size());
+  ASSERT_EQ(r.tangents.size(), r.positionsM.size());
+  EXPECT_TRUE(r.colors.empty());
+  const RasterMesh& floor = r.meshes[0];
+  EXPECT_TRUE(r.shadedPerFragment(floor));
+  EXPECT_FALSE(r.shadedPerFragment(r.meshes[1]));
+  for (uint32_t v = floor.firstVertex; v < floor.firstVertex + floor.vertexCount; ++v) {
+    EXPECT_EQ(r.uv0[v], vec2(r.positionsM[v].x, r.positionsM[v].z));
+    EXPECT_EQ(r.uv1[v], vec2(r.positionsM[v].x, 1.0f - r.positionsM[v].z));
+  }
+  EXPECT_EQ(r.uv0[r.meshes[1].firstVertex], vec2(0.0f));
+}
+
+// Generated tangents (Lengyel's method) on the floor (normal +Y): u grows along +X, so the tangent is +X; the
+// image's up (−v) is +Z for uv1 = (x, 1 − z), against cross(+Y, +X) = −Z: w = −1; with v = z instead, −v is
+// −Z: w = +1. A file's tangents are taken as given, and a mirroring node flips their w.
+TEST(RasterRdbTextures, TangentsFromTheFileOrGeneratedFromTheNormalMapsUvSet) {
+  TexturedCorner t = texturedCorner();
+  RasterRdb r = buildRasterRdb(t.c.scene);
+  const RasterMesh& floor = r.meshes[0];
+  for (uint32_t v = floor.firstVertex; v < floor.firstVertex + floor.vertexCount; ++v) {
+    EXPECT_NEAR(glm::length(vec3(r.tangents[v]) - vec3(1, 0, 0)), 0.0f, 1e-6f);
+    EXPECT_EQ(r.tangents[v].w, -1.0f);
+  }
+  sdb::Material wood = t.c.scene.material(t.c.wood);
+  wood.bumpTexture.texCoord = 0;  // uv0 = (x, z)
+  t.c.scene.setMaterial(t.c.wood, wood);
+  r = buildRasterRdb(t.c.scene);
+  EXPECT_TRUE(r.uv1.empty());
+  EXPECT_NEAR(glm::length(vec3(r.tangents[0]) - vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_EQ(r.tangents[0].w, 1.0f);
+
+  TexturedCorner withTangents = texturedCorner([](sdb::Mesh& m) {
+    floorUvs(m);
+    m.tangents.assign(m.positions.size(), vec4(0, 0, 1, 1));
+  });
+  r = buildRasterRdb(withTangents.c.scene);
+  EXPECT_EQ(r.tangents[0], vec4(0, 0, 1, 1));
+  withTangents.c.scene.setNodeTransform(withTangents.c.floor,
+                                        glm::scale(mat4(1.0f), vec3(-1, 1, 1)));  // mirrored in x
+  r = buildRasterRdb(withTangents.c.scene);
+  EXPECT_EQ(r.tangents[0], vec4(0, 0, 1, -1));
+}
+
+TEST(RasterRdbTextures, VertexColorsAndAlphaModes) {
+  Corner c = corner([](sdb::Mesh& m) { m.colors = {{1, 0, 0, 1}, {0, 1, 0, 0.5f}, {0, 0, 1, 1}, {1, 1, 1, 0}}; });
+  sdb::Material paint = c.scene.material(c.paint);
+  paint.alphaMode = sdb::AlphaMode::kMask;
+  paint.alphaCutoff = 0.25f;
+  paint.opacity = 0.75f;
+  c.scene.setMaterial(c.paint, paint);
+  const RasterRdb r = buildRasterRdb(c.scene);
+  EXPECT_TRUE(r.variants.vertexColors);
+  EXPECT_TRUE(r.variants.alphaMask);
+  EXPECT_FALSE(r.variants.alphaBlend);
+  EXPECT_FALSE(r.variants.textures);
+  EXPECT_TRUE(r.uv0.empty());
+  ASSERT_EQ(r.colors.size(), r.positionsM.size());
+  EXPECT_TRUE(r.meshes[0].hasColors);
+  EXPECT_FALSE(r.meshes[1].hasColors);
+  EXPECT_EQ(r.colors[1], vec4(0, 1, 0, 0.5f));
+  EXPECT_EQ(r.colors[r.meshes[1].firstVertex], vec4(1.0f));  // white where a mesh has none
+  EXPECT_EQ(r.materials[2].alphaMode, RasterAlphaMode::kMask);
+  EXPECT_EQ(r.materials[2].alphaCutoff, 0.25f);
+  EXPECT_EQ(r.materials[2].opacity, 0.75f);
+  EXPECT_TRUE(r.shadedPerFragment(r.meshes[0]));  // COLOR_0
+  EXPECT_TRUE(r.shadedPerFragment(r.meshes[1]));  // the cut-out paint
+}
+
+// A factor edit of a textured material re-makes its block; other textures, UV sets or alpha modes rebuild,
+// and every update equals a rebuild.
+TEST(RasterRdbUpdate, TexturedMaterialEditsEqualARebuild) {
+  TexturedCorner t = texturedCorner();
+  RasterRdb r = buildRasterRdb(t.c.scene);
+  sdb::Material wood = t.c.scene.material(t.c.wood);
+  wood.diffuseColor = Rgb(0.9f, 0.5f, 0.1f);
+  wood.diffuseTexture.transform.offset = vec2(0.25f, 0.0f);
+  RasterRdbChanges ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.wood, wood));
+  EXPECT_FALSE(ch.geometry);
+  EXPECT_EQ(ch.materialBlocks, std::vector<uint32_t>{1});
+  EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
+
+  wood.emissionTexture = {};  // one texture fewer: the table shrinks
+  ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.wood, wood));
+  EXPECT_TRUE(ch.geometry);
+  EXPECT_EQ(r.textures.size(), 2u);
+  EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
+
+  sdb::Material paint = t.c.scene.material(t.c.paint);
+  paint.diffuseTexture.texture = t.grey;  // the walls gain a texture: their uv0 appear
+  ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.paint, paint));
+  EXPECT_TRUE(ch.geometry);
+  EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
+
+  paint.alphaMode = sdb::AlphaMode::kBlend;
+  ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.paint, paint));
+  EXPECT_TRUE(ch.geometry);
+  EXPECT_TRUE(r.variants.alphaBlend);
+  EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
+
+  paint.opacity = 0.3f;  // coverage within the same mode: the block only
+  ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.paint, paint));
+  EXPECT_FALSE(ch.geometry);
+  EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
+
+  const sdb::MeshId floorMesh = t.c.scene.node(t.c.floor).meshes[0];
+  expectUpdateEqualsRebuild(t.c, t.c.scene.setMeshMaterial(floorMesh, t.c.paint), r);
 }
 
 // A new time of day re-makes the sky (dawn and noon differ) and nothing else.

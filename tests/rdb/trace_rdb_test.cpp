@@ -154,6 +154,96 @@ TEST(TraceRdbMaterials, FollowTheEnergyRuleAndListEmitters) {
   EXPECT_EQ(r.emissiveTriangles, (std::vector<uint32_t>{2, 3}));
 }
 
+// Textures are lowered once each to 8 bits (16-bit values rounded), slots keep their UV set, wrap modes and
+// KHR_texture_transform (the extension's example maps uv (1, 0) to (0, 0.5) and (0, 1) to (0.5, 1): the
+// lower-left quadrant, turned), and only the per-vertex attributes that materials read are kept.
+TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
+  Scene s;
+  sdb::Texture sixteen;
+  sixteen.name = "sixteen";
+  sixteen.width = 2;
+  sixteen.height = 1;
+  sixteen.channels = 1;
+  sixteen.bitsPerChannel = 16;
+  for (uint16_t v : {uint16_t(65535), uint16_t(32896)}) {  // 32896 = 128 · 257
+    sixteen.pixels.push_back(uint8_t(v & 0xff));
+    sixteen.pixels.push_back(uint8_t(v >> 8));
+  }
+  if (const uint16_t probe = 1; *reinterpret_cast<const uint8_t*>(&probe) == 0) {
+    std::swap(sixteen.pixels[0], sixteen.pixels[1]);  // native-endian pairs on a big-endian machine
+    std::swap(sixteen.pixels[2], sixteen.pixels[3]);
+  }
+  const sdb::TextureId texture = s.addTexture(sixteen).id;
+  sdb::Material m;
+  m.diffuseTexture.texture = texture;
+  m.diffuseTexture.transform = {vec2(0.0f, 1.0f), 1.5707963f, vec2(0.5f)};
+  m.diffuseTexture.wrapS = sdb::WrapMode::kClampToEdge;
+  m.diffuseTexture.wrapT = sdb::WrapMode::kMirroredRepeat;
+  m.emissionTexture.texture = texture;  // the same texture: lowered once
+  m.alphaMode = sdb::AlphaMode::kMask;
+  m.alphaCutoff = 0.3f;
+  m.opacity = 0.9f;
+  const sdb::MaterialId textured = s.addMaterial(m).id;
+  sdb::Mesh mesh = quadXZ(textured);
+  mesh.uv0 = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.uv1 = mesh.uv0;
+  sdb::Mesh plain = quadXZ({});
+  plain.colors.assign(4, vec4(0.5f));
+  s.addNode({.meshes = {s.addMesh(mesh).id, s.addMesh(plain).id}});
+
+  const TraceRdb r = buildTraceRdb(s);
+  ASSERT_EQ(r.textures.size(), 1u);
+  EXPECT_EQ(r.textures[0].texels, (std::vector<uint8_t>{255, 128}));
+  const TraceMaterial& t = r.materials[1];
+  EXPECT_EQ(t.diffuseTexture.texture, 0u);
+  EXPECT_EQ(t.emissionTexture.texture, 0u);
+  EXPECT_FALSE(t.normalTexture);
+  EXPECT_EQ(t.diffuseTexture.wrapS, TraceWrap::kClampToEdge);
+  EXPECT_EQ(t.diffuseTexture.wrapT, TraceWrap::kMirroredRepeat);
+  EXPECT_EQ(t.alpha, TraceAlpha::kMask);
+  EXPECT_FLOAT_EQ(t.alphaCutoff, 0.3f);
+  EXPECT_FLOAT_EQ(t.opacity, 0.9f);
+  auto transformed = [&](const vec2& uv) {
+    const TraceTextureSlot& slot = t.diffuseTexture;
+    return slot.uvFromU * uv.x + slot.uvFromV * uv.y + slot.uvOffset;
+  };
+  expectVec(vec3(transformed({0, 0}), 0), vec3(0, 1, 0));
+  expectVec(vec3(transformed({1, 0}), 0), vec3(0, 0.5f, 0));
+  expectVec(vec3(transformed({0, 1}), 0), vec3(0.5f, 1, 0));
+  // uv0 for the slots, COLOR_0 (some mesh has it; 1 where one has none); no uv1, no tangents.
+  EXPECT_EQ(r.uv0.size(), r.positionsM.size());
+  EXPECT_EQ(r.uv0[2], vec2(1, 1));
+  EXPECT_EQ(r.uv0[4], vec2(0, 0));
+  ASSERT_EQ(r.colors.size(), r.positionsM.size());
+  EXPECT_EQ(r.colors[0], vec4(1.0f));
+  EXPECT_EQ(r.colors[4], vec4(0.5f));
+  EXPECT_TRUE(r.uv1.empty());
+  EXPECT_TRUE(r.tangents.empty());
+
+  // A normal map needs tangents: from the UVs, ∂p/∂u = +x and ∂p/∂v = +z, and N × T = +Y × +X = −Z, so w =
+  // −1.
+  Scene n;
+  sdb::Material bumpy;
+  bumpy.bumpTexture.texture = n.addTexture(sixteen).id;
+  sdb::Mesh quad = quadXZ(n.addMaterial(bumpy).id);
+  quad.uv0 = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  n.addNode({.meshes = {n.addMesh(quad).id}});
+  const TraceRdb withMap = buildTraceRdb(n);
+  ASSERT_EQ(withMap.tangents.size(), 4u);
+  for (const vec4& tangent : withMap.tangents) {
+    expectVec(vec3(tangent), vec3(1, 0, 0));
+    EXPECT_EQ(tangent.w, -1.0f);
+  }
+  EXPECT_TRUE(withMap.colors.empty());
+
+  // Nothing textured, nothing kept.
+  Scene bare;
+  bare.addNode({.meshes = {bare.addMesh(quadXZ({})).id}});
+  const TraceRdb plainRdb = buildTraceRdb(bare);
+  EXPECT_TRUE(plainRdb.uv0.empty() && plainRdb.uv1.empty() && plainRdb.colors.empty() &&
+              plainRdb.tangents.empty() && plainRdb.textures.empty());
+}
+
 TEST(TraceRdbLights, SpotPointsAlongItsNodesMinusZWithCosCones) {
   Scene s;
   sdb::Light spot;

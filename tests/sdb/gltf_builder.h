@@ -123,7 +123,8 @@ class GltfBuilder {
   using json = nlohmann::json;
 
   json doc = {{"asset", {{"version", "2.0"}}}};
-  std::vector<uint8_t> bin;  // the buffer's bytes
+  std::vector<uint8_t> bin;                    // the bytes of buffer 0
+  json moreBuffers = json::array();            // buffers 1, 2 … as given (e.g. EXT_meshopt_compression fallbacks)
 
   // Appends bytes as a buffer view (4-byte aligned); returns its index.
   int view(const void* data, size_t size, size_t byteStride = 0) {
@@ -196,6 +197,7 @@ class GltfBuilder {
       d["buffers"] = json::array(
           {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
     }
+    for (const json& extra : moreBuffers) d["buffers"].push_back(extra);
     writeText(file, d.dump(1));
   }
 
@@ -204,6 +206,7 @@ class GltfBuilder {
     const std::filesystem::path binFile = std::filesystem::path(file).replace_extension(".bin");
     json d = doc;
     d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", binFile.filename().string()}}});
+    for (const json& extra : moreBuffers) d["buffers"].push_back(extra);
     writeText(file, d.dump(1));
     writeBytes(binFile, bin.data(), bin.size());
   }
@@ -214,14 +217,14 @@ class GltfBuilder {
     std::vector<uint8_t> payload = bin;
     while (payload.size() % 4) payload.push_back(0);
     if (!payload.empty()) d["buffers"] = json::array({{{"byteLength", bin.size()}}});
+    for (const json& extra : moreBuffers) d["buffers"].push_back(extra);
     std::string text = d.dump();
     while (text.size() % 4) text += ' ';
-    std::vector<uint8_t> out;
+    std::vector<uint8_t> out = {'g', 'l', 'T', 'F'};
     auto u32 = [&out](uint32_t v) {
       for (int k = 0; k < 4; ++k) out.push_back(uint8_t(v >> (8 * k)));
     };
     const size_t length = 12 + 8 + text.size() + (payload.empty() ? 0 : 8 + payload.size());
-    out.insert(out.end(), {'g', 'l', 'T', 'F'});
     u32(2);
     u32(uint32_t(length));
     u32(uint32_t(text.size()));

@@ -9,7 +9,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
-#include "gltf_builder.h"
+#include "gltf_import_fixture.h"
 
 namespace fly::sdb {
 namespace {
@@ -21,63 +21,6 @@ using test::TempDir;
 constexpr int kByte = 5120, kUByte = 5121, kShort = 5122, kUShort = 5123, kUInt = 5125;
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
-
-// Records what the importer logs, and keeps the test output quiet.
-class GltfImport : public ::testing::Test {
- protected:
-  void SetUp() override {
-    previous_ = log::setSink([this](log::Level level, std::string_view m) {
-      if (level == log::Level::kWarning) logged_.emplace_back(m);
-    });
-  }
-  void TearDown() override { log::setSink(previous_); }
-
-  GltfImportResult import(const GltfBuilder& b, const GltfImportOptions& options = {}) {
-    const std::filesystem::path file = dir_ / "model.gltf";
-    b.writeGltf(file);
-    return importGltf(scene_, file, options);
-  }
-
-  // The InputError that importing `b` throws ("" when none is thrown).
-  std::string importError(const GltfBuilder& b) {
-    try {
-      import(b);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  }
-
-  const Mesh& onlyMesh() const {
-    EXPECT_EQ(scene_.meshes().size(), 1u);
-    return scene_.meshes().begin()->second;
-  }
-  const Material& onlyMaterialOfMesh() const { return scene_.material(onlyMesh().material); }
-
-  static bool contains(const std::vector<std::string>& texts, const std::string& part) {
-    for (const std::string& t : texts) {
-      if (t.find(part) != std::string::npos) return true;
-    }
-    return false;
-  }
-
-  TempDir dir_;
-  Scene scene_;
-  std::vector<std::string> logged_;
-  log::Sink previous_;
-};
-
-void expectVec(const vec3& a, const vec3& b, float tol = 1e-5f) {
-  EXPECT_NEAR(a.x, b.x, tol);
-  EXPECT_NEAR(a.y, b.y, tol);
-  EXPECT_NEAR(a.z, b.z, tol);
-}
-
-vec3 transformPoint(const mat4& m, const vec3& p) {
-  return vec3(m * vec4(p, 1.0f));
-}
-
-const std::vector<float> kTriangle = {0, 0, 0, 1, 0, 0, 0, 1, 0};
 
 // --- Nodes and transforms.
 
@@ -147,6 +90,29 @@ TEST_F(GltfImport, FileWithoutScenesImportsEveryParentlessNode) {
   EXPECT_EQ(scene_.node(r.roots[0]).name, "a");
   EXPECT_EQ(scene_.node(r.roots[1]).name, "b");
   EXPECT_EQ(scene_.nodes().size(), 3u);
+}
+
+TEST_F(GltfImport, SceneListingAChildImportsItAsARootWithItsOwnTransform) {
+  GltfBuilder b;
+  const int mesh = b.triangles(kTriangle, {}, "Tile");
+  b.node({{"name", "tmpParent"}, {"children", {1}}, {"translation", {5, 0, 0}}});
+  b.node({{"name", "tile"}, {"mesh", mesh}, {"translation", {0, 1, 0}}});
+  b.scene({1});
+  const GltfImportResult r = import(b);
+  ASSERT_EQ(r.roots.size(), 1u);
+  EXPECT_EQ(scene_.node(r.roots[0]).name, "tile");
+  expectVec(transformPoint(scene_.worldFromLocal(r.roots[0]), vec3(0.0f)), vec3(0, 1, 0));
+  EXPECT_TRUE(contains(r.warnings, "scene 0 lists node 1 'tile' as a root, but it is a child of node 0; it is "
+                                   "imported as a root with its own transform"));
+
+  // Listed with its parent (and twice): imported once, under the parent.
+  scene_ = Scene();
+  b.scene({0, 1, 0});
+  const GltfImportResult twice = import(b);
+  EXPECT_EQ(twice.roots.size(), 1u);
+  EXPECT_EQ(scene_.nodes().size(), 2u);
+  EXPECT_TRUE(contains(twice.warnings, "an ancestor of it is listed too; it is imported once, under its parent"));
+  EXPECT_TRUE(contains(twice.warnings, "scene 0 lists node 0 'tmpParent' twice; it is imported once"));
 }
 
 TEST_F(GltfImport, GltfGlbAndExternalBinGiveTheSameMesh) {
@@ -462,22 +428,6 @@ TEST_F(GltfImport, MirroredNodesGetAReversedWindingCopyOfTheMesh) {
 
 // --- Materials (the conversion documented at the top of gltf_import.cpp).
 
-// A one-triangle file whose primitive uses material 0 = `material`.
-GltfBuilder withMaterial(const json& material) {
-  GltfBuilder b;
-  b.material(material);
-  b.triangles(kTriangle, {}, "T", 0);
-  b.node({{"mesh", 0}});
-  b.scene({0});
-  return b;
-}
-
-void expectRgb(const Rgb& a, const Rgb& b, float tol = 1e-6f) {
-  EXPECT_NEAR(a.r, b.r, tol);
-  EXPECT_NEAR(a.g, b.g, tol);
-  EXPECT_NEAR(a.b, b.b, tol);
-}
-
 TEST_F(GltfImport, DielectricMaterial) {
   import(withMaterial({{"name", "Paint"},
                        { "pbrMetallicRoughness",
@@ -647,13 +597,6 @@ TEST_F(GltfImport, DoubleSidedAndDefaultMaterial) {
 
 // --- Textures.
 
-// Adds an embedded PNG image, a texture using it, and returns the texture's index.
-int addImageTexture(GltfBuilder& b, const std::vector<uint8_t>& image) {
-  const int view = b.view(image);
-  b.append("images", {{"bufferView", view}, {"mimeType", "image/png"}, {"name", "checker"}});
-  return b.append("textures", {{"source", int(b.doc["images"].size() - 1)}});
-}
-
 TEST_F(GltfImport, TexturesAreDecodedOnceAndSharedBetweenMaterials) {
   GltfBuilder b;
   const int tex = addImageTexture(b, test::png(2, 1, {255, 0, 0, 0, 255, 0}));
@@ -727,6 +670,38 @@ TEST_F(GltfImport, TextureTransformAndTexCoordOverride) {
   EXPECT_EQ(m.diffuseTexture.transform.scale, vec2(2, 3));
   EXPECT_EQ(m.emissionTexture.texCoord, 1);
   EXPECT_TRUE(m.emissionTexture.transform.isIdentity());
+}
+
+TEST_F(GltfImport, SamplerWrapModesReachTheTextureRefs) {
+  GltfBuilder b = withMaterial(json::object());
+  const int repeat = addImageTexture(b, test::png(1, 1, {1, 2, 3}));
+  const int clampMirror = addImageTexture(b, test::png(1, 1, {1, 2, 3}));
+  b.append("samplers", {{"wrapS", 33071}, {"wrapT", 33648}});
+  b.doc["textures"][clampMirror]["sampler"] = 0;
+  b.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", repeat}}}}},
+                           {"emissiveTexture", {{"index", clampMirror}}}};
+  import(b);
+  const Material& m = onlyMaterialOfMesh();
+  EXPECT_EQ(m.diffuseTexture.wrapS, WrapMode::kRepeat);  // no sampler: glTF's default
+  EXPECT_EQ(m.diffuseTexture.wrapT, WrapMode::kRepeat);
+  EXPECT_EQ(m.emissionTexture.wrapS, WrapMode::kClampToEdge);
+  EXPECT_EQ(m.emissionTexture.wrapT, WrapMode::kMirroredRepeat);
+
+  // Wrong values name their JSON location.
+  auto expectError = [&](const std::string& jsonPath, const std::string& text) {
+    try {
+      import(b);
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.location().jsonPath, jsonPath);
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  b.doc["samplers"][0]["wrapT"] = 10241;  // a filter constant, not a wrap mode
+  expectError("/samplers/0/wrapT", "wrap mode 10241");
+  b.doc["samplers"][0]["wrapT"] = 10497;
+  b.doc["textures"][clampMirror]["sampler"] = 3;
+  expectError("/textures/1/sampler", "refers to sampler 3");
 }
 
 TEST_F(GltfImport, ExternalSixteenBitImageAndUnsupportedTexCoord) {
@@ -833,15 +808,17 @@ TEST_F(GltfImport, PerspectiveAndOrthographicCameras) {
 
 TEST_F(GltfImport, ExtensionsRequiredMustBeSupportedAndUsedOnesOnlyWarn) {
   GltfBuilder b = withMaterial(json::object());
-  b.useExtension("KHR_materials_clearcoat");
+  b.useExtension("KHR_materials_iridescence");
   b.useExtension("KHR_lights_punctual", true);
   const GltfImportResult r = import(b);
-  EXPECT_TRUE(contains(r.warnings, "the glTF extension 'KHR_materials_clearcoat' is not supported"));
+  EXPECT_TRUE(contains(r.warnings, "the glTF extension 'KHR_materials_iridescence' is not supported: the "
+                                   "thin-film iridescence is ignored"));
 
-  b.useExtension("EXT_meshopt_compression", true);
-  EXPECT_NE(importError(b).find(
-                "requires the glTF extension 'EXT_meshopt_compression', which fly does not support"),
+  b.useExtension("EXT_mesh_gpu_instancing", true);
+  const std::string error = importError(b);
+  EXPECT_NE(error.find("requires the glTF extension 'EXT_mesh_gpu_instancing', which fly does not support"),
             std::string::npos);
+  EXPECT_NE(error.find("instancing resolved into ordinary nodes"), std::string::npos) << error;
 }
 
 // --- Bad input.
@@ -943,7 +920,8 @@ TEST_F(GltfImport, UndecodableImageIsAnInputError) {
             std::string::npos);
   b.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", bmp}}}}}};
   EXPECT_NE(importError(b).find(
-                "image 1 'checker' (material 0 baseColorTexture): its embedded data is neither PNG nor JPEG"),
+                "image 1 'checker' (material 0 baseColorTexture): its embedded data is not an image format fly "
+                "knows; without an image decoder installed fly reads PNG and JPEG"),
             std::string::npos);
 }
 

@@ -170,6 +170,7 @@ TEST(SceneFile, MinimalScenesAndDefaults) {
   EXPECT_TRUE(empty.nodes().empty());
   EXPECT_EQ(empty.sky().model, SkyModel::kNone);
   EXPECT_EQ(empty.bakeSettings().samples, 0u);
+  EXPECT_FALSE(empty.bakeSettings().maxBounces);  // unbounded: paths end by Russian roulette
 
   // A leap day, a leap second, a UTC offset, durations and errors in other forms.
   const Scene s = parse(R"({"fly": 1,
@@ -269,7 +270,7 @@ TEST(SceneFile, WrongTypesAndRanges) {
   expectError(R"({"fly": 1, "bake": {"samples": 300}})", "1:32", "/bake/samples",
               {"expected 0 or a power of two; got 300", "256 and 512"});
   expectError(R"({"fly": 1, "bake": {"maxBounces": 2.5}})", "1:35", "/bake/maxBounces",
-              {"expected an integer (indirect bounces), [0, 1000]; got 2.5"});
+              {"expected an integer (indirect bounces), [0, 10000]; got 2.5"});
   expectError(R"({"fly": 1, "bake": {"targetError": "150%"}})", "1:36", "/bake/targetError", {"percentage"});
   expectError(R"({"fly": 1, "bake": {"targetError": 1}})", "1:36", "/bake/targetError", {"(0, 1); got 1"});
   expectError(R"({"fly": 1, "bake": {"time": "5 minutes"}})", "1:29", "/bake/time", {"expected a duration"});

@@ -1,0 +1,18 @@
+// An ImageDecoder (texture.h) through OpenImageIO: PNG, JPEG, WebP, Radiance HDR, OpenEXR and TIFF. Target
+// fly_sdb_images, kept out of fly_sdb so that the GL engine, which links fly_sdb, never links OpenImageIO
+// (DESIGN.md). The fly program installs it for every glTF import (gltf_import.h setImageDecoder).
+//
+// Conversions: 8-bit samples stay 8-bit; 16- and 32-bit integer samples become 16-bit; float samples (HDR,
+// EXR, float TIFF) are clamped to [0, 1] and rounded to 16 bits, because sdb::Texture holds 8- or 16-bit
+// values, and every glTF texture slot reads values in [0, 1] (baseColor and emissive as sRGB-encoded values,
+// the others as linear ones), which is how the file's numbers are taken: they are not re-encoded. Clamped
+// values (and NaN, taken as 0) are counted in a note. Channels beyond the fourth are dropped.
+#pragma once
+
+#include "sdb/texture.h"
+
+namespace fly::sdb {
+
+Texture decodeImageOiio(std::span<const uint8_t> encoded, size_t maxBytes, std::vector<std::string>& notes);
+
+}  // namespace fly::sdb

@@ -1,0 +1,133 @@
+// Texture lookups against hand-computed texel values: wrap modes, bilinear weights, sRGB decoding,
+// KHR_texture_transform, channel layouts; coverage and shading normals at points.
+#include "raytracer/surface_point.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "rdb/trace_rdb_builder.h"
+
+namespace fly::raytracer {
+namespace {
+
+using rdb::TraceWrap;
+
+TEST(SurfacePoint, WrapModesFollowOpenGL) {
+  // Width 4: texels 0 1 2 3.
+  const int64_t in[] = {-5, -1, 0, 3, 4, 5, 7, 8, 9};
+  const uint32_t repeat[] = {3, 3, 0, 3, 0, 1, 3, 0, 1};
+  const uint32_t clamp[] = {0, 0, 0, 3, 3, 3, 3, 3, 3};
+  const uint32_t mirror[] = {3, 0, 0, 3, 3, 2, 0, 0, 1};
+  for (size_t k = 0; k < std::size(in); ++k) {
+    EXPECT_EQ(wrapTexel(in[k], 4, TraceWrap::kRepeat), repeat[k]) << in[k];
+    EXPECT_EQ(wrapTexel(in[k], 4, TraceWrap::kClampToEdge), clamp[k]) << in[k];
+    EXPECT_EQ(wrapTexel(in[k], 4, TraceWrap::kMirroredRepeat), mirror[k]) << in[k];
+  }
+}
+
+// A 4 × 2 grey texture, linear: row 0 = 0, 40, 80, 120; row 1 = 200, 210, 220, 230.
+rdb::TraceRdb greyTexture() {
+  rdb::TraceRdbBuilder b;
+  b.texture(4, 2, 1, {0, 40, 80, 120, 200, 210, 220, 230});
+  return b.rdb;
+}
+
+float lookup(const rdb::TraceRdb& rdb, const vec2& uv, TraceWrap s, TraceWrap t = TraceWrap::kRepeat) {
+  rdb::TraceTextureSlot slot;
+  slot.texture = 0;
+  slot.wrapS = s;
+  slot.wrapT = t;
+  return sampleTexture(rdb, slot, uv, false).r * 255.0f;
+}
+
+TEST(SurfacePoint, BilinearLookupsUnderEachWrapMode) {
+  const rdb::TraceRdb rdb = greyTexture();
+  // Texel centres: u = (i + ½)/4, v = (j + ½)/2.
+  EXPECT_NEAR(lookup(rdb, {0.375f, 0.25f}, TraceWrap::kRepeat), 40.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {0.625f, 0.75f}, TraceWrap::kRepeat), 220.0f, 1e-3f);
+  // Half-way between texels 1 and 2 of row 0, a quarter of the way down to row 1.
+  EXPECT_NEAR(lookup(rdb, {0.5f, 0.375f}, TraceWrap::kRepeat), 0.75f * 60.0f + 0.25f * 215.0f, 1e-3f);
+  // u = 1.125 is texel 0's centre one period on (repeat), beyond the right edge (clamp: texel 3), and in the
+  // mirrored copy (texel 3).
+  EXPECT_NEAR(lookup(rdb, {1.125f, 0.25f}, TraceWrap::kRepeat), 0.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {1.125f, 0.25f}, TraceWrap::kClampToEdge), 120.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {1.125f, 0.25f}, TraceWrap::kMirroredRepeat), 120.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {1.375f, 0.25f}, TraceWrap::kMirroredRepeat), 80.0f, 1e-3f);
+  // u = 0: half-way between texel 0 and texel 3 (repeat), texel 0 (clamp, mirror).
+  EXPECT_NEAR(lookup(rdb, {0.0f, 0.25f}, TraceWrap::kRepeat), 60.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {0.0f, 0.25f}, TraceWrap::kClampToEdge), 0.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {0.0f, 0.25f}, TraceWrap::kMirroredRepeat), 0.0f, 1e-3f);
+  // v = −0.25: texel row 1 under repeat, row 0 under clamp, row 0 mirrored.
+  EXPECT_NEAR(lookup(rdb, {0.125f, -0.25f}, TraceWrap::kRepeat, TraceWrap::kRepeat), 200.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {0.125f, -0.25f}, TraceWrap::kRepeat, TraceWrap::kClampToEdge), 0.0f, 1e-3f);
+  EXPECT_NEAR(lookup(rdb, {0.125f, -0.25f}, TraceWrap::kRepeat, TraceWrap::kMirroredRepeat), 0.0f, 1e-3f);
+  // Far away and non-finite coordinates stay finite.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_TRUE(std::isfinite(lookup(rdb, {1e30f, -1e30f}, TraceWrap::kRepeat)));
+  EXPECT_NEAR(lookup(rdb, {nan, 0.25f}, TraceWrap::kClampToEdge, TraceWrap::kClampToEdge), 0.0f, 1e-3f);
+}
+
+TEST(SurfacePoint, TextureTransformAndSrgbAndChannels) {
+  rdb::TraceRdbBuilder b;
+  // 4 × 4 RGBA: texel (i, j) = (i · 60, j · 60, 10, 255 − 50 i).
+  std::vector<uint8_t> texels;
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      texels.insert(texels.end(), {uint8_t(i * 60), uint8_t(j * 60), 10, uint8_t(255 - 50 * i)});
+    }
+  }
+  b.texture(4, 4, 4, texels);
+  rdb::TraceTextureSlot slot;
+  slot.texture = 0;
+  // KHR_texture_transform, offset (0, 1), rotation π/2, scale ½: u' = v/2, v' = 1 − u/2 (rdb/trace_rdb.h).
+  slot.uvFromU = vec2(0.0f, -0.5f);
+  slot.uvFromV = vec2(0.5f, 0.0f);
+  slot.uvOffset = vec2(0.0f, 1.0f);
+  // (u, v) = (0.75, 0.25) → (0.125, 0.625): texel (0, 2).
+  const vec4 linear = sampleTexture(b.rdb, slot, vec2(0.75f, 0.25f), false);
+  EXPECT_NEAR(linear.r, 0.0f, 1e-6f);
+  EXPECT_NEAR(linear.g, 120.0f / 255.0f, 1e-6f);
+  EXPECT_NEAR(linear.a, 1.0f, 1e-6f);
+  // sRGB decodes the colour, not alpha; at (u, v) = (0.25, 0.75) → (0.375, 0.875): texel (1, 3).
+  const vec4 srgb = sampleTexture(b.rdb, slot, vec2(0.25f, 0.75f), true);
+  EXPECT_NEAR(srgb.r, srgbToLinear(60.0f / 255.0f), 1e-6f);
+  EXPECT_NEAR(srgb.g, srgbToLinear(180.0f / 255.0f), 1e-6f);
+  EXPECT_NEAR(srgb.b, srgbToLinear(10.0f / 255.0f), 1e-6f);
+  EXPECT_NEAR(srgb.a, 205.0f / 255.0f, 1e-6f);
+  // sRGB is decoded per texel before filtering: half-way between texels 0 and 1 of a row.
+  rdb::TraceTextureSlot plain;
+  plain.texture = 0;
+  const vec4 between = sampleTexture(b.rdb, plain, vec2(0.25f, 0.125f), true);
+  EXPECT_NEAR(between.r, 0.5f * srgbToLinear(60.0f / 255.0f), 1e-6f);
+  EXPECT_NEAR(between.a, (255.0f - 25.0f) / 255.0f, 1e-6f);
+}
+
+TEST(SurfacePoint, CoverageAndShadingNormal) {
+  rdb::TraceRdbBuilder b;
+  b.texture(1, 1, 2, {255, 128});  // grey + alpha
+  const uint32_t mat = b.material(Rgb(0.5f));
+  rdb::TraceMaterial& m = b.rdb.materials[mat];
+  m.diffuseTexture.texture = 0;
+  m.opacity = 0.5f;
+  b.ground(1.0f, 1, mat);
+  const TrianglePoint at{0, vec2(0.2f, 0.3f)};
+  EXPECT_NEAR(coverageAt(b.rdb, m, at), 0.5f * 128.0f / 255.0f, 1e-6f);
+  b.rdb.colors.assign(b.rdb.positionsM.size(), vec4(1.0f, 1.0f, 1.0f, 0.5f));
+  EXPECT_NEAR(coverageAt(b.rdb, m, at), 0.25f * 128.0f / 255.0f, 1e-6f);
+  const PointMaterial pm = materialAt(b.rdb, m, at);
+  EXPECT_NEAR(pm.coverage, 0.25f * 128.0f / 255.0f, 1e-6f);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(pm.material.diffuse[c], 0.5f, 1e-6f);
+
+  // Interpolated vertex normals; one pointing below the surface gives way to the geometric normal.
+  b.rdb.normals[0] = glm::normalize(vec3(1, 1, 0));
+  const vec3 n = shadingNormalAt(b.rdb, m, {0, vec2(0.0f)}, vec3(0, 1, 0));
+  EXPECT_NEAR(glm::dot(n, glm::normalize(vec3(1, 1, 0))), 1.0f, 1e-6f);
+  b.rdb.normals[0] = vec3(0, -1, 0);
+  EXPECT_EQ(shadingNormalAt(b.rdb, m, {0, vec2(0.0f)}, vec3(0, 1, 0)), vec3(0, 1, 0));
+}
+
+}  // namespace
+}  // namespace fly::raytracer
