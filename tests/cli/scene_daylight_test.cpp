@@ -136,6 +136,19 @@ TEST(DaylightOptions, SiteAndTimeOnAPlainModelGiveTheSunOfSunsky) {
   EXPECT_NEAR(utc->sunPosition.azimuthDeg, expected.azimuthDeg, 1e-9);
 }
 
+TEST(DaylightOptions, AnOvercastSkyWithThePlacedSunHasTheIesHandbooksLevel) {
+  DaylightOptions o;
+  o.sky = "cie:1";
+  o.sunDirection = "180,30";
+  const LitScene lit = loadLitScene(kPlainModel, o);
+  EXPECT_FALSE(lit.scene.sky().sun);
+  const std::optional<rdb::SceneDaylight> d = rdb::lowerDaylight(lit.scene);
+  ASSERT_TRUE(d && d->sky);
+  EXPECT_FALSE(d->sun);
+  // IES Lighting Handbook, overcast sky: 0.3 + 21·sin α klx, α = 30°.
+  EXPECT_NEAR(sunsky::horizontalIlluminanceLux(*d->sky), 10800.0, 0.01 * 10800.0);
+}
+
 TEST(DaylightOptions, EachOverridesTheSceneFilesValue) {
   const sdb::Scene base = sdb::loadScene(kHouse);
   const auto with = [](auto set) {
