@@ -14,25 +14,31 @@ namespace {
 // The Draco data type that stores exactly what a glTF integer componentType holds.
 draco::DataType integerType(const DracoAttributeRequest& r) {
   switch (r.componentBytes) {
-    case 1: return r.isSigned ? draco::DT_INT8 : draco::DT_UINT8;
-    case 2: return r.isSigned ? draco::DT_INT16 : draco::DT_UINT16;
-    default: return r.isSigned ? draco::DT_INT32 : draco::DT_UINT32;
+    case 1:
+      return r.isSigned ? draco::DT_INT8 : draco::DT_UINT8;
+    case 2:
+      return r.isSigned ? draco::DT_INT16 : draco::DT_UINT16;
+    default:
+      return r.isSigned ? draco::DT_INT32 : draco::DT_UINT32;
   }
 }
 
 }  // namespace
 
-DracoMesh decodeDracoMesh(std::span<const uint8_t> encoded, const std::map<int, DracoAttributeRequest>& requests) {
+DracoMesh decodeDracoMesh(std::span<const uint8_t> encoded,
+                          const std::map<int, DracoAttributeRequest>& requests) {
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(encoded.data()), encoded.size());
   draco::Decoder decoder;
   auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
-  if (!type.ok()) throw std::runtime_error("it is not a Draco bit stream: " + type.status().error_msg_string());
+  if (!type.ok())
+    throw std::runtime_error("it is not a Draco bit stream: " + type.status().error_msg_string());
   if (type.value() != draco::TRIANGULAR_MESH) {
     throw std::runtime_error("it holds a Draco point cloud, not a triangle mesh");
   }
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  if (!decoded.ok()) throw std::runtime_error("Draco cannot decode it: " + decoded.status().error_msg_string());
+  if (!decoded.ok())
+    throw std::runtime_error("Draco cannot decode it: " + decoded.status().error_msg_string());
   const draco::Mesh& mesh = *decoded.value();
 
   DracoMesh out;

@@ -12,10 +12,10 @@ namespace fly::sdb {
 
 // What the glTF accessor says an attribute holds, which the decoded values must match.
 struct DracoAttributeRequest {
-  int components = 0;         // 1..4 (SCALAR … VEC4)
-  bool isFloat = true;        // glTF componentType FLOAT; otherwise an integer type of `componentBytes`
-  int componentBytes = 4;     // 1, 2 or 4
-  bool isSigned = false;      // for integer types: BYTE and SHORT
+  int components = 0;      // 1..4 (SCALAR … VEC4)
+  bool isFloat = true;     // glTF componentType FLOAT; otherwise an integer type of `componentBytes`
+  int componentBytes = 4;  // 1, 2 or 4
+  bool isSigned = false;   // for integer types: BYTE and SHORT
 };
 
 struct DracoMesh {
@@ -26,9 +26,10 @@ struct DracoMesh {
   std::map<int, std::vector<uint8_t>> attributes;
 };
 
-// Decodes `encoded` (a Draco mesh bit stream) and extracts the attributes `requests` names by Draco unique id.
-// Fails with std::runtime_error giving the reason (not a Draco mesh, corrupt, an attribute id missing or of a
-// type other than the request's).
-DracoMesh decodeDracoMesh(std::span<const uint8_t> encoded, const std::map<int, DracoAttributeRequest>& requests);
+// Decodes `encoded` (a Draco mesh bit stream) and extracts the attributes `requests` names by Draco unique
+// id. Fails with std::runtime_error giving the reason (not a Draco mesh, corrupt, an attribute id missing or
+// of a type other than the request's).
+DracoMesh decodeDracoMesh(std::span<const uint8_t> encoded,
+                          const std::map<int, DracoAttributeRequest>& requests);
 
 }  // namespace fly::sdb

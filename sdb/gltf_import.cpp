@@ -39,8 +39,8 @@
 //  - occlusionTexture is ignored: the baker computes occlusion from the geometry.
 //  - doubleSided → Material::doubleSided and Mesh::twoSided.
 //  - KHR_materials_clearcoat → applyClearCoat and KHR_materials_sheen → applySheen (material_layers.h, where
-//    the approximations are stated); when the coat is the lobe, clearcoatTexture (red) → reflectionTexture and
-//    clearcoatRoughnessTexture (green) → reflectionGlossinessTexture.
+//    the approximations are stated); when the coat is the lobe, clearcoatTexture (red) → reflectionTexture
+//    and clearcoatRoughnessTexture (green) → reflectionGlossinessTexture.
 //  - A primitive without a material gets fly's default material (Material{}, a light grey paint, named
 //    "default") rather than glTF's default (§3.9.6: a white rough metal), which would act as a blurred mirror
 //    in a bake.
@@ -53,10 +53,10 @@
 // EXT_texture_webp (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Vendor).
 //
 // Textures are decoded by the installed ImageDecoder (setImageDecoder; the fly program's reads PNG, JPEG,
-// WebP, HDR, EXR and TIFF through OpenImageIO) or else by tinygltf's stb_image loader (PNG and JPEG, the formats
-// glTF 2.0 §3.8.2 allows), into RGBA with 8 or 16 bits per channel. A single channel that a material parameter
-// reads (roughness = green, transmission and clear coat = red) is copied into a one-channel (grey) texture of
-// its own.
+// WebP, HDR, EXR and TIFF through OpenImageIO) or else by tinygltf's stb_image loader (PNG and JPEG, the
+// formats glTF 2.0 §3.8.2 allows), into RGBA with 8 or 16 bits per channel. A single channel that a material
+// parameter reads (roughness = green, transmission and clear coat = red) is copied into a one-channel (grey)
+// texture of its own.
 //
 // Import budget (GltfImportOptions::maxDecodedBytes, kMaxTextureDimension): every accessor, decoded meshopt
 // view and image is charged its decoded size from what the file declares (accessor counts, image headers)
@@ -68,8 +68,8 @@
 
 #include <tiny_gltf.h>
 
-#include "sdb/gltf_files.h"
 #include "sdb/draco_decode.h"
+#include "sdb/gltf_files.h"
 #include "sdb/material_layers.h"
 #include "sdb/meshopt_decode.h"
 
@@ -112,12 +112,20 @@ static_assert(std::endian::native == std::endian::little,
 // Extensions whose content the importer converts (see the comment block above and gltf_import.h).
 // KHR_mesh_quantization only widens the component types allowed for attributes, which readAccessor handles.
 // KHR_materials_variants: the default materials (those without a variant) are imported.
-constexpr std::array<std::string_view, 14> kSupportedExtensions = {
-    "EXT_meshopt_compression",         "KHR_draco_mesh_compression", "KHR_lights_punctual",
-    "KHR_materials_clearcoat",         "KHR_materials_emissive_strength",
-    "KHR_materials_ior",               "KHR_materials_sheen",        "KHR_materials_specular",
-    "KHR_materials_transmission",      "KHR_materials_variants",     "KHR_materials_volume",
-    "KHR_mesh_quantization",           "KHR_texture_transform",      "EXT_texture_webp"};
+constexpr std::array<std::string_view, 14> kSupportedExtensions = {"EXT_meshopt_compression",
+                                                                   "KHR_draco_mesh_compression",
+                                                                   "KHR_lights_punctual",
+                                                                   "KHR_materials_clearcoat",
+                                                                   "KHR_materials_emissive_strength",
+                                                                   "KHR_materials_ior",
+                                                                   "KHR_materials_sheen",
+                                                                   "KHR_materials_specular",
+                                                                   "KHR_materials_transmission",
+                                                                   "KHR_materials_variants",
+                                                                   "KHR_materials_volume",
+                                                                   "KHR_mesh_quantization",
+                                                                   "KHR_texture_transform",
+                                                                   "EXT_texture_webp"};
 
 const ImageDecoder& installedImageDecoder();
 
@@ -135,14 +143,17 @@ struct UnsupportedExtension {
   std::string_view hint;     // how to get a file fly reads when the file requires it
 };
 constexpr std::array<UnsupportedExtension, 9> kUnsupportedExtensions = {{
-    {"EXT_texture_webp", "its WebP textures are not decoded (no image decoder that reads WebP is installed); "
-                         "the fallback PNG or JPEG images are used where the file gives them",
+    {"EXT_texture_webp",
+     "its WebP textures are not decoded (no image decoder that reads WebP is installed); "
+     "the fallback PNG or JPEG images are used where the file gives them",
      "use the fly program, which decodes WebP through OpenImageIO, or convert the textures to PNG or JPEG"},
-    {"KHR_texture_basisu", "its KTX2 (Basis Universal) textures are not decoded; the fallback PNG or JPEG "
-                           "images are used where the file gives them",
+    {"KHR_texture_basisu",
+     "its KTX2 (Basis Universal) textures are not decoded; the fallback PNG or JPEG "
+     "images are used where the file gives them",
      "convert the KTX2 textures to PNG or JPEG (e.g. with KTX-Software's `ktx extract`) and refer to those"},
-    {"KHR_materials_unlit", "unlit materials are shaded as lit, with their base colour as the diffuse colour "
-                            "(fly computes physical light, and an unlit surface has none)",
+    {"KHR_materials_unlit",
+     "unlit materials are shaded as lit, with their base colour as the diffuse colour "
+     "(fly computes physical light, and an unlit surface has none)",
      "export the materials as ordinary metallic-roughness materials"},
     {"KHR_materials_anisotropy", "the anisotropy of the reflection is ignored (the lobe is isotropic)",
      "export the file without KHR_materials_anisotropy"},
@@ -154,8 +165,9 @@ constexpr std::array<UnsupportedExtension, 9> kUnsupportedExtensions = {{
     {"EXT_mesh_gpu_instancing", "the instances are not imported (only each node's own mesh)",
      "export the file with instancing resolved into ordinary nodes (e.g. glTF-Transform's `flatten`/"
      "`uninstance`)"},
-    {"KHR_materials_pbrSpecularGlossiness", "specular-glossiness materials are read as their fallback "
-                                            "metallic-roughness ones",
+    {"KHR_materials_pbrSpecularGlossiness",
+     "specular-glossiness materials are read as their fallback "
+     "metallic-roughness ones",
      "convert the materials to metallic-roughness (e.g. glTF-Transform's `metalrough`)"},
 }};
 
@@ -244,15 +256,24 @@ ImageFormat imageFormat(std::span<const uint8_t> b) {
 
 const char* formatName(ImageFormat f) {
   switch (f) {
-    case ImageFormat::kPng: return "a PNG image";
-    case ImageFormat::kJpeg: return "a JPEG image";
-    case ImageFormat::kWebp: return "a WebP image";
-    case ImageFormat::kExr: return "an OpenEXR image";
-    case ImageFormat::kHdr: return "a Radiance HDR image";
-    case ImageFormat::kTiff: return "a TIFF image";
-    case ImageFormat::kKtx2: return "a KTX2 texture";
-    case ImageFormat::kDds: return "a DDS texture";
-    case ImageFormat::kUnknown: break;
+    case ImageFormat::kPng:
+      return "a PNG image";
+    case ImageFormat::kJpeg:
+      return "a JPEG image";
+    case ImageFormat::kWebp:
+      return "a WebP image";
+    case ImageFormat::kExr:
+      return "an OpenEXR image";
+    case ImageFormat::kHdr:
+      return "a Radiance HDR image";
+    case ImageFormat::kTiff:
+      return "a TIFF image";
+    case ImageFormat::kKtx2:
+      return "a KTX2 texture";
+    case ImageFormat::kDds:
+      return "a DDS texture";
+    case ImageFormat::kUnknown:
+      break;
   }
   return "not an image format fly knows";
 }
@@ -263,8 +284,12 @@ struct ImageSize {
   int bitsPerChannel = 8;  // as decoded: 16 for 16-bit PNGs, 8 otherwise
 };
 
-uint32_t be16(const uint8_t* p) { return uint32_t(p[0]) << 8 | p[1]; }
-uint32_t be32(const uint8_t* p) { return be16(p) << 16 | be16(p + 2); }
+uint32_t be16(const uint8_t* p) {
+  return uint32_t(p[0]) << 8 | p[1];
+}
+uint32_t be32(const uint8_t* p) {
+  return be16(p) << 16 | be16(p + 2);
+}
 
 // The pixel size a PNG (its IHDR chunk, ISO/IEC 15948 §11.2.2) or a JPEG (its SOFn segment, ITU-T T.81
 // §B.2.2) declares, read without decoding; nullopt when the header is missing or cut off.
@@ -298,7 +323,9 @@ ImageDecoder& imageDecoderSlot() {
   return decoder;
 }
 
-const ImageDecoder& installedImageDecoder() { return imageDecoderSlot(); }
+const ImageDecoder& installedImageDecoder() {
+  return imageDecoderSlot();
+}
 
 // The parts of a texture reference (glTF textureInfo), wherever it appears.
 struct TexInfo {
@@ -387,7 +414,8 @@ class Importer {
   // A declared image size against kMaxTextureDimension and the budget (RGBA as decoded), before decoding;
   // returns the bytes charged.
   uint64_t checkImageSize(const ImageSize& size, const std::string& path, const std::string& what) {
-    if (size.width == 0 || size.height == 0) fail(path, what + " declares an image of 0 pixels", kHintTruncated);
+    if (size.width == 0 || size.height == 0)
+      fail(path, what + " declares an image of 0 pixels", kHintTruncated);
     if (size.width > uint32_t(kMaxTextureDimension) || size.height > uint32_t(kMaxTextureDimension)) {
       fail(path,
            what + " is " + std::to_string(size.width) + " × " + std::to_string(size.height) +
@@ -422,8 +450,7 @@ class Importer {
       patchCompressedMeshJson(bytes, true);
       ok = loader.LoadBinaryFromMemory(&model_, &err, &tinyWarn,
                                        reinterpret_cast<const unsigned char*>(bytes.data()),
-                                       unsigned(bytes.size()),
-                                       baseDir_.string());
+                                       unsigned(bytes.size()), baseDir_.string());
     } else {
       std::string ext = file_.extension().string();
       std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -502,9 +529,9 @@ class Importer {
     }
     const size_t jsonStart = glb ? 20 : 0;
     const size_t jsonLength = glb ? readU32(bytes, 12) : bytes.size();
-    nlohmann::json doc = nlohmann::json::parse(bytes.begin() + std::ptrdiff_t(jsonStart),
-                                               bytes.begin() + std::ptrdiff_t(jsonStart + jsonLength), nullptr,
-                                               false);
+    nlohmann::json doc =
+        nlohmann::json::parse(bytes.begin() + std::ptrdiff_t(jsonStart),
+                              bytes.begin() + std::ptrdiff_t(jsonStart + jsonLength), nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return;  // tinygltf reports the JSON error
     auto extensionOf = [](const nlohmann::json& o, const char* name) -> const nlohmann::json* {
       if (!o.is_object() || !o.contains("extensions") || !o["extensions"].is_object()) return nullptr;
@@ -584,8 +611,9 @@ class Importer {
       } else if (modeName == "INDICES") {
         mode = MeshoptMode::kIndices;
       } else if (modeName != "ATTRIBUTES") {
-        fail(path + "/mode", label + " has mode '" + modeName + "'; the extension defines ATTRIBUTES, TRIANGLES "
-                                                                 "and INDICES");
+        fail(path + "/mode", label + " has mode '" + modeName +
+                                 "'; the extension defines ATTRIBUTES, TRIANGLES "
+                                 "and INDICES");
       }
       MeshoptFilter filter = MeshoptFilter::kNone;
       if (filterName == "OCTAHEDRAL") {
@@ -595,8 +623,9 @@ class Importer {
       } else if (filterName == "EXPONENTIAL") {
         filter = MeshoptFilter::kExponential;
       } else if (filterName != "NONE") {
-        fail(path + "/filter", label + " has filter '" + filterName + "'; the extension defines NONE, "
-                                                                     "OCTAHEDRAL, QUATERNION and EXPONENTIAL");
+        fail(path + "/filter", label + " has filter '" + filterName +
+                                   "'; the extension defines NONE, "
+                                   "OCTAHEDRAL, QUATERNION and EXPONENTIAL");
       }
       if (buffer >= model_.buffers.size()) {
         fail(path + "/buffer", label + " refers to buffer " + std::to_string(buffer) + ", but the file has " +
@@ -604,8 +633,9 @@ class Importer {
       }
       const std::vector<unsigned char>& data = model_.buffers[buffer].data;
       if (satMulAdd(offset, length, 1) > data.size()) {
-        fail(path, label + " reads bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
-                       " of buffer " + std::to_string(buffer) + ", which has " + std::to_string(data.size()),
+        fail(path,
+             label + " reads bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
+                 " of buffer " + std::to_string(buffer) + ", which has " + std::to_string(data.size()),
              kHintTruncated);
       }
       const size_t decodedBytes = satMulAdd(0, count, stride);
@@ -683,9 +713,11 @@ class Importer {
     for (const std::string& ext : model_.extensionsRequired) {
       if (isSupportedExtension(ext)) continue;
       const UnsupportedExtension* known = findUnsupported(ext);
-      fail("/extensionsRequired", "the file requires the glTF extension '" + ext + "', which fly does not support",
-           known ? std::string(known->hint)
-                 : "export the file without " + ext + "; docs/scene-format.md lists the extensions fly reads");
+      fail("/extensionsRequired",
+           "the file requires the glTF extension '" + ext + "', which fly does not support",
+           known
+               ? std::string(known->hint)
+               : "export the file without " + ext + "; docs/scene-format.md lists the extensions fly reads");
     }
     for (const std::string& ext : model_.extensionsUsed) {
       const bool required = std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(),
@@ -706,7 +738,8 @@ class Importer {
     std::string names;
     for (size_t k = 0; variants.IsArray() && k < variants.ArrayLen(); ++k) {
       const tinygltf::Value& n = variants.Get(int(k)).Get("name");
-      names += std::string(names.empty() ? "" : ", ") + "'" + (n.IsString() ? n.Get<std::string>() : "?") + "'";
+      names +=
+          std::string(names.empty() ? "" : ", ") + "'" + (n.IsString() ? n.Get<std::string>() : "?") + "'";
     }
     if (names.empty()) return;
     warn("the file has material variants (KHR_materials_variants) " + names +
@@ -791,9 +824,9 @@ class Importer {
         }
         listed[size_t(r)] = true;
       }
-      // glTF 2.0 §3.5.2 makes a scene's nodes root nodes. Some exporters list a child instead (Kenney's models
-      // list their one node under an unlisted "tmpParent"); such a node is imported as a root with its own
-      // transform, as glTF viewers show it, unless an ancestor of it is listed and brings it along.
+      // glTF 2.0 §3.5.2 makes a scene's nodes root nodes. Some exporters list a child instead (Kenney's
+      // models list their one node under an unlisted "tmpParent"); such a node is imported as a root with its
+      // own transform, as glTF viewers show it, unless an ancestor of it is listed and brings it along.
       std::vector<bool> taken(count, false);
       for (int r : listedRoots) {
         const std::string label = "scene " + std::to_string(s) + " lists node " + std::to_string(r) +
@@ -807,7 +840,8 @@ class Importer {
           ancestorListed = listed[size_t(a)];
         }
         if (ancestorListed) {
-          warn(label + " as a root, but an ancestor of it is listed too; it is imported once, under its parent");
+          warn(label +
+               " as a root, but an ancestor of it is listed too; it is imported once, under its parent");
           continue;
         }
         if (parentOf[size_t(r)] >= 0) {
@@ -1307,7 +1341,8 @@ class Importer {
       fail(dpath + "/bufferView", where + ": KHR_draco_mesh_compression needs a 'bufferView'");
     }
     const tinygltf::Value& attrs = ext.Get("attributes");
-    if (!attrs.IsObject()) fail(dpath + "/attributes", where + ": KHR_draco_mesh_compression needs 'attributes'");
+    if (!attrs.IsObject())
+      fail(dpath + "/attributes", where + ": KHR_draco_mesh_compression needs 'attributes'");
     DracoPrimitive d;
     std::map<int, DracoAttributeRequest> requests;
     for (const std::string& semantic : attrs.Keys()) {
@@ -1332,19 +1367,20 @@ class Importer {
       }
       const int components = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
       // Charged at the size the accessor declares, before the stream is decoded.
-      charge(satMulAdd(0, acc.count, size_t(components) * 4), "/accessors/" + std::to_string(a->second) + "/count",
+      charge(satMulAdd(0, acc.count, size_t(components) * 4),
+             "/accessors/" + std::to_string(a->second) + "/count",
              "accessor " + std::to_string(a->second) + " (" + semantic + " of " + where + "), " +
                  std::to_string(acc.count) + " elements of " + typeName(acc.type) + ",");
       const bool isFloat = acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-      const bool isSigned =
-          acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT;
+      const bool isSigned = acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                            acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT;
       requests[id.GetNumberAsInt()] = {components, isFloat, int(compSize), isSigned};
       d.ids[semantic] = id.GetNumberAsInt();
     }
     if (!d.ids.count("POSITION")) fail(dpath + "/attributes", where + ": the Draco stream has no POSITION");
     size_t size = 0;
-    const unsigned char* bytes =
-        bufferViewData(ext.Get("bufferView").GetNumberAsInt(), where + " (Draco data)", dpath + "/bufferView", &size);
+    const unsigned char* bytes = bufferViewData(ext.Get("bufferView").GetNumberAsInt(),
+                                                where + " (Draco data)", dpath + "/bufferView", &size);
     try {
       d.mesh = decodeDracoMesh({bytes, size}, requests);
     } catch (const std::runtime_error& e) {
@@ -1352,8 +1388,9 @@ class Importer {
     }
     const size_t declared = model_.accessors[size_t(prim.attributes.at("POSITION"))].count;
     if (d.mesh.pointCount != declared) {
-      fail(dpath, where + ": the Draco stream has " + std::to_string(d.mesh.pointCount) +
-                      " points but the POSITION accessor declares " + std::to_string(declared),
+      fail(dpath,
+           where + ": the Draco stream has " + std::to_string(d.mesh.pointCount) +
+               " points but the POSITION accessor declares " + std::to_string(declared),
            kHintTruncated);
     }
     return d;
@@ -1365,8 +1402,8 @@ class Importer {
     const tinygltf::Accessor& a = model_.accessors[size_t(accessor)];
     const std::string path = "/accessors/" + std::to_string(accessor);
     if (std::find(types.begin(), types.end(), a.type) == types.end()) {
-      fail(path + "/type", "accessor " + std::to_string(accessor) + " (" + role + ") has type " + typeName(a.type) +
-                               ", which " + semantic + " does not allow");
+      fail(path + "/type", "accessor " + std::to_string(accessor) + " (" + role + ") has type " +
+                               typeName(a.type) + ", which " + semantic + " does not allow");
     }
     const std::vector<uint8_t>& bytes = d.mesh.attributes.at(d.ids.at(semantic));
     AccessorData out;
@@ -1505,8 +1542,9 @@ class Importer {
     if (draco) {
       // The compressed stream's triangles replace the indices accessor (KHR_draco_mesh_compression).
       if (mode != TINYGLTF_MODE_TRIANGLES) {
-        fail(path + "/mode", where + " is Draco-compressed, which KHR_draco_mesh_compression allows for "
-                                     "triangle lists (mode 4) only");
+        fail(path + "/mode", where +
+                                 " is Draco-compressed, which KHR_draco_mesh_compression allows for "
+                                 "triangle lists (mode 4) only");
       }
       sequence = draco->mesh.indices;
       for (size_t k = 0; k < sequence.size(); ++k) {
@@ -1929,11 +1967,12 @@ class Importer {
     }
     if (coatIsLobe) {
       // The lobe is the coat's: its factor (red) and roughness (green) textures take the reflection slots.
-      m.reflectionTexture = textureRef(extensionTexInfo(*coat, "clearcoatTexture", cpath),
-                                       cpath + "/clearcoatTexture", label + " clearcoatTexture", Channels::kRed);
-      m.reflectionGlossinessTexture =
-          textureRef(extensionTexInfo(*coat, "clearcoatRoughnessTexture", cpath),
-                     cpath + "/clearcoatRoughnessTexture", label + " clearcoatRoughnessTexture", Channels::kGreen);
+      m.reflectionTexture =
+          textureRef(extensionTexInfo(*coat, "clearcoatTexture", cpath), cpath + "/clearcoatTexture",
+                     label + " clearcoatTexture", Channels::kRed);
+      m.reflectionGlossinessTexture = textureRef(extensionTexInfo(*coat, "clearcoatRoughnessTexture", cpath),
+                                                 cpath + "/clearcoatRoughnessTexture",
+                                                 label + " clearcoatRoughnessTexture", Channels::kGreen);
     } else if (pbr.metallicRoughnessTexture.index >= 0) {
       const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
       m.reflectionGlossinessTexture =
@@ -2183,8 +2222,9 @@ class Importer {
     const ImageFormat format = imageFormat(encoded);
     if (format == ImageFormat::kKtx2) {
       fail(path,
-           label + ": " + data + " is a KTX2 (Basis Universal) texture, the format of the glTF extension "
-                                 "KHR_texture_basisu, which fly cannot decode",
+           label + ": " + data +
+               " is a KTX2 (Basis Universal) texture, the format of the glTF extension "
+               "KHR_texture_basisu, which fly cannot decode",
            "convert the texture to PNG or JPEG (e.g. with KTX-Software: `ktx extract " +
                (img.uri.empty() ? std::string("TEXTURE.ktx2") : percentDecode(img.uri)) +
                " OUT.png`) and refer to the PNG or JPEG in the glTF file");
@@ -2221,9 +2261,9 @@ class Importer {
              "convert the texture to PNG or JPEG, or use the fly program, which decodes WebP, HDR, EXR and "
              "TIFF through OpenImageIO");
       }
-      // stb_image, which tinygltf uses, expands every image to RGBA when given no options; 16-bit PNGs keep 16
-      // bits. The format check keeps other formats away from it: its 16-bit PNM path in the version tinygltf
-      // uses writes fewer bytes than tinygltf copies.
+      // stb_image, which tinygltf uses, expands every image to RGBA when given no options; 16-bit PNGs keep
+      // 16 bits. The format check keeps other formats away from it: its 16-bit PNM path in the version
+      // tinygltf uses writes fewer bytes than tinygltf copies.
       tinygltf::Image out;
       out.name = img.name;
       std::string err;
@@ -2330,7 +2370,9 @@ class Importer {
 
 }  // namespace
 
-void setImageDecoder(ImageDecoder decoder) { imageDecoderSlot() = std::move(decoder); }
+void setImageDecoder(ImageDecoder decoder) {
+  imageDecoderSlot() = std::move(decoder);
+}
 
 GltfImportResult importGltf(Scene& scene, const std::filesystem::path& file,
                             const GltfImportOptions& options) {

@@ -1,5 +1,5 @@
-// Layers that glTF stacks on its base material (KHR_materials_clearcoat, KHR_materials_sheen), approximated by
-// the realistic material (material.h), which has one Lambertian diffuse term and one reflection lobe. The
+// Layers that glTF stacks on its base material (KHR_materials_clearcoat, KHR_materials_sheen), approximated
+// by the realistic material (material.h), which has one Lambertian diffuse term and one reflection lobe. The
 // material presets and the glTF importer use the same functions.
 #pragma once
 
@@ -8,7 +8,8 @@
 namespace fly::sdb {
 
 // A clear coat: a smooth dielectric film over the base (KHR_materials_clearcoat; a car's lacquer).
-inline constexpr float kClearCoatIor = 1.5f;  // KHR_materials_clearcoat fixes the coat's ior at 1.5 (F0 = 0.04)
+inline constexpr float kClearCoatIor =
+    1.5f;  // KHR_materials_clearcoat fixes the coat's ior at 1.5 (F0 = 0.04)
 
 struct ClearCoat {
   float amount = 1.0f;      // [0,1], glTF clearcoatFactor: the fraction of the surface the coat covers
@@ -20,10 +21,11 @@ struct CoatedMaterial {
   bool coatIsLobe = false;  // the reflection lobe is the coat's (its textures then belong to the coat)
 };
 
-// The coat as one Fresnel reflection lobe (ior 1.5) over `base`. The realistic material has a single lobe, so:
+// The coat as one Fresnel reflection lobe (ior 1.5) over `base`. The realistic material has a single lobe,
+// so:
 //  - Dielectric base (Fresnel reflection): the coat covers a fraction `amount` of the surface; there light
-//    meets the coat's interface, and the base's own interface below it reflects ((n − 1.5)/(n + 1.5))² ≈ 0 for
-//    the usual n ≈ 1.5, so it is dropped. Uncovered, the base's interface reflects as before. The lobe's
+//    meets the coat's interface, and the base's own interface below it reflects ((n − 1.5)/(n + 1.5))² ≈ 0
+//    for the usual n ≈ 1.5, so it is dropped. Uncovered, the base's interface reflects as before. The lobe's
 //    normal-incidence reflectance is the sum, amount·F0(1.5) + (1 − amount)·reflectionColor·F0(ior); it takes
 //    the glossiness (and, when the coat's share is the larger, the ior 1.5) of the larger share, and
 //    reflectionColor = that sum / F0(lobe ior), clamped to 1.

@@ -49,8 +49,8 @@ Material brushed(Material m) {
 }
 
 // A base under a clear lacquer (ior 1.5) covering the whole surface (material_layers.h): the lacquer is the
-// reflection lobe; a metallic base's reflectance becomes part of the diffuse colour. Car paints have a mirror-
-// smooth coat (glossiness 0.03), moulded coated plastic a slightly softer one (0.05).
+// reflection lobe; a metallic base's reflectance becomes part of the diffuse colour. Car paints have a
+// mirror-smooth coat (glossiness 0.03), moulded coated plastic a slightly softer one (0.05).
 Material lacquered(const Material& base, float coatGlossiness = 0.03f) {
   return applyClearCoat(base, ClearCoat{1.0f, coatGlossiness}).material;
 }
@@ -86,15 +86,19 @@ const std::array<MaterialPreset, 16>& table() {
        lacquered(metal("metallic-car-paint", Rgb(0.45f, 0.46f, 0.48f), 0.45f))},
       {"pearl-car-paint", "car-paint", "pearl white paint under a clear coat",
        lacquered(dielectric("pearl-car-paint", Rgb(0.8f, 0.78f, 0.74f), 1.5f, 0.4f))},
-      {"concrete", "stone", "grey cast concrete, albedo 0.45", dielectric("concrete", Rgb(0.45f), 1.5f, 0.9f)},
-      {"marble", "stone", "polished white marble, albedo 0.75", dielectric("marble", Rgb(0.75f, 0.74f, 0.72f), 1.49f, 0.2f)},
-      {"tiles", "stone", "glazed ceramic tiles, albedo 0.6", dielectric("tiles", Rgb(0.6f, 0.58f, 0.55f), 1.5f, 0.1f)},
+      {"concrete", "stone", "grey cast concrete, albedo 0.45",
+       dielectric("concrete", Rgb(0.45f), 1.5f, 0.9f)},
+      {"marble", "stone", "polished white marble, albedo 0.75",
+       dielectric("marble", Rgb(0.75f, 0.74f, 0.72f), 1.49f, 0.2f)},
+      {"tiles", "stone", "glazed ceramic tiles, albedo 0.6",
+       dielectric("tiles", Rgb(0.6f, 0.58f, 0.55f), 1.5f, 0.1f)},
       {"raw-wood", "wood", "unfinished light timber (pine), albedo ≈ 0.4",
        dielectric("raw-wood", Rgb(0.5f, 0.36f, 0.22f), 1.5f, 0.8f)},
       {"polished-wood", "wood", "lacquered dark hardwood (walnut), albedo ≈ 0.2",
        dielectric("polished-wood", Rgb(0.3f, 0.17f, 0.09f), 1.5f, 0.15f)},
       {"clear-glass", "glass", "clear soda-lime float glass, IOR 1.52", glass("clear-glass", 0.0f)},
-      {"frosted-glass", "glass", "acid-etched glass, IOR 1.52, wide transmission cone", glass("frosted-glass", 0.6f)},
+      {"frosted-glass", "glass", "acid-etched glass, IOR 1.52, wide transmission cone",
+       glass("frosted-glass", 0.6f)},
       {"fabric", "fabric", "woven textile, albedo 0.5, a faint broad sheen",
        dielectric("fabric", Rgb(0.5f), 1.5f, 1.0f)},
   }};

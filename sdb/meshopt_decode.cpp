@@ -14,7 +14,8 @@ std::vector<uint8_t> decodeMeshoptView(std::span<const uint8_t> encoded, size_t 
     throw std::runtime_error("byteStride " + std::to_string(byteStride) + " is not allowed for its mode");
   }
   if (mode == MeshoptMode::kTriangles && count % 3 != 0) {
-    throw std::runtime_error("TRIANGLES mode needs a count that is a multiple of 3, not " + std::to_string(count));
+    throw std::runtime_error("TRIANGLES mode needs a count that is a multiple of 3, not " +
+                             std::to_string(count));
   }
   if (mode != MeshoptMode::kAttributes && filter != MeshoptFilter::kNone) {
     throw std::runtime_error("filters apply to ATTRIBUTES mode only");
@@ -32,12 +33,15 @@ std::vector<uint8_t> decodeMeshoptView(std::span<const uint8_t> encoded, size_t 
       rc = meshopt_decodeIndexSequence(out.data(), count, byteStride, encoded.data(), encoded.size());
       break;
   }
-  if (rc != 0) throw std::runtime_error("the compressed data is corrupt (meshoptimizer error " + std::to_string(rc) + ")");
+  if (rc != 0)
+    throw std::runtime_error("the compressed data is corrupt (meshoptimizer error " + std::to_string(rc) +
+                             ")");
   switch (filter) {
     case MeshoptFilter::kNone:
       break;
     case MeshoptFilter::kOctahedral:
-      if (byteStride != 4 && byteStride != 8) throw std::runtime_error("the OCTAHEDRAL filter needs byteStride 4 or 8");
+      if (byteStride != 4 && byteStride != 8)
+        throw std::runtime_error("the OCTAHEDRAL filter needs byteStride 4 or 8");
       meshopt_decodeFilterOct(out.data(), count, byteStride);
       break;
     case MeshoptFilter::kQuaternion:

@@ -46,19 +46,21 @@ Texture decodeImageOiio(std::span<const uint8_t> encoded, size_t maxBytes, std::
                              " cannot read from memory");
   }
   OIIO::ImageSpec spec;
-  if (!in->open(std::string("memory.") + extension, spec)) throw std::runtime_error("it cannot be decoded: " + oiioError(in.get()));
+  if (!in->open(std::string("memory.") + extension, spec))
+    throw std::runtime_error("it cannot be decoded: " + oiioError(in.get()));
   const int width = spec.width, height = spec.height, fileChannels = spec.nchannels;
   if (width <= 0 || height <= 0 || fileChannels <= 0 || spec.depth > 1) {
     throw std::runtime_error("it has no pixels (" + std::to_string(width) + " × " + std::to_string(height) +
                              " px, " + std::to_string(fileChannels) + " channels)");
   }
   const OIIO::TypeDesc::BASETYPE base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
-  const bool isFloat = base == OIIO::TypeDesc::HALF || base == OIIO::TypeDesc::FLOAT ||
-                       base == OIIO::TypeDesc::DOUBLE;
+  const bool isFloat =
+      base == OIIO::TypeDesc::HALF || base == OIIO::TypeDesc::FLOAT || base == OIIO::TypeDesc::DOUBLE;
   const int bits = base == OIIO::TypeDesc::UINT8 || base == OIIO::TypeDesc::INT8 ? 8 : 16;
   const size_t bytesPerSample = size_t(bits / 8);
   const size_t pixels = size_t(width) * size_t(height);
-  if (width > kMaxTextureDimension || height > kMaxTextureDimension || pixels * 4 * bytesPerSample > maxBytes) {
+  if (width > kMaxTextureDimension || height > kMaxTextureDimension ||
+      pixels * 4 * bytesPerSample > maxBytes) {
     throw std::runtime_error("it is " + std::to_string(width) + " × " + std::to_string(height) +
                              " px, over the import budget (at most " + std::to_string(kMaxTextureDimension) +
                              " px a side and " + std::to_string(maxBytes) + " bytes of decoded pixels left)");
@@ -108,8 +110,8 @@ Texture decodeImageOiio(std::span<const uint8_t> encoded, size_t maxBytes, std::
     expand(rgba, quantised.data(), uint16_t(65535));
     if (clamped) {
       std::ostringstream s;
-      s << clamped << " of its " << file.size() << " float values lie outside [0, 1] (the largest is " << largest
-        << ") and were clamped, since textures hold values in [0, 1]";
+      s << clamped << " of its " << file.size() << " float values lie outside [0, 1] (the largest is "
+        << largest << ") and were clamped, since textures hold values in [0, 1]";
       notes.push_back(s.str());
     }
   } else if (bits == 8) {

@@ -23,8 +23,8 @@ struct Texture {
   std::vector<uint8_t> pixels;  // row-major from the top row, channels interleaved (16-bit: native-endian pairs)
 };
 
-// Largest width or height of an imported texture in pixels: the smallest GL_MAX_TEXTURE_SIZE OpenGL 4.5 allows
-// (OpenGL 4.5 core specification, table 23.53), so every texture fits every GL 4.5 implementation.
+// Largest width or height of an imported texture in pixels: the smallest GL_MAX_TEXTURE_SIZE OpenGL 4.5
+// allows (OpenGL 4.5 core specification, table 23.53), so every texture fits every GL 4.5 implementation.
 inline constexpr int kMaxTextureDimension = 16384;
 
 // Decodes the bytes of an image file into a Texture with 4 channels (RGBA; grey is replicated, a missing
@@ -32,8 +32,8 @@ inline constexpr int kMaxTextureDimension = 16384;
 // giving the reason when it cannot, and before allocating the pixels when the image is wider or higher than
 // kMaxTextureDimension or its decoded pixels would take more than `maxBytes`. `notes` receives conversions a
 // user should know of (e.g. float values clamped to [0, 1]).
-using ImageDecoder =
-    std::function<Texture(std::span<const uint8_t> encoded, size_t maxBytes, std::vector<std::string>& notes)>;
+using ImageDecoder = std::function<Texture(std::span<const uint8_t> encoded, size_t maxBytes,
+                                           std::vector<std::string>& notes)>;
 
 // KHR_texture_transform: uv' = T(offset) · R(rotation) · S(scale) · uv, as the extension defines it.
 struct UvTransform {

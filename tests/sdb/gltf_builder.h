@@ -123,8 +123,8 @@ class GltfBuilder {
   using json = nlohmann::json;
 
   json doc = {{"asset", {{"version", "2.0"}}}};
-  std::vector<uint8_t> bin;                    // the bytes of buffer 0
-  json moreBuffers = json::array();            // buffers 1, 2 … as given (e.g. EXT_meshopt_compression fallbacks)
+  std::vector<uint8_t> bin;          // the bytes of buffer 0
+  json moreBuffers = json::array();  // buffers 1, 2 … as given (e.g. EXT_meshopt_compression fallbacks)
 
   // Appends bytes as a buffer view (4-byte aligned); returns its index.
   int view(const void* data, size_t size, size_t byteStride = 0) {

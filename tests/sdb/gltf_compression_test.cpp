@@ -81,7 +81,8 @@ void expectSameTriangles(const Mesh& a, const Mesh& b, float tolerance) {
 GltfBuilder uncompressed(const Grid& g) {
   GltfBuilder b;
   const json p = {{"attributes",
-                   {{"POSITION", b.floats(g.positions, "VEC3")}, {"NORMAL", b.floats(g.normals, "VEC3")},
+                   {{"POSITION", b.floats(g.positions, "VEC3")},
+                    {"NORMAL", b.floats(g.normals, "VEC3")},
                     {"TEXCOORD_0", b.floats(g.uvs, "VEC2")}}},
                   {"indices", b.indices(g.indices)}};
   b.mesh(json::array({p}), "Grid");
@@ -100,8 +101,8 @@ std::vector<uint8_t> dracoStream(const Grid& g, int* positionId, int* normalId, 
   const int tex = builder.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32);
   for (int f = 0; f < faces; ++f) {
     const uint32_t* v = &g.indices[size_t(3 * f)];
-    builder.SetAttributeValuesForFace(pos, draco::FaceIndex(f), &g.positions[3 * v[0]], &g.positions[3 * v[1]],
-                                      &g.positions[3 * v[2]]);
+    builder.SetAttributeValuesForFace(pos, draco::FaceIndex(f), &g.positions[3 * v[0]],
+                                      &g.positions[3 * v[1]], &g.positions[3 * v[2]]);
     builder.SetAttributeValuesForFace(nor, draco::FaceIndex(f), &g.normals[3 * v[0]], &g.normals[3 * v[1]],
                                       &g.normals[3 * v[2]]);
     builder.SetAttributeValuesForFace(tex, draco::FaceIndex(f), &g.uvs[2 * v[0]], &g.uvs[2 * v[1]],
@@ -123,15 +124,16 @@ GltfBuilder dracoFile(const std::vector<uint8_t>& stream, size_t points, size_t 
                       int normalId, int uvId) {
   GltfBuilder b;
   const int view = b.view(stream);
-  const json p = {{"attributes",
-                   {{"POSITION", b.accessor(-1, kFloat, points, "VEC3")},
-                    {"NORMAL", b.accessor(-1, kFloat, points, "VEC3")},
-                    {"TEXCOORD_0", b.accessor(-1, kFloat, points, "VEC2")}}},
-                  {"indices", b.accessor(-1, kUInt, indexCount, "SCALAR")},
-                  {"extensions",
-                   {{"KHR_draco_mesh_compression",
-                     {{"bufferView", view},
-                      {"attributes", {{"POSITION", positionId}, {"NORMAL", normalId}, {"TEXCOORD_0", uvId}}}}}}}};
+  const json p = {
+      {"attributes",
+       {{"POSITION", b.accessor(-1, kFloat, points, "VEC3")},
+        {"NORMAL", b.accessor(-1, kFloat, points, "VEC3")},
+        {"TEXCOORD_0", b.accessor(-1, kFloat, points, "VEC2")}}},
+      {"indices", b.accessor(-1, kUInt, indexCount, "SCALAR")},
+      {"extensions",
+       {{"KHR_draco_mesh_compression",
+         {{"bufferView", view},
+          {"attributes", {{"POSITION", positionId}, {"NORMAL", normalId}, {"TEXCOORD_0", uvId}}}}}}}};
   b.mesh(json::array({p}), "Grid");
   b.node({{"mesh", 0}});
   b.scene({0});
@@ -171,26 +173,30 @@ TEST_F(GltfImport, DamagedOrMismatchedDracoStreamsAreInputErrors) {
   // A cut-off stream.
   stream.resize(stream.size() / 2);
   const std::string error = importError(dracoFile(stream, g.vertices(), g.indices.size(), pos, nor, uv));
-  EXPECT_NE(error.find("mesh 'Grid' primitive 0: the Draco-compressed mesh cannot be decoded"), std::string::npos)
+  EXPECT_NE(error.find("mesh 'Grid' primitive 0: the Draco-compressed mesh cannot be decoded"),
+            std::string::npos)
       << error;
   EXPECT_NE(error.find("/meshes/0/primitives/0/extensions/KHR_draco_mesh_compression"), std::string::npos);
 }
 
 // EXT_meshopt_compression: positions (ATTRIBUTES), normals as 8-bit octahedral vectors (ATTRIBUTES +
-// OCTAHEDRAL filter) and the triangles (TRIANGLES) in buffer 0; buffer 1 is the extension's data-less fallback.
+// OCTAHEDRAL filter) and the triangles (TRIANGLES) in buffer 0; buffer 1 is the extension's data-less
+// fallback.
 GltfBuilder meshoptFile(const Grid& g) {
   GltfBuilder b;
   const size_t n = g.vertices();
-  auto compressedView = [&](const std::vector<uint8_t>& encoded, size_t count, size_t stride, const char* mode,
-                            const char* filter, size_t fallbackOffset) {
+  auto compressedView = [&](const std::vector<uint8_t>& encoded, size_t count, size_t stride,
+                            const char* mode, const char* filter, size_t fallbackOffset) {
     while (b.bin.size() % 4) b.bin.push_back(0);
     const size_t offset = b.bin.size();
     b.bin.resize(offset + encoded.size());
     std::memcpy(b.bin.data() + offset, encoded.data(), encoded.size());
-    json ext = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", encoded.size()}, {"byteStride", stride},
-                {"count", count}, {"mode", mode}};
+    json ext = {{"buffer", 0},          {"byteOffset", offset}, {"byteLength", encoded.size()},
+                {"byteStride", stride}, {"count", count},       {"mode", mode}};
     if (filter) ext["filter"] = filter;
-    json v = {{"buffer", 1}, {"byteOffset", fallbackOffset}, {"byteLength", count * stride},
+    json v = {{"buffer", 1},
+              {"byteOffset", fallbackOffset},
+              {"byteLength", count * stride},
               {"extensions", {{"EXT_meshopt_compression", ext}}}};
     if (std::string(mode) == "ATTRIBUTES") v["byteStride"] = stride;
     return b.append("bufferViews", v);
@@ -200,7 +206,8 @@ GltfBuilder meshoptFile(const Grid& g) {
   const int positions = compressedView(encoded, n, 12, "ATTRIBUTES", nullptr, 0);
 
   std::vector<float> normals4;  // meshopt_encodeFilterOct reads 4 floats per vector
-  for (size_t i = 0; i < n; ++i) normals4.insert(normals4.end(), {g.normals[3 * i], g.normals[3 * i + 1], g.normals[3 * i + 2], 0.0f});
+  for (size_t i = 0; i < n; ++i)
+    normals4.insert(normals4.end(), {g.normals[3 * i], g.normals[3 * i + 1], g.normals[3 * i + 2], 0.0f});
   std::vector<int8_t> oct(4 * n);
   meshopt_encodeFilterOct(oct.data(), n, 4, 8, normals4.data());
   encoded.assign(meshopt_encodeVertexBufferBound(n, 4), 0);
@@ -208,7 +215,8 @@ GltfBuilder meshoptFile(const Grid& g) {
   const int normals = compressedView(encoded, n, 4, "ATTRIBUTES", "OCTAHEDRAL", 12 * n);
 
   encoded.assign(meshopt_encodeIndexBufferBound(g.indices.size(), n), 0);
-  encoded.resize(meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), g.indices.data(), g.indices.size()));
+  encoded.resize(
+      meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), g.indices.data(), g.indices.size()));
   const int indices = compressedView(encoded, g.indices.size(), 4, "TRIANGLES", nullptr, 16 * n);
 
   const json p = {{"attributes",
@@ -229,8 +237,10 @@ TEST_F(GltfImport, MeshoptCompressedMeshDecodesToTheUncompressedGeometry) {
   Grid g = grid();
   g.uvs.clear();
   GltfBuilder plain;
-  const json p = {{"attributes", {{"POSITION", plain.floats(g.positions, "VEC3")}, {"NORMAL", plain.floats(g.normals, "VEC3")}}},
-                  {"indices", plain.indices(g.indices)}};
+  const json p = {
+      {"attributes",
+       {{"POSITION", plain.floats(g.positions, "VEC3")}, {"NORMAL", plain.floats(g.normals, "VEC3")}}},
+      {"indices", plain.indices(g.indices)}};
   plain.mesh(json::array({p}), "Grid");
   plain.node({{"mesh", 0}});
   plain.scene({0});

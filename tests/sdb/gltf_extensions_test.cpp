@@ -14,10 +14,11 @@ using json = nlohmann::json;
 using test::GltfBuilder;
 
 TEST_F(GltfImport, ClearcoatOverADielectricIsTheReflectionLobe) {
-  GltfBuilder b = withMaterial({{"pbrMetallicRoughness",
-                                 {{"baseColorFactor", {0.6, 0.1, 0.1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.7}}},
-                                {"extensions",
-                                 {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.08}}}}}});
+  GltfBuilder b = withMaterial(
+      {{"pbrMetallicRoughness",
+        {{"baseColorFactor", {0.6, 0.1, 0.1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.7}}},
+       {"extensions",
+        {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.08}}}}}});
   b.useExtension("KHR_materials_clearcoat", true);  // ClearCoatCarPaint requires it
   import(b);
   const Material& m = onlyMaterialOfMesh();
@@ -29,10 +30,11 @@ TEST_F(GltfImport, ClearcoatOverADielectricIsTheReflectionLobe) {
 }
 
 TEST_F(GltfImport, ClearcoatOverAMetalKeepsTheMetalsColourAsDiffuse) {
-  GltfBuilder b = withMaterial({{"pbrMetallicRoughness",
-                                 {{"baseColorFactor", {0.5, 0.05, 0.02, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0.45}}},
-                                {"extensions",
-                                 {{"KHR_materials_clearcoat", {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.02}}}}}});
+  GltfBuilder b = withMaterial(
+      {{"pbrMetallicRoughness",
+        {{"baseColorFactor", {0.5, 0.05, 0.02, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0.45}}},
+       {"extensions",
+        {{"KHR_materials_clearcoat", {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.02}}}}}});
   import(b);
   const Material& m = onlyMaterialOfMesh();
   EXPECT_EQ(m.reflectionModel, ReflectionModel::kFresnel);
@@ -52,8 +54,10 @@ TEST_F(GltfImport, ClearcoatTexturesTakeTheReflectionSlots) {
       {"pbrMetallicRoughness", {{"metallicFactor", 0}, {"metallicRoughnessTexture", {{"index", rough}}}}},
       {"extensions",
        {{"KHR_materials_clearcoat",
-         {{"clearcoatFactor", 1.0}, {"clearcoatTexture", {{"index", tex}}},
-          {"clearcoatRoughnessTexture", {{"index", tex}}}, {"clearcoatNormalTexture", {{"index", tex}}}}}}}};
+         {{"clearcoatFactor", 1.0},
+          {"clearcoatTexture", {{"index", tex}}},
+          {"clearcoatRoughnessTexture", {{"index", tex}}},
+          {"clearcoatNormalTexture", {{"index", tex}}}}}}}};
   const GltfImportResult r = import(b);
   const Material& m = onlyMaterialOfMesh();
   ASSERT_TRUE(m.reflectionTexture);
@@ -66,23 +70,27 @@ TEST_F(GltfImport, ClearcoatTexturesTakeTheReflectionSlots) {
 }
 
 TEST_F(GltfImport, ClearcoatUnderAShinierMetalIsDroppedWithAWarning) {
-  GltfBuilder b = withMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 1}, {"roughnessFactor", 0.05}}},
-                                {"extensions",
-                                 {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.3}}}}}});
+  GltfBuilder b = withMaterial(
+      {{"pbrMetallicRoughness", {{"metallicFactor", 1}, {"roughnessFactor", 0.05}}},
+       {"extensions",
+        {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.3}}}}}});
   const GltfImportResult r = import(b);
   EXPECT_EQ(onlyMaterialOfMesh().reflectionModel, ReflectionModel::kUniform);
   EXPECT_TRUE(contains(r.warnings, "its clear coat is dropped"));
   b.doc["materials"][0]["extensions"]["KHR_materials_clearcoat"]["clearcoatFactor"] = 1.5;
-  EXPECT_NE(importError(b).find("clearcoatFactor is 1.5; glTF requires a value in [0, 1]"), std::string::npos);
+  EXPECT_NE(importError(b).find("clearcoatFactor is 1.5; glTF requires a value in [0, 1]"),
+            std::string::npos);
 }
 
 TEST_F(GltfImport, SheenIsFoldedIntoTheDiffuseColour) {
-  GltfBuilder b = withMaterial({{"pbrMetallicRoughness",
-                                 {{"baseColorFactor", {0.2, 0.3, 0.4, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.8}}},
-                                {"extensions",
-                                 {{"KHR_materials_sheen",
-                                   {{"sheenColorFactor", {1.0, 0.329, 0.1}}, {"sheenRoughnessFactor", 0.8},
-                                    {"sheenColorTexture", {{"index", 0}}}}}}}});
+  GltfBuilder b = withMaterial(
+      {{"pbrMetallicRoughness",
+        {{"baseColorFactor", {0.2, 0.3, 0.4, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.8}}},
+       {"extensions",
+        {{"KHR_materials_sheen",
+          {{"sheenColorFactor", {1.0, 0.329, 0.1}},
+           {"sheenRoughnessFactor", 0.8},
+           {"sheenColorTexture", {{"index", 0}}}}}}}});
   b.useExtension("KHR_materials_sheen", true);
   const GltfImportResult r = import(b);
   const float e = sheenAlbedo(0.8f);
@@ -92,16 +100,19 @@ TEST_F(GltfImport, SheenIsFoldedIntoTheDiffuseColour) {
 }
 
 TEST_F(GltfImport, VariantsImportTheDefaultMaterialsAndAreListed) {
-  GltfBuilder b = withMaterial({{"name", "Default"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.1, 0.2, 0.3, 1}}}}});
+  GltfBuilder b = withMaterial(
+      {{"name", "Default"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.1, 0.2, 0.3, 1}}}}});
   b.material({{"name", "Velvet"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.1, 0.1, 1}}}}});
   b.doc["meshes"][0]["primitives"][0]["extensions"] = {
       {"KHR_materials_variants", {{"mappings", json::array({{{"material", 1}, {"variants", {0}}}})}}}};
-  b.doc["extensions"] = {{"KHR_materials_variants", {{"variants", json::array({{{"name", "Mango Velvet"}}, {{"name", "Peacock"}}})}}}};
+  b.doc["extensions"] = {{"KHR_materials_variants",
+                          {{"variants", json::array({{{"name", "Mango Velvet"}}, {{"name", "Peacock"}}})}}}};
   b.useExtension("KHR_materials_variants", true);
   const GltfImportResult r = import(b);
   EXPECT_EQ(onlyMaterialOfMesh().name, "Default");
-  EXPECT_TRUE(contains(r.warnings, "material variants (KHR_materials_variants) 'Mango Velvet', 'Peacock'; the "
-                                   "default materials are imported"));
+  EXPECT_TRUE(contains(r.warnings,
+                       "material variants (KHR_materials_variants) 'Mango Velvet', 'Peacock'; the "
+                       "default materials are imported"));
 }
 
 TEST_F(GltfImport, UnlitAndUnknownExtensionsSayWhatIsLost) {
@@ -109,7 +120,8 @@ TEST_F(GltfImport, UnlitAndUnknownExtensionsSayWhatIsLost) {
   b.useExtension("KHR_materials_unlit");
   b.useExtension("EXT_made_up");
   const GltfImportResult r = import(b);
-  EXPECT_TRUE(contains(r.warnings, "'KHR_materials_unlit' is not supported: unlit materials are shaded as lit"));
+  EXPECT_TRUE(
+      contains(r.warnings, "'KHR_materials_unlit' is not supported: unlit materials are shaded as lit"));
   EXPECT_TRUE(contains(r.warnings, "'EXT_made_up' is not supported: what it adds is ignored"));
   b.useExtension("EXT_made_up", true);
   const std::string error = importError(b);
@@ -127,7 +139,8 @@ TEST_F(GltfImport, Ktx2TextureIsAnInputErrorNamingTheFileAndTheExtension) {
   b.doc["materials"][0] = {{"normalTexture", {{"index", 0}}}};
   const std::string error = importError(b);
   EXPECT_NE(error.find((dir_ / "lamp_normal.ktx2").string() + "' is a KTX2 (Basis Universal) texture"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_NE(error.find("KHR_texture_basisu"), std::string::npos);
   EXPECT_NE(error.find("ktx extract lamp_normal.ktx2 OUT.png"), std::string::npos) << error;
 }
@@ -143,7 +156,8 @@ TEST_F(GltfImport, AccessorClaimingTwoToThe31VerticesFailsBeforeAllocating) {
   const std::string error = importError(b);
   EXPECT_NE(error.find("accessor 0 (POSITION of mesh 'Huge' primitive 0), 2147483648 elements of VEC3, would "
                        "take 24 GiB decoded, more than the 4 GiB left of fly's import budget"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_NE(error.find("/accessors/0/count"), std::string::npos) << error;
   EXPECT_TRUE(scene_.meshes().empty());
 }
@@ -161,7 +175,8 @@ TEST_F(GltfImport, BudgetCoversEveryAccessorOfTheFile) {
     import(b, options);
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("indices of mesh 'Small' primitive 0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("indices of mesh 'Small' primitive 0"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -176,7 +191,8 @@ TEST_F(GltfImport, TextureClaiming100000SquaredPixelsFailsBeforeDecoding) {
   b.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", tex}}}}}};
   const std::string error = importError(b);
   EXPECT_NE(error.find("is 100000 × 100000 px; fly imports textures of at most 16384 px a side"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   // Within the side limit but over the budget: 16384² RGBA = 1 GiB against a budget of 64 MiB.
   for (int k = 0; k < 4; ++k) image[16 + k] = image[20 + k] = uint8_t(uint32_t(16384) >> (24 - 8 * k));
   GltfBuilder c = withMaterial(json::object());
@@ -189,15 +205,35 @@ TEST_F(GltfImport, TextureClaiming100000SquaredPixelsFailsBeforeDecoding) {
     importGltf(scene_, dir_ / "big.gltf", options);
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("would take 1 GiB decoded, more than the 64 MiB left"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("would take 1 GiB decoded, more than the 64 MiB left"),
+              std::string::npos)
         << e.what();
   }
 }
 
 TEST_F(GltfImport, JpegHeaderSizeIsCheckedBeforeDecoding) {
   // SOI, an APP0 segment, then SOF0 declaring 20000 × 30 px (ITU-T T.81 §B.2.2); no scan follows.
-  const std::vector<uint8_t> jpeg = {0xff, 0xd8, 0xff, 0xe0, 0, 4, 0, 0, 0xff, 0xc0, 0, 11, 8, 0, 30,
-                                     uint8_t(20000 >> 8), uint8_t(20000 & 0xff), 1, 1, 0x11, 0};
+  const std::vector<uint8_t> jpeg = {0xff,
+                                     0xd8,
+                                     0xff,
+                                     0xe0,
+                                     0,
+                                     4,
+                                     0,
+                                     0,
+                                     0xff,
+                                     0xc0,
+                                     0,
+                                     11,
+                                     8,
+                                     0,
+                                     30,
+                                     uint8_t(20000 >> 8),
+                                     uint8_t(20000 & 0xff),
+                                     1,
+                                     1,
+                                     0x11,
+                                     0};
   GltfBuilder b = withMaterial(json::object());
   const int view = b.view(jpeg);
   b.append("images", {{"bufferView", view}, {"mimeType", "image/jpeg"}});

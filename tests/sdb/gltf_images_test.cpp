@@ -65,7 +65,8 @@ TEST_F(GltfImagesOiio, FloatExrIsClampedToSixteenBitsWithAWarning) {
   EXPECT_EQ(t.bitsPerChannel, 16);
   // round(v · 65535) after clamping to [0, 1]; alpha 1.
   EXPECT_EQ(samples16(t), (std::vector<uint16_t>{32768, 65535, 0, 65535, 16384, 49151, 65535, 65535}));
-  EXPECT_TRUE(contains(r.warnings, "2 of its 6 float values lie outside [0, 1] (the largest is 2) and were clamped"));
+  EXPECT_TRUE(
+      contains(r.warnings, "2 of its 6 float values lie outside [0, 1] (the largest is 2) and were clamped"));
 }
 
 TEST_F(GltfImagesOiio, GreyPngIsExpandedToRgba) {
@@ -74,7 +75,8 @@ TEST_F(GltfImagesOiio, GreyPngIsExpandedToRgba) {
   import(withBaseColorImage("rough.png"));
   const Texture& t = scene_.texture(onlyMaterialOfMesh().diffuseTexture.texture);
   EXPECT_EQ(t.bitsPerChannel, 16);
-  EXPECT_EQ(samples16(t), (std::vector<uint16_t>{0, 0, 0, 65535, 1000, 1000, 1000, 65535, 65535, 65535, 65535, 65535}));
+  EXPECT_EQ(samples16(t),
+            (std::vector<uint16_t>{0, 0, 0, 65535, 1000, 1000, 1000, 65535, 65535, 65535, 65535, 65535}));
 }
 
 TEST_F(GltfImagesOiio, WebpSourceReplacesTheFallbackImage) {
@@ -108,7 +110,8 @@ TEST_F(GltfImagesOiio, DecoderChecksTheBudgetBeforeDecoding) {
     decodeImageOiio(bytes, 15, notes);
     ADD_FAILURE() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("it is 2 × 1 px, over the import budget"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("it is 2 × 1 px, over the import budget"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -116,8 +119,9 @@ TEST_F(GltfImport, WithoutADecoderOtherFormatsAreInputErrorsWithAHint) {
   const float rgb[] = {0.5f, 0.5f, 0.5f};
   writeImage(dir_ / "sky.exr", 1, 1, 3, OIIO::TypeDesc::FLOAT, rgb);
   const std::string error = importError(withBaseColorImage("sky.exr"));
-  EXPECT_NE(error.find("sky.exr' is an OpenEXR image; without an image decoder installed fly reads PNG and JPEG"),
-            std::string::npos)
+  EXPECT_NE(
+      error.find("sky.exr' is an OpenEXR image; without an image decoder installed fly reads PNG and JPEG"),
+      std::string::npos)
       << error;
   EXPECT_NE(error.find("use the fly program, which decodes WebP, HDR, EXR and TIFF"), std::string::npos);
 }

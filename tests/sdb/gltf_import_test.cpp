@@ -102,8 +102,9 @@ TEST_F(GltfImport, SceneListingAChildImportsItAsARootWithItsOwnTransform) {
   ASSERT_EQ(r.roots.size(), 1u);
   EXPECT_EQ(scene_.node(r.roots[0]).name, "tile");
   expectVec(transformPoint(scene_.worldFromLocal(r.roots[0]), vec3(0.0f)), vec3(0, 1, 0));
-  EXPECT_TRUE(contains(r.warnings, "scene 0 lists node 1 'tile' as a root, but it is a child of node 0; it is "
-                                   "imported as a root with its own transform"));
+  EXPECT_TRUE(contains(r.warnings,
+                       "scene 0 lists node 1 'tile' as a root, but it is a child of node 0; it is "
+                       "imported as a root with its own transform"));
 
   // Listed with its parent (and twice): imported once, under the parent.
   scene_ = Scene();
@@ -111,7 +112,8 @@ TEST_F(GltfImport, SceneListingAChildImportsItAsARootWithItsOwnTransform) {
   const GltfImportResult twice = import(b);
   EXPECT_EQ(twice.roots.size(), 1u);
   EXPECT_EQ(scene_.nodes().size(), 2u);
-  EXPECT_TRUE(contains(twice.warnings, "an ancestor of it is listed too; it is imported once, under its parent"));
+  EXPECT_TRUE(
+      contains(twice.warnings, "an ancestor of it is listed too; it is imported once, under its parent"));
   EXPECT_TRUE(contains(twice.warnings, "scene 0 lists node 0 'tmpParent' twice; it is imported once"));
 }
 
@@ -841,8 +843,9 @@ TEST_F(GltfImport, ExtensionsRequiredMustBeSupportedAndUsedOnesOnlyWarn) {
   b.useExtension("KHR_materials_iridescence");
   b.useExtension("KHR_lights_punctual", true);
   const GltfImportResult r = import(b);
-  EXPECT_TRUE(contains(r.warnings, "the glTF extension 'KHR_materials_iridescence' is not supported: the "
-                                   "thin-film iridescence is ignored"));
+  EXPECT_TRUE(contains(r.warnings,
+                       "the glTF extension 'KHR_materials_iridescence' is not supported: the "
+                       "thin-film iridescence is ignored"));
 
   b.useExtension("EXT_mesh_gpu_instancing", true);
   const std::string error = importError(b);
@@ -949,10 +952,11 @@ TEST_F(GltfImport, UndecodableImageIsAnInputError) {
                 "image 0 'checker' (material 0 baseColorTexture): its embedded data cannot be decoded"),
             std::string::npos);
   b.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", bmp}}}}}};
-  EXPECT_NE(importError(b).find(
-                "image 1 'checker' (material 0 baseColorTexture): its embedded data is not an image format fly "
-                "knows; without an image decoder installed fly reads PNG and JPEG"),
-            std::string::npos);
+  EXPECT_NE(
+      importError(b).find(
+          "image 1 'checker' (material 0 baseColorTexture): its embedded data is not an image format fly "
+          "knows; without an image decoder installed fly reads PNG and JPEG"),
+      std::string::npos);
 }
 
 TEST_F(GltfImport, TextureWithoutAnImageFlyCanReadIsSkippedWithAWarning) {

@@ -106,17 +106,18 @@ TEST(ClearCoat, MetalSharperThanItsCoatKeepsItsLobe) {
   EXPECT_EQ(applyClearCoat(base, {0.0f, 0.0f}).material.reflectionColor, base.reflectionColor);
 }
 
-// Over a grid of bases and coats, every coated material is valid, its directional albedo is at most 1 at every
-// angle, and it never exceeds the glTF layering's by more than the coat's own Fresnel rise that the single-lobe
-// form cannot drop below: the approximation does not create energy.
+// Over a grid of bases and coats, every coated material is valid, its directional albedo is at most 1 at
+// every angle, and it never exceeds the glTF layering's by more than the coat's own Fresnel rise that the
+// single-lobe form cannot drop below: the approximation does not create energy.
 TEST(ClearCoat, DirectionalAlbedoStaysWithinOneAndTheGltfReference) {
   int checked = 0;
   for (float amount : {0.0f, 0.1f, 0.5f, 0.9f, 1.0f}) {
     for (float coatGloss : {0.0f, 0.3f, 1.0f}) {
       for (float baseGloss : {0.0f, 0.5f, 1.0f}) {
         for (float ior : {1.0f, 1.33f, 1.5f, 2.5f, 4.0f}) {
-          for (const Material& base : {dielectric(Rgb(0.9f, 0.5f, 0.0f), ior, baseGloss),
-                                       dielectric(Rgb(1.0f), ior, baseGloss), metal(Rgb(1.0f, 0.7f, 0.3f), baseGloss)}) {
+          for (const Material& base :
+               {dielectric(Rgb(0.9f, 0.5f, 0.0f), ior, baseGloss), dielectric(Rgb(1.0f), ior, baseGloss),
+                metal(Rgb(1.0f, 0.7f, 0.3f), baseGloss)}) {
             const Material m = applyClearCoat(base, {amount, coatGloss}).material;
             ASSERT_EQ(validate(m), "") << "amount " << amount << " ior " << ior;
             for (int k = 0; k <= 20; ++k) {
@@ -125,7 +126,9 @@ TEST(ClearCoat, DirectionalAlbedoStaysWithinOneAndTheGltfReference) {
                 const float a = flyAlbedo(m, cosTheta, ch);
                 EXPECT_LE(a, 1.0f + 1e-6f);
                 EXPECT_GE(a, 0.0f);
-                EXPECT_LE(a, std::max(gltfCoatedAlbedo(base, amount, cosTheta, ch), m.reflectionAt(cosTheta)[ch]) + 1e-5f)
+                EXPECT_LE(
+                    a, std::max(gltfCoatedAlbedo(base, amount, cosTheta, ch), m.reflectionAt(cosTheta)[ch]) +
+                           1e-5f)
                     << "amount " << amount << " ior " << ior << " cos " << cosTheta;
                 ++checked;
               }
