@@ -14,37 +14,50 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kHintRebake = "the manifest is damaged or not from fly bake: bake the scene again with fly bake";
+constexpr const char* kHintRebake =
+    "the manifest is damaged or not from fly bake: bake the scene again with fly bake";
 
 enum class Kind { kString, kUnsigned, kNumber, kBoolean, kObject, kArray };
 
 bool hasKind(const json& v, Kind kind) {
   switch (kind) {
-    case Kind::kString: return v.is_string();
-    case Kind::kUnsigned: return v.is_number_unsigned();
-    case Kind::kNumber: return v.is_number();
-    case Kind::kBoolean: return v.is_boolean();
-    case Kind::kObject: return v.is_object();
-    case Kind::kArray: return v.is_array();
+    case Kind::kString:
+      return v.is_string();
+    case Kind::kUnsigned:
+      return v.is_number_unsigned();
+    case Kind::kNumber:
+      return v.is_number();
+    case Kind::kBoolean:
+      return v.is_boolean();
+    case Kind::kObject:
+      return v.is_object();
+    case Kind::kArray:
+      return v.is_array();
   }
   return false;
 }
 
 const char* kindName(Kind kind) {
   switch (kind) {
-    case Kind::kString: return "a string";
-    case Kind::kUnsigned: return "an unsigned integer";
-    case Kind::kNumber: return "a number";
-    case Kind::kBoolean: return "true or false";
-    case Kind::kObject: return "an object";
-    case Kind::kArray: return "an array";
+    case Kind::kString:
+      return "a string";
+    case Kind::kUnsigned:
+      return "an unsigned integer";
+    case Kind::kNumber:
+      return "a number";
+    case Kind::kBoolean:
+      return "true or false";
+    case Kind::kObject:
+      return "an object";
+    case Kind::kArray:
+      return "an array";
   }
   return "";
 }
 
 // Throws unless `object[key]` has `kind`; a missing key is accepted when `optional`.
-void require(const json& object, const char* key, Kind kind, const std::string& fileName, const std::string& at,
-             bool optional = false) {
+void require(const json& object, const char* key, Kind kind, const std::string& fileName,
+             const std::string& at, bool optional = false) {
   const auto it = object.find(key);
   if (it == object.end() && optional) return;
   if (it == object.end() || !hasKind(*it, kind)) {

@@ -19,10 +19,10 @@ bool isBakedScene(const std::filesystem::path& dir);
 // Parses manifest text; `fileName` names it in errors. InputError (with the JSON path) when it is not JSON,
 // not a baked-scene manifest of a format version this program reads, or lacks what its readers use: "scene"
 // and "fly_version" (strings), "samples_per_vertex" and "rays" (unsigned integers), "bake_seconds" and
-// "relative_error_p95" (numbers), "objects" (an array of objects, whose "mesh_name" and "node_name" are strings
-// where present, and whose "light_texture", where present, is an object with the unsigned integers "width"
-// and "height", the number "texels_per_metre", the string "front", and where present the string "back" and
-// the boolean "automatic").
+// "relative_error_p95" (numbers), "objects" (an array of objects, whose "mesh_name" and "node_name" are
+// strings where present, and whose "light_texture", where present, is an object with the unsigned integers
+// "width" and "height", the number "texels_per_metre", the string "front", and where present the string
+// "back" and the boolean "automatic").
 nlohmann::json parseBakedManifest(std::string_view text, const std::string& fileName);
 
 // Reads and parses DIR/manifest.json (InputError naming the file when it is missing as well).

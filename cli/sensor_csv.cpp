@@ -89,7 +89,8 @@ SensorTable parseSensorCsv(std::string_view text, const std::string& fileName) {
   }
   if (t.header.empty())
     throw InputError({fileName}, "the sensor file has no header line", "start with x,y,z,nx,ny,nz");
-  if (t.lines.empty()) throw InputError({fileName}, "the sensor file has no sensors", "add one row per sensor");
+  if (t.lines.empty())
+    throw InputError({fileName}, "the sensor file has no sensors", "add one row per sensor");
   return t;
 }
 

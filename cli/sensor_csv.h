@@ -12,10 +12,10 @@
 namespace fly::cli {
 
 struct SensorTable {
-  std::string header;               // the header line as written
-  std::vector<std::string> lines;   // one per sensor, as written (a trailing '\r' removed)
-  std::vector<vec3> positionsM;     // world space, metres
-  std::vector<vec3> normals;        // unit length
+  std::string header;              // the header line as written
+  std::vector<std::string> lines;  // one per sensor, as written (a trailing '\r' removed)
+  std::vector<vec3> positionsM;    // world space, metres
+  std::vector<vec3> normals;       // unit length
 };
 
 // The comma-separated fields of one line, as written (an empty last field after a trailing comma included).
@@ -25,8 +25,8 @@ std::vector<std::string> splitCsvFields(const std::string& line);
 std::string trimBlanks(const std::string& s);
 
 // Parses sensor-file text; `fileName` names it in errors. InputError with the line for: quoted fields, a
-// header without one of x,y,z,nx,ny,nz, a row whose field count differs from the header's, a value that is not
-// a finite decimal number, a zero normal, and a file without header or sensors.
+// header without one of x,y,z,nx,ny,nz, a row whose field count differs from the header's, a value that is
+// not a finite decimal number, a zero normal, and a file without header or sensors.
 SensorTable parseSensorCsv(std::string_view text, const std::string& fileName);
 
 }  // namespace fly::cli

@@ -19,8 +19,8 @@ class BakeCheckpointTest : public ::testing::Test {
  protected:
   void SetUp() override {
     parent_ = fs::temp_directory_path() /
-              ("fly_bake_checkpoint_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+              ("fly_bake_checkpoint_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+               "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(parent_);
     fs::create_directories(parent_);
     job_.scenePath = "scene.json";
@@ -88,7 +88,8 @@ TEST_F(BakeCheckpointTest, LoadGivesBackWhatWasSaved) {
 // wrap-around of -1 to 4294967295 threads.
 TEST_F(BakeCheckpointTest, CountsOutOfRangeAreRejectedWithTheirName) {
   editJson([](nlohmann::json& j) { j["settings"]["max_samples"] = 1e30; });
-  EXPECT_NE(loadError().find("max_samples must be an integer from 0 to 4294967295, not 1e+30"), std::string::npos)
+  EXPECT_NE(loadError().find("max_samples must be an integer from 0 to 4294967295, not 1e+30"),
+            std::string::npos)
       << loadError();
   editJson([](nlohmann::json& j) {
     j["settings"]["max_samples"] = 256;

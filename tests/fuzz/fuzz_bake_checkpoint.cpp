@@ -3,9 +3,9 @@
 //
 // The input is checkpoint.json's text, optionally followed by a NUL byte and the state file's bytes without
 // their trailing FNV-1a checksum. The harness writes the state file (by default a valid one from
-// raytracer::serializeProgressState, else the given bytes with their checksum appended) and replaces the token
-// STATE_FNV1A in the JSON by the file's FNV-1a hash, so that mutations get past both checksums and reach the
-// field checks behind them.
+// raytracer::serializeProgressState, else the given bytes with their checksum appended) and replaces the
+// token STATE_FNV1A in the JSON by the file's FNV-1a hash, so that mutations get past both checksums and
+// reach the field checks behind them.
 #include <cstring>
 #include <filesystem>
 #include <string>

@@ -26,13 +26,26 @@ void writeFixture(const fs::path& dir) {
   rdb.indices = {0, 1, 2, 3, 4, 5, 3, 5, 6};
   rdb.triangleMaterial = {0, 0, 0};
   rdb.materials.resize(1);
-  rdb.meshes = {{.sdbMeshId = 1, .sdbNodeId = 1, .firstVertex = 0, .vertexCount = 3, .firstTriangle = 0,
+  rdb.meshes = {{.sdbMeshId = 1,
+                 .sdbNodeId = 1,
+                 .firstVertex = 0,
+                 .vertexCount = 3,
+                 .firstTriangle = 0,
                  .triangleCount = 1},
-                {.sdbMeshId = 2, .sdbNodeId = 2, .firstVertex = 3, .vertexCount = 4, .firstTriangle = 1,
-                 .triangleCount = 2, .twoSided = true, .lightTexture = 0}};
-  rdb.lightTextures = {{.mesh = 1, .width = 2, .height = 2, .texelsPerMetre = 2.0f,
-                        .cornerUv = {{0.1f, 0.9f}, {0.9f, 0.9f}, {0.9f, 0.1f}, {0.1f, 0.9f}, {0.9f, 0.1f},
-                                     {0.1f, 0.1f}}}};
+                {.sdbMeshId = 2,
+                 .sdbNodeId = 2,
+                 .firstVertex = 3,
+                 .vertexCount = 4,
+                 .firstTriangle = 1,
+                 .triangleCount = 2,
+                 .twoSided = true,
+                 .lightTexture = 0}};
+  rdb.lightTextures = {
+      {.mesh = 1,
+       .width = 2,
+       .height = 2,
+       .texelsPerMetre = 2.0f,
+       .cornerUv = {{0.1f, 0.9f}, {0.9f, 0.9f}, {0.9f, 0.1f}, {0.1f, 0.9f}, {0.9f, 0.1f}, {0.1f, 0.1f}}}};
   raytracer::VertexLightMaps maps;
   maps.frontLux.assign(7, Rgb(100.0f));
   maps.frontStdErrorLux.assign(7, Rgb(1.0f));
@@ -79,7 +92,9 @@ const fs::path& bakedDir() {
 
 // fontconfig, which cairo uses for the fixture's convergence.png, keeps its configuration until exit by
 // design (as tests/lsan.supp says for the unit tests).
-extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig"; }
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libfontconfig";
+}
 
 // The fixture is written here, before libFuzzer's per-input leak checks start. With the environment variable
 // FLY_FUZZ_WRITE_SEED=PATH its manifest is copied to PATH: scripts/fuzz puts it into this target's corpus as

@@ -23,7 +23,8 @@ const std::filesystem::path& sceneDir() {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fly::fuzz::quietLog();
   fly::fuzz::expectOnlyInputErrors([&] {
-    const fly::sdb::Scene scene = fly::sdb::parseSceneFile(fly::fuzz::asText(data, size), "fuzz.json", sceneDir());
+    const fly::sdb::Scene scene =
+        fly::sdb::parseSceneFile(fly::fuzz::asText(data, size), "fuzz.json", sceneDir());
     fly::fuzz::checkScene(scene);
   });
   return 0;

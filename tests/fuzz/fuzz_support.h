@@ -1,10 +1,13 @@
 // What every libFuzzer target of fly's parsers shares: bad input must end in one of fly's documented errors
-// (base/error.h: InputError, exit 3; UsageError, exit 2), and anything else is a finding. A crash, a sanitizer
-// report, a hang (-timeout), an allocation over -malloc_limit_mb or a resident size over -rss_limit_mb is
-// reported by libFuzzer itself; an exception of any other type is reported here and aborts, so that libFuzzer
-// keeps the input as a crash.
+// (base/error.h: InputError, exit 3; UsageError, exit 2), and anything else is a finding. A crash, a
+// sanitizer report, a hang (-timeout), an allocation over -malloc_limit_mb or a resident size over
+// -rss_limit_mb is reported by libFuzzer itself; an exception of any other type is reported here and aborts,
+// so that libFuzzer keeps the input as a crash.
 #pragma once
 
+#include <unistd.h>
+#include <cerrno>
+#include <csignal>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -16,7 +19,6 @@
 #include <string_view>
 #include <typeinfo>
 #include <vector>
-#include <unistd.h>
 
 #include "base/error.h"
 #include "base/log.h"
@@ -53,23 +55,39 @@ inline void require(bool condition, const char* what) {
   }
 }
 
+// Removes the scratch directories (fly-fuzz-PID) in `root` of processes that are gone: libFuzzer ends with
+// _Exit after a finding or a single input, which skips the exit handler of scratchDir().
+inline void removeStaleScratchDirs(const std::filesystem::path& root) {
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(root, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("fly-fuzz-", 0) != 0) continue;
+    const pid_t pid = pid_t(std::atol(name.c_str() + 9));
+    if (pid > 0 && kill(pid, 0) != 0 && errno == ESRCH) std::filesystem::remove_all(e.path(), ec);
+  }
+}
+
 // A private scratch directory on tmpfs (/dev/shm when present), for the parsers that read files; removed at
 // exit.
 inline const std::filesystem::path& scratchDir() {
-  static const std::filesystem::path dir = [] {
+  // Never destroyed, so that the exit handler that removes it can still read it.
+  static const std::filesystem::path* const dir = [] {
+    removeStaleScratchDirs("/dev/shm");
+    removeStaleScratchDirs(std::filesystem::temp_directory_path());
+    const std::string name = "fly-fuzz-" + std::to_string(getpid());
+    auto* d = new std::filesystem::path(std::filesystem::path("/dev/shm") / name);
     std::error_code ec;
-    const std::filesystem::path root =
-        std::filesystem::is_directory("/dev/shm", ec) ? std::filesystem::path("/dev/shm")
-                                                      : std::filesystem::temp_directory_path();
-    std::filesystem::path d = root / ("fly-fuzz-" + std::to_string(getpid()));
-    std::filesystem::create_directories(d);
+    if (!std::filesystem::create_directories(*d, ec)) {  // no tmpfs there, or not writable
+      *d = std::filesystem::temp_directory_path() / name;
+      std::filesystem::create_directories(*d);
+    }
     std::atexit([] {
       std::error_code ignored;
       std::filesystem::remove_all(scratchDir(), ignored);
     });
     return d;
   }();
-  return dir;
+  return *dir;
 }
 
 // Writes `bytes` to `path` (no atomic rename: the scratch directory is private).
@@ -97,12 +115,15 @@ inline void copyFixtures(const std::filesystem::path& dir) {
   }
   for (const fs::path& folder : folders) {
     for (const fs::directory_entry& e : fs::directory_iterator(folder)) {
-      if (e.is_regular_file()) fs::copy_file(e.path(), dir / e.path().filename(), fs::copy_options::overwrite_existing);
+      if (e.is_regular_file())
+        fs::copy_file(e.path(), dir / e.path().filename(), fs::copy_options::overwrite_existing);
     }
   }
 }
 
 // Warnings of the parsers would flood the fuzzer's output: only errors are logged.
-inline void quietLog() { log::setLevel(log::Level::kError); }
+inline void quietLog() {
+  log::setLevel(log::Level::kError);
+}
 
 }  // namespace fly::fuzz
