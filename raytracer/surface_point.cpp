@@ -140,9 +140,11 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
 }
 
 Rgb emissionAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at) {
-  if (!m.emissionTexture) return m.emissionCdM2;
-  return m.emissionCdM2 *
-         Rgb(sampleTexture(rdb, m.emissionTexture, slotUv(rdb, m.emissionTexture, at), true));
+  Rgb e = m.emissionCdM2;
+  if (m.emissionTexture) {
+    e *= Rgb(sampleTexture(rdb, m.emissionTexture, slotUv(rdb, m.emissionTexture, at), true));
+  }
+  return m.alpha == rdb::TraceAlpha::kBlend ? e * coverageAt(rdb, m, at) : e;
 }
 
 vec3 shadingNormalAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at,

@@ -44,7 +44,8 @@ struct PointMaterial {
 };
 PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at);
 
-// The emitted luminance at a point, cd/m²: emissionCdM2 × the emission texture's colour.
+// The emitted luminance at a point, cd/m²: emissionCdM2 × the emission texture's colour, × coverage for
+// partial coverage (a BLEND surface composites all of its colour, emission included, by its alpha).
 Rgb emissionAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at);
 
 // The shading normal of the front face at a point: the interpolated vertex normals, bent by the material's

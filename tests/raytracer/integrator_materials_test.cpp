@@ -343,7 +343,8 @@ double stripIrradiance(F radiance, double xs, double h) {
 // infinite plane: a sensor 1 m below, facing up, gets π L_e × the texture's mean (1/2) from a fine pattern.
 // Stretched once over the plane with clamp-to-edge, the texture is 1 on x < −500 m, falls linearly to 0 at
 // x = 500 m and is 0 beyond: sensors at x = ∓750 m get stripIrradiance of that profile. Emitter sampling
-// chooses triangles by area × the mean emission and evaluates the texture at the sampled point.
+// chooses triangles by area × the mean emission and evaluates the texture at the sampled point. With partial
+// coverage 0.25 (BLEND) the emitter gives a quarter.
 TEST(IntegratorMaterials, EmissionTextureGivesItsMeanAndTexelIrradiance) {
   const Rgb le(1000.0f, 500.0f, 250.0f);
   for (bool fine : {true, false}) {
@@ -367,6 +368,13 @@ TEST(IntegratorMaterials, EmissionTextureGivesItsMeanAndTexelIrradiance) {
     }
     expectAgrees(fine ? "fine emission texture" : "clamped emission texel", run(b.rdb, s, 4096), s,
                  fine ? 0.03f : 0.01f);
+    if (fine) {
+      // Partial coverage 0.25 (BLEND): a quarter of the emission; the floor is black, so nothing else.
+      b.rdb.materials[mat].alpha = rdb::TraceAlpha::kBlend;
+      b.rdb.materials[mat].opacity = 0.25f;
+      for (Rgb& e : s.exact) e *= 0.25f;
+      expectAgrees("blended emission texture", run(b.rdb, s, 4096), s, 0.03f);
+    }
   }
 }
 
