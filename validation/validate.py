@@ -29,7 +29,17 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import scene_files  # noqa: E402
 
-MODELS = os.environ.get("FLY_MODELS", "/work/models")
+def model(relative):
+    """A third-party model under $FLY_MODELS: a folder holding khronos/ (the Khronos glTF sample models) and
+    bevy/ (the Bevy engine's example assets), which the repository does not contain."""
+    base = os.environ.get("FLY_MODELS")
+    if not base:
+        raise SystemExit("validate: set FLY_MODELS to the folder that holds khronos/ and bevy/ (the Khronos glTF "
+                         "sample models and Bevy's example assets) for the third-party cases")
+    path = os.path.join(base, relative)
+    if not os.path.exists(path):
+        raise SystemExit(f"validate: {path} not found (FLY_MODELS={base})")
+    return path
 FLY = os.path.join(ROOT, "build", "cli", "fly")  # --fly
 TOLERANCE_SIGMAS = 3.0
 TOLERANCE_RELATIVE = 0.02
@@ -133,7 +143,7 @@ def case_mixed_lighting(work):
     """Bevy's MixedLightingExample: the SheenChair (textured fabric, wood, metal, a label) on a 3.1 m floor,
     one 2049 lx directional light in the file. Sensors 2 mm off every surface seen from above (floor in and
     out of the chair's shadow, seat and back) and from the four sides (the chair's sides)."""
-    path = os.path.join(MODELS, "bevy/MixedLightingExample/MixedLightingExample.gltf")
+    path = model("bevy/MixedLightingExample/MixedLightingExample.gltf")
     scene = {"fly": 1, "models": [{"file": path}]}
     return {"scene": scene, "cast": {"spacing": 0.1, "offset": 0.002, "sideways": True, "box": 1.0}}
 
@@ -142,7 +152,7 @@ def case_cornell_box(work):
     """Bevy's CornellBox.glb (the box in millimetre numbers read as metres, 556 m wide; one emissive
     ceiling panel of 100 cd/m², KHR_materials_emissive_strength, double-sided; every material double-sided).
     Sensors 0.5 m off the surfaces hit by 160 rays from a point in the middle of the box."""
-    path = os.path.join(MODELS, "bevy/CornellBox/CornellBox.glb")
+    path = model("bevy/CornellBox/CornellBox.glb")
     scene = {"fly": 1, "models": [{"file": path}]}
     return {"scene": scene, "cast": {"from": [-278, 274, -280], "rays": 160, "offset": 0.5}, "quad": 0.05}
 
@@ -151,7 +161,7 @@ def case_cornell_box_small(work):
     """The same Cornell box scaled by 1/1000 in the scene file (a 0.556 m box, the same illuminance at the
     corresponding sensors): whatever depends on the scene's absolute size (ray offsets) shows as a difference
     from cornell-box."""
-    path = os.path.join(MODELS, "bevy/CornellBox/CornellBox.glb")
+    path = model("bevy/CornellBox/CornellBox.glb")
     scene = {"fly": 1, "models": [{"file": path, "scale": 0.001}]}
     return {"scene": scene, "cast": {"from": [-0.278, 0.274, -0.280], "rays": 160, "offset": 0.0005},
             "quad": 5e-5}
@@ -168,7 +178,7 @@ def case_flight_helmet(work):
                                                                       "metallicFactor": 0}}])
     theta, phi = math.radians(40.0), math.radians(30.0)
     direction = [math.sin(theta) * math.cos(phi), -math.cos(theta), math.sin(theta) * math.sin(phi)]
-    scene = {"fly": 1, "models": [{"file": os.path.join(MODELS, "bevy/FlightHelmet/FlightHelmet.gltf")},
+    scene = {"fly": 1, "models": [{"file": model("bevy/FlightHelmet/FlightHelmet.gltf")},
                                   {"file": os.path.join(work, "floor.gltf")}],
              "lights": [{"name": "sun", "type": "directional", "intensity": 2000.0, "direction": direction}]}
     return {"scene": scene, "cast": {"spacing": 0.05, "offset": 0.001, "sideways": True, "box": 0.4}}
@@ -234,13 +244,12 @@ def case_khronos_yard(work):
                            [{"name": "Yard", "triangles": floor, "uvs": floor_uv, "material": 0}],
                            [{"name": "Yard", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1],
                                                                      "metallicFactor": 0}}])
-    k = os.path.join(MODELS, "khronos")
     theta, phi = math.radians(50.0), math.radians(-60.0)
     scene = {"fly": 1,
-             "models": [{"file": os.path.join(k, "CesiumMilkTruck/glTF/CesiumMilkTruck.gltf")},
-                        {"file": os.path.join(k, "Duck/glTF/Duck.gltf"), "translation": [3.2, -0.08, 2.0],
+             "models": [{"file": model("khronos/CesiumMilkTruck/glTF/CesiumMilkTruck.gltf")},
+                        {"file": model("khronos/Duck/glTF/Duck.gltf"), "translation": [3.2, -0.08, 2.0],
                          "rotationDeg": [0, 40, 0], "scale": 0.8},
-                        {"file": os.path.join(k, "TwoSidedPlane/glTF/TwoSidedPlane.gltf"),
+                        {"file": model("khronos/TwoSidedPlane/glTF/TwoSidedPlane.gltf"),
                          "translation": [-3.2, 1.0, -2.0], "rotationDeg": [30, 0, 0]},
                         {"file": os.path.join(work, "floor.gltf")}],
              "lights": [{"name": "sun", "type": "directional", "intensity": 1500.0,
