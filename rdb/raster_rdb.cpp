@@ -153,7 +153,7 @@ RasterTexture lowerTexture(const sdb::Scene& scene, const TextureKey& key) {
   r.rgba8.resize(texels * 4);
   const int ch = t.channels;
   for (size_t i = 0; i < texels; ++i) {
-    uint8_t v[4];
+    uint8_t v[4] = {0, 0, 0, 255};
     for (int c = 0; c < ch; ++c) {
       const size_t at = (i * size_t(ch) + size_t(c)) * size_t(bytes);
       if (bytes == 2) {

@@ -20,6 +20,7 @@
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
 #include "rdb/raster_rdb.h"
+#include "sdb/material_layers.h"
 #include "sdb/scene.h"
 
 namespace fly::raster {
@@ -52,10 +53,10 @@ Yard yard() {
 
   // Texture coordinates (read only where a material has a texture: texturedYard): the ground's from x and z
   // over its 12 m, each box face's and the fence's 0..1 over its 4 corners.
-  auto cornerUvs = [](sdb::Mesh& m) {
-    for (size_t v = 0; v < m.positions.size(); ++v) {
+  auto cornerUvs = [](sdb::Mesh& mesh) {
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
       const int k = int(v % 4);
-      m.uv0.push_back(vec2(k == 1 || k == 2 ? 1.0f : 0.0f, k >= 2 ? 0.0f : 1.0f));
+      mesh.uv0.push_back(vec2(k == 1 || k == 2 ? 1.0f : 0.0f, k >= 2 ? 0.0f : 1.0f));
     }
   };
   sdb::Mesh ground;
@@ -322,6 +323,58 @@ TEST(RasterGolden, AlphaMaskSimpleMode) {
   const rdb::RasterRdb r = rdb::buildRasterRdb(s);
   ASSERT_TRUE(r.variants.alphaMask);
   checkGolden(RenderMode::kSimple, r, 8.0, "mask");
+}
+
+// A sphere of car paint as the glTF importer makes it from KHR_materials_clearcoat: a red metallic base
+// (reflectance 0.5, 0.05, 0.04, roughness 0.6) under a full coat of roughness 0.35, which becomes a red diffuse
+// body under the coat's white 4 % Fresnel lobe (sdb/material_layers.h), lit by two lamps: the coat's
+// highlights over the paint's colour.
+TEST(RasterGolden, ClearCoatedSimpleMode) {
+  context();
+  sdb::Scene s;
+  sdb::Material metal;
+  metal.name = "red-metal";
+  metal.diffuseColor = Rgb(0.0f);
+  metal.reflectionModel = sdb::ReflectionModel::kUniform;
+  metal.reflectionColor = Rgb(0.5f, 0.05f, 0.04f);
+  metal.reflectionGlossiness = 0.6f;
+  const sdb::CoatedMaterial paint = sdb::applyClearCoat(metal, {.amount = 1.0f, .glossiness = 0.35f});
+  ASSERT_TRUE(paint.coatIsLobe);
+  const sdb::MaterialId paintId = s.addMaterial(paint.material).id;
+  sdb::Mesh sphere;
+  sphere.name = "sphere";
+  sphere.material = paintId;
+  constexpr int kRings = 24, kSegments = 48;
+  for (int i = 0; i <= kRings; ++i) {
+    for (int j = 0; j <= kSegments; ++j) {
+      const float theta = float(kPi) * float(i) / kRings, phi = 2.0f * float(kPi) * float(j) / kSegments;
+      const vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
+      sphere.positions.push_back(0.5f * d);
+      sphere.normals.push_back(d);
+    }
+  }
+  for (uint32_t i = 0; i < uint32_t(kRings); ++i) {
+    for (uint32_t j = 0; j < uint32_t(kSegments); ++j) {
+      const uint32_t a = i * (kSegments + 1) + j, b = a + 1, c = a + kSegments + 1, d = c + 1;
+      sphere.indices.insert(sphere.indices.end(), {a, c, b, b, c, d});
+    }
+  }
+  s.addNode({.name = "sphere", .meshes = {s.addMesh(sphere).id}});
+  sdb::Light key, fill;
+  key.intensity = 600.0f;
+  fill.intensity = 150.0f;
+  s.addNode({.name = "key",
+             .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(-1.2f, 1.2f, 1.5f)),
+             .light = s.addLight(key).id});
+  s.addNode({.name = "fill",
+             .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(1.5f, -0.3f, 1.0f)),
+             .light = s.addLight(fill).id});
+  sdb::Camera cam;
+  cam.name = "front";
+  s.addNode({.name = "eye",
+             .parentFromLocal = sdb::lookAtTransform(vec3(0, 0.2f, 2.0f), vec3(0, 0, 0), vec3(0, 1, 0)),
+             .camera = s.addCamera(cam).id});
+  checkGolden(RenderMode::kSimple, rdb::buildRasterRdb(s), 5.0, "clearcoat");
 }
 
 // An orthographic view sees one direction in every pixel: the sky image's value there (at a texel centre, so

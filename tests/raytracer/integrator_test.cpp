@@ -781,7 +781,9 @@ TEST(Integrator, SkyPortalsThroughWindowsAreExactAndLowerTheError) {
     // Above a skylight the roof is outside the window's plane and samples the table alone: the same estimate
     // with and without portals. (Beside a wall window it is within the room's depth behind the window, the
     // region the portal serves, and spends a quarter of its samples on the window: exact still.)
-    if (skylight) EXPECT_EQ(withPortals.points[2].meanLux.g, withoutPortals.points[2].meanLux.g) << what;
+    if (skylight) {
+      EXPECT_EQ(withPortals.points[2].meanLux.g, withoutPortals.points[2].meanLux.g) << what;
+    }
   }
 }
 
