@@ -37,25 +37,36 @@ sdb::Scene closedSphere(float rho) {
   m.reflectionColor = Rgb(0.0f);
   const sdb::MaterialId material = scene.addMaterial(m).id;
 
-  sdb::Mesh mesh;
-  mesh.name = "sphere";
-  mesh.material = material;
+  // The facets are flat (each triangle its own vertices with the facet's normal), so the surface that shades
+  // is the polyhedron the exact answer describes: smooth shading normals on a tessellated sphere would shade
+  // a slightly different, not energy-conserving surface whose loss (≈ 0.015 % a reflection here) ρ = 0.99
+  // multiplies a hundredfold.
+  std::vector<vec3> grid;
   for (uint32_t i = 0; i <= kRings; ++i) {
     const float theta = float(M_PI) * float(i) / float(kRings);
     for (uint32_t j = 0; j <= kSegments; ++j) {
       const float phi = 2.0f * float(M_PI) * float(j) / float(kSegments);
-      const vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-      mesh.positions.push_back(kRadiusM * d);
-      mesh.normals.push_back(-d);
+      grid.push_back(kRadiusM * vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
     }
   }
+  sdb::Mesh mesh;
+  mesh.name = "sphere";
+  mesh.material = material;
+  const auto facet = [&](uint32_t a, uint32_t b, uint32_t c) {
+    const vec3 n = glm::normalize(glm::cross(grid[b] - grid[a], grid[c] - grid[a]));
+    for (uint32_t v : {a, b, c}) {
+      mesh.indices.push_back(uint32_t(mesh.positions.size()));
+      mesh.positions.push_back(grid[v]);
+      mesh.normals.push_back(n);
+    }
+  };
   const uint32_t row = kSegments + 1;
   for (uint32_t i = 0; i < kRings; ++i) {
     for (uint32_t j = 0; j < kSegments; ++j) {
       const uint32_t a = i * row + j, b = a + 1, c = a + row, d = c + 1;
       // (a, b, c) is counter-clockwise seen from outside; reversed, it faces the centre.
-      if (i > 0) mesh.indices.insert(mesh.indices.end(), {a, c, b});
-      if (i + 1 < kRings) mesh.indices.insert(mesh.indices.end(), {b, c, d});
+      if (i > 0) facet(a, c, b);
+      if (i + 1 < kRings) facet(b, c, d);
     }
   }
   sdb::Node node;
@@ -122,7 +133,7 @@ void expectUnbiasedAndHonestByDefault(float rho) {
       integrator, sensors.positionsM, sensors.normals, estimateSettings(noFlags, scene.bakeSettings()), magnitudesM);
 
   const double indirectLux = rho * meanWallLux(rdb, rho);
-  double sumZ2 = 0.0;
+  double sumZ2 = 0.0, sumRel = 0.0;
   for (size_t i = 0; i < result.points.size(); ++i) {
     const double exact = sensors.directLux[i] + indirectLux;
     const double mean = luminance(result.points[i].meanLux);
@@ -132,13 +143,15 @@ void expectUnbiasedAndHonestByDefault(float rho) {
     EXPECT_NEAR(mean, exact, 0.03 * exact);
     EXPECT_NEAR(mean, exact, 5.0 * sigma);
     sumZ2 += (mean - exact) * (mean - exact) / (sigma * sigma);
+    sumRel += (mean - exact) / exact;
   }
+  const double meanRel = sumRel / double(result.points.size());
   // Honest errors: the spread of the estimates around the exact answer is what the reported standard errors
   // say (the RMS of z = (mean − exact)/σ over 16 sensors lies in [0.6, 1.4] with 99 % probability for honest
   // errors; the bounds leave room for the tessellation's ≈ 0.1 % and the moderated variance).
   const double rmsZ = std::sqrt(sumZ2 / double(result.points.size()));
-  EXPECT_GT(rmsZ, 0.3) << "reported errors far larger than the actual ones";
-  EXPECT_LT(rmsZ, 2.0) << "reported errors far smaller than the actual ones";
+  EXPECT_GT(rmsZ, 0.3) << "reported errors far larger than the actual ones; mean deviation " << meanRel;
+  EXPECT_LT(rmsZ, 2.0) << "reported errors far smaller than the actual ones; mean deviation " << meanRel;
 }
 
 TEST(ClosedSphere, AlbedoHalfIsExactWithDefaultSettings) { expectUnbiasedAndHonestByDefault(0.5f); }
