@@ -8,23 +8,11 @@
 #include "tests/fuzz/fuzz_support.h"
 #include "tests/fuzz/scene_checks.h"
 
-namespace {
-
-const std::filesystem::path& gltfDir() {
-  static const std::filesystem::path dir = [] {
-    const std::filesystem::path d = fly::fuzz::scratchDir() / "gltf";
-    fly::fuzz::copyFixtures(d);
-    return d;
-  }();
-  return dir;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const std::filesystem::path gltfDir = fly::fuzz::fixtureDir("gltf");
   fly::fuzz::quietLog();
   const std::string_view bytes = fly::fuzz::asText(data, size);
-  const std::filesystem::path file = gltfDir() / (bytes.substr(0, 4) == "glTF" ? "fuzz.glb" : "fuzz.gltf");
+  const std::filesystem::path file = gltfDir / (bytes.substr(0, 4) == "glTF" ? "fuzz.glb" : "fuzz.gltf");
   fly::fuzz::writeScratchFile(file, bytes);
   fly::fuzz::expectOnlyInputErrors([&] {
     fly::sdb::Scene scene;

@@ -7,24 +7,12 @@
 #include "tests/fuzz/fuzz_support.h"
 #include "tests/fuzz/scene_checks.h"
 
-namespace {
-
-const std::filesystem::path& sceneDir() {
-  static const std::filesystem::path dir = [] {
-    const std::filesystem::path d = fly::fuzz::scratchDir() / "scene";
-    fly::fuzz::copyFixtures(d);
-    return d;
-  }();
-  return dir;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const std::filesystem::path sceneDir = fly::fuzz::fixtureDir("scene");
   fly::fuzz::quietLog();
   fly::fuzz::expectOnlyInputErrors([&] {
     const fly::sdb::Scene scene =
-        fly::sdb::parseSceneFile(fly::fuzz::asText(data, size), "fuzz.json", sceneDir());
+        fly::sdb::parseSceneFile(fly::fuzz::asText(data, size), "fuzz.json", sceneDir);
     fly::fuzz::checkScene(scene);
   });
   return 0;

@@ -121,6 +121,13 @@ inline void copyFixtures(const std::filesystem::path& dir) {
   }
 }
 
+// A scratch folder `name` holding the fixtures (copyFixtures), made once per process.
+inline std::filesystem::path fixtureDir(const std::string& name) {
+  const std::filesystem::path dir = scratchDir() / name;
+  copyFixtures(dir);
+  return dir;
+}
+
 // Warnings of the parsers would flood the fuzzer's output: only errors are logged.
 inline void quietLog() {
   log::setLevel(log::Level::kError);
