@@ -2110,6 +2110,8 @@ class Importer {
       const std::string spath = "/samplers/" + std::to_string(t.sampler);
       ref.wrapS = wrapMode(s.wrapS, spath + "/wrapS");
       ref.wrapT = wrapMode(s.wrapT, spath + "/wrapT");
+      ref.magFilter = magFilter(s.magFilter, spath + "/magFilter");
+      ref.minFilter = minFilter(s.minFilter, spath + "/minFilter");
     }
     ref.texture = imageTexture(size_t(t.source), channels, what);
     return ref;
@@ -2150,6 +2152,41 @@ class Importer {
         fail(path,
              "wrap mode " + std::to_string(value) +
                  " is not one of glTF's 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT), 10497 (REPEAT)");
+    }
+  }
+
+  // A sampler's magFilter (glTF 2.0 §5.26: 9728 NEAREST or 9729 LINEAR; −1, undefined, is linear).
+  MagFilter magFilter(int value, const std::string& path) {
+    switch (value) {
+      case -1:
+      case TINYGLTF_TEXTURE_FILTER_LINEAR:
+        return MagFilter::kLinear;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST:
+        return MagFilter::kNearest;
+      default:
+        fail(path, "magFilter " + std::to_string(value) + " is not one of glTF's 9728 (NEAREST), 9729 (LINEAR)");
+    }
+  }
+
+  // A sampler's minFilter (glTF 2.0 §5.26: 9728, 9729, 9984–9987; −1, undefined, is trilinear).
+  MinFilter minFilter(int value, const std::string& path) {
+    switch (value) {
+      case -1:
+      case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR:
+        return MinFilter::kLinearMipmapLinear;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST:
+        return MinFilter::kNearest;
+      case TINYGLTF_TEXTURE_FILTER_LINEAR:
+        return MinFilter::kLinear;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+        return MinFilter::kNearestMipmapNearest;
+      case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+        return MinFilter::kLinearMipmapNearest;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+        return MinFilter::kNearestMipmapLinear;
+      default:
+        fail(path, "minFilter " + std::to_string(value) +
+                       " is not one of glTF's 9728 (NEAREST), 9729 (LINEAR), 9984–9987 (the mipmap filters)");
     }
   }
 
