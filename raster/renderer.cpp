@@ -131,6 +131,53 @@ enum VariantBit : uint32_t {
   kVariantBlendPass = 1u << 13,
 };
 
+// A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
+// object (Renderer::samplerFor).
+uint32_t samplerKey(const rdb::RasterTextureRef& ref) {
+  return uint32_t(ref.wrapS) | uint32_t(ref.wrapT) << 4 | uint32_t(ref.magFilter) << 8 |
+         uint32_t(ref.minFilter) << 12;
+}
+
+rdb::RasterMinFilter minFilterOfKey(uint32_t key) {
+  return rdb::RasterMinFilter((key >> 12) & 0xfu);
+}
+
+// Whether the sampler of `key` reads mip levels (then it also gets anisotropic filtering).
+bool samplerMipmapped(uint32_t key) {
+  const rdb::RasterMinFilter f = minFilterOfKey(key);
+  return f != rdb::RasterMinFilter::kNearest && f != rdb::RasterMinFilter::kLinear;
+}
+
+GLint glMinFilter(rdb::RasterMinFilter f) {
+  switch (f) {
+    case rdb::RasterMinFilter::kNearest:
+      return GL_NEAREST;
+    case rdb::RasterMinFilter::kLinear:
+      return GL_LINEAR;
+    case rdb::RasterMinFilter::kNearestMipmapNearest:
+      return GL_NEAREST_MIPMAP_NEAREST;
+    case rdb::RasterMinFilter::kLinearMipmapNearest:
+      return GL_LINEAR_MIPMAP_NEAREST;
+    case rdb::RasterMinFilter::kNearestMipmapLinear:
+      return GL_NEAREST_MIPMAP_LINEAR;
+    case rdb::RasterMinFilter::kLinearMipmapLinear:
+      break;
+  }
+  return GL_LINEAR_MIPMAP_LINEAR;
+}
+
+GLint glWrap(rdb::RasterWrap w) {
+  switch (w) {
+    case rdb::RasterWrap::kClampToEdge:
+      return GL_CLAMP_TO_EDGE;
+    case rdb::RasterWrap::kMirroredRepeat:
+      return GL_MIRRORED_REPEAT;
+    case rdb::RasterWrap::kRepeat:
+      break;
+  }
+  return GL_REPEAT;
+}
+
 // Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
 struct BackgroundProgram {
   GLuint program = 0;
@@ -220,6 +267,8 @@ struct Renderer::Gpu {
   // for blended ones the blend target (RGBA32F, kBlendComposite) with its framebuffer (sharing `depth`).
   GLuint uv0 = 0, uv1 = 0, colors = 0, tangents = 0, drawIndices = 0;
   std::vector<GLuint> textures;
+  // One sampler object per distinct glTF sampler the materials use (samplerFor), by samplerKey.
+  std::map<uint32_t, GLuint> samplers;
   GLuint blendFbo = 0, blendColor = 0;
   GLuint composite = 0;
   std::vector<SurfaceDraw> surfaceDraws;  // opaque and cut-out first (by material), then blended
@@ -240,6 +289,7 @@ struct Renderer::Gpu {
                               drawIndices};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteTextures(GLsizei(textures.size()), textures.data());
+    for (const auto& [key, sampler] : samplers) glDeleteSamplers(1, &sampler);
     glDeleteTextures(1, &blendColor);
     glDeleteFramebuffers(1, &blendFbo);
     glDeleteProgram(composite);
@@ -283,7 +333,28 @@ void Renderer::setMaxAnisotropy(float samples) {
   gpu_->maxAnisotropy = std::min(samples, gpu_->driverMaxAnisotropy);
   stats_.maxAnisotropy = gpu_->maxAnisotropy;
   if (gpu_->driverMaxAnisotropy <= 1.0f) return;
-  for (GLuint tex : gpu_->textures) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  for (const auto& [key, sampler] : gpu_->samplers) {
+    if (samplerMipmapped(key)) glSamplerParameterf(sampler, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  }
+}
+
+// The GL sampler object of `ref`'s glTF sampler, made on first use: its wrap modes and filters, and where
+// the minification filter is mipmapped the anisotropic filtering setMaxAnisotropy gives.
+unsigned Renderer::samplerFor(const rdb::RasterTextureRef& ref) {
+  const uint32_t key = samplerKey(ref);
+  GLuint& sampler = gpu_->samplers[key];
+  if (sampler) return sampler;
+  glCreateSamplers(1, &sampler);
+  stats_.samplerObjects = int(gpu_->samplers.size());
+  glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, glWrap(ref.wrapS));
+  glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, glWrap(ref.wrapT));
+  glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, glMinFilter(ref.minFilter));
+  glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER,
+                      ref.magFilter == rdb::RasterMagFilter::kNearest ? GL_NEAREST : GL_LINEAR);
+  if (gpu_->driverMaxAnisotropy > 1.0f && samplerMipmapped(key)) {
+    glSamplerParameterf(sampler, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  }
+  return sampler;
 }
 
 Renderer::~Renderer() = default;
@@ -625,8 +696,8 @@ void Renderer::uploadDraws() {
   glVertexArrayElementBuffer(gpu_->vao, gpu_->drawIndices);
 }
 
-// Each rdb::RasterTexture as an immutable GL texture with a full mip chain (glGenerateTextureMipmap),
-// trilinear and anisotropic filtering where the driver has it, REPEAT wrapping (glTF's default sampler).
+// Each rdb::RasterTexture as an immutable GL texture with a full mip chain (glGenerateTextureMipmap); how it
+// is filtered and wrapped is the sampler object of the material's use of it (samplerFor).
 void Renderer::uploadTextures() {
   const rdb::RasterRdb& r = *rdb_;
   glDeleteTextures(GLsizei(gpu_->textures.size()), gpu_->textures.data());
@@ -648,11 +719,6 @@ void Renderer::uploadTextures() {
     glTextureSubImage2D(tex, 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA, GL_UNSIGNED_BYTE,
                         t.rgba8.data());
     glGenerateTextureMipmap(tex);
-    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    if (gpu_->driverMaxAnisotropy > 1.0f) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
   }
   stats_.textureUploads += int(r.textures.size());
 }
@@ -837,6 +903,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         rows[2 * k + 1] = vec4(slots[k]->uvRow1, 0.0f);
         if (!*slots[k]) continue;
         glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
+        glBindSampler(5 + k, samplerFor(*slots[k]));
         bits |= 1u << k;
       }
       glUniform1ui(p.textureSlots, bits);

@@ -5,14 +5,19 @@
 //              (rdb/raster_rdb.h); no sky behind the scene
 //   lightMap:  per-vertex luminance albedo · E / π from the baked vertex light maps (front or back by facing
 //              on two-sided meshes); meshes with a light texture: albedo · E / π per fragment from its texels
-//              (bilinear); meshes without a light map are shaded as in simple mode
+//              (bilinear); meshes without a light map are shaded as in simple mode. An approximation until
+//              reflections are drawn: an opaque material with uniform reflection (a glTF metal, whose diffuse
+//              is 0) adds reflection · E / π (rdb::RasterMaterial::reflection), i.e. it shows as a rough
+//              reflector of its reflectance under the baked irradiance, the limit of a rough conductor, not
+//              black; Fresnel (dielectric) reflection adds nothing (the same in sunlight mode's light maps)
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per
 // fragment with the same terms: base colour texel × factor × COLOR_0 as the albedo, the emission texel, normal
-// maps for the Phong and sun terms; cut-outs (alpha MASK) discard below their cut-off; blended surfaces (BLEND)
+// maps for the Phong and sun terms, each texture read through a GL sampler object of its glTF sampler (wrap
+// modes, magnification and minification filters; anisotropic filtering where the minification is mipmapped); cut-outs (alpha MASK) discard below their cut-off; blended surfaces (BLEND)
 // are drawn last, back to front by their mesh's centre, without depth writes, into an RGBA32F "over" target
 // composited over the image. They are drawn one material per draw (its textures bound), after the one draw of
 // the per-vertex meshes; a scene without them draws exactly as before.
@@ -74,6 +79,7 @@ struct RendererStats {
   int scenePasses = 0;  // geometry (and sky) passes into the float framebuffer
   int toneMapPasses = 0;
   int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
+  int samplerObjects = 0;             // GL sampler objects: one per distinct glTF sampler drawn with
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
@@ -127,6 +133,7 @@ class Renderer {
   unsigned compileProgram(const std::string& name, const std::string& defines,
                           std::initializer_list<std::pair<unsigned, const char*>> stages);
   const SceneProgram& sceneProgram(uint32_t variant);
+  unsigned samplerFor(const rdb::RasterTextureRef& ref);
   void uploadGeometry();
   void uploadLightTextures();
   void uploadTextures();

@@ -82,6 +82,16 @@ float flyGonioCd(int offset, vec3 axis, vec3 cAxis, vec3 dir) {
 }
 #endif
 
+#ifdef FLY_LIGHT_MAP
+// What multiplies E / π in the light-map modes: the albedo, plus an opaque material's uniform reflection
+// (a metal's) as if it were a rough reflector — under the baked irradiance, the limit of a rough conductor
+// (raster/renderer.h). Glass keeps its reflection for T(θ).
+vec3 flyLightMapReflectance(vec3 albedo, Material m) {
+  bool glass = max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0;
+  return glass ? albedo : albedo + m.reflection.rgb;
+}
+#endif
+
 #ifdef FLY_PHONG
 // Direct illuminance on the surface (lux) and the Blinn–Phong lobe towards `toEye`.
 void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponent, inout vec3 diffuseLux,
@@ -182,16 +192,16 @@ void main() {
   useLightMap = (aSurface & 0x80000000u) != 0u;
   if (useLightMap) {
 #ifdef FLY_TWO_SIDED
-    l = m.diffuse.rgb * (back ? aBackLux : aFrontLux) / kPi;
+    l = flyLightMapReflectance(m.diffuse.rgb, m) * (back ? aBackLux : aFrontLux) / kPi;
 #else
-    l = m.diffuse.rgb * aFrontLux / kPi;
+    l = flyLightMapReflectance(m.diffuse.rgb, m) * aFrontLux / kPi;
 #endif
   }
 #endif
 #ifdef FLY_LIGHT_TEXTURE
   // The fragment shader adds albedo · E_texel / π in place of the vertex value.
   vLightMapUv = aLightMapUv;
-  vAlbedoOverPi = m.diffuse.rgb / kPi;
+  vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) / kPi;
   vLightSlot = 0xffffffffu;
   if (useLightMap && aLightSlot != 0xffffffffu) {
     vLightSlot = (aLightSlot & 0x7fffffffu) + ((back && (aLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
@@ -509,7 +519,7 @@ void main() {
       eLux = texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
     }
 #endif
-    l = base.rgb * eLux / kPi;
+    l = flyLightMapReflectance(base.rgb, m) * eLux / kPi;
   }
 #endif
 #ifdef FLY_PHONG
