@@ -466,6 +466,7 @@ void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& ch
     for (uint32_t i : changes.materialBlocks) {
       const GpuMaterial m = gpuMaterial(rdb.materials.at(i));
       glNamedBufferSubData(gpu_->materials, GLintptr(i * sizeof(GpuMaterial)), sizeof m, &m);
+      shadowGeometryDirty_ = true;
       ++stats_.materialBlockUploads;
     }
   }
@@ -522,6 +523,7 @@ void Renderer::uploadGeometry() {
   gpu_->everyMeshLightMapped =
       std::all_of(r.meshes.begin(), r.meshes.end(), [](const rdb::RasterMesh& m) { return m.hasLightMap; });
   uploadLightTextures();
+  shadowGeometryDirty_ = true;
   ++stats_.geometryUploads;
 }
 
@@ -636,6 +638,7 @@ void Renderer::uploadMaterials() {
   glVertexArrayAttribBinding(gpu_->vao, 5, 5);
   glEnableVertexArrayAttrib(gpu_->vao, 5);
   uploadDraws();
+  shadowGeometryDirty_ = true;  // which triangles cast (glass and blended surfaces do not)
   ++stats_.materialTableUploads;
 }
 
@@ -873,6 +876,27 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       const double solidAngleSr = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
       sunLux = s.sunRadianceCdM2 * float(solidAngleSr);
     }
+    // The sun's shadows (raster/sun_shadows.h), where a program draws the sun's direct term and the sun is
+    // above the horizon (v.sun): the volumes are rebuilt here only when the sun or the geometry moved.
+    const bool shadows = ((variant | surfaceVariant) & kVariantSun) && v.sun &&
+                         shadowSettings_.mode != SunShadowMode::kOff;
+    if (shadows) {
+      if (!shadows_) {
+        shadows_ = std::make_unique<SunShadows>(
+            [this](const std::string& name, const std::string& defines,
+                   std::initializer_list<std::pair<unsigned, const char*>> stages) {
+              return compileProgram(name, defines, stages);
+            });
+      }
+      if (shadowGeometryDirty_) {
+        shadows_->setGeometry(r, gpu_->positions);
+        shadowGeometryDirty_ = false;
+        ++stats_.shadowGeometryUploads;
+      }
+      if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
+    }
+    // The sun's illuminance the scene programs get (uSunNormalLux): 0 in the pass over shadowed pixels.
+    vec3 sunPassLux = sunLux;
     // Binds a scene program and sets its uniforms.
     auto use = [&](uint32_t programVariant) -> const SceneProgram& {
       const SceneProgram& p = sceneProgram(programVariant);
@@ -886,7 +910,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
       if (v.sun) {
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
-        glUniform3fv(p.sunNormalLux, 1, &sunLux[0]);
+        glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
       return p;
     };
@@ -915,28 +939,54 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     };
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
-    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
-    if (lightMaps && v.lightTexture) {
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
-      glBindTextureUnit(2, gpu_->lightTextures);
-    }
-    glBindVertexArray(gpu_->vao);
-    if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
-    if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
-    if (gpu_->perVertexIndexCount > 0) {
-      const SceneProgram& p = use(variant);
-      if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
-      draw(0, gpu_->perVertexIndexCount);
-    }
-    uint32_t current = ~0u;
-    const SceneProgram* program = nullptr;
-    for (const SurfaceDraw& d : gpu_->surfaceDraws) {
-      if (d.blend) continue;
-      const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
-      if (want != current) program = &use(current = want);
-      bindTextures(*program, d);
-      draw(d.firstIndex, d.indexCount);
+    auto bindScene = [&] {
+      const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
+      glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
+      if (lightMaps && v.lightTexture) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
+        glBindTextureUnit(2, gpu_->lightTextures);
+      }
+      glBindVertexArray(gpu_->vao);
+      if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
+      if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
+    };
+    // The opaque and cut-out surfaces: the per-vertex meshes in one draw, then the per-fragment ones.
+    auto drawOpaque = [&] {
+      if (gpu_->perVertexIndexCount > 0) {
+        const SceneProgram& p = use(variant);
+        if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
+        draw(0, gpu_->perVertexIndexCount);
+      }
+      uint32_t current = ~0u;
+      const SceneProgram* program = nullptr;
+      for (const SurfaceDraw& d : gpu_->surfaceDraws) {
+        if (d.blend) continue;
+        const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
+        if (want != current) program = &use(current = want);
+        bindTextures(*program, d);
+        draw(d.firstIndex, d.indexCount);
+      }
+    };
+    bindScene();
+    drawOpaque();
+    if (shadows) {
+      // The stencil counts the shadow volumes each visible surface lies in; where it is not 0 the same draws
+      // again, at equal depth, without the sun (the colour target holds shared-exponent words: no blending).
+      // Glass and blended surfaces, drawn next, get the sun unshadowed.
+      shadows_->drawStencil(clipFromWorld);
+      bindScene();
+      glStencilFunc(GL_NOTEQUAL, 0, 0xff);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+      glDepthFunc(GL_EQUAL);
+      glDepthMask(GL_FALSE);
+      sunPassLux = vec3(0.0f);
+      drawOpaque();
+      sunPassLux = sunLux;
+      glDisable(GL_STENCIL_TEST);
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      lastShadowClipFromWorld_ = clipFromWorld;
+      ++stats_.shadowPasses;
     }
     if ((variant & kVariantGlass) && gpu_->perVertexIndexCount > 0) {
       // The glass over a copy of that image, which it shows through itself times T(θ) (kSceneFragment). The
@@ -1030,6 +1080,25 @@ void Renderer::present(uint32_t widthPx, uint32_t heightPx) const {
   const bool sameSize = widthPx == width_ && heightPx == height_;
   glBlitNamedFramebuffer(gpu_->srgbFbo, 0, 0, 0, GLint(width_), GLint(height_), 0, 0, GLint(widthPx),
                          GLint(heightPx), GL_COLOR_BUFFER_BIT, sameSize ? GL_NEAREST : GL_LINEAR);
+}
+
+void Renderer::setSunShadows(const SunShadowSettings& settings) {
+  if (settings.visibilityMapTexels < 16 || settings.visibilityMapTexels > 16384) {
+    throw std::invalid_argument("the sun's visibility map takes 16 to 16384 texels per side, not " +
+                                std::to_string(settings.visibilityMapTexels));
+  }
+  shadowSettings_ = settings;
+}
+
+SunShadowCounts Renderer::sunShadowCounts() const {
+  return shadows_ ? shadows_->counts() : SunShadowCounts{};
+}
+
+uint64_t Renderer::shadowVolumeFill() {
+  if (!shadows_ || stats_.shadowPasses == 0) return 0;
+  glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
+  glViewport(0, 0, GLsizei(width_), GLsizei(height_));
+  return shadows_->measureFill(lastShadowClipFromWorld_);
 }
 
 void Renderer::finish() const {

@@ -42,6 +42,7 @@
 
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
 
 namespace fly::raster {
@@ -78,6 +79,9 @@ struct RendererStats {
   int skyUploads = 0;
   int scenePasses = 0;  // geometry (and sky) passes into the float framebuffer
   int toneMapPasses = 0;
+  int shadowGeometryUploads = 0;  // the sun shadows' caster and edge tables (raster/sun_shadows.h)
+  int shadowBuilds = 0;           // visibility map and shadow volumes (re)built: a new sun direction or geometry
+  int shadowPasses = 0;           // frames drawn with the shadow volumes' stencil pass
   int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
   int samplerObjects = 0;             // GL sampler objects: one per distinct glTF sampler drawn with
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
@@ -121,6 +125,15 @@ class Renderer {
   // kMaxAnisotropy and the driver's limit (stats().maxAnisotropy says what applies). Default: that cap.
   void setMaxAnisotropy(float samples);
 
+  // How the sun's direct term is shadowed (raster/sun_shadows.h); std::invalid_argument for a visibility map
+  // size outside [16, 16384]. Default: shadow volumes pruned by a 2048² visibility map.
+  void setSunShadows(const SunShadowSettings& settings);
+  // What the last shadow build made (read back from the GPU; zeros before the first).
+  SunShadowCounts sunShadowCounts() const;
+  // The fragments the last frame's shadow volumes rasterise with neither depth nor stencil test (their fill,
+  // GL_SAMPLES_PASSED); 0 when it drew none. For benchmarks: it draws the volumes again.
+  uint64_t shadowVolumeFill();
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -144,6 +157,10 @@ class Renderer {
   void resize(uint32_t widthPx, uint32_t heightPx);
 
   std::unique_ptr<Gpu> gpu_;
+  std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
+  SunShadowSettings shadowSettings_;
+  bool shadowGeometryDirty_ = true;
+  mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;
   uint32_t width_ = 0, height_ = 0;
   RendererStats stats_;

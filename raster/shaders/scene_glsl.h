@@ -56,7 +56,7 @@ uniform int uLightCount;
 uniform vec3 uAmbientUpLux;
 uniform vec3 uAmbientDownLux;
 uniform vec3 uSunDirWorld;   // unit, towards the sun
-uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun
+uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun; 0 where it is in shadow (raster/sun_shadows.h)
 
 const float kPi = 3.14159265358979;
 const float kCornerGain = FLY_CORNER_GAIN;
@@ -168,6 +168,7 @@ flat out vec3 vAlbedoOverPi;   // sr⁻¹
 #endif
 
 out vec3 vLuminance;
+invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (raster/sun_shadows.h)
 #ifdef FLY_TWO_SIDED
 flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying costs every triangle its setup)
 #endif
@@ -365,6 +366,7 @@ out vec3 vBackLux;
 #define FLY_SURFACE_FLAGS
 flat out uint vSurface;
 #endif
+invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (raster/sun_shadows.h)
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
