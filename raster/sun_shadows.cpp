@@ -88,7 +88,7 @@ struct SunShadows::Gpu {
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteVertexArrays(1, &capVao);
     glDeleteTextures(1, &visibility);
-    glDeleteRenderbuffers(1, &visibilityDepth);
+    glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
     for (GLuint p : {visibilityProgram, markProgram, keepProgram, edgesProgram, capProgram, sideProgram}) {
       glDeleteProgram(p);
@@ -213,6 +213,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   const float extentM = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.001f;
   g.texelSizeM = extentM / float(texels);
 
+  mat4 sunClipFromWorld(1.0f);
   const Commands initial;
   glNamedBufferSubData(g.commands, 0, sizeof initial, &initial);
   const GLint zeroInt = 0;
@@ -231,15 +232,19 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     }
     if (g.visibilityTexels != texels) {
       glDeleteTextures(1, &g.visibility);
-      glDeleteRenderbuffers(1, &g.visibilityDepth);
+      glDeleteTextures(1, &g.visibilityDepth);
       glDeleteFramebuffers(1, &g.visibilityFbo);
       glCreateTextures(GL_TEXTURE_2D, 1, &g.visibility);
       glTextureStorage2D(g.visibility, 1, GL_R32UI, GLsizei(texels), GLsizei(texels));
-      glCreateRenderbuffers(1, &g.visibilityDepth);
-      glNamedRenderbufferStorage(g.visibilityDepth, GL_DEPTH_COMPONENT32F, GLsizei(texels), GLsizei(texels));
+      glCreateTextures(GL_TEXTURE_2D, 1, &g.visibilityDepth);
+      glTextureStorage2D(g.visibilityDepth, 1, GL_DEPTH_COMPONENT32F, GLsizei(texels), GLsizei(texels));
+      for (GLuint t : {g.visibility, g.visibilityDepth}) {  // read with texelFetch; complete without mipmaps
+        glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      }
       glCreateFramebuffers(1, &g.visibilityFbo);
       glNamedFramebufferTexture(g.visibilityFbo, GL_COLOR_ATTACHMENT0, g.visibility, 0);
-      glNamedFramebufferRenderbuffer(g.visibilityFbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.visibilityDepth);
+      glNamedFramebufferTexture(g.visibilityFbo, GL_DEPTH_ATTACHMENT, g.visibilityDepth, 0);
       if (glCheckNamedFramebufferStatus(g.visibilityFbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
         throw std::runtime_error("the OpenGL driver cannot render a " + std::to_string(texels) + "² R32UI visibility map");
       }
@@ -253,7 +258,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     const float half = 0.5f * extentM, cx = 0.5f * (lo.x + hi.x), cy = 0.5f * (lo.y + hi.y);
     const float margin = 0.01f * extentM + 1e-3f;
     // Looking down −z of the sun frame (from the sun): depth = −z, from −hi.z to −lo.z.
-    const mat4 sunClipFromWorld =
+    sunClipFromWorld =
         glm::ortho(cx - half, cx + half, cy - half, cy + half, -hi.z - margin, -lo.z + margin) * sunFromWorld;
     GLint previousFbo = 0, viewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previousFbo);
@@ -275,7 +280,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glUseProgram(g.markProgram);
     glBindImageTexture(0, g.visibility, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
     glDispatchCompute((texels + 7) / 8, (texels + 7) / 8, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(0, g.visibility);
+    glBindTextureUnit(1, g.visibilityDepth);
   }
 
   const GLuint capCapacity = 3 * g.casterCount;
@@ -290,6 +297,8 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   // more is always safe).
   glUniform1f(loc("uSmallInradiusM"), g.texelSizeM / std::sqrt(2.0f) * 1.001f);
   glUniform1i(loc("uPrune"), prune ? 1 : 0);
+  glUniformMatrix4fv(loc("uSunClipFromWorld"), 1, GL_FALSE, &sunClipFromWorld[0][0]);
+  glUniform1i(loc("uMapTexels"), GLint(texels));
   glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(g.edgesProgram);

@@ -67,10 +67,14 @@ void main() {
 )GLSL";
 
 // One invocation per caster: decides whether it is kept (raster/sun_shadows.h: seen in the visibility map, or
-// too small to be sure to be seen and able to be seen; or, without pruning, facing the sun), turns it to face
-// the sun, adds its edges' signed uses and appends it to the caps.
+// too small to be sure to be seen, able to be seen and not wholly behind what the map shows; or, without
+// pruning, facing the sun), turns it to face the sun, adds its edges' signed uses and appends it to the caps.
 inline constexpr const char* kShadowKeepCompute = R"GLSL(
 layout(local_size_x = 64) in;
+layout(binding = 0) uniform usampler2D uVisibilityIds;  // the map: caster index, 0xffffffff for none
+layout(binding = 1) uniform sampler2D uVisibilityDepth;  // its depth, [0, 1] from the sun
+uniform mat4 uSunClipFromWorld;
+uniform int uMapTexels;
 uniform uint uCasterCount;
 uniform uint uCapCapacity;     // indices in the caps buffer: 3 × casters
 uniform vec3 uSunDirWorld;     // unit, towards the sun
@@ -81,6 +85,38 @@ uniform int uPrune;             // 1: visibility map; 0: every sun-facing triang
 layout(std430, binding = 2) readonly buffer Visible { uint visible[]; };
 layout(std430, binding = 3) buffer EdgeCounts { int edgeCount[]; };
 layout(std430, binding = 4) writeonly buffer Caps { uint capIndices[]; };
+
+// Whether the triangle lies wholly behind surfaces the map shows over all of its footprint: between four
+// neighbouring texel centres that all show one triangle, that triangle covers the square they span (it is
+// convex) at depths no farther than the largest of the four (it is planar); a triangle whose footprint those
+// squares cover, and whose nearest vertex is farther from the sun than each square's farthest corner, is
+// hidden. Footprints over more than 4 × 4 squares are not tested (the triangle is kept).
+bool flyHiddenBehindMap(vec3 p0, vec3 p1, vec3 p2) {
+  vec3 w0 = (uSunClipFromWorld * vec4(p0, 1.0)).xyz * 0.5 + 0.5;  // orthographic: w = 1
+  vec3 w1 = (uSunClipFromWorld * vec4(p1, 1.0)).xyz * 0.5 + 0.5;
+  vec3 w2 = (uSunClipFromWorld * vec4(p2, 1.0)).xyz * 0.5 + 0.5;
+  float n = float(uMapTexels);
+  vec2 lo = min(w0.xy, min(w1.xy, w2.xy)) * n, hi = max(w0.xy, max(w1.xy, w2.xy)) * n;
+  float nearest = min(w0.z, min(w1.z, w2.z));
+  ivec2 a = ivec2(floor(lo - 0.5)), b = ivec2(floor(hi - 0.5));  // squares from centre a to centre b + 1
+  if (a.x < 0 || a.y < 0 || b.x + 1 >= uMapTexels || b.y + 1 >= uMapTexels) return false;
+  if (b.x - a.x > 3 || b.y - a.y > 3) return false;
+  for (int y = a.y; y <= b.y; ++y) {
+    for (int x = a.x; x <= b.x; ++x) {
+      uint id = texelFetch(uVisibilityIds, ivec2(x, y), 0).x;
+      if (id == 0xffffffffu) return false;
+      float farthest = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        ivec2 c = ivec2(x + (k & 1), y + (k >> 1));
+        if (texelFetch(uVisibilityIds, c, 0).x != id) return false;
+        farthest = max(farthest, texelFetch(uVisibilityDepth, c, 0).x);
+      }
+      if (!(nearest > farthest + 1e-6)) return false;
+    }
+  }
+  return true;
+}
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= uCasterCount) return;
@@ -102,7 +138,7 @@ void main() {
     bool small = abs(area2) < uSmallInradiusM * perimeter;  // inradius = 2 · area / perimeter
     uint closure = (c.vertices.w >> 3u) & 3u;
     bool canBeSeen = closure == 0u || (closure == 1u) == facing;
-    kept = seen || (small && canBeSeen);
+    kept = seen || (small && canBeSeen && !flyHiddenBehindMap(p0, p0 + e1, p0 + e2));
   } else {
     kept = facing;
   }

@@ -195,7 +195,8 @@ sdb::Mesh ground(float halfM, sdb::MaterialId material) {
 }
 
 // A fence of 24 bars, 2.5 cm square and 1.5 m tall, 16 cm apart, on a 10 m ground: with a 64² visibility map
-// (texels ≈ 22 cm) every bar is far below a texel, so the map alone would miss most of them.
+// (texels ≈ 22 cm) every bar is far below a texel, so the map alone would miss most of them. Beside it a
+// 2 × 2 m slab 1 m up with a 2 cm cube on the ground under it (in the sun's view: the slab hides it).
 sdb::Scene fence() {
   sdb::Scene s;
   sdb::Material m;
@@ -206,6 +207,8 @@ sdb::Scene fence() {
     const float x = -1.9f + 0.16f * float(k);
     s.addNode({.name = "bar", .meshes = {s.addMesh(test::box(vec3(x, 0.0f, -0.0125f), vec3(x + 0.025f, 1.5f, 0.0125f), mat)).id}});
   }
+  s.addNode({.name = "slab", .meshes = {s.addMesh(test::box(vec3(-3.0f, 1.0f, 1.0f), vec3(-1.0f, 1.1f, 3.0f), mat)).id}});
+  s.addNode({.name = "cube", .meshes = {s.addMesh(test::box(vec3(-1.91f, 0.0f, 2.39f), vec3(-1.89f, 0.02f, 2.41f), mat)).id}});
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
   return s;
 }
@@ -222,7 +225,8 @@ TEST(SunShadows, FenceOfSubTexelBarsCastsEveryBarsShadow) {
 }
 
 // The same fence's counts: every bar is kept (its sun-facing triangles; its averted ones cannot be seen in a
-// closed, outward mesh), although the map shows few of them.
+// closed, outward mesh), although the map shows few of them; the cube under the slab is not (its footprint
+// lies where the map shows the slab's top, nearer the sun).
 TEST(SunShadows, SubTexelTrianglesThatCanBeSeenAreKept) {
   context();
   const rdb::RasterRdb r = withSun(fence(), vec3(0.3f, 0.8f, -0.6f));
@@ -231,16 +235,16 @@ TEST(SunShadows, SubTexelTrianglesThatCanBeSeenAreKept) {
   renderer.setSunShadows({SunShadowMode::kVisibilityMap, 64});
   renderer.render(lookAt(vec3(0.5f, 4.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f)), RenderMode::kSimple, 64, 36);
   const SunShadowCounts c = renderer.sunShadowCounts();
-  EXPECT_EQ(c.casterTriangles, 2u + 24u * 12u);
+  EXPECT_EQ(c.casterTriangles, 2u + 24u * 12u + 2u * 12u);
   // Square texels over the casters' bounds seen from the sun: at least the ground's 10 m across, at most the
   // bounding box's diagonal.
   EXPECT_GE(c.texelSizeM, 10.0f / 64.0f);
   EXPECT_LE(c.texelSizeM, 1.002f * std::sqrt(200.0f + 1.5f * 1.5f) / 64.0f);
-  // Each bar faces the sun with 3 of its faces (top, +x, −z): 6 triangles; the ground's 2.
-  EXPECT_EQ(c.keptTriangles, 24u * 6u + 2u);
+  // Each bar faces the sun with 3 of its faces (top, +x, −z): 6 triangles; the slab 6, the ground 2.
+  EXPECT_EQ(c.keptTriangles, 24u * 6u + 6u + 2u);
   EXPECT_LT(c.visibleTriangles, c.keptTriangles);
-  // Each bar's silhouette: the 6 edges between its sun-facing and averted faces.
-  EXPECT_EQ(c.silhouetteEdges, 24u * 6u + 4u);  // and the ground's 4 open edges
+  // Each box's silhouette: the 6 edges between its sun-facing and averted faces; the ground's 4 open edges.
+  EXPECT_EQ(c.silhouetteEdges, 25u * 6u + 4u);
   EXPECT_EQ(c.sideTriangles, c.silhouetteEdges);
 }
 
