@@ -1,7 +1,7 @@
 // The sun's shadows in the GL engine: shadow volumes (Crow 1977; the z-fail stencil test of Everitt and
-// Kilgard 2002, "Practical and Robust Stenciled Shadow Volumes") built only from the triangles the sun can see,
-// found with a visibility map (the FLY paper, §3: "rendering a scene in an orthographic projection from a
-// sunlight view and building a visibility map … encoding index of each triangle by its color").
+// Kilgard 2002, "Practical and Robust Stenciled Shadow Volumes") built only from the triangles the sun can
+// see, found with a visibility map (the FLY paper, §3: "rendering a scene in an orthographic projection from
+// a sunlight view and building a visibility map … encoding index of each triangle by its color").
 //
 // Casters. Every triangle blocks the sun from both sides (docs/architecture.md), except clear glass
 // (rdb::RasterMaterial::transmission > 0: its T(θ) is not drawn, it casts no shadow) and blended surfaces
@@ -19,30 +19,46 @@
 // fitted to the casters' bounds, N × N square texels of side t (SunShadowSettings::visibilityMapTexels); each
 // texel holds the caster nearest the sun at the texel's centre. Every point of the image plane lies within
 // t/√2 of a texel centre (the corner of its texel), so a disc of radius t/√2 contains a texel centre: a
-// triangle whose sun-visible part contains such a disc ("significant") wins that texel and is found. A
-// triangle whose whole projection contains no such disc — its projected inradius, 2 · area / perimeter, is
-// below t/√2 — may be missed, so it is always kept unless it cannot be seen: in a closed mesh (every edge
-// used twice, once each way, after welding equal positions) whose triangles face out (positive signed
-// volume), a triangle turned away from the sun is reached by the sun's rays only after they cross the mesh
-// (and one facing the sun, when the mesh faces in), taking the mesh not to cross itself. What can be lost: the
-// sun-visible part of a larger triangle that contains no such disc anywhere, a sliver narrower than √2 · t
-// along the shadow of what hides the rest of it; its shadow is that thin. The classic method
-// (SunShadowMode::kSunFacing) keeps every triangle that faces the sun, for comparison.
+// triangle whose sun-visible part contains such a disc ("significant") wins that texel and is found. The
+// others the map shows are kept too. A triangle it does not show is dropped when
+//  - it cannot be seen: its shell (the triangles connected through shared edges, equal positions welded) is
+//    closed (every edge used twice, once each way) and faces out (positive signed volume) while the triangle
+//    faces away from the sun (or the shell faces in and the triangle faces the sun): the sun's rays reach
+//    it only after crossing the shell, taking the shell not to cross itself. (Such a triangle is dropped even
+//    where the map shows it: it can only win a texel on its rim or on a coplanar face, by a tie of depths.)
+//  - or its projected inradius (2 · area / perimeter in the sun's image plane) reaches t/√2: its whole
+//    projection, so its visible part too if it had one, would contain such a disc and it would have been
+//    found — it is not significant;
+//  - or it lies wholly behind what the map shows over its footprint: where four neighbouring texel centres
+//    show one triangle, that triangle covers the square between them (it is convex) at depths no farther than
+//    the largest of the four (it is planar); a triangle whose footprint such squares cover and whose nearest
+//    vertex is farther from the sun is hidden.
+// The rest (sub-texel triangles that may be seen: fence bars, small parts) are undecided, and the map is
+// drawn again over the square around them at the same N (a finer t), twice (kMapLevels in the source); what
+// is still undecided after that is kept. So every significant triangle is kept, at each level's t. What can
+// be lost: the visible part of a larger triangle that contains no disc of radius t/√2 anywhere, a sliver
+// narrower than √2 · t along the shadow of what hides the rest of it; its shadow is that thin.
+// A closed shell with any kept triangle keeps every triangle that faces the way the sun can see it, so that
+// its volume's silhouette is the shell's terminator rather than the rim of what the map happened to show (a
+// superset: the shadow is the same). Open shells keep only their own kept triangles: where a large open
+// receiver is partly hidden from the sun (a ground under boxes), the rim of its hidden part adds silhouette
+// edges that the classic method does not have. The classic method (SunShadowMode::kSunFacing) keeps every
+// triangle that faces the sun, for comparison.
 //
 // Silhouettes. The kept triangles, each turned to face the sun, are counted per undirected edge (equal
 // positions welded): +1 where one runs along the edge one way, −1 the other way. Edges with a non-zero count
-// are the silhouette of the union of their prisms and are extruded |count| times, so open meshes, non-manifold
-// edges and two-sided architectural surfaces need no special case: each prism is closed, and the counts sum
-// the prisms' sides. The sides go to the point at infinity away from the sun (w = 0; a directional light's
-// prisms all end there, so there is no back cap), drawn with GL_DEPTH_CLAMP; the front caps are the kept
-// triangles themselves.
+// are the silhouette of the union of their prisms and are extruded |count| times, so open meshes,
+// non-manifold edges and two-sided architectural surfaces need no special case: each prism is closed, and the
+// counts sum the prisms' sides. The sides go to the point at infinity away from the sun (w = 0; a directional
+// light's prisms all end there, so there is no back cap), drawn with GL_DEPTH_CLAMP; the front caps are the
+// kept triangles themselves.
 //
 // The stencil pass (z-fail): with the scene's depth, the volumes' faces behind the visible surface count +1
 // (back faces) and −1 (front faces), so a pixel's count is the number of volumes its surface lies in, right
-// with the camera inside a volume too. A lit surface does not shadow itself: its cap is drawn with the scene's
-// vertex expression, both invariant (raster/shaders/shadow_glsl.h), so it lies at the surface's depth exactly,
-// and the depth test (LESS) counts equal depth as behind — the surface is on the prism's boundary, outside it.
-// The stencil wraps at 256 overlapping volumes.
+// with the camera inside a volume too. A lit surface does not shadow itself: its cap is drawn with the
+// scene's vertex expression, both invariant (raster/shaders/shadow_glsl.h), so it lies at the surface's depth
+// exactly, and the depth test (LESS) counts equal depth as behind — the surface is on the prism's boundary,
+// outside it. The stencil wraps at 256 overlapping volumes.
 //
 // All of it runs on the GPU (compute passes, atomic appends, indirect draws); the CPU only welds the edges
 // once per geometry and sets uniforms. It is rebuilt when the sun's direction, the geometry or the settings

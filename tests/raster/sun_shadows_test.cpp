@@ -36,7 +36,8 @@ class CpuTracer {
     for (uint32_t m = 0; m < r.meshes.size(); ++m) {
       const rdb::RasterMesh& mesh = r.meshes[m];
       const rdb::RasterMaterial& mat = r.materials[mesh.material];
-      const bool casts = maxComponent(mat.transmission) == 0.0f && mat.alphaMode != rdb::RasterAlphaMode::kBlend;
+      const bool casts =
+          maxComponent(mat.transmission) == 0.0f && mat.alphaMode != rdb::RasterAlphaMode::kBlend;
       for (uint32_t i = mesh.firstIndex; i < mesh.firstIndex + mesh.indexCount; i += 3) {
         tris_.push_back({dvec3(r.positionsM[r.indices[i]]), dvec3(r.positionsM[r.indices[i + 1]]),
                          dvec3(r.positionsM[r.indices[i + 2]]), m, casts, mesh.twoSided});
@@ -61,7 +62,8 @@ class CpuTracer {
     return best;
   }
   bool occluded(const dvec3& o, const dvec3& d) const {
-    return std::any_of(tris_.begin(), tris_.end(), [&](const Tri& tr) { return tr.casts && intersect(tr, o, d) > 0.0; });
+    return std::any_of(tris_.begin(), tris_.end(),
+                       [&](const Tri& tr) { return tr.casts && intersect(tr, o, d) > 0.0; });
   }
   uint32_t mesh(uint32_t triangle) const { return tris_[triangle].mesh; }
   bool twoSided(uint32_t triangle) const { return tris_[triangle].twoSided; }
@@ -97,9 +99,9 @@ View lookAt(const vec3& eye, const vec3& target) {
 }
 
 struct MaskCheck {
-  size_t lit = 0, shadowed = 0;        // pixels compared, by the rays' verdict
-  size_t edgeMismatches = 0;           // disagreements within one pixel of an edge (allowed)
-  size_t mismatches = 0;               // elsewhere
+  size_t lit = 0, shadowed = 0;  // pixels compared, by the rays' verdict
+  size_t edgeMismatches = 0;     // disagreements within one pixel of an edge (allowed)
+  size_t mismatches = 0;         // elsewhere
 };
 
 // Renders `r` from `view` in `mode` with the sun's shadows and without, and compares the shadow mask with the
@@ -142,7 +144,8 @@ MaskCheck checkShadowMask(const rdb::RasterRdb& r, const View& view, RenderMode 
       const dvec3 origin = hit->point + 1e-6 * n;
       expected[p] = tracer.occluded(origin, sun) ? 1 : 0;
       const float lFull = luminance(Rgb(full[3 * p], full[3 * p + 1], full[3 * p + 2]));
-      const float lShadow = luminance(Rgb(shadowedImage[3 * p], shadowedImage[3 * p + 1], shadowedImage[3 * p + 2]));
+      const float lShadow =
+          luminance(Rgb(shadowedImage[3 * p], shadowedImage[3 * p + 1], shadowedImage[3 * p + 2]));
       rendered[p] = lShadow < 0.95f * lFull ? 1 : 0;
     }
   }
@@ -205,10 +208,15 @@ sdb::Scene fence() {
   s.addNode({.name = "ground", .meshes = {s.addMesh(ground(5.0f, mat)).id}});
   for (int k = 0; k < 24; ++k) {
     const float x = -1.9f + 0.16f * float(k);
-    s.addNode({.name = "bar", .meshes = {s.addMesh(test::box(vec3(x, 0.0f, -0.0125f), vec3(x + 0.025f, 1.5f, 0.0125f), mat)).id}});
+    s.addNode(
+        {.name = "bar",
+         .meshes = {s.addMesh(test::box(vec3(x, 0.0f, -0.0125f), vec3(x + 0.025f, 1.5f, 0.0125f), mat)).id}});
   }
-  s.addNode({.name = "slab", .meshes = {s.addMesh(test::box(vec3(-3.0f, 1.0f, 1.0f), vec3(-1.0f, 1.1f, 3.0f), mat)).id}});
-  s.addNode({.name = "cube", .meshes = {s.addMesh(test::box(vec3(-1.91f, 0.0f, 2.39f), vec3(-1.89f, 0.02f, 2.41f), mat)).id}});
+  s.addNode({.name = "slab",
+             .meshes = {s.addMesh(test::box(vec3(-3.0f, 1.0f, 1.0f), vec3(-1.0f, 1.1f, 3.0f), mat)).id}});
+  s.addNode(
+      {.name = "cube",
+       .meshes = {s.addMesh(test::box(vec3(-1.91f, 0.0f, 2.39f), vec3(-1.89f, 0.02f, 2.41f), mat)).id}});
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
   return s;
 }
@@ -216,8 +224,8 @@ sdb::Scene fence() {
 TEST(SunShadows, FenceOfSubTexelBarsCastsEveryBarsShadow) {
   context();
   const rdb::RasterRdb r = withSun(fence(), vec3(0.3f, 0.8f, -0.6f));
-  const MaskCheck c = checkShadowMask(r, lookAt(vec3(0.5f, 4.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f)), RenderMode::kSimple,
-                                      320, 180, {SunShadowMode::kVisibilityMap, 64});
+  const MaskCheck c = checkShadowMask(r, lookAt(vec3(0.5f, 4.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f)),
+                                      RenderMode::kSimple, 320, 180, {SunShadowMode::kVisibilityMap, 64});
   EXPECT_EQ(c.mismatches, 0u);
   EXPECT_GT(c.shadowed, 500u);  // 24 stripes
   EXPECT_GT(c.lit, 1000u);
@@ -267,14 +275,20 @@ sdb::Scene car() {
   s.addNode({.name = "body", .meshes = {s.addMesh(body).id}});
   for (float z : {-0.5f, 0.5f}) {
     for (float x : {-0.6f, 0.5f}) {
-      s.addNode({.name = "seat", .meshes = {s.addMesh(test::box(vec3(x, 0.4f, z - 0.25f), vec3(x + 0.5f, 1.3f, z + 0.25f), mat)).id}});
+      s.addNode(
+          {.name = "seat",
+           .meshes = {
+               s.addMesh(test::box(vec3(x, 0.4f, z - 0.25f), vec3(x + 0.5f, 1.3f, z + 0.25f), mat)).id}});
     }
   }
-  s.addNode({.name = "dashboard", .meshes = {s.addMesh(test::box(vec3(1.3f, 0.5f, -0.8f), vec3(1.6f, 0.9f, 0.8f), mat)).id}});
-  s.addNode({.name = "column", .meshes = {s.addMesh(test::box(vec3(1.1f, 0.6f, -0.45f), vec3(1.3f, 0.95f, -0.35f), mat)).id}});
+  s.addNode({.name = "dashboard",
+             .meshes = {s.addMesh(test::box(vec3(1.3f, 0.5f, -0.8f), vec3(1.6f, 0.9f, 0.8f), mat)).id}});
+  s.addNode({.name = "column",
+             .meshes = {s.addMesh(test::box(vec3(1.1f, 0.6f, -0.45f), vec3(1.3f, 0.95f, -0.35f), mat)).id}});
   for (float z : {-0.95f, 0.75f}) {
     for (float x : {-1.6f, 1.1f}) {
-      s.addNode({.name = "wheel", .meshes = {s.addMesh(test::box(vec3(x, 0.0f, z), vec3(x + 0.5f, 0.6f, z + 0.2f), mat)).id}});
+      s.addNode({.name = "wheel",
+                 .meshes = {s.addMesh(test::box(vec3(x, 0.0f, z), vec3(x + 0.5f, 0.6f, z + 0.2f), mat)).id}});
     }
   }
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
@@ -312,8 +326,8 @@ TEST(SunShadows, ClosedCarWithInteriorMatchesShadowRaysAndPrunesTheInterior) {
   EXPECT_GT(fill[0], 0u);
 }
 
-// The camera stands in the car's shadow, inside its shadow volume, looking at the car and the ground behind it
-// (z-fail counts only what lies behind the visible surface).
+// The camera stands in the car's shadow, inside its shadow volume, looking at the car and the ground behind
+// it (z-fail counts only what lies behind the visible surface).
 TEST(SunShadows, CameraInsideAShadowVolume) {
   context();
   const rdb::RasterRdb r = withSun(car(), vec3(-0.5f, 0.7f, 0.5f));
@@ -344,7 +358,8 @@ TEST(SunShadows, OpenRoofAndTwoSidedAwningShadowFromEitherSide) {
   s.addNode({.name = "roof", .meshes = {s.addMesh(roof).id}});
   for (float x : {-1.4f, 1.3f}) {
     for (float z : {-0.9f, 0.8f}) {
-      s.addNode({.name = "post", .meshes = {s.addMesh(test::box(vec3(x, 0.0f, z), vec3(x + 0.1f, 2.5f, z + 0.1f), mat)).id}});
+      s.addNode({.name = "post",
+                 .meshes = {s.addMesh(test::box(vec3(x, 0.0f, z), vec3(x + 0.1f, 2.5f, z + 0.1f), mat)).id}});
     }
   }
   sdb::Mesh awning = test::quadXY(mat);  // 2 × 1 m, tilted 30° from vertical, beside the roof
@@ -356,8 +371,8 @@ TEST(SunShadows, OpenRoofAndTwoSidedAwningShadowFromEitherSide) {
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
   for (const vec3& sun : {vec3(0.4f, 0.8f, 0.3f), vec3(-0.3f, 0.6f, -0.5f)}) {
     const rdb::RasterRdb r = withSun(s, sun);
-    const MaskCheck c =
-        checkShadowMask(r, lookAt(vec3(-2.0f, 6.0f, 7.0f), vec3(0.8f, 0.0f, 0.0f)), RenderMode::kSimple, 320, 180);
+    const MaskCheck c = checkShadowMask(r, lookAt(vec3(-2.0f, 6.0f, 7.0f), vec3(0.8f, 0.0f, 0.0f)),
+                                        RenderMode::kSimple, 320, 180);
     EXPECT_EQ(c.mismatches, 0u) << "sun " << sun.x << "," << sun.y << "," << sun.z;
     EXPECT_GT(c.shadowed, 1000u);
     EXPECT_GT(c.lit, 1000u);
@@ -378,7 +393,8 @@ TEST(SunShadows, ClearGlassCastsNoShadow) {
   glass.transmissionGlossiness = 0.0f;
   const sdb::MaterialId glassId = s.addMaterial(glass).id;
   s.addNode({.name = "ground", .meshes = {s.addMesh(ground(5.0f, mat)).id}});
-  s.addNode({.name = "post", .meshes = {s.addMesh(test::box(vec3(0.5f, 0, 0.5f), vec3(1.0f, 2.0f, 1.0f), mat)).id}});
+  s.addNode({.name = "post",
+             .meshes = {s.addMesh(test::box(vec3(0.5f, 0, 0.5f), vec3(1.0f, 2.0f, 1.0f), mat)).id}});
   sdb::Mesh pane = test::quadXY(glassId);
   s.addNode({.name = "pane",
              .parentFromLocal = glm::translate(mat4(1.0f), vec3(-1.0f, 1.5f, 0.0f)) *
@@ -387,10 +403,23 @@ TEST(SunShadows, ClearGlassCastsNoShadow) {
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
   const rdb::RasterRdb r = withSun(s, vec3(0.4f, 0.8f, 0.4f));
   ASSERT_TRUE(r.variants.glass);
-  const MaskCheck c = checkShadowMask(r, lookAt(vec3(0.0f, 6.0f, 5.0f), vec3(0.0f, 0.0f, 0.0f)), RenderMode::kSimple, 320, 180);
+  const MaskCheck c = checkShadowMask(r, lookAt(vec3(0.0f, 6.0f, 5.0f), vec3(0.0f, 0.0f, 0.0f)),
+                                      RenderMode::kSimple, 320, 180);
   EXPECT_EQ(c.mismatches, 0u);
   EXPECT_GT(c.shadowed, 100u);  // the post's shadow
   EXPECT_GT(c.lit, 1000u);
+
+  // Glass alone: nothing casts, nothing is drawn.
+  sdb::Scene panes;
+  panes.addNode({.name = "pane", .meshes = {panes.addMesh(test::quadXY(panes.addMaterial(glass).id)).id}});
+  fly::test::setHelsinkiClearSky(panes, "2026-06-21T13:00");
+  const rdb::RasterRdb g = withSun(panes, vec3(0.2f, 0.9f, 0.3f));
+  Renderer renderer;
+  renderer.upload(g);
+  renderer.render(lookAt(vec3(0.0f, 1.0f, 4.0f), vec3(0.0f)), RenderMode::kSimple, 64, 36);
+  EXPECT_EQ(renderer.stats().shadowBuilds, 1);
+  EXPECT_EQ(renderer.sunShadowCounts().casterTriangles, 0u);
+  EXPECT_EQ(renderer.sunShadowCounts().keptTriangles, 0u);
 }
 
 // The volumes are built once per sun direction (and geometry), nothing without a sun above the horizon.
