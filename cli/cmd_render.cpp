@@ -36,8 +36,18 @@ struct RenderOptions {
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
+  std::string shadows = "vismap";
+  uint32_t shadowMapTexels = 2048;
   DaylightOptions daylight;
 };
+
+// --shadows: the sun's shadows (raster/sun_shadows.h).
+raster::SunShadowMode parseShadowMode(const std::string& s) {
+  if (s == "vismap") return raster::SunShadowMode::kVisibilityMap;
+  if (s == "classic") return raster::SunShadowMode::kSunFacing;
+  if (s == "off") return raster::SunShadowMode::kOff;
+  throw UsageError("--shadows " + s + ": give vismap, classic or off");
+}
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -58,6 +68,9 @@ int runRender(const RenderOptions& o) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
+  const raster::SunShadowMode shadowMode = parseShadowMode(o.shadows);
+  if (o.shadowMapTexels < 16 || o.shadowMapTexels > 16384)
+    throw UsageError("--shadow-map " + std::to_string(o.shadowMapTexels) + ": give 16 to 16384 texels per side");
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
 
@@ -89,6 +102,7 @@ int runRender(const RenderOptions& o) {
   const std::unique_ptr<raster::GlContext> context = raster::createHeadlessContext();
   raster::Renderer renderer;
   renderer.upload(rdb);
+  renderer.setSunShadows({shadowMode, o.shadowMapTexels});
   renderer.render(view, *mode, width, height);
   const std::vector<float> rgb = renderer.luminanceRgb();
   for (float v : rgb) {
@@ -123,6 +137,15 @@ int runRender(const RenderOptions& o) {
   t << "view      " << viewName << "\n";
   t << "mode      " << raster::renderModeName(*mode) << "\n";
   t << "light     " << loaded.light << "\n";
+  if (renderer.stats().shadowPasses > 0) {
+    const raster::SunShadowCounts c = renderer.sunShadowCounts();
+    t << "shadows   sun shadow volumes of " << c.keptTriangles << " of " << c.casterTriangles << " triangles, "
+      << c.silhouetteEdges << " silhouette edges ("
+      << (shadowMode == raster::SunShadowMode::kVisibilityMap
+              ? std::to_string(o.shadowMapTexels) + "² visibility map"
+              : std::string("every sun-facing triangle"))
+      << ")\n";
+  }
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
   t << "image     " << o.out << " (" << width << "×" << height;
@@ -164,6 +187,11 @@ Command addRenderCommand(CLI::App& app) {
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
+  sub->add_option("--shadows", o->shadows,
+                  "the sun's shadows where its direct term is drawn: vismap (shadow volumes of the triangles a "
+                  "visibility map from the sun finds; the default), classic (of every sun-facing triangle) or off");
+  sub->add_option("--shadow-map", o->shadowMapTexels,
+                  "texels per side of the sun's visibility map, 16 to 16384 (default 2048)");
   o->daylight.add(*sub);
   return {sub, [o]() { return runRender(*o); }};
 }

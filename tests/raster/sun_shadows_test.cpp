@@ -317,11 +317,13 @@ TEST(SunShadows, ClosedCarWithInteriorMatchesShadowRaysAndPrunesTheInterior) {
   }
   // 2 + 12 · (2 body parts + 4 seats + dashboard + column + 4 wheels).
   EXPECT_EQ(counts[0].casterTriangles, 2u + 12u * 12u);
-  // Pruned: the ground, the body's sun-facing faces, the wheels' faces the sun sees. Classic: every
-  // sun-facing triangle, 6 of each box, the interior's too.
+  // Classic: every sun-facing triangle, 6 of each box, the interior's too; its silhouette the ground's 4 open
+  // edges and 6 per box. Pruned: the ground, the body's two boxes and the two wheels on the sun's side (the
+  // others lie under the body), each box's whole sun-facing side (closed shells).
   EXPECT_EQ(counts[1].keptTriangles, 2u + 6u * 12u);
-  EXPECT_LE(counts[0].keptTriangles, 2u + 6u * 6u);
-  EXPECT_LT(counts[0].silhouetteEdges, counts[1].silhouetteEdges);
+  EXPECT_EQ(counts[1].silhouetteEdges, 4u + 6u * 12u);
+  EXPECT_EQ(counts[0].keptTriangles, 2u + 6u * 4u);
+  EXPECT_EQ(counts[0].silhouetteEdges, 4u + 6u * 4u);
   EXPECT_LT(fill[0], fill[1]);
   EXPECT_GT(fill[0], 0u);
 }
