@@ -80,7 +80,8 @@ struct SunShadows::Gpu {
   GLuint positions = 0;  // the renderer's
   GLuint casters = 0, state = 0, edgeCounts = 0, caps = 0, edgeVertices = 0, commands = 0, sides = 0,
          levels = 0;
-  GLuint capVao = 0;
+  GLuint capVao = 0;    // the caps: the scene's positions, the caps' indices
+  GLuint pulledVao = 0;  // draws that pull their vertices from buffers (no attributes)
   GLuint visibility = 0, visibilityDepth = 0, visibilityFbo = 0;
   uint32_t visibilityTexels = 0;
   GLuint visibilityProgram = 0, markProgram = 0, classifyProgram = 0, shellsProgram = 0, keepProgram = 0,
@@ -99,6 +100,7 @@ struct SunShadows::Gpu {
                               commands, sides, levels,     shellKept};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteVertexArrays(1, &capVao);
+    glDeleteVertexArrays(1, &pulledVao);
     glDeleteTextures(1, &visibility);
     glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
@@ -111,6 +113,7 @@ struct SunShadows::Gpu {
 
 SunShadows::SunShadows(Compile compile) : gpu_(std::make_unique<Gpu>()), compile_(std::move(compile)) {
   glCreateVertexArrays(1, &gpu_->capVao);
+  glCreateVertexArrays(1, &gpu_->pulledVao);
 }
 
 SunShadows::~SunShadows() = default;
@@ -342,7 +345,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
-    glBindVertexArray(g.capVao);
+    glBindVertexArray(g.pulledVao);
     const uint32_t none = 0xffffffffu;
     const float farDepth = 1.0f;
     for (GLint level = 0; level < kMapLevels; ++level) {
@@ -425,6 +428,7 @@ void SunShadows::drawVolumes(const mat4& clipFromWorld) {
   glFrontFace(GL_CW);
   glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(kTurnedOffset));
   glFrontFace(GL_CCW);
+  glBindVertexArray(g.pulledVao);
   glUseProgram(g.sideProgram);
   glUniformMatrix4fv(g.sideClipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
   glUniform3fv(g.sideSunDir, 1, &g.builtSunDir[0]);
