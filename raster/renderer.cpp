@@ -466,7 +466,9 @@ void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& ch
     for (uint32_t i : changes.materialBlocks) {
       const GpuMaterial m = gpuMaterial(rdb.materials.at(i));
       glNamedBufferSubData(gpu_->materials, GLintptr(i * sizeof(GpuMaterial)), sizeof m, &m);
-      shadowGeometryDirty_ = true;
+      const char casts = castsSunShadows(rdb.materials[i]) ? 1 : 0;
+      shadowGeometryDirty_ |= casts != materialCasts_.at(i);
+      materialCasts_[i] = casts;
       ++stats_.materialBlockUploads;
     }
   }
@@ -638,7 +640,11 @@ void Renderer::uploadMaterials() {
   glVertexArrayAttribBinding(gpu_->vao, 5, 5);
   glEnableVertexArrayAttrib(gpu_->vao, 5);
   uploadDraws();
-  shadowGeometryDirty_ = true;  // which triangles cast (glass and blended surfaces do not)
+  // Which triangles cast the sun's shadows (glass and blended surfaces do not).
+  std::vector<char> casts;
+  for (const rdb::RasterMaterial& x : r.materials) casts.push_back(castsSunShadows(x) ? 1 : 0);
+  shadowGeometryDirty_ |= casts != materialCasts_;
+  materialCasts_ = std::move(casts);
   ++stats_.materialTableUploads;
 }
 

@@ -165,6 +165,7 @@ class Renderer {
   std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
   SunShadowSettings shadowSettings_;
   bool shadowGeometryDirty_ = true;
+  std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;
   uint32_t width_ = 0, height_ = 0;

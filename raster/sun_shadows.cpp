@@ -76,11 +76,15 @@ PositionKey keyOf(const vec3& p) {
 
 }  // namespace
 
+bool castsSunShadows(const rdb::RasterMaterial& m) {
+  return !(maxComponent(m.transmission) > 0.0f) && m.alphaMode != rdb::RasterAlphaMode::kBlend;
+}
+
 struct SunShadows::Gpu {
   GLuint positions = 0;  // the renderer's
   GLuint casters = 0, state = 0, edgeCounts = 0, caps = 0, edgeVertices = 0, commands = 0, sides = 0,
          levels = 0;
-  GLuint capVao = 0;    // the caps: the scene's positions, the caps' indices
+  GLuint capVao = 0;     // the caps: the scene's positions, the caps' indices
   GLuint pulledVao = 0;  // draws that pull their vertices from buffers (no attributes)
   GLuint visibility = 0, visibilityDepth = 0, visibilityFbo = 0;
   uint32_t visibilityTexels = 0;
@@ -142,8 +146,7 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
   casters.reserve(r.indices.size() / 3);
   g.boundsM = Bounds3{};
   for (const rdb::RasterMesh& mesh : r.meshes) {
-    const rdb::RasterMaterial& m = r.materials[mesh.material];
-    if (maxComponent(m.transmission) > 0.0f || m.alphaMode == rdb::RasterAlphaMode::kBlend) continue;
+    if (!castsSunShadows(r.materials[mesh.material])) continue;
     for (uint32_t i = mesh.firstIndex; i + 2 < mesh.firstIndex + mesh.indexCount; i += 3) {
       Caster c;
       c.vertices = uvec4(r.indices[i], r.indices[i + 1], r.indices[i + 2], 0u);

@@ -83,6 +83,9 @@ enum class SunShadowMode {
   kSunFacing,      // shadow volumes of every triangle facing the sun (the classic method, for comparison)
 };
 
+// Whether triangles of material `m` cast the sun's shadows: all but clear glass and blended surfaces.
+bool castsSunShadows(const rdb::RasterMaterial& m);
+
 struct SunShadowSettings {
   SunShadowMode mode = SunShadowMode::kVisibilityMap;
   // Texels per side of the visibility map, [16, 16384] (capped at the driver's largest texture).

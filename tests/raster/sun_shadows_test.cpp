@@ -200,11 +200,12 @@ sdb::Mesh ground(float halfM, sdb::MaterialId material) {
 // A fence of 24 bars, 2.5 cm square and 1.5 m tall, 16 cm apart, on a 10 m ground: with a 64² visibility map
 // (texels ≈ 22 cm) every bar is far below a texel, so the map alone would miss most of them. Beside it a
 // 2 × 2 m slab 1 m up with a 2 cm cube on the ground under it (in the sun's view: the slab hides it).
-sdb::Scene fence() {
+sdb::Scene fence(sdb::MaterialId* material = nullptr) {
   sdb::Scene s;
   sdb::Material m;
   m.diffuseColor = Rgb(0.6f);
   const sdb::MaterialId mat = s.addMaterial(m).id;
+  if (material) *material = mat;
   s.addNode({.name = "ground", .meshes = {s.addMesh(ground(5.0f, mat)).id}});
   for (int k = 0; k < 24; ++k) {
     const float x = -1.9f + 0.16f * float(k);
@@ -440,6 +441,29 @@ TEST(SunShadows, BuiltOnlyWhenTheSunMovesAndNeverWithoutASun) {
   renderer.render(view, RenderMode::kSimple, 64, 36);
   EXPECT_EQ(renderer.stats().shadowBuilds, 2);
   EXPECT_EQ(renderer.stats().shadowGeometryUploads, 1);
+
+  // A material edit that leaves the casters as they are rebuilds nothing; one that turns them to glass
+  // re-makes the caster tables (now empty).
+  sdb::MaterialId paint;
+  sdb::Scene scene = fence(&paint);
+  rdb::RasterRdb edited = withSun(scene, vec3(0.3f, 0.8f, -0.6f));
+  Renderer editing;
+  editing.upload(edited);
+  editing.render(view, RenderMode::kSimple, 64, 36);
+  sdb::Material m = scene.material(paint);
+  m.diffuseColor = Rgb(0.3f);
+  editing.update(edited, rdb::updateRasterRdb(edited, scene, scene.setMaterial(paint, m), nullptr, {32, 16}));
+  editing.render(view, RenderMode::kSimple, 64, 36);
+  EXPECT_EQ(editing.stats().materialBlockUploads, 1);
+  EXPECT_EQ(editing.stats().shadowGeometryUploads, 1);
+  EXPECT_EQ(editing.stats().shadowBuilds, 1);
+  m.transmissionColor = Rgb(0.9f);
+  m.transmissionGlossiness = 0.0f;
+  editing.update(edited, rdb::updateRasterRdb(edited, scene, scene.setMaterial(paint, m), nullptr, {32, 16}));
+  editing.render(view, RenderMode::kSimple, 64, 36);
+  EXPECT_EQ(editing.stats().shadowGeometryUploads, 2);
+  EXPECT_EQ(editing.stats().shadowBuilds, 2);
+  EXPECT_EQ(editing.sunShadowCounts().casterTriangles, 0u);
 
   sdb::Scene night = fence();
   fly::test::setHelsinkiClearSky(night, "2026-12-21T23:00");
