@@ -196,8 +196,18 @@ struct SurfaceDraw {
   uint32_t material = 0;
   bool mask = false;
   bool blend = false;
-  vec3 centreM{0.0f};  // blended: the mesh's bounding-box centre, sorted by its view depth
+  vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
+  GLuint samplers[3] = {0, 0, 0};  // the material's texture slots' sampler objects (Renderer::samplerFor)
 };
+
+// A per-fragment draw's sampler objects, one per texture slot of its material (base colour, emission, normal
+// map), from `samplerOf` (Renderer::samplerFor).
+template <class SamplerOf>
+void assignSamplers(SurfaceDraw& d, const rdb::RasterRdb& r, SamplerOf samplerOf) {
+  const rdb::RasterMaterial& m = r.materials[d.material];
+  const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
+  for (int k = 0; k < 3; ++k) d.samplers[k] = *slots[k] ? samplerOf(*slots[k]) : 0;
+}
 
 // A light texture's place in the array texture (kSceneFragment's LightRect): rect = x, y, width, height in
 // texels of the layer; layer = the layer's index, 1 / layer width, 1 / layer height.
@@ -469,6 +479,11 @@ void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& ch
       const char casts = castsSunShadows(rdb.materials[i]) ? 1 : 0;
       shadowGeometryDirty_ |= casts != materialCasts_.at(i);
       materialCasts_[i] = casts;
+      for (SurfaceDraw& d : gpu_->surfaceDraws) {
+        // Its samplers may have changed.
+        if (d.material == i)
+          assignSamplers(d, rdb, [this](const rdb::RasterTextureRef& ref) { return samplerFor(ref); });
+      }
       ++stats_.materialBlockUploads;
     }
   }
@@ -703,6 +718,9 @@ void Renderer::uploadDraws() {
   }
   storeBuffer(gpu_->drawIndices, ordered);
   glVertexArrayElementBuffer(gpu_->vao, gpu_->drawIndices);
+  for (SurfaceDraw& d : gpu_->surfaceDraws) {
+    assignSamplers(d, r, [this](const rdb::RasterTextureRef& ref) { return samplerFor(ref); });
+  }
 }
 
 // Each rdb::RasterTexture as an immutable GL texture with a full mip chain (glGenerateTextureMipmap); how it
@@ -884,8 +902,8 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     }
     // The sun's shadows (raster/sun_shadows.h), where a program draws the sun's direct term and the sun is
     // above the horizon (v.sun): the volumes are rebuilt here only when the sun or the geometry moved.
-    const bool shadows = ((variant | surfaceVariant) & kVariantSun) && v.sun &&
-                         shadowSettings_.mode != SunShadowMode::kOff;
+    const bool shadows =
+        ((variant | surfaceVariant) & kVariantSun) && v.sun && shadowSettings_.mode != SunShadowMode::kOff;
     if (shadows) {
       if (!shadows_) {
         shadows_ = std::make_unique<SunShadows>(
@@ -933,7 +951,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         rows[2 * k + 1] = vec4(slots[k]->uvRow1, 0.0f);
         if (!*slots[k]) continue;
         glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
-        glBindSampler(5 + k, samplerFor(*slots[k]));
+        glBindSampler(5 + k, d.samplers[k]);
         bits |= 1u << k;
       }
       glUniform1ui(p.textureSlots, bits);
