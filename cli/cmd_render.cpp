@@ -41,13 +41,6 @@ struct RenderOptions {
   DaylightOptions daylight;
 };
 
-// --shadows: the sun's shadows (raster/sun_shadows.h).
-raster::SunShadowMode parseShadowMode(const std::string& s) {
-  if (s == "vismap") return raster::SunShadowMode::kVisibilityMap;
-  if (s == "classic") return raster::SunShadowMode::kSunFacing;
-  if (s == "off") return raster::SunShadowMode::kOff;
-  throw UsageError("--shadows " + s + ": give vismap, classic or off");
-}
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -68,9 +61,7 @@ int runRender(const RenderOptions& o) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
-  const raster::SunShadowMode shadowMode = parseShadowMode(o.shadows);
-  if (o.shadowMapTexels < 16 || o.shadowMapTexels > 16384)
-    throw UsageError("--shadow-map " + std::to_string(o.shadowMapTexels) + ": give 16 to 16384 texels per side");
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
 
@@ -102,7 +93,7 @@ int runRender(const RenderOptions& o) {
   const std::unique_ptr<raster::GlContext> context = raster::createHeadlessContext();
   raster::Renderer renderer;
   renderer.upload(rdb);
-  renderer.setSunShadows({shadowMode, o.shadowMapTexels});
+  renderer.setSunShadows(shadows);
   renderer.render(view, *mode, width, height);
   const std::vector<float> rgb = renderer.luminanceRgb();
   for (float v : rgb) {
@@ -141,8 +132,8 @@ int runRender(const RenderOptions& o) {
     const raster::SunShadowCounts c = renderer.sunShadowCounts();
     t << "shadows   sun shadow volumes of " << c.keptTriangles << " of " << c.casterTriangles << " triangles, "
       << c.silhouetteEdges << " silhouette edges ("
-      << (shadowMode == raster::SunShadowMode::kVisibilityMap
-              ? std::to_string(o.shadowMapTexels) + "² visibility map"
+      << (shadows.mode == raster::SunShadowMode::kVisibilityMap
+              ? std::to_string(shadows.visibilityMapTexels) + "² visibility map"
               : std::string("every sun-facing triangle"))
       << ")\n";
   }
@@ -187,11 +178,7 @@ Command addRenderCommand(CLI::App& app) {
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
-  sub->add_option("--shadows", o->shadows,
-                  "the sun's shadows where its direct term is drawn: vismap (shadow volumes of the triangles a "
-                  "visibility map from the sun finds; the default), classic (of every sun-facing triangle) or off");
-  sub->add_option("--shadow-map", o->shadowMapTexels,
-                  "texels per side of the sun's visibility map, 16 to 16384 (default 2048)");
+  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
   o->daylight.add(*sub);
   return {sub, [o]() { return runRender(*o); }};
 }
