@@ -472,8 +472,9 @@ TEST(Renderer, LightMapModeShowsAMetalAsARoughReflectorOfItsReflectance) {
     renderer.upload(r);
     renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
     // The energy rule by hand: uniform reflection R leaves (1 − R) · diffuse; Fresnel F0 = 0.04 at ior 1.5.
-    const Rgb rho = c.model == sdb::ReflectionModel::kUniform ? (Rgb(1.0f) - c.reflection) * c.diffuse + c.reflection
-                                                              : (1.0f - 0.04f) * c.diffuse;
+    const Rgb rho = c.model == sdb::ReflectionModel::kUniform
+                        ? (Rgb(1.0f) - c.reflection) * c.diffuse + c.reflection
+                        : (1.0f - 0.04f) * c.diffuse;
     expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kFrontLux, rho), false), 1e-4f);
   }
 }
@@ -503,7 +504,8 @@ TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
     }
     return std::clamp(int(std::floor(c)), 0, 1);
   };
-  const sdb::WrapMode modes[] = {sdb::WrapMode::kRepeat, sdb::WrapMode::kMirroredRepeat, sdb::WrapMode::kClampToEdge};
+  const sdb::WrapMode modes[] = {sdb::WrapMode::kRepeat, sdb::WrapMode::kMirroredRepeat,
+                                 sdb::WrapMode::kClampToEdge};
   for (sdb::WrapMode ws : modes) {
     for (sdb::WrapMode wt : modes) {
       sdb::Scene s;
@@ -517,7 +519,8 @@ TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
       m.diffuseTexture.minFilter = sdb::MinFilter::kNearest;
       const sdb::MaterialId mat = s.addMaterial(m).id;
       sdb::Mesh mesh = test::quadXY(mat);
-      for (const vec3& p : mesh.positions) mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
+      for (const vec3& p : mesh.positions)
+        mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
       const sdb::MeshId meshId = s.addMesh(mesh).id;
       const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
       rdb::LightMapStore store;
@@ -531,7 +534,8 @@ TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
       size_t checked = 0;
       for (uint32_t j = 0; j < kH; ++j) {
         for (uint32_t i = 0; i < kW; ++i) {
-          const float x = -2.0f + 4.0f * (float(i) + 0.5f) / float(kW), y = 1.0f - 2.0f * (float(j) + 0.5f) / float(kH);
+          const float x = -2.0f + 4.0f * (float(i) + 0.5f) / float(kW),
+                      y = 1.0f - 2.0f * (float(j) + 0.5f) / float(kH);
           if (std::abs(x) > 1.0f || std::abs(y) > 0.5f) continue;
           const float u = 1.5f * (x + 1.0f) - 1.0f, v = 1.5f - 2.0f * (y + 0.5f);
           // Skip pixels within 0.05 texel of a texel border, where rounding may pick either neighbour.
@@ -541,7 +545,8 @@ TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
           const uint8_t* t = texels[ty * 2 + tx];
           for (int k = 0; k < 3; ++k) {
             ASSERT_NEAR(img[(size_t(j) * kW + i) * 3 + size_t(k)], t[k] / 255.0f, 1e-3f)
-                << "wrap " << int(ws) << "/" << int(wt) << " pixel " << i << "," << j << " uv " << u << "," << v;
+                << "wrap " << int(ws) << "/" << int(wt) << " pixel " << i << "," << j << " uv " << u << ","
+                << v;
           }
           ++checked;
         }
@@ -550,6 +555,44 @@ TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
       EXPECT_EQ(renderer.stats().samplerObjects, 1);
     }
   }
+}
+
+// A sampler edit is a block edit: the draw binds the edited sampler and renders what a fresh upload renders.
+TEST(Renderer, SamplerEditRendersLikeAFreshUpload) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(1.0f);
+  m.reflectionColor = Rgb(0.0f);
+  m.diffuseTexture.texture = addTexture(s, 2, 2, 3, {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255});
+  m.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  sdb::Mesh mesh = test::quadXY(mat);
+  for (const vec3& p : mesh.positions)
+    mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
+  const sdb::MeshId meshId = s.addMesh(mesh).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  rdb::LightMapStore store;
+  store.meshes.push_back({node.value, meshId.value, std::vector<Rgb>(4, Rgb(kPiF)), {}});
+  rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 96, 48);
+  const std::vector<float> repeat = renderer.luminanceRgb();
+  m.diffuseTexture.wrapS = sdb::WrapMode::kClampToEdge;
+  m.diffuseTexture.wrapT = sdb::WrapMode::kMirroredRepeat;
+  const rdb::RasterRdbChanges ch = rdb::updateRasterRdb(r, s, s.setMaterial(mat, m), &store);
+  ASSERT_EQ(ch.materialBlocks, std::vector<uint32_t>{1});
+  renderer.update(r, ch);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 96, 48);
+  const std::vector<float> clamped = renderer.luminanceRgb();
+  EXPECT_NE(repeat, clamped);
+  EXPECT_EQ(renderer.stats().samplerObjects, 2);
+  const rdb::RasterRdb fresh = rdb::buildRasterRdb(s, &store);
+  Renderer other;
+  other.upload(fresh);
+  other.render(orthoView(false), RenderMode::kLightMap, 96, 48);
+  EXPECT_EQ(clamped, other.luminanceRgb());
 }
 
 // A normal map bends the normal of the Phong terms: a 1000 lx directional light along the quad's normal and
