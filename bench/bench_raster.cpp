@@ -33,8 +33,21 @@
 // Phong modes the normal map too. Then light-map mode again with anisotropic filtering capped at 8, 4 and 1
 // samples (rows "lm-afN").
 //
-// Usage: fly-bench-raster [--size WxH] [--quick | --textured]   (default 1920x1080; --quick: the 100k scene
-// only; --textured: the 300k scene only, plain and textured)
+// Sun shadows (raster/sun_shadows.h): sunlight mode without light maps, so that the Phong's sun term is drawn
+// and shadowed, timed as above, each scene three ways: shadows off (the baseline of "× off"), shadow volumes of
+// the triangles the 2048² visibility map finds ("vismap"), and the classic method's volumes of every sun-facing
+// triangle ("classic"); with the volumes' size (kept triangles, silhouette edges, extruded sides) and fill
+// (fragments they rasterise over the 1080p frame with neither depth nor stencil test, GL_SAMPLES_PASSED). Scenes:
+// the 300k and 1M boxes-on-a-ground scenes above; a generated car (a closed body of subdivided boxes with
+// seats, a dashboard with 64 knobs and a steering column inside, wheels below: 280k triangles); and the
+// repository's scenes/house (walls, roof, furniture, glass). "rebuild ms": a visibility map and volume rebuild,
+// i.e. what a frame costs more when the sun moves every frame (each frame with glFinish, wall clock, against
+// frames with a still sun).
+//
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows] [--house PATH]
+//   default 1920x1080; --quick: the 100k scene only (and the shadow scenes but the 1M one); --textured: the
+//   300k scene only, plain and textured; --shadows: the shadow section only; --house: scenes/house/house.json
+//   (relative to the working directory) by default, skipped when missing
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -44,6 +57,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +69,7 @@
 #include "rdb/raster_rdb.h"
 #include "sdb/camera.h"
 #include "sdb/scene.h"
+#include "sdb/scene_load.h"
 
 namespace fly::raster {
 namespace {
@@ -178,6 +193,74 @@ sdb::Scene makeScene(uint32_t cells, bool textured = false) {
   cam.name = "overview";
   s.addNode({.name = "eye",
              .parentFromLocal = sdb::lookAtTransform(vec3(-22, 12, 26), vec3(0, 0, 0), vec3(0, 1, 0)),
+             .camera = s.addCamera(cam).id});
+  fly::test::setHelsinkiClearSky(s, "2026-06-21T15:00");
+  return s;
+}
+
+// A box from `lo` to `hi` with every face split into k × k quads (vertices shared within a face; the faces'
+// edge vertices coincide, so the shadow edges weld them into a closed mesh), faces pointing out.
+sdb::Mesh subdividedBox(const vec3& lo, const vec3& hi, uint32_t k, sdb::MaterialId material) {
+  sdb::Mesh m;
+  for (int n = 0; n < 3; ++n) {
+    for (int side = 0; side < 2; ++side) {
+      const int u = side ? (n + 1) % 3 : (n + 2) % 3, v = side ? (n + 2) % 3 : (n + 1) % 3;
+      vec3 normal(0.0f);
+      normal[n] = side ? 1.0f : -1.0f;
+      const uint32_t first = uint32_t(m.positions.size());
+      for (uint32_t j = 0; j <= k; ++j) {
+        for (uint32_t i = 0; i <= k; ++i) {
+          vec3 p;
+          p[n] = side ? hi[n] : lo[n];
+          p[u] = lo[u] + (hi[u] - lo[u]) * float(i) / float(k);
+          p[v] = lo[v] + (hi[v] - lo[v]) * float(j) / float(k);
+          m.positions.push_back(p);
+          m.normals.push_back(normal);
+        }
+      }
+      for (uint32_t j = 0; j < k; ++j) {
+        for (uint32_t i = 0; i < k; ++i) {
+          const uint32_t a = first + j * (k + 1) + i, b = a + 1, c = a + k + 1, d = c + 1;
+          m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+        }
+      }
+    }
+  }
+  m.material = material;
+  return m;
+}
+
+// The generated car of the shadow section (see the top).
+sdb::Scene makeCar() {
+  sdb::Scene s;
+  sdb::Material paint, trim, ground;
+  paint.diffuseColor = Rgb(0.6f, 0.1f, 0.1f);
+  trim.diffuseColor = Rgb(0.2f);
+  ground.diffuseColor = Rgb(0.4f);
+  const sdb::MaterialId paintId = s.addMaterial(paint).id, trimId = s.addMaterial(trim).id,
+                        groundId = s.addMaterial(ground).id;
+  auto add = [&](const char* name, const sdb::Mesh& m) { s.addNode({.name = name, .meshes = {s.addMesh(m).id}}); };
+  add("ground", subdividedBox(vec3(-20.0f, -0.1f, -20.0f), vec3(20.0f, 0.0f, 20.0f), 1, groundId));
+  add("body", subdividedBox(vec3(-2.2f, 0.3f, -0.9f), vec3(2.2f, 1.1f, 0.9f), 60, paintId));
+  add("cabin", subdividedBox(vec3(-1.2f, 1.1f, -0.8f), vec3(1.3f, 1.7f, 0.8f), 60, paintId));
+  for (float z : {-0.45f, 0.15f}) {
+    for (float x : {-0.9f, 0.2f}) add("seat", subdividedBox(vec3(x, 0.4f, z), vec3(x + 0.5f, 1.4f, z + 0.5f), 40, trimId));
+  }
+  add("dashboard", subdividedBox(vec3(1.4f, 0.5f, -0.8f), vec3(1.9f, 1.0f, 0.8f), 40, trimId));
+  for (int j = 0; j < 8; ++j) {
+    for (int i = 0; i < 8; ++i) {
+      const vec3 lo(1.3f, 0.55f + 0.05f * float(j), -0.7f + 0.15f * float(i));
+      add("knob", subdividedBox(lo, lo + vec3(0.08f, 0.03f, 0.03f), 8, trimId));
+    }
+  }
+  add("column", subdividedBox(vec3(1.0f, 0.6f, -0.45f), vec3(1.4f, 1.0f, -0.35f), 20, trimId));
+  for (float z : {-0.95f, 0.75f}) {
+    for (float x : {-1.7f, 1.1f}) add("wheel", subdividedBox(vec3(x, 0.0f, z), vec3(x + 0.6f, 0.6f, z + 0.2f), 30, trimId));
+  }
+  sdb::Camera cam;
+  cam.name = "side";
+  s.addNode({.name = "eye",
+             .parentFromLocal = sdb::lookAtTransform(vec3(-7.0f, 3.0f, 6.0f), vec3(0.0f, 0.6f, 0.0f), vec3(0, 1, 0)),
              .camera = s.addCamera(cam).id});
   fly::test::setHelsinkiClearSky(s, "2026-06-21T15:00");
   return s;
@@ -319,18 +402,109 @@ void printRow(const char* triangles, const char* mode, const FrameTimes& t, doub
   std::fflush(stdout);
 }
 
+// Wall-clock ms per frame (glFinish after each) with the sun still, and with the sun turned by 0.1° about the
+// vertical every frame, so that every frame rebuilds the visibility map and the volumes.
+struct RebuildTimes {
+  double stillMs = 0.0, movingMs = 0.0;
+};
+RebuildTimes timeRebuilds(Renderer& renderer, rdb::RasterRdb& r, const View& view, uint32_t w, uint32_t h) {
+  const ToneMapSettings tone{ToneOperator::kFilmic, 12.0};
+  const vec3 sun0 = r.sky->sunDirWorld;
+  RebuildTimes t;
+  for (int moving = 0; moving < 2; ++moving) {
+    int frames = 0;
+    renderer.render(view, RenderMode::kSunlight, w, h);
+    renderer.finish();
+    const Clock::time_point start = Clock::now();
+    do {
+      if (moving) {
+        const float a = float(degToRad(0.1 * (frames + 1)));
+        r.sky->sunDirWorld = vec3(std::cos(a) * sun0.x + std::sin(a) * sun0.z, sun0.y,
+                                  -std::sin(a) * sun0.x + std::cos(a) * sun0.z);
+      }
+      renderer.render(view, RenderMode::kSunlight, w, h);
+      renderer.toneMap(tone);
+      renderer.finish();
+      ++frames;
+    } while (frames < 3 || secondsSince(start) < 0.5);
+    (moving ? t.movingMs : t.stillMs) = 1e3 * secondsSince(start) / frames;
+  }
+  r.sky->sunDirWorld = sun0;
+  return t;
+}
+
+// The shadow section (see the top): `r` has a sun and no light maps.
+void benchShadows(const char* name, rdb::RasterRdb& r, const View& view, uint32_t w, uint32_t h, bool gpuTimers,
+                  double baselineMs) {
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.setSunShadows({SunShadowMode::kOff});
+  const FrameTimes off = timeFrames(renderer, view, RenderMode::kSunlight, w, h, gpuTimers);
+  char label[32];
+  std::snprintf(label, sizeof label, "%s %zuk", name, (r.triangleCount() + 500) / 1000);
+  std::printf("%-14s %-8s %8s %8s %8s %9s %8.1f %9.3f %7.2f %8s %9s\n", label, "off", "-", "-", "-", "-",
+              1e3 / off.pipelinedMs, off.pipelinedMs, off.pipelinedMs / baselineMs, "1.000", "-");
+  for (SunShadowMode mode : {SunShadowMode::kVisibilityMap, SunShadowMode::kSunFacing}) {
+    renderer.setSunShadows({mode, 2048});
+    const FrameTimes t = timeFrames(renderer, view, RenderMode::kSunlight, w, h, gpuTimers);
+    renderer.render(view, RenderMode::kSunlight, w, h);
+    const SunShadowCounts c = renderer.sunShadowCounts();
+    const double fill = double(renderer.shadowVolumeFill()) * 1e-6;
+    char rebuild[16] = "-";
+    if (mode == SunShadowMode::kVisibilityMap) {
+      const RebuildTimes rt = timeRebuilds(renderer, r, view, w, h);
+      std::snprintf(rebuild, sizeof rebuild, "%.2f", rt.movingMs - rt.stillMs);
+    }
+    std::printf("%-14s %-8s %8u %8u %8u %9.2f %8.1f %9.3f %7.2f %8.3f %9s\n", label,
+                mode == SunShadowMode::kVisibilityMap ? "vismap" : "classic", c.keptTriangles, c.silhouetteEdges,
+                c.sideTriangles, fill, 1e3 / t.pipelinedMs, t.pipelinedMs, t.pipelinedMs / baselineMs,
+                t.pipelinedMs / off.pipelinedMs, rebuild);
+    std::fflush(stdout);
+  }
+}
+
+int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h, bool gpuTimers, double baselineMs) {
+  std::printf("\nsun shadows: sunlight mode without light maps, visibility map 2048²; fill in millions of fragments\n");
+  std::printf("%-14s %-8s %8s %8s %8s %9s %8s %9s %8s %8s %9s\n", "scene", "shadows", "kept", "silhou.", "sides",
+              "fill M", "fps", "ms/frame", "× base", "× off", "rebuild ms");
+  for (uint32_t n : quick ? std::vector<uint32_t>{221} : std::vector<uint32_t>{387, 707}) {
+    rdb::RasterRdb r = rdb::buildRasterRdb(makeScene(n));
+    benchShadows("boxes", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
+  }
+  {
+    rdb::RasterRdb r = rdb::buildRasterRdb(makeCar());
+    benchShadows("car", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
+  }
+  if (!std::filesystem::exists(housePath)) {
+    std::printf("(%s not found: the house is skipped; run from the repository's root or pass --house)\n",
+                housePath.c_str());
+    return 0;
+  }
+  rdb::RasterRdb r = rdb::buildRasterRdb(sdb::loadScene(housePath));
+  for (const rdb::RasterCamera& camera : r.cameras) {
+    benchShadows(("house/" + camera.name).c_str(), r, viewOfCamera(camera), w, h, gpuTimers, baselineMs);
+  }
+  return 0;
+}
+
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
-  bool quick = false, texturedOnly = false;
+  bool quick = false, texturedOnly = false, shadowsOnly = false;
+  std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
     } else if (std::strcmp(argv[i], "--textured") == 0) {
       texturedOnly = true;
+    } else if (std::strcmp(argv[i], "--shadows") == 0) {
+      shadowsOnly = true;
+    } else if (std::strcmp(argv[i], "--house") == 0 && i + 1 < argc) {
+      housePath = argv[++i];
     } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
-      std::fprintf(stderr, "usage: fly-bench-raster [--size WxH] [--quick | --textured]\n");
+      std::fprintf(stderr,
+                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows] [--house PATH]\n");
       return 2;
     }
   }
@@ -358,6 +532,7 @@ int run(int argc, char** argv) {
   const View emptyView = framingView(emptyRdb.boundsM, float(w) / float(h));
   const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
   printRow("0", "empty", baseline, baseline.pipelinedMs);
+  if (shadowsOnly) return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs);
 
   const uint32_t texturedCells = quick ? 221 : 387;
   const std::vector<uint32_t> cells = quick || texturedOnly ? std::vector<uint32_t>{texturedCells}
@@ -405,12 +580,13 @@ int run(int argc, char** argv) {
   // Light-map mode with less anisotropic filtering (what the texture samples cost).
   for (float samples : {8.0f, 4.0f, 1.0f}) {
     renderer.setMaxAnisotropy(samples);
-    char mode[16];
+    char mode[24];
     std::snprintf(mode, sizeof mode, "lm-af%g", double(renderer.stats().maxAnisotropy));
     const FrameTimes t = timeFrames(renderer, view, RenderMode::kLightMap, w, h, gpuTimers);
     printRow(triangles.c_str(), mode, t, baseline.pipelinedMs, plainTimes[1].pipelinedMs);
   }
-  return 0;
+  if (texturedOnly) return 0;
+  return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs);
 }
 
 }  // namespace

@@ -36,8 +36,11 @@ struct RenderOptions {
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
+  std::string shadows = "vismap";
+  uint32_t shadowMapTexels = 2048;
   DaylightOptions daylight;
 };
+
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -58,6 +61,7 @@ int runRender(const RenderOptions& o) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
 
@@ -89,6 +93,7 @@ int runRender(const RenderOptions& o) {
   const std::unique_ptr<raster::GlContext> context = raster::createHeadlessContext();
   raster::Renderer renderer;
   renderer.upload(rdb);
+  renderer.setSunShadows(shadows);
   renderer.render(view, *mode, width, height);
   const std::vector<float> rgb = renderer.luminanceRgb();
   for (float v : rgb) {
@@ -123,6 +128,15 @@ int runRender(const RenderOptions& o) {
   t << "view      " << viewName << "\n";
   t << "mode      " << raster::renderModeName(*mode) << "\n";
   t << "light     " << loaded.light << "\n";
+  if (renderer.stats().shadowPasses > 0) {
+    const raster::SunShadowCounts c = renderer.sunShadowCounts();
+    t << "shadows   sun shadow volumes of " << c.keptTriangles << " of " << c.casterTriangles << " triangles, "
+      << c.silhouetteEdges << " silhouette edges ("
+      << (shadows.mode == raster::SunShadowMode::kVisibilityMap
+              ? std::to_string(shadows.visibilityMapTexels) + "² visibility map"
+              : std::string("every sun-facing triangle"))
+      << ")\n";
+  }
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
   t << "image     " << o.out << " (" << width << "×" << height;
@@ -164,6 +178,7 @@ Command addRenderCommand(CLI::App& app) {
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
+  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
   o->daylight.add(*sub);
   return {sub, [o]() { return runRender(*o); }};
 }

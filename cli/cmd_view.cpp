@@ -35,6 +35,8 @@ struct ViewOptions {
   std::string size = "1280x720";
   std::optional<double> exposureEv100;
   std::string op = "filmic";
+  std::string shadows = "vismap";
+  uint32_t shadowMapTexels = 2048;
   DaylightOptions daylight;
   uint64_t frames = 0;
   std::string keys;
@@ -131,6 +133,7 @@ int runView(const ViewOptions& o) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
   std::optional<raster::RenderMode> mode;
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
@@ -159,6 +162,7 @@ int runView(const ViewOptions& o) {
   v.autoExposure = !o.exposureEv100;
   v.frames = o.frames;
   v.script = script;
+  v.shadows = shadows;
 
   std::unique_ptr<raster::GlfwWindowContext> window;
   try {
@@ -212,6 +216,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--size", o->size, "window size WIDTHxHEIGHT in pixels (default 1280x720)");
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
+  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
   sub->add_option(

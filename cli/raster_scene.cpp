@@ -66,6 +66,32 @@ ToneOperator parseToneOperator(const std::string& name) {
   throw UsageError("--operator " + name + ": expected linear, reinhard or filmic");
 }
 
+void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityMapTexels) {
+  sub.add_option("--shadows", shadows,
+                 "the sun's shadows where its direct term is drawn: vismap (shadow volumes of the triangles a "
+                 "visibility map from the sun finds; the default), classic (of every sun-facing triangle) or off");
+  sub.add_option("--shadow-map", visibilityMapTexels,
+                 "texels per side of the sun's visibility map, 16 to 16384 (default 2048)");
+}
+
+raster::SunShadowSettings parseShadowOptions(const std::string& shadows, uint32_t visibilityMapTexels) {
+  raster::SunShadowSettings s;
+  if (shadows == "vismap") {
+    s.mode = raster::SunShadowMode::kVisibilityMap;
+  } else if (shadows == "classic") {
+    s.mode = raster::SunShadowMode::kSunFacing;
+  } else if (shadows == "off") {
+    s.mode = raster::SunShadowMode::kOff;
+  } else {
+    throw UsageError("--shadows " + shadows + ": give vismap, classic or off");
+  }
+  if (visibilityMapTexels < 16 || visibilityMapTexels > 16384) {
+    throw UsageError("--shadow-map " + std::to_string(visibilityMapTexels) + ": give 16 to 16384 texels per side");
+  }
+  s.visibilityMapTexels = visibilityMapTexels;
+  return s;
+}
+
 raster::RenderMode chooseRenderMode(const rdb::RasterRdb& rdb,
                                     const std::optional<raster::RenderMode>& requested,
                                     const std::filesystem::path& scenePath) {

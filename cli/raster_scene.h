@@ -1,6 +1,6 @@
 // What `fly render` and `fly view` share: a scene file, glTF model or baked scene directory loaded for the
 // OpenGL engine (with a baked directory's light maps), and the options both take (mode, operator, size,
-// camera).
+// camera, the sun's shadows).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +36,10 @@ void parseSize(const std::string& text, uint32_t& widthPx, uint32_t& heightPx);
 raster::RenderMode parseRenderMode(const std::string& name);
 // --operator linear|reinhard|filmic; UsageError otherwise.
 ToneOperator parseToneOperator(const std::string& name);
+// --shadows vismap|classic|off and --shadow-map N (raster/sun_shadows.h): adds them to `sub`, and checks and
+// converts their values (UsageError naming the option otherwise).
+void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityMapTexels);
+raster::SunShadowSettings parseShadowOptions(const std::string& shadows, uint32_t visibilityMapTexels);
 
 // `requested` when the scene supports it (UsageError saying why not otherwise), else the best mode it
 // supports (raster::supportedModes).

@@ -131,6 +131,53 @@ enum VariantBit : uint32_t {
   kVariantBlendPass = 1u << 13,
 };
 
+// A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
+// object (Renderer::samplerFor).
+uint32_t samplerKey(const rdb::RasterTextureRef& ref) {
+  return uint32_t(ref.wrapS) | uint32_t(ref.wrapT) << 4 | uint32_t(ref.magFilter) << 8 |
+         uint32_t(ref.minFilter) << 12;
+}
+
+rdb::RasterMinFilter minFilterOfKey(uint32_t key) {
+  return rdb::RasterMinFilter((key >> 12) & 0xfu);
+}
+
+// Whether the sampler of `key` reads mip levels (then it also gets anisotropic filtering).
+bool samplerMipmapped(uint32_t key) {
+  const rdb::RasterMinFilter f = minFilterOfKey(key);
+  return f != rdb::RasterMinFilter::kNearest && f != rdb::RasterMinFilter::kLinear;
+}
+
+GLint glMinFilter(rdb::RasterMinFilter f) {
+  switch (f) {
+    case rdb::RasterMinFilter::kNearest:
+      return GL_NEAREST;
+    case rdb::RasterMinFilter::kLinear:
+      return GL_LINEAR;
+    case rdb::RasterMinFilter::kNearestMipmapNearest:
+      return GL_NEAREST_MIPMAP_NEAREST;
+    case rdb::RasterMinFilter::kLinearMipmapNearest:
+      return GL_LINEAR_MIPMAP_NEAREST;
+    case rdb::RasterMinFilter::kNearestMipmapLinear:
+      return GL_NEAREST_MIPMAP_LINEAR;
+    case rdb::RasterMinFilter::kLinearMipmapLinear:
+      break;
+  }
+  return GL_LINEAR_MIPMAP_LINEAR;
+}
+
+GLint glWrap(rdb::RasterWrap w) {
+  switch (w) {
+    case rdb::RasterWrap::kClampToEdge:
+      return GL_CLAMP_TO_EDGE;
+    case rdb::RasterWrap::kMirroredRepeat:
+      return GL_MIRRORED_REPEAT;
+    case rdb::RasterWrap::kRepeat:
+      break;
+  }
+  return GL_REPEAT;
+}
+
 // Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
 struct BackgroundProgram {
   GLuint program = 0;
@@ -149,8 +196,18 @@ struct SurfaceDraw {
   uint32_t material = 0;
   bool mask = false;
   bool blend = false;
-  vec3 centreM{0.0f};  // blended: the mesh's bounding-box centre, sorted by its view depth
+  vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
+  GLuint samplers[3] = {0, 0, 0};  // the material's texture slots' sampler objects (Renderer::samplerFor)
 };
+
+// A per-fragment draw's sampler objects, one per texture slot of its material (base colour, emission, normal
+// map), from `samplerOf` (Renderer::samplerFor).
+template <class SamplerOf>
+void assignSamplers(SurfaceDraw& d, const rdb::RasterRdb& r, SamplerOf samplerOf) {
+  const rdb::RasterMaterial& m = r.materials[d.material];
+  const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
+  for (int k = 0; k < 3; ++k) d.samplers[k] = *slots[k] ? samplerOf(*slots[k]) : 0;
+}
 
 // A light texture's place in the array texture (kSceneFragment's LightRect): rect = x, y, width, height in
 // texels of the layer; layer = the layer's index, 1 / layer width, 1 / layer height.
@@ -220,6 +277,8 @@ struct Renderer::Gpu {
   // for blended ones the blend target (RGBA32F, kBlendComposite) with its framebuffer (sharing `depth`).
   GLuint uv0 = 0, uv1 = 0, colors = 0, tangents = 0, drawIndices = 0;
   std::vector<GLuint> textures;
+  // One sampler object per distinct glTF sampler the materials use (samplerFor), by samplerKey.
+  std::map<uint32_t, GLuint> samplers;
   GLuint blendFbo = 0, blendColor = 0;
   GLuint composite = 0;
   std::vector<SurfaceDraw> surfaceDraws;  // opaque and cut-out first (by material), then blended
@@ -240,6 +299,7 @@ struct Renderer::Gpu {
                               drawIndices};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteTextures(GLsizei(textures.size()), textures.data());
+    for (const auto& [key, sampler] : samplers) glDeleteSamplers(1, &sampler);
     glDeleteTextures(1, &blendColor);
     glDeleteFramebuffers(1, &blendFbo);
     glDeleteProgram(composite);
@@ -283,7 +343,28 @@ void Renderer::setMaxAnisotropy(float samples) {
   gpu_->maxAnisotropy = std::min(samples, gpu_->driverMaxAnisotropy);
   stats_.maxAnisotropy = gpu_->maxAnisotropy;
   if (gpu_->driverMaxAnisotropy <= 1.0f) return;
-  for (GLuint tex : gpu_->textures) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  for (const auto& [key, sampler] : gpu_->samplers) {
+    if (samplerMipmapped(key)) glSamplerParameterf(sampler, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  }
+}
+
+// The GL sampler object of `ref`'s glTF sampler, made on first use: its wrap modes and filters, and where
+// the minification filter is mipmapped the anisotropic filtering setMaxAnisotropy gives.
+unsigned Renderer::samplerFor(const rdb::RasterTextureRef& ref) {
+  const uint32_t key = samplerKey(ref);
+  GLuint& sampler = gpu_->samplers[key];
+  if (sampler) return sampler;
+  glCreateSamplers(1, &sampler);
+  stats_.samplerObjects = int(gpu_->samplers.size());
+  glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, glWrap(ref.wrapS));
+  glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, glWrap(ref.wrapT));
+  glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, glMinFilter(ref.minFilter));
+  glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER,
+                      ref.magFilter == rdb::RasterMagFilter::kNearest ? GL_NEAREST : GL_LINEAR);
+  if (gpu_->driverMaxAnisotropy > 1.0f && samplerMipmapped(key)) {
+    glSamplerParameterf(sampler, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
+  }
+  return sampler;
 }
 
 Renderer::~Renderer() = default;
@@ -395,6 +476,14 @@ void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& ch
     for (uint32_t i : changes.materialBlocks) {
       const GpuMaterial m = gpuMaterial(rdb.materials.at(i));
       glNamedBufferSubData(gpu_->materials, GLintptr(i * sizeof(GpuMaterial)), sizeof m, &m);
+      const char casts = castsSunShadows(rdb.materials[i]) ? 1 : 0;
+      shadowGeometryDirty_ |= casts != materialCasts_.at(i);
+      materialCasts_[i] = casts;
+      for (SurfaceDraw& d : gpu_->surfaceDraws) {
+        // Its samplers may have changed.
+        if (d.material == i)
+          assignSamplers(d, rdb, [this](const rdb::RasterTextureRef& ref) { return samplerFor(ref); });
+      }
       ++stats_.materialBlockUploads;
     }
   }
@@ -451,6 +540,7 @@ void Renderer::uploadGeometry() {
   gpu_->everyMeshLightMapped =
       std::all_of(r.meshes.begin(), r.meshes.end(), [](const rdb::RasterMesh& m) { return m.hasLightMap; });
   uploadLightTextures();
+  shadowGeometryDirty_ = true;
   ++stats_.geometryUploads;
 }
 
@@ -565,6 +655,11 @@ void Renderer::uploadMaterials() {
   glVertexArrayAttribBinding(gpu_->vao, 5, 5);
   glEnableVertexArrayAttrib(gpu_->vao, 5);
   uploadDraws();
+  // Which triangles cast the sun's shadows (glass and blended surfaces do not).
+  std::vector<char> casts;
+  for (const rdb::RasterMaterial& x : r.materials) casts.push_back(castsSunShadows(x) ? 1 : 0);
+  shadowGeometryDirty_ |= casts != materialCasts_;
+  materialCasts_ = std::move(casts);
   ++stats_.materialTableUploads;
 }
 
@@ -623,10 +718,13 @@ void Renderer::uploadDraws() {
   }
   storeBuffer(gpu_->drawIndices, ordered);
   glVertexArrayElementBuffer(gpu_->vao, gpu_->drawIndices);
+  for (SurfaceDraw& d : gpu_->surfaceDraws) {
+    assignSamplers(d, r, [this](const rdb::RasterTextureRef& ref) { return samplerFor(ref); });
+  }
 }
 
-// Each rdb::RasterTexture as an immutable GL texture with a full mip chain (glGenerateTextureMipmap),
-// trilinear and anisotropic filtering where the driver has it, REPEAT wrapping (glTF's default sampler).
+// Each rdb::RasterTexture as an immutable GL texture with a full mip chain (glGenerateTextureMipmap); how it
+// is filtered and wrapped is the sampler object of the material's use of it (samplerFor).
 void Renderer::uploadTextures() {
   const rdb::RasterRdb& r = *rdb_;
   glDeleteTextures(GLsizei(gpu_->textures.size()), gpu_->textures.data());
@@ -648,11 +746,6 @@ void Renderer::uploadTextures() {
     glTextureSubImage2D(tex, 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA, GL_UNSIGNED_BYTE,
                         t.rgba8.data());
     glGenerateTextureMipmap(tex);
-    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    if (gpu_->driverMaxAnisotropy > 1.0f) glTextureParameterf(tex, GL_TEXTURE_MAX_ANISOTROPY, gpu_->maxAnisotropy);
   }
   stats_.textureUploads += int(r.textures.size());
 }
@@ -807,6 +900,27 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       const double solidAngleSr = 2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad)));
       sunLux = s.sunRadianceCdM2 * float(solidAngleSr);
     }
+    // The sun's shadows (raster/sun_shadows.h), where a program draws the sun's direct term and the sun is
+    // above the horizon (v.sun): the volumes are rebuilt here only when the sun or the geometry moved.
+    const bool shadows =
+        ((variant | surfaceVariant) & kVariantSun) && v.sun && shadowSettings_.mode != SunShadowMode::kOff;
+    if (shadows) {
+      if (!shadows_) {
+        shadows_ = std::make_unique<SunShadows>(
+            [this](const std::string& name, const std::string& defines,
+                   std::initializer_list<std::pair<unsigned, const char*>> stages) {
+              return compileProgram(name, defines, stages);
+            });
+      }
+      if (shadowGeometryDirty_) {
+        shadows_->setGeometry(r, gpu_->positions);
+        shadowGeometryDirty_ = false;
+        ++stats_.shadowGeometryUploads;
+      }
+      if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
+    }
+    // The sun's illuminance the scene programs get (uSunNormalLux): 0 in the pass over shadowed pixels.
+    vec3 sunPassLux = sunLux;
     // Binds a scene program and sets its uniforms.
     auto use = [&](uint32_t programVariant) -> const SceneProgram& {
       const SceneProgram& p = sceneProgram(programVariant);
@@ -820,7 +934,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
       if (v.sun) {
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
-        glUniform3fv(p.sunNormalLux, 1, &sunLux[0]);
+        glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
       return p;
     };
@@ -837,6 +951,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         rows[2 * k + 1] = vec4(slots[k]->uvRow1, 0.0f);
         if (!*slots[k]) continue;
         glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
+        glBindSampler(5 + k, d.samplers[k]);
         bits |= 1u << k;
       }
       glUniform1ui(p.textureSlots, bits);
@@ -848,28 +963,54 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     };
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
-    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
-    if (lightMaps && v.lightTexture) {
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
-      glBindTextureUnit(2, gpu_->lightTextures);
-    }
-    glBindVertexArray(gpu_->vao);
-    if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
-    if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
-    if (gpu_->perVertexIndexCount > 0) {
-      const SceneProgram& p = use(variant);
-      if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
-      draw(0, gpu_->perVertexIndexCount);
-    }
-    uint32_t current = ~0u;
-    const SceneProgram* program = nullptr;
-    for (const SurfaceDraw& d : gpu_->surfaceDraws) {
-      if (d.blend) continue;
-      const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
-      if (want != current) program = &use(current = want);
-      bindTextures(*program, d);
-      draw(d.firstIndex, d.indexCount);
+    auto bindScene = [&] {
+      const GLuint ssbos[3] = {gpu_->materials, gpu_->lights, gpu_->gonio};
+      glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 3, ssbos);
+      if (lightMaps && v.lightTexture) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
+        glBindTextureUnit(2, gpu_->lightTextures);
+      }
+      glBindVertexArray(gpu_->vao);
+      if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
+      if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
+    };
+    // The opaque and cut-out surfaces: the per-vertex meshes in one draw, then the per-fragment ones.
+    auto drawOpaque = [&] {
+      if (gpu_->perVertexIndexCount > 0) {
+        const SceneProgram& p = use(variant);
+        if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
+        draw(0, gpu_->perVertexIndexCount);
+      }
+      uint32_t current = ~0u;
+      const SceneProgram* program = nullptr;
+      for (const SurfaceDraw& d : gpu_->surfaceDraws) {
+        if (d.blend) continue;
+        const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
+        if (want != current) program = &use(current = want);
+        bindTextures(*program, d);
+        draw(d.firstIndex, d.indexCount);
+      }
+    };
+    bindScene();
+    drawOpaque();
+    if (shadows) {
+      // The stencil counts the shadow volumes each visible surface lies in; where it is not 0 the same draws
+      // again, at equal depth, without the sun (the colour target holds shared-exponent words: no blending).
+      // Glass and blended surfaces, drawn next, get the sun unshadowed.
+      shadows_->drawStencil(clipFromWorld);
+      bindScene();
+      glStencilFunc(GL_NOTEQUAL, 0, 0xff);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+      glDepthFunc(GL_EQUAL);
+      glDepthMask(GL_FALSE);
+      sunPassLux = vec3(0.0f);
+      drawOpaque();
+      sunPassLux = sunLux;
+      glDisable(GL_STENCIL_TEST);
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      lastShadowClipFromWorld_ = clipFromWorld;
+      ++stats_.shadowPasses;
     }
     if ((variant & kVariantGlass) && gpu_->perVertexIndexCount > 0) {
       // The glass over a copy of that image, which it shows through itself times T(θ) (kSceneFragment). The
@@ -963,6 +1104,25 @@ void Renderer::present(uint32_t widthPx, uint32_t heightPx) const {
   const bool sameSize = widthPx == width_ && heightPx == height_;
   glBlitNamedFramebuffer(gpu_->srgbFbo, 0, 0, 0, GLint(width_), GLint(height_), 0, 0, GLint(widthPx),
                          GLint(heightPx), GL_COLOR_BUFFER_BIT, sameSize ? GL_NEAREST : GL_LINEAR);
+}
+
+void Renderer::setSunShadows(const SunShadowSettings& settings) {
+  if (settings.visibilityMapTexels < 16 || settings.visibilityMapTexels > 16384) {
+    throw std::invalid_argument("the sun's visibility map takes 16 to 16384 texels per side, not " +
+                                std::to_string(settings.visibilityMapTexels));
+  }
+  shadowSettings_ = settings;
+}
+
+SunShadowCounts Renderer::sunShadowCounts() const {
+  return shadows_ ? shadows_->counts() : SunShadowCounts{};
+}
+
+uint64_t Renderer::shadowVolumeFill() {
+  if (!shadows_ || stats_.shadowPasses == 0) return 0;
+  glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
+  glViewport(0, 0, GLsizei(width_), GLsizei(height_));
+  return shadows_->measureFill(lastShadowClipFromWorld_);
 }
 
 void Renderer::finish() const {

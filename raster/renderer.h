@@ -5,14 +5,24 @@
 //              (rdb/raster_rdb.h); no sky behind the scene
 //   lightMap:  per-vertex luminance albedo · E / π from the baked vertex light maps (front or back by facing
 //              on two-sided meshes); meshes with a light texture: albedo · E / π per fragment from its texels
-//              (bilinear); meshes without a light map are shaded as in simple mode
+//              (bilinear); meshes without a light map are shaded as in simple mode. An approximation until
+//              reflections are drawn: an opaque material with uniform reflection (a glTF metal, whose diffuse
+//              is 0) adds reflection · E / π (rdb::RasterMaterial::reflection), i.e. it shows as a rough
+//              reflector of its reflectance under the baked irradiance, the limit of a rough conductor, not
+//              black; Fresnel (dielectric) reflection adds nothing (the same in sunlight mode's light maps)
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
+// Where the sun's direct term is drawn (simple and sunlight modes, surfaces without light maps) it is shadowed
+// (setSunShadows; raster/sun_shadows.h): after the scene, a z-fail stencil pass of the sun's shadow volumes,
+// then the pixels inside a volume drawn again at equal depth without the sun (uSunNormalLux = 0: the colour
+// target cannot blend). Glass and blended surfaces, drawn after that, get the sun unshadowed. The volumes are
+// rebuilt only when the sun's direction, the geometry, the materials or the settings change.
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per
 // fragment with the same terms: base colour texel × factor × COLOR_0 as the albedo, the emission texel, normal
-// maps for the Phong and sun terms; cut-outs (alpha MASK) discard below their cut-off; blended surfaces (BLEND)
+// maps for the Phong and sun terms, each texture read through a GL sampler object of its glTF sampler (wrap
+// modes, magnification and minification filters; anisotropic filtering where the minification is mipmapped); cut-outs (alpha MASK) discard below their cut-off; blended surfaces (BLEND)
 // are drawn last, back to front by their mesh's centre, without depth writes, into an RGBA32F "over" target
 // composited over the image. They are drawn one material per draw (its textures bound), after the one draw of
 // the per-vertex meshes; a scene without them draws exactly as before.
@@ -37,6 +47,7 @@
 
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
 
 namespace fly::raster {
@@ -73,7 +84,11 @@ struct RendererStats {
   int skyUploads = 0;
   int scenePasses = 0;  // geometry (and sky) passes into the float framebuffer
   int toneMapPasses = 0;
+  int shadowGeometryUploads = 0;  // the sun shadows' caster and edge tables (raster/sun_shadows.h)
+  int shadowBuilds = 0;           // visibility map and shadow volumes (re)built: a new sun direction or geometry
+  int shadowPasses = 0;           // frames drawn with the shadow volumes' stencil pass
   int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
+  int samplerObjects = 0;             // GL sampler objects: one per distinct glTF sampler drawn with
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
@@ -115,6 +130,15 @@ class Renderer {
   // kMaxAnisotropy and the driver's limit (stats().maxAnisotropy says what applies). Default: that cap.
   void setMaxAnisotropy(float samples);
 
+  // How the sun's direct term is shadowed (raster/sun_shadows.h); std::invalid_argument for a visibility map
+  // size outside [16, 16384]. Default: shadow volumes pruned by a 2048² visibility map.
+  void setSunShadows(const SunShadowSettings& settings);
+  // What the last shadow build made (read back from the GPU; zeros before the first).
+  SunShadowCounts sunShadowCounts() const;
+  // The fragments the last frame's shadow volumes rasterise with neither depth nor stencil test (their fill,
+  // GL_SAMPLES_PASSED); 0 when it drew none. For benchmarks: it draws the volumes again.
+  uint64_t shadowVolumeFill();
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -127,6 +151,7 @@ class Renderer {
   unsigned compileProgram(const std::string& name, const std::string& defines,
                           std::initializer_list<std::pair<unsigned, const char*>> stages);
   const SceneProgram& sceneProgram(uint32_t variant);
+  unsigned samplerFor(const rdb::RasterTextureRef& ref);
   void uploadGeometry();
   void uploadLightTextures();
   void uploadTextures();
@@ -137,6 +162,11 @@ class Renderer {
   void resize(uint32_t widthPx, uint32_t heightPx);
 
   std::unique_ptr<Gpu> gpu_;
+  std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
+  SunShadowSettings shadowSettings_;
+  bool shadowGeometryDirty_ = true;
+  std::vector<char> materialCasts_;  // per material: castsSunShadows
+  mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;
   uint32_t width_ = 0, height_ = 0;
   RendererStats stats_;

@@ -243,6 +243,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
 
   Renderer renderer;
   renderer.upload(rdb);
+  renderer.setSunShadows(options.shadows);
   Overlay overlay;
   KeyQueue keys;
   GLFWwindow* w = window.window();

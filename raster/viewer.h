@@ -70,6 +70,7 @@ struct ViewerOptions {
   uint64_t frames = 0;
   std::vector<ViewerAction> script;  // applied one per frame, before the frame is drawn, from the first
   CameraControllerSettings controller;
+  SunShadowSettings shadows;  // the sun's shadows (raster/sun_shadows.h)
 };
 
 struct ViewerResult {

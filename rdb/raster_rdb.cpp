@@ -83,6 +83,40 @@ RasterTextureRef lowerTextureRef(const sdb::TextureRef& ref, bool srgb, TextureT
   const float c = std::cos(t.rotationRad), s = std::sin(t.rotationRad);
   r.uvRow0 = vec3(c * t.scale.x, s * t.scale.y, t.offset.x);
   r.uvRow1 = vec3(-s * t.scale.x, c * t.scale.y, t.offset.y);
+  auto wrap = [](sdb::WrapMode w) {
+    switch (w) {
+      case sdb::WrapMode::kClampToEdge:
+        return RasterWrap::kClampToEdge;
+      case sdb::WrapMode::kMirroredRepeat:
+        return RasterWrap::kMirroredRepeat;
+      case sdb::WrapMode::kRepeat:
+        break;
+    }
+    return RasterWrap::kRepeat;
+  };
+  r.wrapS = wrap(ref.wrapS);
+  r.wrapT = wrap(ref.wrapT);
+  r.magFilter = ref.magFilter == sdb::MagFilter::kNearest ? RasterMagFilter::kNearest : RasterMagFilter::kLinear;
+  switch (ref.minFilter) {
+    case sdb::MinFilter::kNearest:
+      r.minFilter = RasterMinFilter::kNearest;
+      break;
+    case sdb::MinFilter::kLinear:
+      r.minFilter = RasterMinFilter::kLinear;
+      break;
+    case sdb::MinFilter::kNearestMipmapNearest:
+      r.minFilter = RasterMinFilter::kNearestMipmapNearest;
+      break;
+    case sdb::MinFilter::kLinearMipmapNearest:
+      r.minFilter = RasterMinFilter::kLinearMipmapNearest;
+      break;
+    case sdb::MinFilter::kNearestMipmapLinear:
+      r.minFilter = RasterMinFilter::kNearestMipmapLinear;
+      break;
+    case sdb::MinFilter::kLinearMipmapLinear:
+      r.minFilter = RasterMinFilter::kLinearMipmapLinear;
+      break;
+  }
   return r;
 }
 
@@ -97,6 +131,8 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
     r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
     r.fresnelF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
+  } else if (m.reflectionModel == sdb::ReflectionModel::kUniform) {
+    r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
   }
   if (readsTextures(m)) {
     r.baseColorTexture = lowerTextureRef(m.diffuseTexture, true, table);

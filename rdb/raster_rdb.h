@@ -38,6 +38,21 @@ struct RasterTexture {
   bool operator==(const RasterTexture&) const = default;
 };
 
+// How a texture coordinate outside [0, 1] maps into the image (sdb::WrapMode: glTF 2.0 §5.26 wrapS / wrapT,
+// the GL wrap modes of the same names).
+enum class RasterWrap : uint32_t { kRepeat, kClampToEdge, kMirroredRepeat };
+// How a texture is filtered when magnified and minified (sdb::MagFilter, sdb::MinFilter: glTF 2.0 §5.26
+// magFilter / minFilter, the GL filters of the same names).
+enum class RasterMagFilter : uint32_t { kLinear, kNearest };
+enum class RasterMinFilter : uint32_t {
+  kNearest,
+  kLinear,
+  kNearestMipmapNearest,
+  kLinearMipmapNearest,
+  kNearestMipmapLinear,
+  kLinearMipmapLinear,
+};
+
 // A material's use of a RasterTexture.
 struct RasterTextureRef {
   static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
@@ -48,6 +63,12 @@ struct RasterTextureRef {
   // extension's R = [cos r, sin r; −sin r, cos r] (counter-clockwise in UV space, whose v points down).
   vec3 uvRow0{1.0f, 0.0f, 0.0f};
   vec3 uvRow1{0.0f, 1.0f, 0.0f};
+  // The glTF sampler: wrapping along u (the image's columns) and v (its rows), and the filters (the
+  // mipmapped minification filters also get the engine's anisotropic filtering).
+  RasterWrap wrapS = RasterWrap::kRepeat;
+  RasterWrap wrapT = RasterWrap::kRepeat;
+  RasterMagFilter magFilter = RasterMagFilter::kLinear;
+  RasterMinFilter minFilter = RasterMinFilter::kLinearMipmapLinear;
 
   explicit operator bool() const { return texture != kNone; }
   bool operator==(const RasterTextureRef&) const = default;
@@ -69,7 +90,10 @@ struct RasterMaterial {
   // seen, as the baker's shadow rays cross it (raytracer/bsdf.h) — with F Schlick's of fresnelF0, or 1 for
   // uniform reflection (fresnelF0 < 0). transmission is 0 for other materials.
   Rgb transmission{0.0f};  // transmissionColor, [0,1]
-  Rgb reflection{0.0f};    // reflectionColor, [0,1]
+  // reflectionColor, [0,1], of clear glass and of uniform reflection (glTF metals, sdb/gltf_import.cpp); 0 for
+  // other (Fresnel) reflection. The light-map modes show an opaque uniform reflector as a rough one:
+  // (diffuse + reflection) · E / π (raster/renderer.h).
+  Rgb reflection{0.0f};
   float fresnelF0 = -1.0f;
   // Textures (each optional). The base colour's texel (sRGB-decoded) times COLOR_0 multiplies `diffuse` —
   // the energy rule is linear in the diffuse input, so this is the rule applied per texel

@@ -56,7 +56,7 @@ uniform int uLightCount;
 uniform vec3 uAmbientUpLux;
 uniform vec3 uAmbientDownLux;
 uniform vec3 uSunDirWorld;   // unit, towards the sun
-uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun
+uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun; 0 where it is in shadow (raster/sun_shadows.h)
 
 const float kPi = 3.14159265358979;
 const float kCornerGain = FLY_CORNER_GAIN;
@@ -79,6 +79,16 @@ float flyGonioCd(int offset, vec3 axis, vec3 cAxis, vec3 dir) {
   float a = mix(gonioCd[offset + c0 * G + g0], gonioCd[offset + c0 * G + g0 + 1], fg);
   float b = mix(gonioCd[offset + c1 * G + g0], gonioCd[offset + c1 * G + g0 + 1], fg);
   return mix(a, b, fc);
+}
+#endif
+
+#ifdef FLY_LIGHT_MAP
+// What multiplies E / π in the light-map modes: the albedo, plus an opaque material's uniform reflection
+// (a metal's) as if it were a rough reflector — under the baked irradiance, the limit of a rough conductor
+// (raster/renderer.h). Glass keeps its reflection for T(θ).
+vec3 flyLightMapReflectance(vec3 albedo, Material m) {
+  bool glass = max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0;
+  return glass ? albedo : albedo + m.reflection.rgb;
 }
 #endif
 
@@ -158,6 +168,7 @@ flat out vec3 vAlbedoOverPi;   // sr⁻¹
 #endif
 
 out vec3 vLuminance;
+invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (raster/sun_shadows.h)
 #ifdef FLY_TWO_SIDED
 flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying costs every triangle its setup)
 #endif
@@ -182,16 +193,16 @@ void main() {
   useLightMap = (aSurface & 0x80000000u) != 0u;
   if (useLightMap) {
 #ifdef FLY_TWO_SIDED
-    l = m.diffuse.rgb * (back ? aBackLux : aFrontLux) / kPi;
+    l = flyLightMapReflectance(m.diffuse.rgb, m) * (back ? aBackLux : aFrontLux) / kPi;
 #else
-    l = m.diffuse.rgb * aFrontLux / kPi;
+    l = flyLightMapReflectance(m.diffuse.rgb, m) * aFrontLux / kPi;
 #endif
   }
 #endif
 #ifdef FLY_LIGHT_TEXTURE
   // The fragment shader adds albedo · E_texel / π in place of the vertex value.
   vLightMapUv = aLightMapUv;
-  vAlbedoOverPi = m.diffuse.rgb / kPi;
+  vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) / kPi;
   vLightSlot = 0xffffffffu;
   if (useLightMap && aLightSlot != 0xffffffffu) {
     vLightSlot = (aLightSlot & 0x7fffffffu) + ((back && (aLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
@@ -355,6 +366,7 @@ out vec3 vBackLux;
 #define FLY_SURFACE_FLAGS
 flat out uint vSurface;
 #endif
+invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (raster/sun_shadows.h)
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
@@ -509,7 +521,7 @@ void main() {
       eLux = texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
     }
 #endif
-    l = base.rgb * eLux / kPi;
+    l = flyLightMapReflectance(base.rgb, m) * eLux / kPi;
   }
 #endif
 #ifdef FLY_PHONG

@@ -438,6 +438,163 @@ TEST(Renderer, TexturedLightMapIsFactorTimesTexelTimesColourTimesIrradianceOverP
   EXPECT_EQ(renderer.stats().textureUploads, 2);
 }
 
+// Light-map mode shows an opaque uniform (metal) reflection as a rough reflector: (diffuse after the energy
+// rule + reflection) · E / π, per vertex and per fragment (a white 1 × 1 texture); a pure metal (glTF
+// metallic 1: no diffuse) is reflection · E / π, not black. A Fresnel (dielectric) reflection adds nothing.
+TEST(Renderer, LightMapModeShowsAMetalAsARoughReflectorOfItsReflectance) {
+  context();
+  struct Case {
+    Rgb diffuse, reflection;
+    sdb::ReflectionModel model;
+    bool textured;
+  };
+  const Case cases[] = {
+      {Rgb(0.0f), Rgb(0.95f, 0.64f, 0.54f), sdb::ReflectionModel::kUniform, false},  // copper, factor-only
+      {Rgb(0.0f), Rgb(0.95f, 0.64f, 0.54f), sdb::ReflectionModel::kUniform, true},
+      {Rgb(0.5f, 0.4f, 0.3f), Rgb(0.6f, 0.5f, 0.2f), sdb::ReflectionModel::kUniform, false},
+      {Rgb(0.5f, 0.4f, 0.3f), Rgb(1.0f), sdb::ReflectionModel::kFresnel, false},
+  };
+  for (const Case& c : cases) {
+    sdb::Scene s;
+    sdb::Material m;
+    m.diffuseColor = c.diffuse;
+    m.reflectionColor = c.reflection;
+    m.reflectionModel = c.model;
+    m.reflectionGlossiness = 0.2f;
+    if (c.textured) m.diffuseTexture.texture = addTexture(s, 1, 1, 3, {255, 255, 255});
+    const sdb::MaterialId mat = s.addMaterial(m).id;
+    const sdb::MeshId meshId = s.addMesh(uvQuad(mat)).id;
+    const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+    rdb::LightMapStore store;
+    store.meshes.push_back({node.value, meshId.value, kFrontLux, {}});
+    const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+    Renderer renderer;
+    renderer.upload(r);
+    renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+    // The energy rule by hand: uniform reflection R leaves (1 − R) · diffuse; Fresnel F0 = 0.04 at ior 1.5.
+    const Rgb rho = c.model == sdb::ReflectionModel::kUniform
+                        ? (Rgb(1.0f) - c.reflection) * c.diffuse + c.reflection
+                        : (1.0f - 0.04f) * c.diffuse;
+    expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kFrontLux, rho), false), 1e-4f);
+  }
+}
+
+// glTF sampler wrap modes and filters: a 2 × 2 texture (red, green / blue, white from the top left) over the
+// quad with u from −1 to 2 (left to right) and v from −0.5 to 1.5 (top to bottom), magnified with NEAREST: a
+// pixel shows the texel that the wrap mode maps its UV into, computed here from the GL specification's
+// definitions (OpenGL 4.5 §8.14.2: REPEAT takes the fractional part, MIRRORED_REPEAT mirrors every other
+// copy, CLAMP_TO_EDGE clamps to the edge texels' centres). Unlit black ground, light map E = π lx: L = texel.
+TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
+  context();
+  const uint8_t texels[4][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {255, 255, 255}};
+  std::vector<uint8_t> bytes;
+  for (const auto& t : texels) bytes.insert(bytes.end(), t, t + 3);
+  // GL wrap of a coordinate c in texels of an image of size n, for NEAREST: the texel index.
+  auto wrapIndex = [](float uv, sdb::WrapMode mode) {
+    const float c = uv * 2.0f;  // texel space, n = 2
+    switch (mode) {
+      case sdb::WrapMode::kRepeat:
+        return int(std::floor(c - 2.0f * std::floor(c / 2.0f)));
+      case sdb::WrapMode::kMirroredRepeat: {
+        const float m = c - 4.0f * std::floor(c / 4.0f);  // period 2n
+        return int(std::floor(m < 2.0f ? m : 4.0f - m));
+      }
+      case sdb::WrapMode::kClampToEdge:
+        break;
+    }
+    return std::clamp(int(std::floor(c)), 0, 1);
+  };
+  const sdb::WrapMode modes[] = {sdb::WrapMode::kRepeat, sdb::WrapMode::kMirroredRepeat,
+                                 sdb::WrapMode::kClampToEdge};
+  for (sdb::WrapMode ws : modes) {
+    for (sdb::WrapMode wt : modes) {
+      sdb::Scene s;
+      sdb::Material m;
+      m.diffuseColor = Rgb(1.0f);
+      m.reflectionColor = Rgb(0.0f);
+      m.diffuseTexture.texture = addTexture(s, 2, 2, 3, bytes);
+      m.diffuseTexture.wrapS = ws;
+      m.diffuseTexture.wrapT = wt;
+      m.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
+      m.diffuseTexture.minFilter = sdb::MinFilter::kNearest;
+      const sdb::MaterialId mat = s.addMaterial(m).id;
+      sdb::Mesh mesh = test::quadXY(mat);
+      for (const vec3& p : mesh.positions)
+        mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
+      const sdb::MeshId meshId = s.addMesh(mesh).id;
+      const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+      rdb::LightMapStore store;
+      store.meshes.push_back({node.value, meshId.value, std::vector<Rgb>(4, Rgb(kPiF)), {}});
+      const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+      Renderer renderer;
+      renderer.upload(r);
+      constexpr uint32_t kW = 96, kH = 48;  // 24 pixels per metre: the quad is 48 × 24 pixels
+      renderer.render(orthoView(false), RenderMode::kLightMap, kW, kH);
+      const std::vector<float> img = renderer.luminanceRgb();
+      size_t checked = 0;
+      for (uint32_t j = 0; j < kH; ++j) {
+        for (uint32_t i = 0; i < kW; ++i) {
+          const float x = -2.0f + 4.0f * (float(i) + 0.5f) / float(kW),
+                      y = 1.0f - 2.0f * (float(j) + 0.5f) / float(kH);
+          if (std::abs(x) > 1.0f || std::abs(y) > 0.5f) continue;
+          const float u = 1.5f * (x + 1.0f) - 1.0f, v = 1.5f - 2.0f * (y + 0.5f);
+          // Skip pixels within 0.05 texel of a texel border, where rounding may pick either neighbour.
+          const float cu = u * 2.0f, cv = v * 2.0f;
+          if (std::abs(cu - std::round(cu)) < 0.05f || std::abs(cv - std::round(cv)) < 0.05f) continue;
+          const int tx = wrapIndex(u, ws), ty = wrapIndex(v, wt);
+          const uint8_t* t = texels[ty * 2 + tx];
+          for (int k = 0; k < 3; ++k) {
+            ASSERT_NEAR(img[(size_t(j) * kW + i) * 3 + size_t(k)], t[k] / 255.0f, 1e-3f)
+                << "wrap " << int(ws) << "/" << int(wt) << " pixel " << i << "," << j << " uv " << u << ","
+                << v;
+          }
+          ++checked;
+        }
+      }
+      EXPECT_GT(checked, 48u * 24u * 3u / 4u);
+      EXPECT_EQ(renderer.stats().samplerObjects, 1);
+    }
+  }
+}
+
+// A sampler edit is a block edit: the draw binds the edited sampler and renders what a fresh upload renders.
+TEST(Renderer, SamplerEditRendersLikeAFreshUpload) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(1.0f);
+  m.reflectionColor = Rgb(0.0f);
+  m.diffuseTexture.texture = addTexture(s, 2, 2, 3, {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255});
+  m.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  sdb::Mesh mesh = test::quadXY(mat);
+  for (const vec3& p : mesh.positions)
+    mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
+  const sdb::MeshId meshId = s.addMesh(mesh).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  rdb::LightMapStore store;
+  store.meshes.push_back({node.value, meshId.value, std::vector<Rgb>(4, Rgb(kPiF)), {}});
+  rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 96, 48);
+  const std::vector<float> repeat = renderer.luminanceRgb();
+  m.diffuseTexture.wrapS = sdb::WrapMode::kClampToEdge;
+  m.diffuseTexture.wrapT = sdb::WrapMode::kMirroredRepeat;
+  const rdb::RasterRdbChanges ch = rdb::updateRasterRdb(r, s, s.setMaterial(mat, m), &store);
+  ASSERT_EQ(ch.materialBlocks, std::vector<uint32_t>{1});
+  renderer.update(r, ch);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 96, 48);
+  const std::vector<float> clamped = renderer.luminanceRgb();
+  EXPECT_NE(repeat, clamped);
+  EXPECT_EQ(renderer.stats().samplerObjects, 2);
+  const rdb::RasterRdb fresh = rdb::buildRasterRdb(s, &store);
+  Renderer other;
+  other.upload(fresh);
+  other.render(orthoView(false), RenderMode::kLightMap, 96, 48);
+  EXPECT_EQ(clamped, other.luminanceRgb());
+}
+
 // A normal map bends the normal of the Phong terms: a 1000 lx directional light along the quad's normal and
 // the ambient level (1000 lx, as in SimpleModeDirectionalLightPlusAmbientOnAMatteQuad) give L = ρ/π ·
 // (1000 · n'_z + 1000), with n' the texel's normal (2 · texel − 1, normalised) in the tangent frame (tangent

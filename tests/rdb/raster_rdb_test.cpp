@@ -536,6 +536,22 @@ TEST(RasterRdbUpdate, TexturedMaterialEditsEqualARebuild) {
   EXPECT_EQ(ch.materialBlocks, std::vector<uint32_t>{1});
   EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
 
+  // Another sampler (the engine binds one per draw from the block): the block only.
+  wood.diffuseTexture.wrapS = sdb::WrapMode::kClampToEdge;
+  wood.diffuseTexture.wrapT = sdb::WrapMode::kMirroredRepeat;
+  wood.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
+  wood.diffuseTexture.minFilter = sdb::MinFilter::kLinearMipmapNearest;
+  ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.wood, wood));
+  EXPECT_FALSE(ch.geometry);
+  EXPECT_EQ(ch.materialBlocks, std::vector<uint32_t>{1});
+  EXPECT_EQ(r.materials[1].baseColorTexture.wrapS, RasterWrap::kClampToEdge);
+  EXPECT_EQ(r.materials[1].baseColorTexture.wrapT, RasterWrap::kMirroredRepeat);
+  EXPECT_EQ(r.materials[1].baseColorTexture.magFilter, RasterMagFilter::kNearest);
+  EXPECT_EQ(r.materials[1].baseColorTexture.minFilter, RasterMinFilter::kLinearMipmapNearest);
+  EXPECT_EQ(r.materials[1].emissionTexture.wrapS, RasterWrap::kRepeat);
+  EXPECT_EQ(r.materials[1].emissionTexture.minFilter, RasterMinFilter::kLinearMipmapLinear);
+  EXPECT_TRUE(r == buildRasterRdb(t.c.scene));
+
   wood.emissionTexture = {};  // one texture fewer: the table shrinks
   ch = updateRasterRdb(r, t.c.scene, t.c.scene.setMaterial(t.c.wood, wood));
   EXPECT_TRUE(ch.geometry);

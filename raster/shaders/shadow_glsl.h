@@ -1,0 +1,308 @@
+// GLSL 4.50 sources of the sun's shadow volumes (raster/sun_shadows.h), as C++ raw strings; the renderer
+// prepends "#version 450 core". Positions in metres, world frame; the sun's direction is the unit vector
+// towards it.
+//
+// Buffers (binding points of the shader storage blocks):
+//   0 positions      the scene's vertex positions, 3 floats each (rdb::RasterRdb::positionsM)
+//   1 casters        per caster triangle: its vertices (xyz) and flags (w: bit k set where its edge k, from
+//                    vertex k to vertex k + 1, runs from the edge's first to its second vertex; bits 3–4 its
+//                    shell's closure: 0 open, 1 closed facing out, 2 closed facing in), then its edges'
+//                    indices (xyz) and its shell (w: the triangles connected through shared edges)
+//   2 state          per caster: 0 undecided, 1 seen in a visibility map level (kept), 2 dropped
+//   3 edge counts    per undirected edge: the signed number of kept triangles, turned to face the sun, that
+//   run
+//                    along it from its first to its second vertex (+1) or back (−1)
+//   4 caps           the kept triangles' vertex indices: those facing the sun from the start, those turned
+//                    round (drawn with the other winding) from the end
+//   5 edge vertices  per edge: its first and second vertex (indices of positions)
+//   6 commands       the indirect draws and counters (SunShadows::Commands)
+//   7 sides          per extruded side triangle: its two finite vertices; the third is the sun's antipode at
+//                    infinity (−sunDir, w = 0)
+//   8 map levels     the visibility map levels' regions (kShadowCommon)
+//   9 shells kept    per shell: 1 when one of its triangles is kept
+#pragma once
+
+namespace fly::raster::shaders {
+
+inline constexpr const char* kShadowCommon = R"GLSL(
+layout(std430, binding = 0) readonly buffer Positions { float positionsM[]; };
+vec3 flyPosition(uint v) { return vec3(positionsM[3u * v], positionsM[3u * v + 1u], positionsM[3u * v + 2u]); }
+struct Caster {
+  uvec4 vertices;  // w: flags
+  uvec4 edges;
+};
+layout(std430, binding = 1) readonly buffer Casters { Caster casters[]; };
+// SunShadows::Commands: facing caps (DrawElementsIndirect) 0–4, turned caps 5–9, sides (DrawArraysIndirect)
+// 10–13, then the counters: triangles seen in the visibility maps, silhouette edges.
+layout(std430, binding = 6) coherent buffer Commands { uint commands[]; };
+
+// The visibility map's levels: level 0 covers the casters' bounds (uSunClipFromWorld); level k + 1 the square
+// around the triangles level k left undecided, at the same number of texels. Per level its region of level 0's
+// image plane, in level 0's texels × 256 (integers, for atomicMin and atomicMax): min x, min y, max x, max y;
+// empty (min > max) when level k left nothing undecided.
+layout(std430, binding = 8) coherent buffer MapLevels { ivec4 levelRegions[]; };
+uniform mat4 uSunClipFromWorld;  // level 0: world → the orthographic view from the sun
+uniform int uMapTexels;          // texels per side of every level
+uniform int uLevel;
+
+// Level uLevel's square: xy its corner and z its side, in level 0's texels; false when the level is empty.
+bool flyLevelRegion(out vec3 region) {
+  ivec4 r = levelRegions[uLevel];
+  if (r.x > r.z || r.y > r.w) return false;
+  vec2 lo = vec2(r.xy) / 256.0, hi = vec2(r.zw) / 256.0;
+  float side = uLevel == 0 ? hi.x - lo.x : max(hi.x - lo.x, hi.y - lo.y) * (1.0 + 8.0 / float(uMapTexels)) + 1.0 / 64.0;
+  region = vec3(0.5 * (lo + hi) - 0.5 * side, side);
+  return true;
+}
+// p in level 0: xy in texels, z the depth from the sun in [0, 1].
+vec3 flyBaseWindow(vec3 p) {
+  vec3 c = (uSunClipFromWorld * vec4(p, 1.0)).xyz;  // orthographic: w = 1
+  return vec3((c.xy * 0.5 + 0.5) * float(uMapTexels), c.z * 0.5 + 0.5);
+}
+// The same point in the level of `region`: xy in its texels.
+vec3 flyLevelWindow(vec3 base, vec3 region) {
+  return vec3((base.xy - region.xy) / region.z * float(uMapTexels), base.z);
+}
+)GLSL";
+
+// A visibility map level: every caster triangle drawn orthographically from the sun with its index as its
+// value (R32UI; 0xffffffff where none). Vertices are pulled by gl_VertexID: 3 per caster.
+inline constexpr const char* kShadowVisibilityVertex = R"GLSL(
+flat out uint vCaster;
+void main() {
+  vCaster = uint(gl_VertexID) / 3u;
+  vec3 region;
+  if (!flyLevelRegion(region)) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the view: an empty level draws nothing
+    return;
+  }
+  vec3 w = flyLevelWindow(flyBaseWindow(flyPosition(casters[vCaster].vertices[uint(gl_VertexID) % 3u])), region);
+  gl_Position = vec4(w.xy / float(uMapTexels) * 2.0 - 1.0, w.z * 2.0 - 1.0, 1.0);
+}
+)GLSL";
+
+inline constexpr const char* kShadowVisibilityFragment = R"GLSL(
+flat in uint vCaster;
+layout(location = 0) out uint oCaster;
+void main() { oCaster = vCaster; }
+)GLSL";
+
+// Marks the casters a level shows as seen (kept), one invocation per texel. State per caster: 0 undecided,
+// 1 seen (kept), 2 dropped (it cannot be seen, or is certain to be hidden, or is significant and unseen).
+inline constexpr const char* kShadowMarkCompute = R"GLSL(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, r32ui) uniform readonly uimage2D uVisibility;
+layout(std430, binding = 2) buffer State { uint state[]; };
+void main() {
+  vec3 region;
+  if (!flyLevelRegion(region)) return;
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (p.x >= uMapTexels || p.y >= uMapTexels) return;
+  uint id = imageLoad(uVisibility, p).x;
+  if (id != 0xffffffffu) state[id] = 1u;
+}
+)GLSL";
+
+// One invocation per undecided caster after a level's map (raster/sun_shadows.h): one facing the way a closed
+// mesh hides is dropped; one whose projected inradius reaches t/√2 (t this level's texel) is significant and
+// would have been seen, so it is dropped; one wholly behind what the map shows over its footprint is dropped;
+// the rest stay undecided and widen the next level's region (after the last level they are kept).
+inline constexpr const char* kShadowClassifyCompute = R"GLSL(
+layout(local_size_x = 64) in;
+layout(binding = 0) uniform usampler2D uVisibilityIds;  // the level: caster index, 0xffffffff for none
+layout(binding = 1) uniform sampler2D uVisibilityDepth;  // its depth, [0, 1] from the sun
+uniform uint uCasterCount;
+uniform vec3 uSunDirWorld;  // unit, towards the sun
+uniform vec3 uSunXWorld;    // the sun's image plane: unit, perpendicular to uSunDirWorld and each other
+uniform vec3 uSunYWorld;
+uniform float uBaseTexelM;  // level 0's texel side t₀, metres
+uniform int uLevels;
+layout(std430, binding = 2) buffer State { uint state[]; };
+
+// Whether the triangle lies wholly behind surfaces the level shows over all of its footprint: between four
+// neighbouring texel centres that all show one triangle, that triangle covers the square they span (it is
+// convex) at depths no farther than the largest of the four (it is planar); a triangle whose footprint those
+// squares cover, and whose nearest vertex is farther from the sun than each square's farthest corner, is
+// hidden. Footprints over more than 4 × 4 squares are not tested.
+bool flyHiddenBehindMap(vec3 w0, vec3 w1, vec3 w2) {
+  vec2 lo = min(w0.xy, min(w1.xy, w2.xy)), hi = max(w0.xy, max(w1.xy, w2.xy));
+  float nearest = min(w0.z, min(w1.z, w2.z));
+  ivec2 a = ivec2(floor(lo - 0.5)), b = ivec2(floor(hi - 0.5));  // squares from centre a to centre b + 1
+  if (a.x < 0 || a.y < 0 || b.x + 1 >= uMapTexels || b.y + 1 >= uMapTexels) return false;
+  if (b.x - a.x > 3 || b.y - a.y > 3) return false;
+  for (int y = a.y; y <= b.y; ++y) {
+    for (int x = a.x; x <= b.x; ++x) {
+      uint id = texelFetch(uVisibilityIds, ivec2(x, y), 0).x;
+      if (id == 0xffffffffu) return false;
+      float farthest = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        ivec2 c = ivec2(x + (k & 1), y + (k >> 1));
+        if (texelFetch(uVisibilityIds, c, 0).x != id) return false;
+        farthest = max(farthest, texelFetch(uVisibilityDepth, c, 0).x);
+      }
+      if (!(nearest > farthest + 1e-6)) return false;
+    }
+  }
+  return true;
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= uCasterCount || state[i] != 0u) return;
+  vec3 region;
+  if (!flyLevelRegion(region)) return;
+  Caster c = casters[i];
+  vec3 p0 = flyPosition(c.vertices.x), p1 = flyPosition(c.vertices.y), p2 = flyPosition(c.vertices.z);
+  vec3 e1 = p1 - p0, e2 = p2 - p0;
+  float area2 = dot(cross(e1, e2), uSunDirWorld);  // twice the signed area of its projection
+  uint closure = (c.vertices.w >> 3u) & 3u;
+  if (area2 == 0.0 || !(closure == 0u || (closure == 1u) == (area2 > 0.0))) {
+    state[i] = 2u;
+    return;
+  }
+  vec2 a = vec2(dot(e1, uSunXWorld), dot(e1, uSunYWorld));
+  vec2 b = vec2(dot(e2, uSunXWorld), dot(e2, uSunYWorld));
+  float perimeter = length(a) + length(b) + length(b - a);
+  float texelM = uBaseTexelM * region.z / float(uMapTexels);
+  // inradius = 2 · area / perimeter, against t/√2 widened by 0.1 % (rounding must not drop a triangle on the
+  // boundary: keeping more is always safe)
+  if (!(abs(area2) < texelM * 0.70710678 * 1.001 * perimeter)) {
+    state[i] = 2u;
+    return;
+  }
+  vec3 b0 = flyBaseWindow(p0), b1 = flyBaseWindow(p1), b2 = flyBaseWindow(p2);
+  if (flyHiddenBehindMap(flyLevelWindow(b0, region), flyLevelWindow(b1, region), flyLevelWindow(b2, region))) {
+    state[i] = 2u;
+    return;
+  }
+  if (uLevel + 1 < uLevels) {
+    vec2 lo = min(b0.xy, min(b1.xy, b2.xy)) * 256.0, hi = max(b0.xy, max(b1.xy, b2.xy)) * 256.0;
+    atomicMin(levelRegions[uLevel + 1].x, int(floor(lo.x)));
+    atomicMin(levelRegions[uLevel + 1].y, int(floor(lo.y)));
+    atomicMax(levelRegions[uLevel + 1].z, int(ceil(hi.x)));
+    atomicMax(levelRegions[uLevel + 1].w, int(ceil(hi.y)));
+  }
+}
+)GLSL";
+
+// One invocation per caster: marks the shells that have a kept triangle (seen, or undecided after the last
+// level).
+inline constexpr const char* kShadowShellsCompute = R"GLSL(
+layout(local_size_x = 64) in;
+uniform uint uCasterCount;
+layout(std430, binding = 2) readonly buffer State { uint state[]; };
+layout(std430, binding = 9) writeonly buffer ShellKept { uint shellKept[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i < uCasterCount && state[i] != 2u) shellKept[casters[i].edges.w] = 1u;
+}
+)GLSL";
+
+// One invocation per caster: the kept ones (seen, or undecided after the last level, or of a closed shell
+// with a kept triangle and facing the way the sun can see it; or, without pruning, facing the sun) are turned
+// to face the sun, add their edges' signed uses and are appended to the caps.
+inline constexpr const char* kShadowKeepCompute = R"GLSL(
+layout(local_size_x = 64) in;
+uniform uint uCasterCount;
+uniform uint uCapCapacity;  // indices in the caps buffer: 3 × casters
+uniform vec3 uSunDirWorld;  // unit, towards the sun
+uniform int uPrune;         // 1: visibility map; 0: every sun-facing triangle (the classic method)
+layout(std430, binding = 2) readonly buffer State { uint state[]; };
+layout(std430, binding = 3) buffer EdgeCounts { int edgeCount[]; };
+layout(std430, binding = 4) writeonly buffer Caps { uint capIndices[]; };
+layout(std430, binding = 9) readonly buffer ShellKept { uint shellKept[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= uCasterCount) return;
+  Caster c = casters[i];
+  vec3 p0 = flyPosition(c.vertices.x);
+  float area2 = dot(cross(flyPosition(c.vertices.y) - p0, flyPosition(c.vertices.z) - p0), uSunDirWorld);
+  if (area2 == 0.0) return;  // edge-on: its shadow prism has no volume
+  bool facing = area2 > 0.0;
+  if (uPrune != 0) {
+    uint s = state[i];
+    // A closed shell that casts at all casts with every triangle that faces the way the sun can see it: its
+    // silhouette is then the shell's terminator, not the edge of what the map happened to show.
+    uint closure = (c.vertices.w >> 3u) & 3u;
+    bool seeable = closure == 0u || (closure == 1u) == facing;
+    // One facing the way its closed shell hides it shows in the map only where it meets a seeable one at the
+    // shell's rim or on a coplanar face (a tie of depths): the sun never sees more of it than that edge.
+    if (!seeable) return;
+    bool wholeShell = closure != 0u && shellKept[c.edges.w] != 0u;
+    if (s == 2u && !wholeShell) return;
+    if (s == 1u) atomicAdd(commands[14], 1u);
+  } else if (!facing) {
+    return;
+  }
+  int turn = facing ? 1 : -1;
+  for (uint k = 0u; k < 3u; ++k) {
+    int along = ((c.vertices.w >> k) & 1u) != 0u ? 1 : -1;
+    atomicAdd(edgeCount[c.edges[k]], along * turn);
+  }
+  uint at;
+  if (facing) {
+    at = atomicAdd(commands[0], 3u);
+  } else {
+    at = uCapCapacity - 3u - atomicAdd(commands[5], 3u);
+  }
+  capIndices[at] = c.vertices.x;
+  capIndices[at + 1u] = c.vertices.y;
+  capIndices[at + 2u] = c.vertices.z;
+}
+)GLSL";
+
+// One invocation per edge: an edge with a non-zero count is a silhouette edge, extruded |count| times away
+// from the sun as the triangle (its two vertices, the point at infinity), wound so that it faces out of the
+// volume: for a kept triangle turned to face the sun, its edge a → b gives (b, a, ∞).
+inline constexpr const char* kShadowEdgesCompute = R"GLSL(
+layout(local_size_x = 64) in;
+uniform uint uEdgeCount;
+uniform uint uCapCapacity;
+layout(std430, binding = 3) readonly buffer EdgeCounts { int edgeCount[]; };
+layout(std430, binding = 5) readonly buffer EdgeVertices { uvec2 edgeVertices[]; };
+layout(std430, binding = 7) writeonly buffer Sides { uvec2 sides[]; };
+void main() {
+  uint e = gl_GlobalInvocationID.x;
+  if (e == 0u) commands[7] = uCapCapacity - commands[5];  // the turned caps' first index
+  if (e >= uEdgeCount) return;
+  int count = edgeCount[e];
+  if (count == 0) return;
+  uint n = uint(abs(count));
+  atomicAdd(commands[15], 1u);
+  uint at = atomicAdd(commands[10], 3u * n) / 3u;
+  uvec2 v = edgeVertices[e];
+  uvec2 side = count > 0 ? v.yx : v.xy;
+  for (uint j = 0u; j < n; ++j) sides[at + j] = side;
+}
+)GLSL";
+
+// The front caps: the kept triangles with the scene's own vertex attribute and the scene vertex stages'
+// expression, both invariant, so that a cap lies at exactly the depth of the surface it is part of (the
+// z-fail test counts equal depth as behind: a lit surface does not shadow itself).
+inline constexpr const char* kShadowCapVertex = R"GLSL(
+layout(location = 0) in vec3 aPositionM;
+uniform mat4 uClipFromWorld;
+invariant gl_Position;
+void main() { gl_Position = uClipFromWorld * vec4(aPositionM, 1.0); }
+)GLSL";
+
+// The extruded sides: vertex 0 and 1 from the sides buffer, vertex 2 at infinity away from the sun.
+inline constexpr const char* kShadowSideVertex = R"GLSL(
+layout(std430, binding = 7) readonly buffer Sides { uvec2 sides[]; };
+uniform mat4 uClipFromWorld;
+uniform vec3 uSunDirWorld;
+void main() {
+  uint t = uint(gl_VertexID) / 3u;
+  uint k = uint(gl_VertexID) % 3u;
+  uvec2 s = sides[t];
+  gl_Position = k == 2u ? uClipFromWorld * vec4(-uSunDirWorld, 0.0)
+                        : uClipFromWorld * vec4(flyPosition(k == 0u ? s.x : s.y), 1.0);
+}
+)GLSL";
+
+// The volumes write only stencil.
+inline constexpr const char* kShadowVolumeFragment = R"GLSL(
+void main() {}
+)GLSL";
+
+}  // namespace fly::raster::shaders
