@@ -71,8 +71,8 @@ void writeBakedScene(const std::filesystem::path& dir, const rdb::TraceRdb& rdb,
                      const raytracer::VertexLightMaps& maps, const BakeDescription& description);
 
 // convergence.csv's text: the header and one row per point, numbers in the shortest form that reads back
-// exactly.
-std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history);
+// exactly; with sunDirect, a last column sun_direct_estimated_error.
+std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history, bool sunDirect);
 
 // Throws UsageError when `dir` exists and is not a baked scene (a file, or a directory of something else):
 // a bake replaces only an earlier bake.
