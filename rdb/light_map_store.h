@@ -20,14 +20,14 @@ struct MeshLightTexture {
   // Irradiance, lux per channel, per texel, row-major from row 0: width·height values. backLux (the side of
   // −normal) only for a two-sided mesh, else empty.
   std::vector<Rgb> frontLux, backLux;
-  // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), the same
-  // size; empty when the bake kept none apart.
-  std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
   // The light-map UV of every triangle corner: 3 per triangle of the SDB mesh that has area, in the SDB
   // mesh's triangle order. Triangles of zero area (TraceRdb's and RasterRdb's rule: |e1 × e2| ≤
   // 10⁻⁷·|e1|·|e2| in world space) have no corners here, as in TraceMesh and RasterRdb. The corners of one
   // vertex differ where the atlas's charts meet (seams).
   std::vector<vec2> cornerUv;
+  // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), the same
+  // size; empty when the bake kept none apart.
+  std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
 };
 
 // The baked irradiance of one placed mesh: SDB node `sdbNodeId` holding SDB mesh `sdbMeshId`.
@@ -37,11 +37,11 @@ struct MeshLightMap {
   // surface, per vertex of the SDB mesh, in the SDB mesh's vertex order. backLux is empty for a one-sided
   // mesh.
   std::vector<Rgb> frontLux, backLux;
+  // The light texture, for a mesh baked with one; the engine draws it instead of the vertex values.
+  std::optional<MeshLightTexture> lightTexture;
   // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), per vertex as
   // they are; empty when the bake kept none apart.
   std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
-  // The light texture, for a mesh baked with one; the engine draws it instead of the vertex values.
-  std::optional<MeshLightTexture> lightTexture;
 };
 
 // The sun of a bake that kept its direct light apart (FLY §3's sunlight mode: baked light without the sun's
