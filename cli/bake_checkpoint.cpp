@@ -243,7 +243,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);
     for (const nlohmann::json& row : j.at("history")) {
-      // The fifth entry, the sun-direct part's error, is missing in checkpoints of bakes that did not keep it.
+      // The fifth entry, the sun-direct part's error, is missing in checkpoints of bakes that did not keep
+      // it.
       if (!row.is_array() || (row.size() != 4 && row.size() != 5)) {
         throw bad(
             "a history row is not [seconds, samples, relative error, rays per second, sun-direct relative "

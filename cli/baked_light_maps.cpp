@@ -249,7 +249,8 @@ rdb::BakedSun readBakedSun(const json& entry, const fs::path& manifestPath) {
     vec3 r(0.0f);
     if (ok) {
       r = vec3((*v)[0].get<float>(), (*v)[1].get<float>(), (*v)[2].get<float>());
-      ok = isFinite(r) && (unit ? std::abs(glm::length(r) - 1.0f) < 1e-3f : glm::all(glm::greaterThanEqual(r, vec3(0.0f))));
+      ok = isFinite(r) &&
+           (unit ? std::abs(glm::length(r) - 1.0f) < 1e-3f : glm::all(glm::greaterThanEqual(r, vec3(0.0f))));
     }
     if (!ok) {
       throw InputError({manifestPath.string(), 0, 0, std::string("/sun_direct/") + key},
@@ -274,7 +275,8 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
   }
   const bool sun = maps.hasSunDirect();
   if (sun && (maps.frontSunDirectLux.size() != n || maps.backSunDirectLux.size() != n)) {
-    throw std::invalid_argument("lightMapStoreFromBake: the sun-direct maps do not have one value per vertex");
+    throw std::invalid_argument(
+        "lightMapStoreFromBake: the sun-direct maps do not have one value per vertex");
   }
   rdb::LightMapStore store;
   if (sun) store.sun = rdb::BakedSun{rdb.sun.directionWorld, rdb.sun.normalIlluminanceLux};
@@ -377,8 +379,8 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
                                      : (sunPart ? ", but manifest.json gives the bake a sun_direct" : "")),
                            kHintRebake);
         }
-        std::vector<Rgb>& into =
-            sunPart ? (back ? map.backSunDirectLux : map.frontSunDirectLux) : (back ? map.backLux : map.frontLux);
+        std::vector<Rgb>& into = sunPart ? (back ? map.backSunDirectLux : map.frontSunDirectLux)
+                                         : (back ? map.backLux : map.frontLux);
         into = readIrradiance(model, attribute->second, vertices, bakedDir,
                               "mesh " + std::to_string(meshIndex) + "'s " + name);
       }

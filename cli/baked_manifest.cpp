@@ -196,7 +196,8 @@ std::string bakedSunlightText(const json& m) {
   const std::string time = bakedSunTime(m);
   if (time.empty()) {
     return "note: this bake keeps no separate sun-direct light (baked without a sun, or by a fly before it "
-           "was kept apart): sunlight mode shows the baked light as light-map mode does, under the bake's sun; "
+           "was kept apart): sunlight mode shows the baked light as light-map mode does, under the bake's "
+           "sun; "
            "bake again to move the sun";
   }
   const json& sun = m.at("sun_direct");

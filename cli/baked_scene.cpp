@@ -157,8 +157,8 @@ std::vector<vec3> gather(std::span<const vec3> values, const SeamSplit* split) {
 // (_sun: the sun-direct part).
 std::string lightTextureFile(size_t object, bool back, bool stdError, const char* extension = ".exr",
                              bool sunDirect = false) {
-  return "lightmaps/object" + std::to_string(object) + (back ? "_back" : "_front") + (sunDirect ? "_sun" : "") +
-         (stdError ? "_stderr" : "") + extension;
+  return "lightmaps/object" + std::to_string(object) + (back ? "_back" : "_front") +
+         (sunDirect ? "_sun" : "") + (stdError ? "_stderr" : "") + extension;
 }
 
 json lightTextureFilesJson(size_t object, bool twoSided, bool sunDirect) {
@@ -507,30 +507,30 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
     const rdb::TraceLightTexture& lt = rdb.lightTextures[k];
     fs::create_directories(dir / "lightmaps");
     for (const bool sun : {false, true}) {
-    if (sun && tex.frontSunDirectLux.empty()) continue;
-    for (const bool back : {false, true}) {
-      if (back && tex.backLux.empty()) continue;
-      for (const bool stdError : {false, true}) {
-        const std::vector<Rgb>& values =
-            sun ? (back ? (stdError ? tex.backSunDirectStdErrorLux : tex.backSunDirectLux)
-                        : (stdError ? tex.frontSunDirectStdErrorLux : tex.frontSunDirectLux))
-                : (back ? (stdError ? tex.backStdErrorLux : tex.backLux)
-                        : (stdError ? tex.frontStdErrorLux : tex.frontLux));
-        ImageRgbF image{int(tex.width), int(tex.height), {}};
-        for (const Rgb& v : values) image.rgb.insert(image.rgb.end(), {v.r, v.g, v.b});
-        const std::string file = lightTextureFile(lt.mesh, back, stdError, ".exr", sun);
-        const std::string quantity = std::string(stdError ? "standard error of " : "") +
-                                     (sun ? "irradiance straight from the sun's disc" : "irradiance");
-        writeExr(dir / file, image,
-                 {{"units", "lux"},
-                  {"fly:quantity", quantity},
-                  {"fly:side", back ? "back" : "front"},
-                  {"fly:object", std::to_string(lt.mesh)},
-                  {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
-                  {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
-        files.push_back(file);
+      if (sun && tex.frontSunDirectLux.empty()) continue;
+      for (const bool back : {false, true}) {
+        if (back && tex.backLux.empty()) continue;
+        for (const bool stdError : {false, true}) {
+          const std::vector<Rgb>& values =
+              sun ? (back ? (stdError ? tex.backSunDirectStdErrorLux : tex.backSunDirectLux)
+                          : (stdError ? tex.frontSunDirectStdErrorLux : tex.frontSunDirectLux))
+                  : (back ? (stdError ? tex.backStdErrorLux : tex.backLux)
+                          : (stdError ? tex.frontStdErrorLux : tex.frontLux));
+          ImageRgbF image{int(tex.width), int(tex.height), {}};
+          for (const Rgb& v : values) image.rgb.insert(image.rgb.end(), {v.r, v.g, v.b});
+          const std::string file = lightTextureFile(lt.mesh, back, stdError, ".exr", sun);
+          const std::string quantity = std::string(stdError ? "standard error of " : "") +
+                                       (sun ? "irradiance straight from the sun's disc" : "irradiance");
+          writeExr(dir / file, image,
+                   {{"units", "lux"},
+                    {"fly:quantity", quantity},
+                    {"fly:side", back ? "back" : "front"},
+                    {"fly:object", std::to_string(lt.mesh)},
+                    {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
+                    {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
+          files.push_back(file);
+        }
       }
-    }
     }
   }
   if (d.exportGltf) {
@@ -597,14 +597,15 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
     const Rgb& en = rdb.sun.normalIlluminanceLux;
     const double elevationDeg = radToDeg(std::asin(std::clamp(double(dir.y), -1.0, 1.0)));
     const json& site = d.daylight.is_object() ? d.daylight.value("site", json()) : json();
-    sunDirect = {{"direction_world", {dir.x, dir.y, dir.z}},
-                 {"elevation_deg", elevationDeg},
-                 {"normal_illuminance_lux", {en.r, en.g, en.b}},
-                 {"normal_illuminance_luminance_lux", luminance(en)},
-                 {"time", d.daylight.is_object() ? d.daylight.value("time", json()) : json()},
-                 {"time_zone", site.is_object() ? site.value("time_zone", json()) : json()},
-                 {"sun_direction", d.daylight.is_object() ? d.daylight.value("sun_direction", json()) : json()},
-                 {"relative_error_p95", maps.history.empty() ? 0.0f : maps.history.back().sunDirectRelativeErrorP95}};
+    sunDirect = {
+        {"direction_world", {dir.x, dir.y, dir.z}},
+        {"elevation_deg", elevationDeg},
+        {"normal_illuminance_lux", {en.r, en.g, en.b}},
+        {"normal_illuminance_luminance_lux", luminance(en)},
+        {"time", d.daylight.is_object() ? d.daylight.value("time", json()) : json()},
+        {"time_zone", site.is_object() ? site.value("time_zone", json()) : json()},
+        {"sun_direction", d.daylight.is_object() ? d.daylight.value("sun_direction", json()) : json()},
+        {"relative_error_p95", maps.history.empty() ? 0.0f : maps.history.back().sunDirectRelativeErrorP95}};
   }
   const json manifest = {
       {"format", kBakedSceneFormat},

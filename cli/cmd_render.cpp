@@ -1,10 +1,9 @@
 // `fly render`: one view of a scene or a baked scene through the OpenGL engine, headless (EGL), into a PNG
 // (tone-mapped sRGB) or an EXR (luminance in cd/m²).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <vector>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -12,16 +11,17 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "base/error.h"
 #include "base/image_io.h"
 #include "base/tone_map.h"
+#include "cli/bake_options.h"
 #include "cli/baked_light_maps.h"
 #include "cli/baked_scene.h"
-#include "cli/bake_options.h"
-#include "cli/scene_daylight.h"
 #include "cli/command.h"
 #include "cli/raster_scene.h"
+#include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
 #include "raster/renderer.h"
 #include "rdb/raster_rdb.h"
@@ -64,7 +64,7 @@ struct TimeLapse {
 std::vector<std::string> timeLapseParts(const std::string& text) {
   std::vector<std::string> parts;
   size_t begin = 0;
-  for (size_t comma = text.find(','); ; comma = text.find(',', begin)) {
+  for (size_t comma = text.find(',');; comma = text.find(',', begin)) {
     parts.push_back(text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
     if (comma == std::string::npos) break;
     begin = comma + 1;
@@ -182,7 +182,8 @@ int runRender(const RenderOptions& options) {
     renderer.render(view, *mode, width, height);
     const std::vector<float> rgb = renderer.luminanceRgb();
     for (float v : rgb) {
-      if (!std::isfinite(v)) throw std::runtime_error("internal error: the render has a non-finite luminance");
+      if (!std::isfinite(v))
+        throw std::runtime_error("internal error: the render has a non-finite luminance");
     }
     if (ext == ".exr") {
       ImageRgbF image{int(width), int(height), rgb};

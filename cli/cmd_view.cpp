@@ -157,8 +157,9 @@ int runView(const ViewOptions& o) {
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
             << "\nlight     " << scene.light
-            << (scene.bakedSunlight.empty() ? "" : "\nbaked     " + scene.bakedSunlight) << "\nOpenGL    " << window->info().major << "." << window->info().minor << " core, "
-            << window->info().renderer << " (" << window->info().platform << ")\n"
+            << (scene.bakedSunlight.empty() ? "" : "\nbaked     " + scene.bakedSunlight) << "\nOpenGL    "
+            << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
+            << " (" << window->info().platform << ")\n"
             << std::flush;
   SceneHost host(scene, rdb);
   const raster::ViewerResult r = raster::runViewer(*window, rdb, host, v);

@@ -7,7 +7,10 @@
 //              on two-sided meshes); meshes with a light texture: albedo · E / π per fragment from its texels
 //              (bilinear); meshes without a light map are shaded as in simple mode
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
-//              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
+//              otherwise the modified Phong with the sun as a directional light and the daylight ambient term.
+//              Over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect):
+//              albedo · (E − E_sunDirect) / π plus the sun's direct term (Lambert and Phong lobe, normal maps)
+//              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md)
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per

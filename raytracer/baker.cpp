@@ -257,10 +257,14 @@ size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source,
     bool back;
   };
   std::vector<Map> all;
-  for (auto [values, back] :
-       {std::pair{&maps.frontLux, false}, {&maps.frontStdErrorLux, false}, {&maps.backLux, true},
-        {&maps.backStdErrorLux, true}, {&maps.frontSunDirectLux, false}, {&maps.frontSunDirectStdErrorLux, false},
-        {&maps.backSunDirectLux, true}, {&maps.backSunDirectStdErrorLux, true}}) {
+  for (auto [values, back] : {std::pair{&maps.frontLux, false},
+                              {&maps.frontStdErrorLux, false},
+                              {&maps.backLux, true},
+                              {&maps.backStdErrorLux, true},
+                              {&maps.frontSunDirectLux, false},
+                              {&maps.frontSunDirectStdErrorLux, false},
+                              {&maps.backSunDirectLux, true},
+                              {&maps.backSunDirectStdErrorLux, true}}) {
     if (!values->empty()) all.push_back({values, back});
   }
   std::vector<std::vector<Rgb>> sums(all.size());
@@ -373,8 +377,8 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
   maps.frontSamples.assign(vertexCount, 0);
   const bool sun = source.keepsSunDirect();
   if (sun) {
-    for (std::vector<Rgb>* m : {&maps.frontSunDirectLux, &maps.frontSunDirectStdErrorLux, &maps.backSunDirectLux,
-                                &maps.backSunDirectStdErrorLux}) {
+    for (std::vector<Rgb>* m : {&maps.frontSunDirectLux, &maps.frontSunDirectStdErrorLux,
+                                &maps.backSunDirectLux, &maps.backSunDirectStdErrorLux}) {
       m->assign(vertexCount, Rgb(0.0f));
     }
   }

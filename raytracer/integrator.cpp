@@ -809,8 +809,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
 
     if (deltaLightSampling) {
       // At the sensor (depth 0, β = 1) the sun's sample is the sun-direct part.
-      sum += beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays,
-                                depth == 0 ? sunDirectLux : nullptr);
+      sum += beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler,
+                                rays, depth == 0 ? sunDirectLux : nullptr);
     }
 
     // The continuation.

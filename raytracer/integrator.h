@@ -178,8 +178,8 @@ class Integrator {
   // the sky, lights, emitters and all reflected light, the sun's included (FLY §3's sunlight mode bakes that
   // and draws the sun's direct term in real time). 0 without a sun.
   template <class S>
-  Rgb sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays, float surfaceMagnitudeM = 0.0f,
-                       Rgb* sunDirectLux = nullptr) const;
+  Rgb sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
+                       float surfaceMagnitudeM = 0.0f, Rgb* sunDirectLux = nullptr) const;
 
   // Whether the scene has a sun that lights it (sunLights): only then has sampleIrradiance a sun-direct part.
   bool hasSun() const { return sunOneMinusCos_ > 0.0f; }

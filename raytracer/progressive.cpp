@@ -301,12 +301,11 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
   } else if (state.pointCount != pointCount || state.replicates != replicates || state.channels != channels ||
              state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount ||
              state.settledSamples.size() > source.groupCount()) {
-    throw std::invalid_argument("estimateProgressively: the state to continue has " +
-                                std::to_string(state.pointCount) + " points, " +
-                                std::to_string(state.replicates) + " replicates and " +
-                                std::to_string(state.channels) + " channels, the estimate " +
-                                std::to_string(pointCount) + ", " + std::to_string(replicates) + " and " +
-                                std::to_string(channels));
+    throw std::invalid_argument(
+        "estimateProgressively: the state to continue has " + std::to_string(state.pointCount) + " points, " +
+        std::to_string(state.replicates) + " replicates and " + std::to_string(state.channels) +
+        " channels, the estimate " + std::to_string(pointCount) + ", " + std::to_string(replicates) +
+        " and " + std::to_string(channels));
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -477,7 +476,7 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
     return InputError(SourceLocation{fileName}, "not a usable checkpoint: " + what,
                       "the checkpoint is damaged or from another version of fly; start the bake afresh");
   };
-  auto tagged = [&](const char (&tag)[8]) {
+  auto tagged = [&](const char(&tag)[8]) {
     return bytes.size() >= sizeof tag && bytes.compare(0, sizeof tag, tag, sizeof tag) == 0;
   };
   const bool version2 = tagged(kStateTagV2);

@@ -118,8 +118,8 @@ class SampleSource {
 };
 
 // A SampleSource whose two overloads are one template: Derived provides
-// `template <class S> PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const` (or returning Rgb;
-// public, or with this class as a friend), so both samplers compute the same function by construction.
+// `template <class S> PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const` (or returning
+// Rgb; public, or with this class as a friend), so both samplers compute the same function by construction.
 template <class Derived>
 class SampleSourceOf : public SampleSource {
  public:
@@ -189,8 +189,8 @@ struct Checkpointing {
 };
 
 // As above, continuing from `state` when state.started() (std::invalid_argument when its point count,
-// replicates or channels do not match), and leaving in it the state at the end. The result's seconds and rays include
-// those of earlier runs.
+// replicates or channels do not match), and leaving in it the state at the end. The result's seconds and rays
+// include those of earlier runs.
 EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
                                      const PassCallback& afterPass, ProgressState& state,
                                      const Checkpointing& checkpointing = {});

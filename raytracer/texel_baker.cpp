@@ -417,9 +417,12 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
     tex.height = lt.height;
     const bool twoSided = rdb_.meshes[lt.mesh].twoSided;
     const bool sun = keepsSunDirect();
-    for (auto [values, wanted] : {std::pair{&tex.frontLux, true}, {&tex.frontStdErrorLux, true},
-                                  {&tex.backLux, twoSided}, {&tex.backStdErrorLux, twoSided},
-                                  {&tex.frontSunDirectLux, sun}, {&tex.frontSunDirectStdErrorLux, sun},
+    for (auto [values, wanted] : {std::pair{&tex.frontLux, true},
+                                  {&tex.frontStdErrorLux, true},
+                                  {&tex.backLux, twoSided},
+                                  {&tex.backStdErrorLux, twoSided},
+                                  {&tex.frontSunDirectLux, sun},
+                                  {&tex.frontSunDirectStdErrorLux, sun},
                                   {&tex.backSunDirectLux, sun && twoSided},
                                   {&tex.backSunDirectStdErrorLux, sun && twoSided}}) {
       if (wanted) values->assign(n, Rgb(0.0f));
@@ -496,7 +499,8 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
     }
     if (!seam.empty()) {
       // The same linear projection for E and its sun-direct part, so that E − E_sunDirect is projected alike.
-      for (std::vector<Rgb>* m : {&tex.frontLux, &tex.backLux, &tex.frontSunDirectLux, &tex.backSunDirectLux}) {
+      for (std::vector<Rgb>* m :
+           {&tex.frontLux, &tex.backLux, &tex.frontSunDirectLux, &tex.backSunDirectLux}) {
         if (!m->empty()) makeSeamsAgree(seam, *m);
       }
     }

@@ -48,7 +48,7 @@ struct MeshLightMap {
 // direct term, which the engine draws in real time for any sun).
 struct BakedSun {
   vec3 directionWorld{0.0f, 1.0f, 0.0f};  // unit, towards the sun
-  Rgb normalIlluminanceLux{0.0f};          // on a surface facing it
+  Rgb normalIlluminanceLux{0.0f};         // on a surface facing it
 };
 
 struct LightMapStore {

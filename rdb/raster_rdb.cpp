@@ -28,11 +28,11 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
          indices == o.indices && meshes == o.meshes && materials == o.materials &&
          boundsM.min == o.boundsM.min && boundsM.max == o.boundsM.max && frontLux == o.frontLux &&
          backLux == o.backLux && frontSunDirectLux == o.frontSunDirectLux &&
-         backSunDirectLux == o.backSunDirectLux && lightMapUv == o.lightMapUv && lightTextures == o.lightTextures &&
-         uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors && tangents == o.tangents &&
-         textures == o.textures && lights == o.lights && goniometricCd == o.goniometricCd &&
-         ambient == o.ambient && daylightAmbient == o.daylightAmbient && cameras == o.cameras &&
-         sameSky(sky, o.sky) && variants == o.variants;
+         backSunDirectLux == o.backSunDirectLux && lightMapUv == o.lightMapUv &&
+         lightTextures == o.lightTextures && uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors &&
+         tangents == o.tangents && textures == o.textures && lights == o.lights &&
+         goniometricCd == o.goniometricCd && ambient == o.ambient && daylightAmbient == o.daylightAmbient &&
+         cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants;
 }
 
 bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
@@ -448,7 +448,8 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
       // A two-sided mesh baked one-sided (no back values) shows its front values on both faces.
       const bool front = maps[i]->backLux.empty();
       place(rdb.backLux, front ? maps[i]->frontLux : maps[i]->backLux, i);
-      if (sunDirect) place(rdb.backSunDirectLux, front ? maps[i]->frontSunDirectLux : maps[i]->backSunDirectLux, i);
+      if (sunDirect)
+        place(rdb.backSunDirectLux, front ? maps[i]->frontSunDirectLux : maps[i]->backSunDirectLux, i);
     }
   }
   if (!rdb.lightTextures.empty()) {

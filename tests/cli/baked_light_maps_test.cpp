@@ -209,9 +209,10 @@ TEST_F(BakedLightMapsTest, ReadBackEqualsTheBakeExactly) {
       std::any_of(t.frontLux.begin(), t.frontLux.end(), [](const Rgb& e) { return luminance(e) > 0.0f; }));
 }
 
-// Under the sun the bake also stores the sun's direct part (vertex attributes _SUN_DIRECT_FRONT/_BACK, the light
-// textures' _sun EXR files) and the bake's sun in the manifest; it reads back exactly. A baked scene whose
-// manifest has no "sun_direct" (a bake by a fly that did not keep it apart) still loads, without those parts.
+// Under the sun the bake also stores the sun's direct part (vertex attributes _SUN_DIRECT_FRONT/_BACK, the
+// light textures' _sun EXR files) and the bake's sun in the manifest; it reads back exactly. A baked scene
+// whose manifest has no "sun_direct" (a bake by a fly that did not keep it apart) still loads, without those
+// parts.
 TEST_F(BakedLightMapsTest, SunDirectPartsReadBackAndOldBakesStillLoad) {
   const Baked b = bakeTinyScene(dir_, true);
   ASSERT_TRUE(b.maps.hasSunDirect());
@@ -228,13 +229,14 @@ TEST_F(BakedLightMapsTest, SunDirectPartsReadBackAndOldBakesStillLoad) {
   EXPECT_GT(luminance(floorSun), 0.5f * luminance(floorE));
   EXPECT_LE(luminance(floorSun), luminance(floorE) * (1 + 1e-6f));
   ASSERT_TRUE(read.meshes[2].lightTexture);
-  EXPECT_EQ(read.meshes[2].lightTexture->frontSunDirectLux.size(), read.meshes[2].lightTexture->frontLux.size());
+  EXPECT_EQ(read.meshes[2].lightTexture->frontSunDirectLux.size(),
+            read.meshes[2].lightTexture->frontLux.size());
   const json manifest = readJson(dir_ / "manifest.json");
   const json& sun = manifest["sun_direct"];
   ASSERT_TRUE(sun.is_object());
   EXPECT_NEAR(sun["elevation_deg"].get<double>(), radToDeg(std::asin(b.rdb.sun.directionWorld.y)), 1e-3);
-  EXPECT_NEAR(sun["normal_illuminance_luminance_lux"].get<double>(), luminance(b.rdb.sun.normalIlluminanceLux),
-              1e-2);
+  EXPECT_NEAR(sun["normal_illuminance_luminance_lux"].get<double>(),
+              luminance(b.rdb.sun.normalIlluminanceLux), 1e-2);
   EXPECT_EQ(sun["sun_direction"]["azimuth_deg"].get<double>(), 200.0);
   EXPECT_TRUE(manifest["objects"][0].contains("front_sun_direct"));
   EXPECT_TRUE(fs::exists(dir_ / "lightmaps/object2_front_sun.exr"));

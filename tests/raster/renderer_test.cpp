@@ -155,13 +155,13 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+lightmap"}));
 }
 
-// Sunlight mode over light maps that keep the sun's direct part apart (FLY §3): albedo · (E − E_sunDirect) / π
-// plus the sun's Lambert term for the current sun. A matte quad facing +Z (south: north is −Z) under a clear sky
-// with the sun placed at azimuth 180°; its light map holds E = E_other + E_sunDirect with E_sunDirect = E_n
-// cos θ, what a bake without occluders gives at that sun. At the bake's sun sunlight mode shows what light-map
-// mode shows; at another sun it differs by albedo/π · (E_n' cos θ' − E_n cos θ), the Lambert term's change.
-// Both per vertex (one draw) and per texel (a light texture). The sky behind the quad is left out of the
-// comparison (light-map mode draws black there).
+// Sunlight mode over light maps that keep the sun's direct part apart (FLY §3): albedo · (E − E_sunDirect) /
+// π plus the sun's Lambert term for the current sun. A matte quad facing +Z (south: north is −Z) under a
+// clear sky with the sun placed at azimuth 180°; its light map holds E = E_other + E_sunDirect with
+// E_sunDirect = E_n cos θ, what a bake without occluders gives at that sun. At the bake's sun sunlight mode
+// shows what light-map mode shows; at another sun it differs by albedo/π · (E_n' cos θ' − E_n cos θ), the
+// Lambert term's change. Both per vertex (one draw) and per texel (a light texture). The sky behind the quad
+// is left out of the comparison (light-map mode draws black there).
 TEST(Renderer, SunlightModeAddsTheRealTimeSunToTheLightMapWithoutItsDirectPart) {
   context();
   for (const bool texture : {false, true}) {
@@ -227,11 +227,12 @@ TEST(Renderer, SunlightModeAddsTheRealTimeSunToTheLightMapWithoutItsDirectPart) 
       ++compared;
       const float tolerance = 1e-4f * lightMap[i];
       const float expectedLater = lightMap[i] + change[int(i % 3)];
-      if (!(std::abs(atBake[i] - lightMap[i]) <= tolerance) || !(std::abs(later[i] - expectedLater) <= tolerance)) {
+      if (!(std::abs(atBake[i] - lightMap[i]) <= tolerance) ||
+          !(std::abs(later[i] - expectedLater) <= tolerance)) {
         if (++bad <= 5)
-          ADD_FAILURE() << (texture ? "light texture" : "vertex light map") << ", value " << i << ": light map "
-                        << lightMap[i] << ", sunlight at the bake's sun " << atBake[i] << ", at 60° " << later[i]
-                        << " (expected " << expectedLater << ")";
+          ADD_FAILURE() << (texture ? "light texture" : "vertex light map") << ", value " << i
+                        << ": light map " << lightMap[i] << ", sunlight at the bake's sun " << atBake[i]
+                        << ", at 60° " << later[i] << " (expected " << expectedLater << ")";
       }
     }
     EXPECT_EQ(compared, 64u * 32u * 3u / 4u);  // the quad covers a quarter of the view

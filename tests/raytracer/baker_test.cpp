@@ -195,17 +195,19 @@ TEST(Baker, SunDirectIsTheSunsShareAndTheRestIsEverythingElse) {
     const Rgb rest = maps.frontLux[v] - maps.frontSunDirectLux[v];
     const Rgb restElsewhere = other.frontLux[v] - exactSun[v];
     // The error of a difference is at most the sum of the errors (whatever their correlation).
-    const Rgb bound = maps.frontStdErrorLux[v] + maps.frontSunDirectStdErrorLux[v] + other.frontStdErrorLux[v];
+    const Rgb bound =
+        maps.frontStdErrorLux[v] + maps.frontSunDirectStdErrorLux[v] + other.frontStdErrorLux[v];
     for (int c = 0; c < 3; ++c) {
       EXPECT_LE(std::abs(rest[c] - restElsewhere[c]), 4.0f * bound[c] + 1e-5f * other.frontLux[v][c])
-          << "vertex " << v << " channel " << c << ": rest " << rest[c] << ", independent " << restElsewhere[c];
+          << "vertex " << v << " channel " << c << ": rest " << rest[c] << ", independent "
+          << restElsewhere[c];
       EXPECT_GE(rest[c], -1e-3f * maps.frontLux[v][c]) << "vertex " << v;
       if (bound[c] > 0.0f) worst = std::max(worst, double(std::abs(rest[c] - restElsewhere[c]) / bound[c]));
     }
     restSum += luminance(rest);
   }
-  std::cout << "[ baker    ] sun and rest: " << groundVertices << " ground vertices (" << shaded << " shaded, "
-            << partly << " on the shadow edge), mean rest " << restSum / groundVertices
+  std::cout << "[ baker    ] sun and rest: " << groundVertices << " ground vertices (" << shaded
+            << " shaded, " << partly << " on the shadow edge), mean rest " << restSum / groundVertices
             << " lx, worst |rest − independent| " << worst << " × the summed errors\n";
   EXPECT_GT(shaded, 5u);
   EXPECT_GT(partly, 5u);
@@ -435,12 +437,17 @@ TEST(Baker, DeterministicAcrossThreadCounts) {
   b.grid(vec3(-1, 0.5f, -1), vec3(2, 0, 0), vec3(0, 0, 2), 3, b.material(Rgb(0.7f)));  // a roof facing down
   b.uniformSky(Rgb(1.0f));
   b.pointLight(vec3(0.2f, 0.3f, 0.1f), Rgb(5.0f));
+  b.sun(vec3(0.5f, 0.6f, 0.2f), Rgb(100.0f));
   const VertexLightMaps one = bake(b.rdb, 64, 8, 1);
   const VertexLightMaps two = bake(b.rdb, 64, 8, 2);
   EXPECT_EQ(one.frontLux, two.frontLux);
   EXPECT_EQ(one.frontStdErrorLux, two.frontStdErrorLux);
   EXPECT_EQ(one.backLux, two.backLux);
   EXPECT_EQ(one.backStdErrorLux, two.backStdErrorLux);
+  ASSERT_TRUE(one.hasSunDirect());
+  EXPECT_EQ(one.frontSunDirectLux, two.frontSunDirectLux);
+  EXPECT_EQ(one.frontSunDirectStdErrorLux, two.frontSunDirectStdErrorLux);
+  EXPECT_EQ(one.backSunDirectLux, two.backSunDirectLux);
   EXPECT_EQ(one.rays, two.rays);
 }
 

@@ -291,7 +291,7 @@ class SunSource final : public SampleSourceOf<SunSource> {
     sampler.startGroup(0);
     const vec2 u = sampler.next2D();
     const float sun = 2.0f * float(point) * u.x * u.x * 1.5f;  // ∫ = point
-    return {Rgb(sun + u.y), Rgb(sun)};                          // ∫ = point + 1/2
+    return {Rgb(sun + u.y), Rgb(sun)};                         // ∫ = point + 1/2
   }
 };
 
@@ -426,7 +426,8 @@ TEST(BakeCheckpointTest, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
   for (auto part : {&VertexLightMaps::frontSunDirectLux, &VertexLightMaps::frontSunDirectStdErrorLux,
                     &VertexLightMaps::backSunDirectLux, &VertexLightMaps::backSunDirectStdErrorLux}) {
     ASSERT_EQ((continued.*part).size(), (whole.*part).size());
-    EXPECT_EQ(std::memcmp((continued.*part).data(), (whole.*part).data(), (whole.*part).size() * sizeof(Rgb)), 0);
+    EXPECT_EQ(std::memcmp((continued.*part).data(), (whole.*part).data(), (whole.*part).size() * sizeof(Rgb)),
+              0);
   }
   EXPECT_EQ(continued.samplesPerVertex, whole.samplesPerVertex);
   EXPECT_EQ(continued.rays, whole.rays);
