@@ -593,12 +593,12 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
   // The sun whose direct light the bake kept apart (sunlight mode draws it in real time at any other time).
   json sunDirect = nullptr;
   if (maps.hasSunDirect()) {
-    const vec3& dir = rdb.sun.directionWorld;
+    const vec3& towardsSun = rdb.sun.directionWorld;
     const Rgb& en = rdb.sun.normalIlluminanceLux;
-    const double elevationDeg = radToDeg(std::asin(std::clamp(double(dir.y), -1.0, 1.0)));
+    const double elevationDeg = radToDeg(std::asin(std::clamp(double(towardsSun.y), -1.0, 1.0)));
     const json& site = d.daylight.is_object() ? d.daylight.value("site", json()) : json();
     sunDirect = {
-        {"direction_world", {dir.x, dir.y, dir.z}},
+        {"direction_world", {towardsSun.x, towardsSun.y, towardsSun.z}},
         {"elevation_deg", elevationDeg},
         {"normal_illuminance_lux", {en.r, en.g, en.b}},
         {"normal_illuminance_luminance_lux", luminance(en)},

@@ -103,7 +103,7 @@ TimeLapse parseTimeLapse(const std::string& text, const std::string& timeZone) {
 // OUT with its frame number before the extension: shadows.png → shadows-0003.png.
 std::string framePath(const std::string& out, size_t frame) {
   const std::filesystem::path p(out);
-  char number[16];
+  char number[32];
   std::snprintf(number, sizeof number, "-%04zu", frame);
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
 }
