@@ -213,7 +213,9 @@ TEST(Renderer, SunlightModeAddsTheRealTimeSunToTheLightMapWithoutItsDirectPart) 
     const rdb::RasterRdbChanges changes = rdb::updateRasterRdb(
         r, q.scene, q.scene.setTime({.sunDirection = sdb::SunDirection{180.0, 60.0}}), &store);
     EXPECT_FALSE(changes.geometry);  // the light maps stay; only the sky and sun are re-made
+    const auto geometryUploads = renderer.stats().geometryUploads;
     renderer.update(r, changes);
+    EXPECT_EQ(renderer.stats().geometryUploads, geometryUploads);  // nor are they uploaded again
     renderer.render(orthoView(false), RenderMode::kSunlight, 64, 32);
     const std::vector<float> later = renderer.luminanceRgb();
     vec3 laterDir;
