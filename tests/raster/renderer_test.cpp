@@ -560,6 +560,64 @@ TEST(Renderer, NormalMapsBendTheNormalOfThePhongTerms) {
   }
 }
 
+// Sunlight mode's real-time sun term on a light-mapped, normal-mapped surface (per fragment) bends with the
+// normal map as the Phong terms do: L = ρ/π · (E − E_sunDirect) + ρ/π · E_n · max(0, n' · s), n' the texel's
+// normal (as in NormalMapsBendTheNormalOfThePhongTerms), s the current sun's direction; E − E_sunDirect is
+// interpolated over the quad. Every mesh is light-mapped, so no Phong program is compiled, yet the normal map
+// is.
+TEST(Renderer, SunlightModesRealTimeSunFollowsTheNormalMapOfALightMappedSurface) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.5f);
+  m.reflectionColor = Rgb(0.0f);
+  m.bumpTexture.texture = addTexture(s, 1, 1, 3, {204, 128, 230});
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  const sdb::MeshId meshId = s.addMesh(uvQuad(mat)).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  s.setSky({.model = sdb::SkyModel::kClear, .sun = true});
+  s.setTime({.sunDirection = sdb::SunDirection{120.0, 40.0}});  // east-south-east: the bend (towards +X) matters
+  const rdb::RasterRdb unbaked = rdb::buildRasterRdb(s);
+  const rdb::RasterSky& sky = *unbaked.sky;
+  const Rgb normalLux = sky.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(sky.sunHalfAngleRad))));
+  rdb::LightMapStore store;
+  store.sun = rdb::BakedSun{sky.sunDirWorld, normalLux};
+  rdb::MeshLightMap map{node.value, meshId.value, {}, {}};
+  const Rgb sunDirect = normalLux * sky.sunDirWorld.z;  // what the bake held, on the unbent normal +Z
+  for (const Rgb& other : kFrontLux) {
+    map.frontLux.push_back(other + sunDirect);
+    map.frontSunDirectLux.push_back(sunDirect);
+  }
+  store.meshes.push_back(map);
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  ASSERT_TRUE(r.variants.sunDirect && r.variants.normalMaps);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSunlight, 64, 32);
+  const vec3 bent = glm::normalize(vec3(204, 128, 230) / 255.0f * 2.0f - 1.0f);
+  const float cosBent = std::max(0.0f, glm::dot(bent, sky.sunDirWorld));
+  ASSERT_GT(std::abs(cosBent - sky.sunDirWorld.z), 0.05f);  // the bend matters
+  std::vector<Rgb> expected;
+  for (const Rgb& other : kFrontLux) expected.push_back(0.5f / kPiF * (other + normalLux * cosBent));
+  const std::vector<float> want = expectedQuad(64, 32, expected, false);
+  const std::vector<float> got = renderer.luminanceRgb();
+  size_t compared = 0, bad = 0;
+  for (size_t i = 0; i < want.size(); ++i) {
+    if (want[i] <= 0.0f) continue;  // the sky around the quad
+    ++compared;
+    if (!(std::abs(got[i] - want[i]) <= 2e-4f * want[i]) && ++bad <= 5)
+      ADD_FAILURE() << "value " << i << ": " << got[i] << " vs " << want[i];
+  }
+  EXPECT_EQ(compared, 64u * 32u * 3u / 4u);
+  EXPECT_EQ(bad, 0u);
+  for (const std::string& p : renderer.stats().programs) {
+    if (p.find("perfragment") == std::string::npos) continue;
+    EXPECT_NE(p.find("+sundirect"), std::string::npos) << p;
+    EXPECT_NE(p.find("+normalmap"), std::string::npos) << p;
+    EXPECT_EQ(p.find("+phong"), std::string::npos) << p;
+  }
+}
+
 // An alpha cut-out: a 4 × 1 texture with alpha 0, 0, 1, 1 and cut-off 0.5 shows the quad where u ∈ [0.5, 1)
 // (texel centres 0.625, 0.875: coverage 1) and nothing (the black background) where u ∈ (0.125, 0.375)
 // (coverage 0); between them the bilinear alpha crosses the cut-off.
