@@ -357,7 +357,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                              (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
   const std::string fragment =
       std::string(shaders::kLuminanceEncoding) +
-      (perFragment ? std::string(shaders::kSceneCommon) + shaders::kSurfaceFragment : shaders::kSceneFragment);
+      (perFragment ? std::string(shaders::kSceneCommon) + shaders::kLightTextureLookup + shaders::kSurfaceFragment
+                   : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
   const GLuint p = compileProgram(name, defines,
                                   {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };

@@ -292,25 +292,10 @@ vec3 flyDecodeLuminance(uvec2 p) {
 }
 )GLSL";
 
-// The back of a one-sided surface has no light value: it shows black (it still hides what is behind it, unless
-// it is clear glass, whose both faces pass light).
-inline constexpr const char* kSceneFragment = R"GLSL(
-in vec3 vLuminance;
-#ifdef FLY_TWO_SIDED
-flat in uint vTwoSided;
-#endif
-layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
-#ifdef FLY_GLASS
-in vec3 vTransmittance;
-flat in uint vGlass;
-uniform int uGlassPass;                         // 0: all but the glass; 1: the glass alone
-layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLuminanceEncoding)
-#endif
+// The light textures' lookup, prepended to both fragment stages (raster/renderer.cpp, sceneProgram) with
+// FLY_LIGHT_TEXTURE.
+inline constexpr const char* kLightTextureLookup = R"GLSL(
 #ifdef FLY_LIGHT_TEXTURE
-in vec2 vLightMapUv;
-flat in uint vLightSlot;
-flat in uint vBack;
-flat in vec3 vAlbedoOverPi;
 // A slot's place in the array texture: rect = x, y, width, height (texels of the layer); layer = its index,
 // 1 / layer width, 1 / layer height.
 struct LightRect {
@@ -338,6 +323,28 @@ vec3 flyLightTexel(uint slots, bool back, vec2 uv) {
 #endif
   return e;
 }
+#endif
+)GLSL";
+
+// The back of a one-sided surface has no light value: it shows black (it still hides what is behind it, unless
+// it is clear glass, whose both faces pass light).
+inline constexpr const char* kSceneFragment = R"GLSL(
+in vec3 vLuminance;
+#ifdef FLY_TWO_SIDED
+flat in uint vTwoSided;
+#endif
+layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
+#ifdef FLY_GLASS
+in vec3 vTransmittance;
+flat in uint vGlass;
+uniform int uGlassPass;                         // 0: all but the glass; 1: the glass alone
+layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLuminanceEncoding)
+#endif
+#ifdef FLY_LIGHT_TEXTURE
+in vec2 vLightMapUv;
+flat in uint vLightSlot;
+flat in uint vBack;
+flat in vec3 vAlbedoOverPi;
 #endif
 void main() {
 #ifdef FLY_GLASS
@@ -498,31 +505,6 @@ uniform uint uMaterial;
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
 flat in uint vLightSlot;
-struct LightRect {
-  vec4 rect;
-  vec4 layer;
-};
-layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[]; };
-layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
-// The irradiance (lux) a mesh's light texture shows at light-map UV `uv` on the face `back` or not: its
-// slots begin at `slots` (aLightSlot: bit 31, the back follows the front); with FLY_SUN_DIRECT the sun-direct
-// texels' slots follow in the same order, and the result is E − E_sunDirect. Bilinear, clamped to the edge of
-// each slot's own texels (its neighbours in the layer are never read).
-vec3 flySlotTexel(uint slot, vec2 uv) {
-  LightRect r = lightRects[slot];
-  vec2 t = clamp(uv * r.rect.zw, vec2(0.5), r.rect.zw - vec2(0.5));
-  return texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
-}
-vec3 flyLightTexel(uint slots, bool back, vec2 uv) {
-  bool hasBack = (slots & 0x80000000u) != 0u;
-  uint front = slots & 0x7fffffffu;
-  uint side = (back && hasBack) ? 1u : 0u;
-  vec3 e = flySlotTexel(front + side, uv);
-#ifdef FLY_SUN_DIRECT
-  e = max(e - flySlotTexel(front + (hasBack ? 2u : 1u) + side, uv), vec3(0.0));
-#endif
-  return e;
-}
 #endif
 #ifdef FLY_TEXTURES
 in vec2 vUv0;
