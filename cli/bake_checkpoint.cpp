@@ -279,4 +279,13 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
   return c;
 }
 
+void checkCheckpointKeepsWhatTheBakeNeeds(const raytracer::BakeCheckpoint& state, const rdb::TraceRdb& rdb,
+                                          const std::filesystem::path& outDir) {
+  if (state.progress.channels == (raytracer::sunLights(rdb) ? 2u : 1u)) return;
+  throw InputError(SourceLocation{(checkpointDirFor(outDir) / "checkpoint.json").string()},
+                   "was saved by a version of fly that did not keep the sun's direct light apart, which this "
+                   "bake under the sun needs",
+                   "start the bake afresh without --resume (the checkpoint is replaced)");
+}
+
 }  // namespace fly::cli

@@ -168,14 +168,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
           "start the bake afresh without --resume (the checkpoint is replaced)");
     }
     checkpointState = std::move(loaded->state);
-    // A bake under the sun keeps its direct part apart (two channels a point); checkpoints of a fly that did
-    // not (progress-state formats 2 and 3) cannot continue such a bake.
-    if (checkpointState.progress.channels != (raytracer::sunLights(rdb) ? 2u : 1u)) {
-      throw InputError(SourceLocation{(checkpointDirFor(o.out) / "checkpoint.json").string()},
-                       "was saved by a version of fly that did not keep the sun's direct light apart, which "
-                       "this bake under the sun needs",
-                       "start the bake afresh without --resume (the checkpoint is replaced)");
-    }
+    checkCheckpointKeepsWhatTheBakeNeeds(checkpointState, rdb, o.out);
     checkpointing.state = &checkpointState;
     std::fprintf(stderr, "bake: resuming from %s (%u samples per point, %s done)\n",
                  checkpointDirFor(o.out).c_str(), checkpointState.progress.samplesPerPoint,
