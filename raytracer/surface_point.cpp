@@ -75,6 +75,11 @@ vec4 sampleTexture(const rdb::TraceRdb& rdb, const rdb::TraceTextureSlot& slot, 
   if (!isFinite(st)) st = vec2(0.0f);
   // Texel space, centres at integers; clamped far outside any image so that the integer part stays exact
   // (2^24 texels: every wrap mode has long since repeated or clamped).
+  if (slot.nearest) {
+    const float x = std::clamp(std::floor(st.x * float(t.width)), -0x1p24f, 0x1p24f);
+    const float y = std::clamp(std::floor(st.y * float(t.height)), -0x1p24f, 0x1p24f);
+    return texel(t, wrapTexel(int64_t(x), t.width, slot.wrapS), wrapTexel(int64_t(y), t.height, slot.wrapT), srgb);
+  }
   const float x = std::clamp(st.x * float(t.width) - 0.5f, -0x1p24f, 0x1p24f);
   const float y = std::clamp(st.y * float(t.height) - 0.5f, -0x1p24f, 0x1p24f);
   const float x0f = std::floor(x);

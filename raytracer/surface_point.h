@@ -19,7 +19,8 @@ uint32_t wrapTexel(int64_t i, uint32_t size, rdb::TraceWrap w);
 
 // The slot's texture at texture coordinates uv (of the slot's UV set, before its transform), filtered
 // bilinearly between the four nearest texel centres (texel (i, j) is centred at ((i + ½)/width, (j +
-// ½)/height), row j = 0 at v = 0, the image's top row). Returns linear RGBA: a grey texture's value in r, g
+// ½)/height), row j = 0 at v = 0, the image's top row), or for a slot.nearest the texel that contains the
+// point (texel (i, j) covers [i/width, (i+1)/width) × [j/height, (j+1)/height), as OpenGL's NEAREST). Returns linear RGBA: a grey texture's value in r, g
 // and b, alpha 1 where the texture has none. srgb: the colour channels (not alpha) are sRGB-encoded (IEC
 // 61966-2-1) and are decoded per texel before filtering. Non-finite coordinates read the texel at (0, 0).
 vec4 sampleTexture(const rdb::TraceRdb& rdb, const rdb::TraceTextureSlot& slot, const vec2& uv, bool srgb);

@@ -32,7 +32,9 @@ struct TraceTexture {
 // How texture coordinates outside [0, 1] map into the image (glTF sampler wrapS / wrapT).
 enum class TraceWrap : uint8_t { kRepeat, kClampToEdge, kMirroredRepeat };
 
-// A material's use of a texture: which one, which UV set, the KHR_texture_transform and the wrap modes.
+// A material's use of a texture: which one, which UV set, the KHR_texture_transform, the wrap modes and
+// whether it is read bilinearly or by nearest texel (the glTF sampler's magFilter: points are sampled, so
+// magnification is the filter that applies).
 // The transform uv' = offset + R(rotation) (scale ⊙ uv), R(θ) = [cos θ, sin θ; −sin θ, cos θ] (the
 // extension's T · R · S), stored as its columns: uv' = uvFromU · u + uvFromV · v + uvOffset.
 struct TraceTextureSlot {
@@ -41,6 +43,7 @@ struct TraceTextureSlot {
   uint32_t texCoord = 0;     // 0 = TraceRdb::uv0, 1 = TraceRdb::uv1
   TraceWrap wrapS = TraceWrap::kRepeat;
   TraceWrap wrapT = TraceWrap::kRepeat;
+  bool nearest = false;  // the texel the point falls in, instead of bilinear
   vec2 uvFromU{1.0f, 0.0f};
   vec2 uvFromV{0.0f, 1.0f};
   vec2 uvOffset{0.0f};

@@ -63,6 +63,7 @@ TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureInd
   };
   slot.wrapS = wrap(ref.wrapS);
   slot.wrapT = wrap(ref.wrapT);
+  slot.nearest = ref.magFilter == sdb::MagFilter::kNearest;
   // KHR_texture_transform: uv' = T · R · S · uv with R's columns (cos θ, −sin θ) and (sin θ, cos θ), which
   // maps the extension's example (offset (0, 1), rotation π/2, scale 0.5) onto the image's lower-left
   // quadrant.

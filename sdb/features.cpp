@@ -41,7 +41,7 @@ std::vector<std::string> SceneFeatures::names() const {
       {emissiveSurfaces, "emissive-surfaces"},
       {twoSidedSurfaces, "two-sided-surfaces"},
       {lightTexturedMeshes, "light-textured-meshes"},
-      {measuredBrdfs, "measured-brdfs"},
+      {measuredBrdfs, "measured-brdf"},
       {transmissiveMaterials, "transmissive-materials"},
       {anisotropicMaterials, "anisotropic-materials"},
       {texturedMaterials, "textured-materials"},

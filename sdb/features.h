@@ -17,7 +17,7 @@ struct SceneFeatures {
   bool emissiveSurfaces = false;     // meshes with emissive materials
   bool twoSidedSurfaces = false;     // meshes baked and shaded on both faces
   bool lightTexturedMeshes = false;  // meshes that ask for light textures
-  bool measuredBrdfs = false;        // materials with a measured BRDF table
+  bool measuredBrdfs = false;        // materials with a measured BRDF table or a fitted car-paint BRDF
   bool transmissiveMaterials = false;  // glass and other materials that transmit light
   bool anisotropicMaterials = false;
   bool texturedMaterials = false;    // any material reads a texture
@@ -27,7 +27,7 @@ struct SceneFeatures {
   bool curvedReflectors = false;     // mirror-like materials on curved meshes
 
   // The names of the features present, in the order above: "sun", "sky", "punctual-lights",
-  // "goniometric-lights", "emissive-surfaces", "two-sided-surfaces", "light-textured-meshes", "measured-brdfs",
+  // "goniometric-lights", "emissive-surfaces", "two-sided-surfaces", "light-textured-meshes", "measured-brdf",
   // "transmissive-materials", "anisotropic-materials", "textured-materials", "bump-maps", "vertex-colors",
   // "planar-reflectors", "curved-reflectors".
   std::vector<std::string> names() const;

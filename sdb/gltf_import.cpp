@@ -282,6 +282,15 @@ struct ImageSize {
   uint32_t width = 0;
   uint32_t height = 0;
   int bitsPerChannel = 8;  // as decoded: 16 for 16-bit PNGs, 8 otherwise
+  // The fewest bytes a complete encoding of the declared image can take, so that a file that is much
+  // smaller (cut off, or a header alone) fails before its pixels are allocated:
+  //   PNG: its filtered scanlines, height · (1 + ⌈width · samples · bit depth / 8⌉) bytes (ISO/IEC 15948
+  //        §7.2, §9.2; interlaced images have more), are zlib data, and deflate codes at most 258 bytes in
+  //        a length/distance pair of ≥ 2 bits (RFC 1951 §3.2.5): at most 1032 bytes out per byte in.
+  //   JPEG: the component of the largest sampling factors covers the image in ⌈width/8⌉ · ⌈height/8⌉
+  //        blocks, and every block's DC coefficient takes a Huffman code of ≥ 1 bit (ITU-T T.81 §F.1.2.1,
+  //        §G.1.2.1 for progressive DC scans): at least one byte per 8 blocks.
+  uint64_t minEncodedBytes = 0;
 };
 
 uint32_t be16(const uint8_t* p) {
@@ -295,8 +304,13 @@ uint32_t be32(const uint8_t* p) {
 // §B.2.2) declares, read without decoding; nullopt when the header is missing or cut off.
 std::optional<ImageSize> imageSize(std::span<const uint8_t> b, ImageFormat format) {
   if (format == ImageFormat::kPng) {
-    if (b.size() < 25 || std::memcmp(b.data() + 12, "IHDR", 4) != 0) return std::nullopt;
-    return ImageSize{be32(b.data() + 16), be32(b.data() + 20), b[24] == 16 ? 16 : 8};
+    if (b.size() < 26 || std::memcmp(b.data() + 12, "IHDR", 4) != 0) return std::nullopt;
+    ImageSize size{be32(b.data() + 16), be32(b.data() + 20), b[24] == 16 ? 16 : 8};
+    const uint8_t colourType = b[25];  // 0 grey, 2 RGB, 3 palette, 4 grey + alpha, 6 RGBA
+    const uint64_t samples = colourType == 2 ? 3 : colourType == 4 ? 2 : colourType == 6 ? 4 : 1;
+    const uint64_t rowBytes = 1 + (uint64_t(size.width) * samples * std::max<uint8_t>(b[24], 1) + 7) / 8;
+    size.minEncodedBytes = uint64_t(size.height) * rowBytes / 1032;
+    return size;
   }
   size_t p = 2;  // after SOI
   while (p + 4 <= b.size()) {
@@ -310,7 +324,9 @@ std::optional<ImageSize> imageSize(std::span<const uint8_t> b, ImageFormat forma
     const bool sof = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
     if (sof) {
       if (p + 9 > b.size()) return std::nullopt;
-      return ImageSize{be16(b.data() + p + 7), be16(b.data() + p + 5), 8};
+      ImageSize size{be16(b.data() + p + 7), be16(b.data() + p + 5), 8};
+      size.minEncodedBytes = ((uint64_t(size.width) + 7) / 8) * ((uint64_t(size.height) + 7) / 8) / 8;
+      return size;
     }
     if (marker == 0xda || length < 2) return std::nullopt;  // scan data before any frame header
     p += 2 + length;
@@ -411,9 +427,10 @@ class Importer {
     return s.str();
   }
 
-  // A declared image size against kMaxTextureDimension and the budget (RGBA as decoded), before decoding;
-  // returns the bytes charged.
-  uint64_t checkImageSize(const ImageSize& size, const std::string& path, const std::string& what) {
+  // A declared image size, before decoding, against kMaxTextureDimension, the budget (RGBA as decoded),
+  // which it charges, and the bytes its encoding has (`encodedBytes`); returns the bytes charged.
+  uint64_t checkImageSize(const ImageSize& size, uint64_t encodedBytes, const std::string& path,
+                          const std::string& what) {
     if (size.width == 0 || size.height == 0)
       fail(path, what + " declares an image of 0 pixels", kHintTruncated);
     if (size.width > uint32_t(kMaxTextureDimension) || size.height > uint32_t(kMaxTextureDimension)) {
@@ -425,6 +442,13 @@ class Importer {
     }
     const uint64_t bytes = uint64_t(size.width) * size.height * 4 * uint64_t(size.bitsPerChannel / 8);
     charge(bytes, path, what);
+    if (encodedBytes < size.minEncodedBytes) {
+      fail(path,
+           what + " declares " + std::to_string(size.width) + " × " + std::to_string(size.height) +
+               " px, which no complete image of its format stores in fewer than " +
+               std::to_string(size.minEncodedBytes) + " bytes; it has " + std::to_string(encodedBytes),
+           kHintTruncated);
+    }
     return bytes;
   }
 
@@ -1882,7 +1906,7 @@ class Importer {
     // and game assets: DamagedHelmet, FlightHelmet) is a metal only where most of its surface is one.
     const float metallic =
         unitFactor(pbr.metallicFactor, ppath + "/metallicFactor", label + " metallicFactor") *
-        meanMetalness(pbr.metallicRoughnessTexture.index, label + " metallicRoughnessTexture");
+        meanChannel(pbr.metallicRoughnessTexture.index, 2, false, label + " metallicRoughnessTexture");
     const float roughness =
         unitFactor(pbr.roughnessFactor, ppath + "/roughnessFactor", label + " roughnessFactor");
 
@@ -1913,8 +1937,16 @@ class Importer {
       if (*std::max_element(c.begin(), c.end()) > 1.0) {
         warn(label + ": specularColorFactor above 1 is clamped to 1 (fly's reflection colour is at most 1)");
       }
-      if (e->Has("specularTexture") || e->Has("specularColorTexture")) {
-        warn(label + ": the textures of KHR_materials_specular are not imported; its factors are");
+      // Its textures scale the factors by their means (the realistic material has no per-texel specular
+      // strength or colour): specularTexture's alpha (linear), specularColorTexture's RGB (sRGB).
+      const int strength = checkedTextureIndex(extensionTexInfo(*e, "specularTexture", epath),
+                                               epath + "/specularTexture");
+      const int colour = checkedTextureIndex(extensionTexInfo(*e, "specularColorTexture", epath),
+                                             epath + "/specularColorTexture");
+      if (strength >= 0) specular *= meanChannel(strength, 3, false, label + " specularTexture");
+      if (colour >= 0) specularColor *= meanColour(colour, true, label + " specularColorTexture");
+      if (strength >= 0 || colour >= 0) {
+        warn(label + ": the textures of KHR_materials_specular are applied as their mean over the image");
       }
     }
     m.ior = ior;
@@ -1950,15 +1982,23 @@ class Importer {
     }
     if (const tinygltf::Value* e = extension(gm, "KHR_materials_sheen")) {
       const std::string spath = path + "/extensions/KHR_materials_sheen";
-      const Rgb sheenColor = unitColor(extNumbers(*e, "sheenColorFactor", {0.0, 0.0, 0.0}, spath),
-                                       spath + "/sheenColorFactor", label + " sheenColorFactor");
-      const float sheenRoughness =
+      Rgb sheenColor = unitColor(extNumbers(*e, "sheenColorFactor", {0.0, 0.0, 0.0}, spath),
+                                 spath + "/sheenColorFactor", label + " sheenColorFactor");
+      float sheenRoughness =
           unitFactor(extNumber(*e, "sheenRoughnessFactor", 0.0, spath), spath + "/sheenRoughnessFactor",
                      label + " sheenRoughnessFactor");
-      m = applySheen(m, sheenColor, sheenRoughness);
-      if (e->Has("sheenColorTexture") || e->Has("sheenRoughnessTexture")) {
-        warn(label + ": the textures of KHR_materials_sheen are not imported; its factors are");
+      // Its textures scale the factors by their means, as applySheen takes one sheen per material:
+      // sheenColorTexture's RGB (sRGB), sheenRoughnessTexture's alpha (linear).
+      const int colour = checkedTextureIndex(extensionTexInfo(*e, "sheenColorTexture", spath),
+                                             spath + "/sheenColorTexture");
+      const int rough = checkedTextureIndex(extensionTexInfo(*e, "sheenRoughnessTexture", spath),
+                                            spath + "/sheenRoughnessTexture");
+      if (colour >= 0) sheenColor *= meanColour(colour, true, label + " sheenColorTexture");
+      if (rough >= 0) sheenRoughness *= meanChannel(rough, 3, false, label + " sheenRoughnessTexture");
+      if (colour >= 0 || rough >= 0) {
+        warn(label + ": the textures of KHR_materials_sheen are applied as their mean over the image");
       }
+      m = applySheen(m, sheenColor, sheenRoughness);
     }
     if (pbr.baseColorTexture.index >= 0) {
       m.diffuseTexture = textureRef(
@@ -2110,31 +2150,49 @@ class Importer {
       const std::string spath = "/samplers/" + std::to_string(t.sampler);
       ref.wrapS = wrapMode(s.wrapS, spath + "/wrapS");
       ref.wrapT = wrapMode(s.wrapT, spath + "/wrapT");
+      ref.magFilter = magFilter(s.magFilter, spath + "/magFilter");
+      ref.minFilter = minFilter(s.minFilter, spath + "/minFilter");
     }
     ref.texture = imageTexture(size_t(t.source), channels, what);
     return ref;
   }
 
-  // The mean of the blue channel (metalness, glTF 2.0 §3.9.2) of texture `index`'s image, in [0, 1]; 1 when
-  // there is no such texture or image (textureRef reports what is wrong with a reference).
-  float meanMetalness(int index, const std::string& what) {
+  // The mean over texture `index`'s image of channel `channel` (0 red, 1 green, 2 blue, 3 alpha), in [0, 1],
+  // each texel sRGB-decoded first when `srgb`; 1 when there is no such texture or image (textureRef reports
+  // what is wrong with a reference; checkedTextureIndex for textures that are only averaged).
+  float meanChannel(int index, int channel, bool srgb, const std::string& what) {
     if (index < 0 || size_t(index) >= model_.textures.size()) return 1.0f;
     const int source = model_.textures[size_t(index)].source;
     if (source < 0 || size_t(source) >= model_.images.size()) return 1.0f;
     const Texture& t = decodedImage(size_t(source), what);
-    if (t.channels < 3) return 1.0f;  // grey: no blue channel of its own
+    if (channel >= t.channels) return 1.0f;
     const size_t bytes = size_t(t.bitsPerChannel / 8);
     const size_t pixels = size_t(t.width) * size_t(t.height);
     if (pixels == 0) return 1.0f;
     const double maxValue = bytes == 2 ? 65535.0 : 255.0;
     double sum = 0.0;
     for (size_t p = 0; p < pixels; ++p) {
-      const uint8_t* b = &t.pixels[(p * size_t(t.channels) + 2) * bytes];
+      const uint8_t* b = &t.pixels[(p * size_t(t.channels) + size_t(channel)) * bytes];
       uint16_t v = b[0];
       if (bytes == 2) std::memcpy(&v, b, 2);
-      sum += double(v);
+      sum += srgb ? double(srgbToLinear(float(double(v) / maxValue))) : double(v) / maxValue;
     }
-    return float(sum / (double(pixels) * maxValue));
+    return float(sum / double(pixels));
+  }
+  Rgb meanColour(int index, bool srgb, const std::string& what) {
+    return {meanChannel(index, 0, srgb, what), meanChannel(index, 1, srgb, what),
+            meanChannel(index, 2, srgb, what)};
+  }
+
+  // The texture index of a textureInfo whose texture is only averaged (never sampled), checked as
+  // textureRef checks a sampled one; −1 when there is none.
+  int checkedTextureIndex(const TexInfo& info, const std::string& path) const {
+    if (info.index < 0) return -1;
+    if (size_t(info.index) >= model_.textures.size()) {
+      fail(path + "/index", "refers to texture " + std::to_string(info.index) + ", but the file has " +
+                                std::to_string(model_.textures.size()) + " textures");
+    }
+    return info.index;
   }
 
   // A sampler's wrapS or wrapT (glTF 2.0 §5.26: 33071, 33648 or 10497, the default).
@@ -2150,6 +2208,41 @@ class Importer {
         fail(path,
              "wrap mode " + std::to_string(value) +
                  " is not one of glTF's 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT), 10497 (REPEAT)");
+    }
+  }
+
+  // A sampler's magFilter (glTF 2.0 §5.26: 9728 NEAREST or 9729 LINEAR; −1, undefined, is linear).
+  MagFilter magFilter(int value, const std::string& path) {
+    switch (value) {
+      case -1:
+      case TINYGLTF_TEXTURE_FILTER_LINEAR:
+        return MagFilter::kLinear;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST:
+        return MagFilter::kNearest;
+      default:
+        fail(path, "magFilter " + std::to_string(value) + " is not one of glTF's 9728 (NEAREST), 9729 (LINEAR)");
+    }
+  }
+
+  // A sampler's minFilter (glTF 2.0 §5.26: 9728, 9729, 9984–9987; −1, undefined, is trilinear).
+  MinFilter minFilter(int value, const std::string& path) {
+    switch (value) {
+      case -1:
+      case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR:
+        return MinFilter::kLinearMipmapLinear;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST:
+        return MinFilter::kNearest;
+      case TINYGLTF_TEXTURE_FILTER_LINEAR:
+        return MinFilter::kLinear;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+        return MinFilter::kNearestMipmapNearest;
+      case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+        return MinFilter::kLinearMipmapNearest;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+        return MinFilter::kNearestMipmapLinear;
+      default:
+        fail(path, "minFilter " + std::to_string(value) +
+                       " is not one of glTF's 9728 (NEAREST), 9729 (LINEAR), 9984–9987 (the mipmap filters)");
     }
   }
 
@@ -2236,7 +2329,7 @@ class Importer {
       // The header's size is checked against the budget before anything is decoded.
       const std::optional<ImageSize> header = imageSize(encoded, format);
       if (!header) fail(path, label + ": " + data + " has no readable image header", kHintTruncated);
-      charged = checkImageSize(*header, path, label + ": " + data);
+      charged = checkImageSize(*header, encoded.size(), path, label + ": " + data);
     }
     if (const ImageDecoder& decoder = installedImageDecoder()) {
       budgetLeft_ += charged;  // the decoder checks the size itself; the budget is charged what it returns

@@ -1,13 +1,17 @@
 // The physical "realistic material" (reference 002, HOOPS Luminate's realistic material): Lambertian diffuse,
 // reflection and transmission colours with an energy rule that keeps their sum ≤ 1, Fresnel or uniform
 // reflection, glossy and anisotropic lobes, absorption inside transmissive media, reflection fog, a bump map,
-// emission in cd/m² and an optional measured-BRDF table.
+// emission in cd/m², and optionally a measured (MERL table) or fitted (car paint) BRDF.
 #pragma once
 
 #include <limits>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "base/color.h"
+#include "sdb/car_paint_brdf.h"
+#include "sdb/measured_brdf.h"
 #include "sdb/texture.h"
 
 namespace fly::sdb {
@@ -117,9 +121,13 @@ struct Material {
   Rgb emissionLuminance{0.0f};
   TextureRef emissionTexture;  // sRGB-encoded; multiplies emissionLuminance
 
-  // Path of a measured BRDF table (MERL binary, e.g. a car paint) that replaces the analytic reflection model
-  // where the engines support it; "" = none.
-  std::string measuredBrdfPath;
+  // A measured or fitted BRDF that replaces the analytic reflection (diffuse, reflection, glossiness, Fresnel)
+  // where an engine supports it — elsewhere the analytic parameters above stand in for it: a MERL table
+  // (sdb/measured_brdf.h) read once from measuredBrdfPath, or the compact car-paint model
+  // (sdb/car_paint_brdf.h). At most one of the two.
+  std::string measuredBrdfPath;                      // "" = none
+  std::shared_ptr<const MeasuredBrdf> measuredBrdf;  // the table of measuredBrdfPath
+  std::optional<CarPaintBrdf> carPaint;
 
   // The reflect input of the energy rule for light arriving at angle θ from the normal: with Fresnel
   // reflection the amount is reflectionColor × F(θ) (reference 002: "the reflection amount is still
@@ -141,7 +149,7 @@ struct Material {
     return maxComponent(effective().transmission) > 0.0f && transmissionGlossiness * transmissionGlossiness < kSmoothAlpha;
   }
   bool isAnisotropic() const { return anisotropyU != anisotropyV || bool(anisotropyTexture); }
-  bool isMeasured() const { return !measuredBrdfPath.empty(); }
+  bool isMeasured() const { return measuredBrdf != nullptr || carPaint.has_value(); }
   // Some light may pass where the surface is not covered (alpha mask or blend).
   bool hasAlpha() const { return alphaMode != AlphaMode::kOpaque; }
   // A mirror-like reflector: strong reflection at normal incidence (luminance ≥ 0.5) and a narrow lobe

@@ -55,6 +55,36 @@ Material lacquered(const Material& base, float coatGlossiness = 0.03f) {
   return applyClearCoat(base, ClearCoat{1.0f, coatGlossiness}).material;
 }
 
+// A lacquered paint whose engines' full BRDF is the car-paint model (car_paint_brdf.h): `paint` for the
+// engines that evaluate it, the lacquered analytic material for the others.
+Material withCarPaint(Material analytic, const CarPaintBrdf& paint) {
+  analytic.carPaint = paint;
+  return analytic;
+}
+
+// Silver metallic: aluminium flakes (F0 ≈ 0.9 of aluminium, half covered by binder: 0.45) in a grey binder
+// of albedo 0.1, under a factory clear coat (η 1.5, GGX α 0.01). Pearl white: a white base (0.8) whose
+// interference pigments reflect a narrow warm lobe and a wide cool one, so the tint shifts from gold at the
+// highlight to blue-grey away from it (the "flop" of pearlescent paints).
+CarPaintBrdf silverMetallicPaint() {
+  CarPaintBrdf p;
+  p.baseAlbedo = Rgb(0.1f);
+  p.lobes[0] = {Rgb(0.45f, 0.46f, 0.48f), 0.2f};
+  p.lobes[1] = {Rgb(0.1f), 0.5f};
+  p.coatIor = 1.5f;
+  p.coatAlpha = 0.01f;
+  return p;
+}
+CarPaintBrdf pearlWhitePaint() {
+  CarPaintBrdf p;
+  p.baseAlbedo = Rgb(0.8f, 0.78f, 0.74f);
+  p.lobes[0] = {Rgb(0.3f, 0.25f, 0.12f), 0.12f};
+  p.lobes[1] = {Rgb(0.05f, 0.08f, 0.14f), 0.45f};
+  p.coatIor = 1.5f;
+  p.coatAlpha = 0.01f;
+  return p;
+}
+
 Material glass(std::string_view name, float transmissionGlossiness) {
   Material m = base(name);
   m.diffuseColor = Rgb(0.0f);
@@ -81,11 +111,13 @@ const std::array<MaterialPreset, 16>& table() {
       {"car-paint", "car-paint", "solid red paint under a clear coat (ior 1.5, glossiness 0.03)",
        lacquered(dielectric("car-paint", Rgb(0.5f, 0.03f, 0.03f), 1.5f, 0.4f))},
       {"metallic-car-paint", "car-paint",
-       "silver metallic paint: rough aluminium-like flakes (reflectance 0.45–0.48) under a clear coat, the "
-       "flakes' reflection taken as diffuse; give measuredBrdf for the angular flake response",
-       lacquered(metal("metallic-car-paint", Rgb(0.45f, 0.46f, 0.48f), 0.45f))},
-      {"pearl-car-paint", "car-paint", "pearl white paint under a clear coat",
-       lacquered(dielectric("pearl-car-paint", Rgb(0.8f, 0.78f, 0.74f), 1.5f, 0.4f))},
+       "silver metallic paint: aluminium flakes (two GGX lobes, reflectance 0.45–0.48 and 0.1) in a grey "
+       "binder under a clear coat (car-paint BRDF); where an engine lacks it, the flakes' reflection is "
+       "taken as diffuse",
+       withCarPaint(lacquered(metal("metallic-car-paint", Rgb(0.45f, 0.46f, 0.48f), 0.45f)), silverMetallicPaint())},
+      {"pearl-car-paint", "car-paint",
+       "pearl white paint under a clear coat: a warm narrow and a cool wide pigment lobe (car-paint BRDF)",
+       withCarPaint(lacquered(dielectric("pearl-car-paint", Rgb(0.8f, 0.78f, 0.74f), 1.5f, 0.4f)), pearlWhitePaint())},
       {"concrete", "stone", "grey cast concrete, albedo 0.45",
        dielectric("concrete", Rgb(0.45f), 1.5f, 0.9f)},
       {"marble", "stone", "polished white marble, albedo 0.75",

@@ -818,9 +818,66 @@ class SceneFileReader {
     add(r.floatNumber("bumpScale", atLeast(0), ""), [](Material& m, float x) { m.bumpScale = x; });
     add(r.boolean("doubleSided"), [](Material& m, bool b) { m.doubleSided = b; });
     add(r.colour("emission", atLeast(0), "cd/m²"), [](Material& m, Rgb c) { m.emissionLuminance = c; });
-    add(r.inputFile("measuredBrdf", "measured BRDF file"),
-        [](Material& m, const fs::path& p) { m.measuredBrdfPath = p.string(); });
+    if (const JsonValue* b = r.find("brdf")) {
+      if (b->isString()) {
+        const fs::path path = src_.inputFile(*b, "measured BRDF file");
+        std::shared_ptr<const MeasuredBrdf> table;
+        try {
+          table = std::make_shared<const MeasuredBrdf>(readMerlBrdf(path));
+        } catch (const InputError& e) {
+          src_.fail(*b, e.message() + ": " + path.string(), e.hint());
+        }
+        edits.push_back([path, table](Material& m) {
+          m.measuredBrdfPath = path.string();
+          m.measuredBrdf = table;
+          m.carPaint.reset();
+        });
+      } else {
+        const CarPaintBrdf paint = readCarPaint(*b);
+        edits.push_back([paint](Material& m) {
+          m.carPaint = paint;
+          m.measuredBrdf.reset();
+          m.measuredBrdfPath.clear();
+        });
+      }
+    }
     return edits;
+  }
+
+  // A car-paint BRDF object: {"base": [r, g, b], "flakes": [{"reflectance": [r, g, b], "roughness": r}, …],
+  // "coat": {"ior": η, "roughness": r}}; roughness r as in glTF (GGX α = r²).
+  CarPaintBrdf readCarPaint(const JsonValue& v) const {
+    if (!v.isObject()) {
+      src_.fail(v, "expected a measured BRDF file's path (a MERL .binary file) or a car-paint object "
+                   "{\"base\", \"flakes\", \"coat\"}; got " + describeValue(v));
+    }
+    const ObjectReader r(src_, v, {"base", "flakes", "coat"});
+    CarPaintBrdf paint;
+    paint.baseAlbedo = src_.colour(r.require("base", "the pigment's albedo [r, g, b]"), closed(0, 1));
+    if (const JsonValue* flakes = r.find("flakes")) {
+      const auto& lobes = arrayOf(src_, flakes, "flake lobes {\"reflectance\", \"roughness\"}");
+      if (lobes.size() > size_t(CarPaintBrdf::kMaxLobes)) {
+        src_.fail(*flakes, "a car paint has at most " + std::to_string(CarPaintBrdf::kMaxLobes) +
+                               " flake lobes; got " + std::to_string(lobes.size()));
+      }
+      for (size_t k = 0; k < lobes.size(); ++k) {
+        const ObjectReader f(src_, lobes[k], {"reflectance", "roughness"});
+        const float roughness =
+            src_.floatNumber(f.require("roughness", "GGX roughness r, α = r²"), closed(0.1, 1), "");
+        paint.lobes[k] = {src_.colour(f.require("reflectance", "the flakes' reflectance at normal incidence"),
+                                      closed(0, 1)),
+                          roughness * roughness};
+      }
+    }
+    paint.coatIor = 1.5f;
+    paint.coatAlpha = 0.01f;  // roughness 0.1: a factory clear coat
+    if (const JsonValue* coat = r.find("coat")) {
+      const ObjectReader c(src_, *coat, {"ior", "roughness"});
+      paint.coatIor = c.floatNumber("ior", closed(1, 3), "").value_or(paint.coatIor);
+      const float roughness = c.floatNumber("roughness", closed(0.0316, 1), "").value_or(0.1f);
+      paint.coatAlpha = roughness * roughness;
+    }
+    return paint;
   }
 
   // `original` with a preset's parameters. Kept from the original: the name, its textures (a preset has none;
@@ -869,7 +926,7 @@ class SceneFileReader {
                           "bumpScale",
                           "doubleSided",
                           "emission",
-                          "measuredBrdf",
+                          "brdf",
                           "twoSided",
                           "lightTexture"});
     const JsonValue* materialName = r.find("material");

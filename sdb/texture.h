@@ -51,6 +51,24 @@ enum class WrapMode : uint8_t {
   kMirroredRepeat,  // the image tiles, every other copy mirrored (MIRRORED_REPEAT = 33648)
 };
 
+// How a texture is sampled where one texel covers more than a pixel or sample point (glTF 2.0 §5.26
+// "sampler", magFilter; undefined in the file means linear).
+enum class MagFilter : uint8_t {
+  kLinear,   // bilinear between the four nearest texels (LINEAR = 9729)
+  kNearest,  // the texel the point falls in (NEAREST = 9728): pixel art, masks with hard edges
+};
+
+// How a texture is sampled where a pixel covers many texels (glTF 2.0 §5.26, minFilter; undefined in the file
+// means trilinear). The GL engine uses it as given; the baker samples points and uses magFilter only.
+enum class MinFilter : uint8_t {
+  kNearest,               // NEAREST = 9728, no mipmaps
+  kLinear,                // LINEAR = 9729, no mipmaps
+  kNearestMipmapNearest,  // 9984
+  kLinearMipmapNearest,   // 9985
+  kNearestMipmapLinear,   // 9986
+  kLinearMipmapLinear,    // 9987 (trilinear)
+};
+
 // A material's use of a texture. Invalid (no texture) when `texture` is 0.
 struct TextureRef {
   TextureId texture;
@@ -58,6 +76,8 @@ struct TextureRef {
   UvTransform transform;
   WrapMode wrapS = WrapMode::kRepeat;  // along u (the image's columns)
   WrapMode wrapT = WrapMode::kRepeat;  // along v (the image's rows)
+  MagFilter magFilter = MagFilter::kLinear;
+  MinFilter minFilter = MinFilter::kLinearMipmapLinear;
 
   explicit operator bool() const { return static_cast<bool>(texture); }
 };

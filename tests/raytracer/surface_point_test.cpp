@@ -70,6 +70,33 @@ TEST(SurfacePoint, BilinearLookupsUnderEachWrapMode) {
   EXPECT_NEAR(lookup(rdb, {nan, 0.25f}, TraceWrap::kClampToEdge, TraceWrap::kClampToEdge), 0.0f, 1e-3f);
 }
 
+// magFilter NEAREST: the texel that contains the point, whichever side of a texel centre it lies.
+TEST(SurfacePoint, NearestLookupsReadTheTexelThePointFallsIn) {
+  const rdb::TraceRdb rdb = greyTexture();
+  auto nearest = [&](const vec2& uv, TraceWrap s) {
+    rdb::TraceTextureSlot slot;
+    slot.texture = 0;
+    slot.wrapS = s;
+    slot.nearest = true;
+    return sampleTexture(rdb, slot, uv, false).r * 255.0f;
+  };
+  // Texel 1 of row 0 covers u ∈ [0.25, 0.5), v ∈ [0, 0.5): bilinear there blends with its neighbours.
+  EXPECT_NEAR(nearest({0.26f, 0.01f}, TraceWrap::kRepeat), 40.0f, 1e-3f);
+  EXPECT_NEAR(nearest({0.49f, 0.49f}, TraceWrap::kRepeat), 40.0f, 1e-3f);
+  EXPECT_NEAR(nearest({0.5f, 0.5f}, TraceWrap::kRepeat), 220.0f, 1e-3f);  // the lower-left corner of texel (2, 1)
+  EXPECT_NE(lookup(rdb, {0.49f, 0.49f}, TraceWrap::kRepeat), 40.0f);
+  // Outside [0, 1]: u = −0.1 is texel 3 repeated, texel 0 clamped, texel 0 mirrored; u = 1.3 texel 1, 3, 2.
+  EXPECT_NEAR(nearest({-0.1f, 0.25f}, TraceWrap::kRepeat), 120.0f, 1e-3f);
+  EXPECT_NEAR(nearest({-0.1f, 0.25f}, TraceWrap::kClampToEdge), 0.0f, 1e-3f);
+  EXPECT_NEAR(nearest({-0.1f, 0.25f}, TraceWrap::kMirroredRepeat), 0.0f, 1e-3f);
+  EXPECT_NEAR(nearest({1.3f, 0.25f}, TraceWrap::kRepeat), 40.0f, 1e-3f);
+  EXPECT_NEAR(nearest({1.3f, 0.25f}, TraceWrap::kClampToEdge), 120.0f, 1e-3f);
+  EXPECT_NEAR(nearest({1.3f, 0.25f}, TraceWrap::kMirroredRepeat), 80.0f, 1e-3f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NEAR(nearest({nan, 0.25f}, TraceWrap::kClampToEdge), 0.0f, 1e-3f);
+  EXPECT_TRUE(std::isfinite(nearest({1e30f, -1e30f}, TraceWrap::kMirroredRepeat)));
+}
+
 TEST(SurfacePoint, TextureTransformAndSrgbAndChannels) {
   rdb::TraceRdbBuilder b;
   // 4 × 4 RGBA: texel (i, j) = (i · 60, j · 60, 10, 255 − 50 i).

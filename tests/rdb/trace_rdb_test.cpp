@@ -179,6 +179,7 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
   m.diffuseTexture.transform = {vec2(0.0f, 1.0f), 1.5707963f, vec2(0.5f)};
   m.diffuseTexture.wrapS = sdb::WrapMode::kClampToEdge;
   m.diffuseTexture.wrapT = sdb::WrapMode::kMirroredRepeat;
+  m.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
   m.emissionTexture.texture = texture;  // the same texture: lowered once
   m.alphaMode = sdb::AlphaMode::kMask;
   m.alphaCutoff = 0.3f;
@@ -200,6 +201,8 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
   EXPECT_FALSE(t.normalTexture);
   EXPECT_EQ(t.diffuseTexture.wrapS, TraceWrap::kClampToEdge);
   EXPECT_EQ(t.diffuseTexture.wrapT, TraceWrap::kMirroredRepeat);
+  EXPECT_TRUE(t.diffuseTexture.nearest);
+  EXPECT_FALSE(t.emissionTexture.nearest);
   EXPECT_EQ(t.alpha, TraceAlpha::kMask);
   EXPECT_FLOAT_EQ(t.alphaCutoff, 0.3f);
   EXPECT_FLOAT_EQ(t.opacity, 0.9f);

@@ -2,8 +2,11 @@
 // KTX2 textures and the import budget.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <cstring>
 
+#include "base/file_io.h"
 #include "gltf_import_fixture.h"
 #include "sdb/material_layers.h"
 
@@ -92,11 +95,34 @@ TEST_F(GltfImport, SheenIsFoldedIntoTheDiffuseColour) {
            {"sheenRoughnessFactor", 0.8},
            {"sheenColorTexture", {{"index", 0}}}}}}}});
   b.useExtension("KHR_materials_sheen", true);
+  // Two texels, sRGB (255, 128, 0) and (0, 128, 255): mean linear colour (½, srgb(128/255), ½).
+  addImageTexture(b, test::png(2, 1, {255, 128, 0, 0, 128, 255}));
   const GltfImportResult r = import(b);
   const float e = sheenAlbedo(0.8f);
-  expectRgb(onlyMaterialOfMesh().diffuseColor,
-            Rgb(0.2f, 0.3f, 0.4f) * (1.0f - e) + Rgb(1.0f, 0.329f, 0.1f) * e, 1e-6f);
-  EXPECT_TRUE(contains(r.warnings, "the textures of KHR_materials_sheen are not imported"));
+  const Rgb meanTexel(0.5f, srgbToLinear(128.0f / 255.0f), 0.5f);
+  const Rgb sheen = Rgb(1.0f, 0.329f, 0.1f) * meanTexel;  // max 0.5
+  expectRgb(onlyMaterialOfMesh().diffuseColor, Rgb(0.2f, 0.3f, 0.4f) * (1.0f - 0.5f * e) + sheen * e, 1e-6f);
+  EXPECT_TRUE(contains(r.warnings, "the textures of KHR_materials_sheen are applied as their mean"));
+  EXPECT_TRUE(scene_.textures().empty());  // averaged, not sampled
+  b.doc["materials"][0]["extensions"]["KHR_materials_sheen"]["sheenRoughnessTexture"] = {{"index", 4}};
+  EXPECT_NE(importError(b).find("refers to texture 4, but the file has 1 textures"), std::string::npos);
+}
+
+TEST_F(GltfImport, SpecularTexturesScaleTheFactorsByTheirMeans) {
+  GltfBuilder b = withMaterial(
+      {{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"roughnessFactor", 0.5}}},
+       {"extensions",
+        {{"KHR_materials_specular",
+          {{"specularFactor", 0.5},
+           {"specularColorFactor", {1.0, 0.8, 0.6}},
+           {"specularTexture", {{"index", 0}}},
+           {"specularColorTexture", {{"index", 0}}}}}}}});
+  // specularTexture reads alpha (1 in an RGB image); specularColorTexture the sRGB colour.
+  addImageTexture(b, test::png(2, 1, {255, 128, 0, 0, 128, 255}));
+  const GltfImportResult r = import(b);
+  const Rgb meanTexel(0.5f, srgbToLinear(128.0f / 255.0f), 0.5f);
+  expectRgb(onlyMaterialOfMesh().reflectionColor, Rgb(1.0f, 0.8f, 0.6f) * meanTexel * 0.5f, 1e-6f);
+  EXPECT_TRUE(contains(r.warnings, "the textures of KHR_materials_specular are applied as their mean"));
 }
 
 TEST_F(GltfImport, VariantsImportTheDefaultMaterialsAndAreListed) {
@@ -209,6 +235,43 @@ TEST_F(GltfImport, TextureClaiming100000SquaredPixelsFailsBeforeDecoding) {
               std::string::npos)
         << e.what();
   }
+}
+
+// A 16384² PNG (1 GiB decoded, within the default budget) whose file holds a 1 × 1 image: no complete PNG of
+// that size is smaller than 16384 · (1 + 16384 · 3) / 1032 bytes (deflate's largest ratio), so it fails before
+// its pixels are allocated. A real PNG of 2048² black pixels, which deflate compresses close to that limit
+// (OpenImageIO's writer, zlib level 9), still imports.
+TEST_F(GltfImport, ImageFileTooSmallForItsDeclaredSizeFailsBeforeDecoding) {
+  std::vector<uint8_t> image = test::png(1, 1, {1, 2, 3});
+  for (int k = 0; k < 4; ++k) image[16 + k] = image[20 + k] = uint8_t(uint32_t(16384) >> (24 - 8 * k));
+  GltfBuilder b = withMaterial(json::object());
+  addImageTexture(b, image);
+  b.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+  const std::string error = importError(b);
+  const uint64_t least = uint64_t(16384) * (1 + 16384 * 3) / 1032;
+  EXPECT_NE(error.find("declares 16384 × 16384 px, which no complete image of its format stores in fewer than " +
+                       std::to_string(least) + " bytes; it has " + std::to_string(image.size())),
+            std::string::npos)
+      << error;
+
+  const std::filesystem::path flatFile = dir_ / "flat.png";
+  {
+    auto out = OIIO::ImageOutput::create(flatFile.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(2048, 2048, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("png:compressionLevel", 9);
+    ASSERT_TRUE(out->open(flatFile.string(), spec));
+    const std::vector<uint8_t> black(size_t(2048) * 2048 * 3, 0);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, black.data()));
+    ASSERT_TRUE(out->close());
+  }
+  const std::string flatBytes = readInputFile(flatFile, "test image");
+  const std::vector<uint8_t> flat(flatBytes.begin(), flatBytes.end());
+  EXPECT_LT(flat.size(), size_t(2048) * (1 + 2048 * 3) / 1000);  // within 3 % of the limit
+  GltfBuilder c = withMaterial(json::object());
+  addImageTexture(c, flat);
+  c.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+  EXPECT_EQ(importError(c), "");
 }
 
 TEST_F(GltfImport, JpegHeaderSizeIsCheckedBeforeDecoding) {

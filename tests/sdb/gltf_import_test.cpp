@@ -718,6 +718,20 @@ TEST_F(GltfImport, SamplerWrapModesReachTheTextureRefs) {
   EXPECT_EQ(m.diffuseTexture.wrapT, WrapMode::kRepeat);
   EXPECT_EQ(m.emissionTexture.wrapS, WrapMode::kClampToEdge);
   EXPECT_EQ(m.emissionTexture.wrapT, WrapMode::kMirroredRepeat);
+  EXPECT_EQ(m.diffuseTexture.magFilter, MagFilter::kLinear);  // undefined: linear, trilinear
+  EXPECT_EQ(m.diffuseTexture.minFilter, MinFilter::kLinearMipmapLinear);
+  EXPECT_EQ(m.emissionTexture.magFilter, MagFilter::kLinear);
+  auto emissionRefOf = [&](const GltfBuilder& file) {
+    scene_ = Scene();
+    import(file);
+    return onlyMaterialOfMesh().emissionTexture;
+  };
+  b.doc["samplers"][0]["magFilter"] = 9728;
+  b.doc["samplers"][0]["minFilter"] = 9984;
+  EXPECT_EQ(emissionRefOf(b).magFilter, MagFilter::kNearest);
+  EXPECT_EQ(emissionRefOf(b).minFilter, MinFilter::kNearestMipmapNearest);
+  b.doc["samplers"][0]["minFilter"] = 9729;
+  EXPECT_EQ(emissionRefOf(b).minFilter, MinFilter::kLinear);
 
   // Wrong values name their JSON location.
   auto expectError = [&](const std::string& jsonPath, const std::string& text) {
@@ -732,6 +746,12 @@ TEST_F(GltfImport, SamplerWrapModesReachTheTextureRefs) {
   b.doc["samplers"][0]["wrapT"] = 10241;  // a filter constant, not a wrap mode
   expectError("/samplers/0/wrapT", "wrap mode 10241");
   b.doc["samplers"][0]["wrapT"] = 10497;
+  b.doc["samplers"][0]["magFilter"] = 9984;  // a mipmap filter cannot magnify
+  expectError("/samplers/0/magFilter", "magFilter 9984");
+  b.doc["samplers"][0]["magFilter"] = 9729;
+  b.doc["samplers"][0]["minFilter"] = 33071;
+  expectError("/samplers/0/minFilter", "minFilter 33071");
+  b.doc["samplers"][0]["minFilter"] = 9987;
   b.doc["textures"][clampMirror]["sampler"] = 3;
   expectError("/textures/1/sampler", "refers to sampler 3");
 }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <initializer_list>
@@ -9,6 +11,9 @@
 
 #include "base/error.h"
 #include "base/file_io.h"
+#include "gltf_builder.h"
+#include "sdb/features.h"
+#include "sdb/measured_brdf.h"
 
 namespace fly::sdb {
 namespace {
@@ -381,6 +386,49 @@ TEST(SceneFile, InputFilesAreCheckedAndImporterErrorsPassThrough) {
   } catch (const InputError& e) {
     EXPECT_NE(e.location().file.find("truncated.gltf"), std::string::npos) << e.what();
   }
+}
+
+// "brdf": a MERL file's path (read and checked when the scene loads) or a car-paint object.
+TEST(SceneFile, MeasuredAndCarPaintBrdfs) {
+  test::TempDir dir;
+  const std::filesystem::path table = dir / "paint.binary";
+  writeMerlBrdf(table, [](const HalfDiffAngles&) { return Rgb(0.1f, 0.2f, 0.3f); });
+  const std::string model = R"({"fly": 1, "models": [{"file": "car.gltf"}], "overrides": [{"material": "Paint", )";
+  const Scene measured = parse(model + R"("brdf": ")" + table.string() + R"("}]})");
+  const Material& m = measured.material(measured.findMaterial("Paint"));
+  ASSERT_TRUE(m.measuredBrdf);
+  EXPECT_EQ(m.measuredBrdfPath, table.string());
+  EXPECT_NEAR(m.measuredBrdf->sample(3, 4, 5).b, 0.3f, 1e-6f);
+  EXPECT_TRUE(m.isMeasured());
+  EXPECT_TRUE(computeFeatures(measured).measuredBrdfs);
+  const std::vector<std::string> names = computeFeatures(measured).names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "measured-brdf"), names.end());
+
+  const Scene painted = parse(model + R"("brdf": {"base": [0.1, 0.2, 0.3],
+      "flakes": [{"reflectance": [0.5, 0.5, 0.6], "roughness": 0.4}], "coat": {"ior": 1.6, "roughness": 0.2}}}]})");
+  const Material& p = painted.material(painted.findMaterial("Paint"));
+  ASSERT_TRUE(p.carPaint);
+  EXPECT_FALSE(p.measuredBrdf);
+  EXPECT_EQ(p.carPaint->baseAlbedo, Rgb(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(p.carPaint->lobes[0].f0, Rgb(0.5f, 0.5f, 0.6f));
+  EXPECT_FLOAT_EQ(p.carPaint->lobes[0].alpha, 0.16f);  // α = roughness²
+  EXPECT_EQ(p.carPaint->lobes[1].f0, Rgb(0.0f));
+  EXPECT_FLOAT_EQ(p.carPaint->coatIor, 1.6f);
+  EXPECT_FLOAT_EQ(p.carPaint->coatAlpha, 0.04f);
+  // The car-paint presets carry the model.
+  const Scene preset = parse(model + R"("preset": "pearl-car-paint"}]})");
+  EXPECT_TRUE(preset.material(preset.findMaterial("Paint")).carPaint);
+
+  expectError(model + R"("brdf": 5}]})", "1:90", "/overrides/0/brdf",
+              {"expected a measured BRDF file's path (a MERL .binary file) or a car-paint object"});
+  const std::filesystem::path cut = dir / "cut.binary";
+  writeFileAtomic(cut, readInputFile(table, "table").substr(0, 1000));
+  expectError(model + R"("brdf": ")" + cut.string() + R"("}]})", "1:90", "/overrides/0/brdf",
+              {"(the file is cut off)", cut.string()});
+  expectError(model + R"("brdf": {"base": [0, 0, 0], "flakes": [{"reflectance": [1, 1, 1], "roughness": 0.05}]}}]})",
+              "1:161", "/overrides/0/brdf/flakes/0/roughness", {"expected a number, [0.1, 1]"});
+  expectError(model + R"("brdf": {"base": [0, 0, 0], "coat": {"ior": 1.5, "rough": 0.1}}}]})", "1:131",
+              "/overrides/0/brdf/coat/rough", {"unknown key \"rough\"", "did you mean \"roughness\"?"});
 }
 
 TEST(SceneFile, TruncationsGiveInputErrors) {
