@@ -43,7 +43,8 @@ class SmoothSource final : public SampleSourceOf<SmoothSource> {
 
 // Two groups of points that gain unequally from scrambled nets, each with the exact integral 1: group 0
 // bright (1000×) and smooth in the first pair (nets gain a lot), group 1 dim and a product over 16
-// dimensions in 4 groups (nets gain little).
+// dimensions in 4 groups (nets gain little). Group 0's samples carry a sun-direct part (the first term), so
+// that settled groups are exercised with two quantities a point.
 class TwoGroupSource final : public SampleSourceOf<TwoGroupSource> {
   friend SampleSourceOf<TwoGroupSource>;
 
@@ -53,14 +54,15 @@ class TwoGroupSource final : public SampleSourceOf<TwoGroupSource> {
   uint32_t groupCount() const override { return 2; }
   uint32_t groupOf(size_t point) const override { return point < kPerGroup ? 0 : 1; }
   static float exact(size_t point) { return point < kPerGroup ? 1000.0f : 1.0f; }
+  bool keepsSunDirect() const override { return true; }
 
  private:
   template <class S>
-  Rgb sampleAt(size_t point, S& sampler, uint64_t& /*rays*/) const {
+  PointSample sampleAt(size_t point, S& sampler, uint64_t& /*rays*/) const {
     sampler.startGroup(0);
     if (point < kPerGroup) {
       const vec2 u = sampler.next2D();
-      return Rgb(1000.0f * (u.x + u.y));  // ∫∫ (x + y) = 1
+      return {Rgb(1000.0f * (u.x + u.y)), Rgb(1000.0f * u.x)};  // ∫∫ (x + y) = 1
     }
     float f = 1.0f;
     for (int d = 0; d < 16; ++d) f *= 0.5f + sampler.next1D();  // ∫ (1/2 + x) = 1 per dimension
@@ -153,7 +155,10 @@ bool sameBits(const std::vector<IrradianceEstimate>& a, const std::vector<Irradi
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i) {
     if (std::memcmp(&a[i].meanLux, &b[i].meanLux, sizeof(Rgb)) != 0 ||
-        std::memcmp(&a[i].stdErrorLux, &b[i].stdErrorLux, sizeof(Rgb)) != 0 || a[i].samples != b[i].samples) {
+        std::memcmp(&a[i].stdErrorLux, &b[i].stdErrorLux, sizeof(Rgb)) != 0 ||
+        std::memcmp(&a[i].sunDirectMeanLux, &b[i].sunDirectMeanLux, sizeof(Rgb)) != 0 ||
+        std::memcmp(&a[i].sunDirectStdErrorLux, &b[i].sunDirectStdErrorLux, sizeof(Rgb)) != 0 ||
+        a[i].samples != b[i].samples) {
       return false;
     }
   }
@@ -223,6 +228,7 @@ TEST(SettledGroupsTest, ContinuingFromEveryCheckpointEqualsTheUninterruptedEstim
   const EstimateResult whole = estimateProgressively(source, settings);
   ASSERT_EQ(whole.points.front().samples, 16u);  // group 0 settled after the first pass
   ASSERT_GT(whole.points.back().samples, 16u);
+  EXPECT_NEAR(whole.points.front().sunDirectMeanLux.g, 500.0f, 5.0f * whole.points.front().sunDirectStdErrorLux.g);
   std::vector<std::string> saved;
   ProgressState state;
   Checkpointing checkpointing;
