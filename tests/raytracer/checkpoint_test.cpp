@@ -228,7 +228,8 @@ TEST(SettledGroupsTest, ContinuingFromEveryCheckpointEqualsTheUninterruptedEstim
   const EstimateResult whole = estimateProgressively(source, settings);
   ASSERT_EQ(whole.points.front().samples, 16u);  // group 0 settled after the first pass
   ASSERT_GT(whole.points.back().samples, 16u);
-  EXPECT_NEAR(whole.points.front().sunDirectMeanLux.g, 500.0f, 5.0f * whole.points.front().sunDirectStdErrorLux.g);
+  EXPECT_NEAR(whole.points.front().sunDirectMeanLux.g, 500.0f,
+              5.0f * whole.points.front().sunDirectStdErrorLux.g);
   std::vector<std::string> saved;
   ProgressState state;
   Checkpointing checkpointing;
