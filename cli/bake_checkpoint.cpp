@@ -64,7 +64,7 @@ std::string hex(uint64_t x) {
 nlohmann::json historyJson(const std::vector<raytracer::ConvergencePoint>& history) {
   nlohmann::json rows = nlohmann::json::array();
   for (const raytracer::ConvergencePoint& p : history) {
-    rows.push_back({p.seconds, p.samples, p.relativeErrorP95, p.raysPerSecond});
+    rows.push_back({p.seconds, p.samples, p.relativeErrorP95, p.raysPerSecond, p.sunDirectRelativeErrorP95});
   }
   return rows;
 }
@@ -243,14 +243,19 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);
     for (const nlohmann::json& row : j.at("history")) {
-      if (!row.is_array() || row.size() != 4) {
-        throw bad("a history row is not [seconds, samples, relative error, rays per second]");
+      // The fifth entry, the sun-direct part's error, is missing in checkpoints of bakes that did not keep
+      // it.
+      if (!row.is_array() || (row.size() != 4 && row.size() != 5)) {
+        throw bad(
+            "a history row is not [seconds, samples, relative error, rays per second, sun-direct relative "
+            "error]");
       }
       raytracer::ConvergencePoint p;
       p.seconds = row.at(0).get<double>();
       p.samples = unsignedValue<uint32_t>(row.at(1), "a history row's samples");
       p.relativeErrorP95 = row.at(2).get<float>();
       p.raysPerSecond = row.at(3).get<double>();
+      if (row.size() == 5) p.sunDirectRelativeErrorP95 = row.at(4).get<float>();
       c.state.history.push_back(p);
     }
     const std::string stateFile = j.at("state_file").get<std::string>();
@@ -272,6 +277,15 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     throw bad(e.what());
   }
   return c;
+}
+
+void checkCheckpointKeepsWhatTheBakeNeeds(const raytracer::BakeCheckpoint& state, const rdb::TraceRdb& rdb,
+                                          const std::filesystem::path& outDir) {
+  if (state.progress.channels == (raytracer::sunLights(rdb) ? 2u : 1u)) return;
+  throw InputError(SourceLocation{(checkpointDirFor(outDir) / "checkpoint.json").string()},
+                   "was saved by a version of fly that did not keep the sun's direct light apart, which this "
+                   "bake under the sun needs",
+                   "start the bake afresh without --resume (the checkpoint is replaced)");
 }
 
 }  // namespace fly::cli

@@ -56,4 +56,10 @@ struct LoadedCheckpoint {
 };
 LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir);
 
+// Throws InputError naming checkpointDirFor(outDir)/checkpoint.json when `state` cannot continue a bake of
+// `rdb` with the same fingerprint: a bake under the sun keeps the sun's direct part apart (two quantities a
+// point), which checkpoints of a fly before it (progress-state formats 2 and 3, read as one) lack.
+void checkCheckpointKeepsWhatTheBakeNeeds(const raytracer::BakeCheckpoint& state, const rdb::TraceRdb& rdb,
+                                          const std::filesystem::path& outDir);
+
 }  // namespace fly::cli

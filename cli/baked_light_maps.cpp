@@ -239,6 +239,33 @@ std::vector<Rgb> readLightTextureSide(const fs::path& dir, const json& entry, co
   return texels;
 }
 
+// The manifest's "sun_direct" (cli/baked_scene.h): the bake's sun direction, a finite unit vector, and its
+// normal illuminance, finite and ≥ 0.
+rdb::BakedSun readBakedSun(const json& entry, const fs::path& manifestPath) {
+  auto vector = [&](const char* key, bool unit) {
+    const auto v = entry.is_object() ? entry.find(key) : entry.end();
+    bool ok = entry.is_object() && v != entry.end() && v->is_array() && v->size() == 3 &&
+              std::all_of(v->begin(), v->end(), [](const json& x) { return x.is_number(); });
+    vec3 r(0.0f);
+    if (ok) {
+      r = vec3((*v)[0].get<float>(), (*v)[1].get<float>(), (*v)[2].get<float>());
+      ok = isFinite(r) &&
+           (unit ? std::abs(glm::length(r) - 1.0f) < 1e-3f : glm::all(glm::greaterThanEqual(r, vec3(0.0f))));
+    }
+    if (!ok) {
+      throw InputError({manifestPath.string(), 0, 0, std::string("/sun_direct/") + key},
+                       std::string("needs \"") + key + "\", " +
+                           (unit ? "a unit vector [x, y, z]" : "three finite numbers ≥ 0 (lux)"),
+                       kHintRebake);
+    }
+    return r;
+  };
+  rdb::BakedSun sun;
+  sun.directionWorld = vector("direction_world", true);
+  sun.normalIlluminanceLux = vector("normal_illuminance_lux", false);
+  return sun;
+}
+
 }  // namespace
 
 rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps) {
@@ -246,17 +273,27 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
   if (maps.frontLux.size() != n || maps.backLux.size() != n) {
     throw std::invalid_argument("lightMapStoreFromBake: the light maps do not have one value per vertex");
   }
+  const bool sun = maps.hasSunDirect();
+  if (sun && (maps.frontSunDirectLux.size() != n || maps.backSunDirectLux.size() != n)) {
+    throw std::invalid_argument(
+        "lightMapStoreFromBake: the sun-direct maps do not have one value per vertex");
+  }
   rdb::LightMapStore store;
+  if (sun) store.sun = rdb::BakedSun{rdb.sun.directionWorld, rdb.sun.normalIlluminanceLux};
+  auto vertices = [](const std::vector<Rgb>& all, const rdb::TraceMesh& m) {
+    const auto first = all.begin() + m.firstVertex;
+    return std::vector<Rgb>(first, first + m.vertexCount);
+  };
   for (const rdb::TraceMesh& m : rdb.meshes) {
     if (m.triangleCount == 0) continue;
     rdb::MeshLightMap map;
     map.sdbNodeId = m.sdbNodeId;
     map.sdbMeshId = m.sdbMeshId;
-    const auto first = maps.frontLux.begin() + m.firstVertex;
-    map.frontLux.assign(first, first + m.vertexCount);
-    if (m.twoSided) {
-      const auto back = maps.backLux.begin() + m.firstVertex;
-      map.backLux.assign(back, back + m.vertexCount);
+    map.frontLux = vertices(maps.frontLux, m);
+    if (m.twoSided) map.backLux = vertices(maps.backLux, m);
+    if (sun) {
+      map.frontSunDirectLux = vertices(maps.frontSunDirectLux, m);
+      if (m.twoSided) map.backSunDirectLux = vertices(maps.backSunDirectLux, m);
     }
     if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
       const rdb::TraceLightTexture& lt = rdb.lightTextures.at(m.lightTexture);
@@ -266,8 +303,17 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
           lt.cornerUv.size() != 3 * size_t(m.triangleCount)) {
         throw std::invalid_argument("lightMapStoreFromBake: a light texture does not match its mesh");
       }
-      map.lightTexture = rdb::MeshLightTexture{lt.width, lt.height, baked.frontLux,
-                                               m.twoSided ? baked.backLux : std::vector<Rgb>{}, lt.cornerUv};
+      rdb::MeshLightTexture t;
+      t.width = lt.width;
+      t.height = lt.height;
+      t.frontLux = baked.frontLux;
+      if (m.twoSided) t.backLux = baked.backLux;
+      if (sun) {
+        t.frontSunDirectLux = baked.frontSunDirectLux;
+        if (m.twoSided) t.backSunDirectLux = baked.backSunDirectLux;
+      }
+      t.cornerUv = lt.cornerUv;
+      map.lightTexture = std::move(t);
     }
     store.meshes.push_back(std::move(map));
   }
@@ -285,6 +331,10 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
   const tinygltf::Model model = loadSceneGltf(gltfPath);
 
   rdb::LightMapStore store;
+  // "sun_direct": the bake kept the sun's direct light apart (absent or null in bakes that did not).
+  const auto sunDirect = manifest.find("sun_direct");
+  const bool sun = sunDirect != manifest.end() && !sunDirect->is_null();
+  if (sun) store.sun = readBakedSun(*sunDirect, manifestPath);
   for (size_t k = 0; k < objects->size(); ++k) {
     const json& o = (*objects)[k];
     const std::string at = "/objects/" + std::to_string(k);
@@ -315,18 +365,25 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
     }
     // Every primitive of a baked mesh shares its vertex attributes; the first one's are the mesh's.
     const std::map<std::string, int>& attributes = mesh.primitives[0].attributes;
-    for (const bool back : {false, true}) {
-      if (back && !twoSided->get<bool>()) continue;
-      const char* name = back ? "_IRRADIANCE_BACK" : "_IRRADIANCE_FRONT";
-      const auto attribute = attributes.find(name);
-      if (attribute == attributes.end()) {
-        throw InputError({gltfPath.string(), 0, 0, meshPath + "/primitives/0/attributes"},
-                         std::string("has no ") + name + " attribute" +
-                             (back ? ", but manifest.json says the mesh is two-sided" : ""),
-                         kHintRebake);
+    for (const bool sunPart : {false, true}) {
+      if (sunPart && !sun) continue;
+      for (const bool back : {false, true}) {
+        if (back && !twoSided->get<bool>()) continue;
+        const char* name = sunPart ? (back ? "_SUN_DIRECT_BACK" : "_SUN_DIRECT_FRONT")
+                                   : (back ? "_IRRADIANCE_BACK" : "_IRRADIANCE_FRONT");
+        const auto attribute = attributes.find(name);
+        if (attribute == attributes.end()) {
+          throw InputError({gltfPath.string(), 0, 0, meshPath + "/primitives/0/attributes"},
+                           std::string("has no ") + name + " attribute" +
+                               (back ? ", but manifest.json says the mesh is two-sided"
+                                     : (sunPart ? ", but manifest.json gives the bake a sun_direct" : "")),
+                           kHintRebake);
+        }
+        std::vector<Rgb>& into = sunPart ? (back ? map.backSunDirectLux : map.frontSunDirectLux)
+                                         : (back ? map.backLux : map.frontLux);
+        into = readIrradiance(model, attribute->second, vertices, bakedDir,
+                              "mesh " + std::to_string(meshIndex) + "'s " + name);
       }
-      (back ? map.backLux : map.frontLux) = readIrradiance(
-          model, attribute->second, vertices, bakedDir, "mesh " + std::to_string(meshIndex) + "'s " + name);
     }
     const auto texture = o.find("light_texture");
     if (texture != o.end()) {
@@ -347,6 +404,14 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
       t.frontLux = readLightTextureSide(bakedDir, *texture, "front", t.width, t.height, textureAt);
       if (twoSided->get<bool>()) {
         t.backLux = readLightTextureSide(bakedDir, *texture, "back", t.width, t.height, textureAt);
+      }
+      if (sun) {
+        t.frontSunDirectLux =
+            readLightTextureSide(bakedDir, *texture, "front_sun_direct", t.width, t.height, textureAt);
+        if (twoSided->get<bool>()) {
+          t.backSunDirectLux =
+              readLightTextureSide(bakedDir, *texture, "back_sun_direct", t.width, t.height, textureAt);
+        }
       }
       t.cornerUv = readCornerUvs(model, meshIndex, manifestUint(o, "triangles", manifestPath, at), bakedDir);
       map.lightTexture = std::move(t);

@@ -25,10 +25,13 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
 // light-textured mesh appends seam-split copies after them). An object with a "light_texture" entry also
 // gets its light texture: the EXR files it names (lightmaps/objectN_front.exr, and _back for two-sided
 // meshes; the _stderr files are not read) and the corner UVs, TEXCOORD_1 of each corner of the glTF mesh's
-// triangles. Equals lightMapStoreFromBake of the bake that wrote the directory, value for value. The vertex
-// counts are those of the scene at bake time: a caller checks them against the scene it draws. InputError
-// naming the file (manifest.json, scene.gltf or its buffer, an EXR) when one is missing, corrupt, truncated,
-// holds a value that is not finite, or does not match the others.
+// triangles. A manifest with a "sun_direct" (cli/baked_scene.h) also gives the store its sun and every map
+// its sun-direct part (_SUN_DIRECT_FRONT/_BACK, the light textures' "front_sun_direct"/"back_sun_direct"
+// EXRs); one without it (an earlier fly's bake) reads without them. Equals lightMapStoreFromBake of the bake
+// that wrote the directory, value for value. The vertex counts are those of the scene at bake time: a caller
+// checks them against the scene it draws. InputError naming the file (manifest.json, scene.gltf or its
+// buffer, an EXR) when one is missing, corrupt, truncated, holds a value that is not finite, or does not
+// match the others.
 rdb::LightMapStore readBakedLightMaps(const std::filesystem::path& bakedDir);
 
 }  // namespace fly::cli

@@ -169,7 +169,45 @@ json bakeSummaryJson(const json& m) {
           {"rays", m.at("rays")},
           {"objects", m.at("objects").size()},
           {"light_textures", lightTexturesJson(m)},
+          {"sun_direct", m.value("sun_direct", json())},
           {"fly_version", m.at("fly_version")}};
+}
+
+std::string bakedSunTime(const json& m) {
+  const json sun = m.value("sun_direct", json());
+  if (!sun.is_object()) return "";
+  const json time = sun.value("time", json());
+  if (time.is_string() && !time.get<std::string>().empty()) {
+    std::string t = time.get<std::string>();  // 2026-06-21T15:00
+    if (t.size() > 10 && t[10] == 'T') t[10] = ' ';
+    const json zone = sun.value("time_zone", json());
+    return zone.is_string() && !zone.get<std::string>().empty() ? t + " " + zone.get<std::string>() : t;
+  }
+  const json placed = sun.value("sun_direction", json());
+  if (placed.is_object() && placed.value("azimuth_deg", json()).is_number() &&
+      placed.value("elevation_deg", json()).is_number()) {
+    return "the sun placed at azimuth " + fixed(placed["azimuth_deg"].get<double>(), 1) + "°, elevation " +
+           fixed(placed["elevation_deg"].get<double>(), 1) + "°";
+  }
+  return "the bake's sun";
+}
+
+std::string bakedSunlightText(const json& m) {
+  const std::string time = bakedSunTime(m);
+  if (time.empty()) {
+    return "note: this bake keeps no separate sun-direct light (baked without a sun, or by a fly before it "
+           "was kept apart): sunlight mode shows the baked light as light-map mode does, under the bake's "
+           "sun; "
+           "bake again to move the sun";
+  }
+  const json& sun = m.at("sun_direct");
+  std::string text = "indirect light baked at " + time;
+  if (sun.value("elevation_deg", json()).is_number() &&
+      sun.value("normal_illuminance_luminance_lux", json()).is_number()) {
+    text += " (sun at " + fixed(sun["elevation_deg"].get<double>(), 1) + "° elevation, " +
+            fixed(sun["normal_illuminance_luminance_lux"].get<double>(), 0) + " lx)";
+  }
+  return text + "; the sun's direct light is drawn for the time rendered";
 }
 
 std::string bakeSummaryText(const json& m, bool sourceFound) {
@@ -191,6 +229,7 @@ std::string bakeSummaryText(const json& m, bool sourceFound) {
       << (t.value("automatic", false) ? " (automatic)" : "") << ", " << t.at("front").get<std::string>()
       << (t.contains("back") ? " + back" : "") << "\n";
   }
+  o << "sunlight   " << bakedSunlightText(m) << "\n";
   return o.str();
 }
 

@@ -40,6 +40,17 @@ std::optional<std::filesystem::path> findBakedSourceScene(const std::filesystem:
 // time, rays, object count, light textures (object index, name, files, size, density) and fly version.
 nlohmann::json bakeSummaryJson(const nlohmann::json& manifest);
 
+// When the bake's light was baked, for sunlight mode (FLY §3: baked indirect light under a real-time sun),
+// from the manifest's "sun_direct" (cli/baked_scene.h): "2026-06-21 15:00 Europe/Helsinki", or for a sun
+// placed directly "the sun placed at azimuth 200.0°, elevation 35.0°"; "" when the bake kept no sun-direct
+// part.
+std::string bakedSunTime(const nlohmann::json& manifest);
+
+// One line on what a bake's light maps hold for sunlight mode: with a sun-direct part, "indirect light baked
+// at TIME (sun at E° elevation, N lx); the sun's direct light is drawn for the time rendered"; without one, a
+// note that sunlight mode shows the baked light as light-map mode does (the bake's sun, shadows included).
+std::string bakedSunlightText(const nlohmann::json& manifest);
+
 // The same as `fly info DIR` prints it, one "key  value" line each; `sourceFound` = false adds a warning that
 // the scene file is gone.
 std::string bakeSummaryText(const nlohmann::json& manifest, bool sourceFound);

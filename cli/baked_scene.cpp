@@ -153,18 +153,28 @@ std::vector<vec3> gather(std::span<const vec3> values, const SeamSplit* split) {
   return out;
 }
 
-// Files of one light texture, relative to the baked directory: lightmaps/objectN_SIDE[_stderr].exr.
-std::string lightTextureFile(size_t object, bool back, bool stdError, const char* extension = ".exr") {
+// Files of one light texture, relative to the baked directory: lightmaps/objectN_SIDE[_sun][_stderr].exr
+// (_sun: the sun-direct part).
+std::string lightTextureFile(size_t object, bool back, bool stdError, const char* extension = ".exr",
+                             bool sunDirect = false) {
   return "lightmaps/object" + std::to_string(object) + (back ? "_back" : "_front") +
-         (stdError ? "_stderr" : "") + extension;
+         (sunDirect ? "_sun" : "") + (stdError ? "_stderr" : "") + extension;
 }
 
-json lightTextureFilesJson(size_t object, bool twoSided) {
+json lightTextureFilesJson(size_t object, bool twoSided, bool sunDirect) {
   json j = {{"front", lightTextureFile(object, false, false)},
             {"front_stderr", lightTextureFile(object, false, true)}};
   if (twoSided) {
     j["back"] = lightTextureFile(object, true, false);
     j["back_stderr"] = lightTextureFile(object, true, true);
+  }
+  if (sunDirect) {
+    j["front_sun_direct"] = lightTextureFile(object, false, false, ".exr", true);
+    j["front_sun_direct_stderr"] = lightTextureFile(object, false, true, ".exr", true);
+    if (twoSided) {
+      j["back_sun_direct"] = lightTextureFile(object, true, false, ".exr", true);
+      j["back_sun_direct_stderr"] = lightTextureFile(object, true, true, ".exr", true);
+    }
   }
   return j;
 }
@@ -229,6 +239,14 @@ void writeBakedGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytrac
       attributes["_IRRADIANCE_BACK"] = b.vec3s(gather(range(maps.backLux, m), sp));
       attributes["_IRRADIANCE_BACK_STDERR"] = b.vec3s(gather(range(maps.backStdErrorLux, m), sp));
     }
+    if (maps.hasSunDirect()) {
+      attributes["_SUN_DIRECT_FRONT"] = b.vec3s(gather(range(maps.frontSunDirectLux, m), sp));
+      attributes["_SUN_DIRECT_FRONT_STDERR"] = b.vec3s(gather(range(maps.frontSunDirectStdErrorLux, m), sp));
+      if (m.twoSided) {
+        attributes["_SUN_DIRECT_BACK"] = b.vec3s(gather(range(maps.backSunDirectLux, m), sp));
+        attributes["_SUN_DIRECT_BACK_STDERR"] = b.vec3s(gather(range(maps.backSunDirectStdErrorLux, m), sp));
+      }
+    }
     if (sp) {
       attributes["TEXCOORD_1"] = b.vec2s(sp->uv1);
       const std::vector<float> source(sp->sourceVertex.begin(), sp->sourceVertex.end());
@@ -242,7 +260,7 @@ void writeBakedGltf(const fs::path& dir, const rdb::TraceRdb& rdb, const raytrac
     json mesh = meshJson(d, i, std::move(primitives));
     if (sp) {
       const rdb::TraceLightTexture& lt = rdb.lightTextures[m.lightTexture];
-      json files = lightTextureFilesJson(i, m.twoSided);
+      json files = lightTextureFilesJson(i, m.twoSided, maps.hasSunDirect());
       files["width"] = lt.width;
       files["height"] = lt.height;
       files["texels_per_metre"] = lt.texelsPerMetre;
@@ -454,11 +472,12 @@ std::string shortest(float v) {
 
 }  // namespace
 
-std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history) {
-  std::string csv = "seconds,samples,estimated_error,rays_per_second\n";
+std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history, bool sunDirect) {
+  std::string csv = std::string("seconds,samples,estimated_error,rays_per_second") +
+                    (sunDirect ? ",sun_direct_estimated_error" : "") + "\n";
   for (const raytracer::ConvergencePoint& p : history) {
     csv += shortest(p.seconds) + "," + std::to_string(p.samples) + "," + shortest(p.relativeErrorP95) + "," +
-           shortest(p.raysPerSecond) + "\n";
+           shortest(p.raysPerSecond) + (sunDirect ? "," + shortest(p.sunDirectRelativeErrorP95) : "") + "\n";
   }
   return csv;
 }
@@ -477,7 +496,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
   if (!fs::create_directory(dir)) throw std::runtime_error("writeBakedScene: " + dir.string() + " exists");
 
   writeBakedGltf(dir, rdb, maps, d);
-  writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history));
+  writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history, maps.hasSunDirect()));
   drawConvergencePlot(maps.history, dir / "convergence.png", {.targetRelativeError = d.targetRelativeError});
   std::vector<std::string> files = {"scene.gltf", "scene.bin", "convergence.csv", "convergence.png"};
   if (maps.lightTextures.size() != rdb.lightTextures.size()) {
@@ -487,22 +506,30 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
     const raytracer::LightTexture& tex = maps.lightTextures[k];
     const rdb::TraceLightTexture& lt = rdb.lightTextures[k];
     fs::create_directories(dir / "lightmaps");
-    for (const bool back : {false, true}) {
-      if (back && tex.backLux.empty()) continue;
-      for (const bool stdError : {false, true}) {
-        const std::vector<Rgb>& values = back ? (stdError ? tex.backStdErrorLux : tex.backLux)
-                                              : (stdError ? tex.frontStdErrorLux : tex.frontLux);
-        ImageRgbF image{int(tex.width), int(tex.height), {}};
-        for (const Rgb& v : values) image.rgb.insert(image.rgb.end(), {v.r, v.g, v.b});
-        const std::string file = lightTextureFile(lt.mesh, back, stdError);
-        writeExr(dir / file, image,
-                 {{"units", "lux"},
-                  {"fly:quantity", stdError ? "standard error of irradiance" : "irradiance"},
-                  {"fly:side", back ? "back" : "front"},
-                  {"fly:object", std::to_string(lt.mesh)},
-                  {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
-                  {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
-        files.push_back(file);
+    for (const bool sun : {false, true}) {
+      if (sun && tex.frontSunDirectLux.empty()) continue;
+      for (const bool back : {false, true}) {
+        if (back && tex.backLux.empty()) continue;
+        for (const bool stdError : {false, true}) {
+          const std::vector<Rgb>& values =
+              sun ? (back ? (stdError ? tex.backSunDirectStdErrorLux : tex.backSunDirectLux)
+                          : (stdError ? tex.frontSunDirectStdErrorLux : tex.frontSunDirectLux))
+                  : (back ? (stdError ? tex.backStdErrorLux : tex.backLux)
+                          : (stdError ? tex.frontStdErrorLux : tex.frontLux));
+          ImageRgbF image{int(tex.width), int(tex.height), {}};
+          for (const Rgb& v : values) image.rgb.insert(image.rgb.end(), {v.r, v.g, v.b});
+          const std::string file = lightTextureFile(lt.mesh, back, stdError, ".exr", sun);
+          const std::string quantity = std::string(stdError ? "standard error of " : "") +
+                                       (sun ? "irradiance straight from the sun's disc" : "irradiance");
+          writeExr(dir / file, image,
+                   {{"units", "lux"},
+                    {"fly:quantity", quantity},
+                    {"fly:side", back ? "back" : "front"},
+                    {"fly:object", std::to_string(lt.mesh)},
+                    {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
+                    {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
+          files.push_back(file);
+        }
       }
     }
   }
@@ -527,10 +554,18 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
               {"samples", objectSamples(maps, m)},
               {"front", sideSummary(range(maps.frontLux, m), range(maps.frontStdErrorLux, m))}};
     if (m.twoSided) o["back"] = sideSummary(range(maps.backLux, m), range(maps.backStdErrorLux, m));
+    if (maps.hasSunDirect()) {
+      o["front_sun_direct"] =
+          sideSummary(range(maps.frontSunDirectLux, m), range(maps.frontSunDirectStdErrorLux, m));
+      if (m.twoSided) {
+        o["back_sun_direct"] =
+            sideSummary(range(maps.backSunDirectLux, m), range(maps.backSunDirectStdErrorLux, m));
+      }
+    }
     if (m.lightTexture != rdb::TraceMesh::kNoLightTexture) {
       const rdb::TraceLightTexture& lt = rdb.lightTextures[m.lightTexture];
       const raytracer::LightTexture& tex = maps.lightTextures[m.lightTexture];
-      json t = lightTextureFilesJson(i, m.twoSided);
+      json t = lightTextureFilesJson(i, m.twoSided, maps.hasSunDirect());
       t["width"] = lt.width;
       t["height"] = lt.height;
       t["texels_per_metre"] = lt.texelsPerMetre;
@@ -542,11 +577,36 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       t["samples"] = tex.samples;
       t["front_summary"] = textureSummary(tex.frontLux, tex.frontStdErrorLux, tex.baked);
       if (m.twoSided) t["back_summary"] = textureSummary(tex.backLux, tex.backStdErrorLux, tex.baked);
+      if (maps.hasSunDirect()) {
+        t["front_sun_direct_summary"] =
+            textureSummary(tex.frontSunDirectLux, tex.frontSunDirectStdErrorLux, tex.baked);
+        if (m.twoSided) {
+          t["back_sun_direct_summary"] =
+              textureSummary(tex.backSunDirectLux, tex.backSunDirectStdErrorLux, tex.baked);
+        }
+      }
       o["light_texture"] = std::move(t);
     }
     objects.push_back(std::move(o));
   }
   const float finalError = maps.history.empty() ? 0.0f : maps.history.back().relativeErrorP95;
+  // The sun whose direct light the bake kept apart (sunlight mode draws it in real time at any other time).
+  json sunDirect = nullptr;
+  if (maps.hasSunDirect()) {
+    const vec3& towardsSun = rdb.sun.directionWorld;
+    const Rgb& en = rdb.sun.normalIlluminanceLux;
+    const double elevationDeg = radToDeg(std::asin(std::clamp(double(towardsSun.y), -1.0, 1.0)));
+    const json& site = d.daylight.is_object() ? d.daylight.value("site", json()) : json();
+    sunDirect = {
+        {"direction_world", {towardsSun.x, towardsSun.y, towardsSun.z}},
+        {"elevation_deg", elevationDeg},
+        {"normal_illuminance_lux", {en.r, en.g, en.b}},
+        {"normal_illuminance_luminance_lux", luminance(en)},
+        {"time", d.daylight.is_object() ? d.daylight.value("time", json()) : json()},
+        {"time_zone", site.is_object() ? site.value("time_zone", json()) : json()},
+        {"sun_direction", d.daylight.is_object() ? d.daylight.value("sun_direction", json()) : json()},
+        {"relative_error_p95", maps.history.empty() ? 0.0f : maps.history.back().sunDirectRelativeErrorP95}};
+  }
   const json manifest = {
       {"format", kBakedSceneFormat},
       {"format_version", kBakedSceneFormatVersion},
@@ -567,6 +627,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       {"bake_seconds", maps.seconds},
       {"relative_error_p95", finalError},
       {"unfilled_vertices", maps.unfilledVertices},
+      {"sun_direct", sunDirect},
       {"timings_s", d.timingsS},
       {"units", {{"irradiance", "lux"}, {"length", "m"}, {"frame", "glTF world: +Y up, right-handed"}}},
       {"objects", std::move(objects)},

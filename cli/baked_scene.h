@@ -2,7 +2,12 @@
 //
 // manifest.json: format "fly-baked-scene" version 1; fly version, scene path, settings, samples per vertex,
 //   rays, timings, final error; per object (TraceMesh: SDB ids and names, its glTF mesh) the mean over
-//   vertices of the irradiance's luminance and of its relative error; the list of files.
+//   vertices of the irradiance's luminance and of its relative error (and of the sun-direct part's,
+//   "front_sun_direct"); the list of files; "sun_direct": null, or for a bake under the sun the sun whose
+//   direct light was kept apart: direction_world (unit, towards the sun), elevation_deg,
+//   normal_illuminance_lux (RGB) and normal_illuminance_luminance_lux, the bake's time and time_zone (null
+//   for a sun placed directly, whose sun_direction is given instead) and relative_error_p95 (the sun-direct
+//   part's). A manifest without it (an earlier fly's) reads as a bake without a sun-direct part.
 // scene.gltf + scene.bin: the baked geometry in world space (metres, +Y up), one glTF mesh and node per
 //   TraceMesh with POSITION, NORMAL and the application-specific (glTF 2.0 §3.7.2.1: names start with "_")
 //   VEC3 FLOAT attributes _IRRADIANCE_FRONT and _IRRADIANCE_FRONT_STDERR, for two-sided meshes also
@@ -16,6 +21,9 @@
 //   vertex has where charts meet (seams), with the attributes of its source vertex. The mesh's extras hold
 //   {"fly": {"light_texture": {"front", "front_stderr", ["back", "back_stderr"], "width", "height",
 //   "texels_per_metre"}}}: the EXR paths (relative to the directory) and the atlas.
+//   A bake under the sun (raytracer::VertexLightMaps::hasSunDirect) adds _SUN_DIRECT_FRONT and
+//   _SUN_DIRECT_FRONT_STDERR (and _BACK, _BACK_STDERR for two-sided meshes): the part of the irradiance that
+//   came straight from the sun's disc, lux, from the same samples (docs/mixed-lighting.md).
 // lightmaps/objectN_front.exr, objectN_front_stderr.exr (and _back, _back_stderr for two-sided meshes), for
 //   every object N (the manifest's objects index) with a light texture: 32-bit float RGB, ZIP, the irradiance
 //   in lux per texel (mean over the texel's footprint on the mesh) and its standard error, row 0 = v ∈ [0,
@@ -23,8 +31,11 @@
 //   neighbours. Header attributes: units "lux", fly:quantity, fly:side, fly:object, fly:texelsPerMetre.
 //   The manifest's object lists them under "light_texture" with the atlas size, density, whether it was
 //   chosen automatically, the UV source ("TEXCOORD_1" or "generated"), baked/empty texel and seam-edge
-//   counts, and front_summary/back_summary (as "front", over the baked texels).
-// convergence.csv: seconds,samples,estimated_error,rays_per_second, one row per pass.
+//   counts, and front_summary/back_summary (as "front", over the baked texels). Under the sun also
+//   objectN_front_sun.exr, objectN_front_sun_stderr.exr (and _back_sun …): the sun-direct part, listed as
+//   "front_sun_direct", "front_sun_direct_stderr" … with front_sun_direct_summary.
+// convergence.csv: seconds,samples,estimated_error,rays_per_second, one row per pass (under the sun also
+//   sun_direct_estimated_error: raytracer::ConvergencePoint::sunDirectRelativeErrorP95).
 // convergence.png: the estimated error against run time, log-log (cli/convergence_plot.h).
 // export/scene.gltf + scene.bin (optional), for any glTF viewer: COLOR_0 = the tone-mapped luminance
 //   albedo·E/π, KHR_materials_unlit; two-sided meshes twice, the back with reversed winding. Light-textured
@@ -71,8 +82,8 @@ void writeBakedScene(const std::filesystem::path& dir, const rdb::TraceRdb& rdb,
                      const raytracer::VertexLightMaps& maps, const BakeDescription& description);
 
 // convergence.csv's text: the header and one row per point, numbers in the shortest form that reads back
-// exactly.
-std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history);
+// exactly; with sunDirect, a last column sun_direct_estimated_error.
+std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& history, bool sunDirect);
 
 // Throws UsageError when `dir` exists and is not a baked scene (a file, or a directory of something else):
 // a bake replaces only an earlier bake.

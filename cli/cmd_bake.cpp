@@ -168,6 +168,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
           "start the bake afresh without --resume (the checkpoint is replaced)");
     }
     checkpointState = std::move(loaded->state);
+    checkCheckpointKeepsWhatTheBakeNeeds(checkpointState, rdb, o.out);
     checkpointing.state = &checkpointState;
     std::fprintf(stderr, "bake: resuming from %s (%u samples per point, %s done)\n",
                  checkpointDirFor(o.out).c_str(), checkpointState.progress.samplesPerPoint,
@@ -245,11 +246,17 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
                                       ? ""
                                       : " (fewer for " + std::to_string(settled) +
                                             " objects and light textures that met the target earlier)";
+  // Under the sun, the error of the part kept apart for sunlight mode (docs/mixed-lighting.md).
+  char sunText[96] = "";
+  if (maps.hasSunDirect() && !maps.history.empty()) {
+    std::snprintf(sunText, sizeof sunText, " (of the sun's direct part %.3g %%)",
+                  100.0 * maps.history.back().sunDirectRelativeErrorP95);
+  }
   std::fprintf(
       stderr,
-      "bake: %zu vertices, %u samples each%s, 95th percentile of relative standard error %.3g %%, %.1f s, "
+      "bake: %zu vertices, %u samples each%s, 95th percentile of relative standard error %.3g %%%s, %.1f s, "
       "%.3g Mrays/s -> %s\n",
-      rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, maps.seconds,
+      rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, sunText, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
   for (const raytracer::LightTexture& tex : maps.lightTextures) {
     const rdb::TraceLightTexture& lt = rdb.lightTextures[size_t(&tex - maps.lightTextures.data())];

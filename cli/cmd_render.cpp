@@ -2,6 +2,8 @@
 // (tone-mapped sRGB) or an EXR (luminance in cd/m²).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -9,18 +11,22 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "base/error.h"
 #include "base/image_io.h"
 #include "base/tone_map.h"
+#include "cli/bake_options.h"
 #include "cli/baked_light_maps.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
 #include "cli/raster_scene.h"
+#include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
 #include "raster/renderer.h"
 #include "rdb/raster_rdb.h"
 #include "sdb/scene_load.h"
+#include "sunsky/civil_time.h"
 
 namespace fly::cli {
 
@@ -39,6 +45,7 @@ struct RenderOptions {
   std::string shadows = "vismap";
   uint32_t shadowMapTexels = 2048;
   DaylightOptions daylight;
+  std::string timeLapse;  // FROM,TO,STEP
 };
 
 
@@ -48,7 +55,64 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-int runRender(const RenderOptions& o) {
+// The frames of --time-lapse FROM,TO,STEP: the scene's times FROM, FROM + STEP, … up to TO (inclusive),
+// as hours after FROM. FROM and TO take --time's forms (local in the site's zone, UTC "…Z" or with an
+// offset), STEP a duration (30m, 1h, 900s). UsageError for a malformed value, TO before FROM, or more than
+// kMaxTimeLapseFrames frames.
+constexpr size_t kMaxTimeLapseFrames = 10000;
+struct TimeLapse {
+  std::string from;
+  std::vector<double> hoursAfterFrom;
+};
+std::vector<std::string> timeLapseParts(const std::string& text) {
+  std::vector<std::string> parts;
+  size_t begin = 0;
+  for (size_t comma = text.find(',');; comma = text.find(',', begin)) {
+    parts.push_back(text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  if (parts.size() != 3 || parts[0].empty() || parts[1].empty() || parts[2].empty()) {
+    throw UsageError("--time-lapse " + text +
+                     ": expected FROM,TO,STEP, e.g. 2026-06-21T06:00,2026-06-21T21:00,30m");
+  }
+  return parts;
+}
+TimeLapse parseTimeLapse(const std::string& text, const std::string& timeZone) {
+  const std::vector<std::string> parts = timeLapseParts(text);
+  const double stepH = parseDuration(parts[2], "--time-lapse STEP") / 3600.0;
+  sunsky::UtcTime from, to;
+  try {
+    from = sunsky::parseTime(parts[0], timeZone, "--time-lapse FROM");
+    to = sunsky::parseTime(parts[1], timeZone, "--time-lapse TO");
+  } catch (const InputError& e) {
+    throw UsageError(e.what());
+  }
+  const double spanH = (sunsky::julianDay(to) - sunsky::julianDay(from)) * 24.0;
+  if (spanH < -1e-9) {
+    throw UsageError("--time-lapse " + text + ": TO (" + to.iso() + ") is before FROM (" + from.iso() +
+                     "); give the earlier time first");
+  }
+  const double frames = std::floor(std::max(spanH, 0.0) / stepH + 1e-6) + 1.0;
+  if (!(frames <= double(kMaxTimeLapseFrames))) {
+    throw UsageError("--time-lapse " + text + ": " + std::to_string(int64_t(std::min(frames, 1e15))) +
+                     " frames, more than " + std::to_string(kMaxTimeLapseFrames) + "; give a longer STEP");
+  }
+  TimeLapse t{parts[0], {}};
+  for (size_t k = 0; k < size_t(frames); ++k) t.hoursAfterFrom.push_back(double(k) * stepH);
+  return t;
+}
+
+// OUT with its frame number before the extension: shadows.png → shadows-0003.png.
+std::string framePath(const std::string& out, size_t frame) {
+  const std::filesystem::path p(out);
+  char number[32];
+  std::snprintf(number, sizeof number, "-%04zu", frame);
+  return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
+}
+
+int runRender(const RenderOptions& options) {
+  RenderOptions o = options;
   const std::string ext = lowerExtension(o.out);
   if (ext != ".png" && ext != ".exr") {
     throw UsageError("--out " + o.out + ": give a .png (tone-mapped sRGB) or .exr (luminance in cd/m²) file");
@@ -64,13 +128,37 @@ int runRender(const RenderOptions& o) {
   const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
+  const bool timeLapse = !o.timeLapse.empty();
+  if (timeLapse) {
+    if (!o.daylight.time.empty()) throw UsageError("give either --time or --time-lapse, not both");
+    if (!o.daylight.sunDirection.empty()) {
+      throw UsageError("--time-lapse moves the sun by the site's clock; it cannot be given with --sun-dir");
+    }
+    if (requestedMode == raster::RenderMode::kLightMap) {
+      throw UsageError(
+          "--time-lapse with --mode lightmap would draw the same image at every time (light maps show the "
+          "bake's light); use --mode sunlight (the baked indirect light under the moving sun) or simple");
+    }
+    // The scene is loaded at the first time, which also checks that there is a site to give it.
+    o.daylight.time = timeLapseParts(o.timeLapse).front();
+  }
 
   // The scene, and the light maps of a baked directory.
-  const RasterScene loaded = loadRasterScene(o.scene, o.daylight);
+  RasterScene loaded = loadRasterScene(o.scene, o.daylight);
   const std::filesystem::path& scenePath = loaded.scenePath;
   const std::optional<rdb::LightMapStore>& lightMaps = loaded.lightMaps;
-  const rdb::RasterRdb rdb = buildRasterRdb(loaded.scene, lightMaps ? &*lightMaps : nullptr);
+  const rdb::LightMapStore* maps = lightMaps ? &*lightMaps : nullptr;
+  rdb::RasterRdb rdb = buildRasterRdb(loaded.scene, maps);
   if (rdb.indices.empty()) throw InputError({scenePath.string()}, "has no triangles to render");
+  std::optional<TimeLapse> lapse;
+  if (timeLapse) {
+    if (!loaded.scene.hasSite() || loaded.scene.time().localDateTime.empty()) {
+      throw UsageError("--time-lapse needs a site: give --lat and --lon (and --tz), or a scene with a site");
+    }
+    lapse = parseTimeLapse(o.timeLapse, loaded.scene.site().timeZone);
+    // Sunlight mode (the sky and the moving sun) unless another is asked for.
+    if (!requestedMode && rdb.variants.sky) requestedMode = raster::RenderMode::kSunlight;
+  }
   const std::optional<raster::RenderMode> mode = chooseRenderMode(rdb, requestedMode, scenePath);
 
   // The view: the named camera, else the scene's first camera, else one framing the whole scene.
@@ -94,33 +182,34 @@ int runRender(const RenderOptions& o) {
   raster::Renderer renderer;
   renderer.upload(rdb);
   renderer.setSunShadows(shadows);
-  renderer.render(view, *mode, width, height);
-  const std::vector<float> rgb = renderer.luminanceRgb();
-  for (float v : rgb) {
-    if (!std::isfinite(v)) throw std::runtime_error("internal error: the render has a non-finite luminance");
-  }
-  double ev100 = 0.0;
-  if (ext == ".exr") {
-    ImageRgbF image{int(width), int(height), rgb};
-    writeExr(o.out, image,
-             {{"units", "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)"},
-              {"fly:mode", raster::renderModeName(*mode)},
-              {"fly:view", viewName},
-              {"fly:scene", scenePath.string()}});
-  } else {
-    if (o.exposureEv100) {
-      ev100 = *o.exposureEv100;
-    } else {
+  // Renders the current RasterRdb into `path`; the exposure is `ev100` when given, else automatic (returned).
+  auto renderImage = [&](const std::string& path, std::optional<double> ev100) {
+    renderer.render(view, *mode, width, height);
+    const std::vector<float> rgb = renderer.luminanceRgb();
+    for (float v : rgb) {
+      if (!std::isfinite(v))
+        throw std::runtime_error("internal error: the render has a non-finite luminance");
+    }
+    if (ext == ".exr") {
+      ImageRgbF image{int(width), int(height), rgb};
+      writeExr(path, image,
+               {{"units", "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)"},
+                {"fly:mode", raster::renderModeName(*mode)},
+                {"fly:view", viewName},
+                {"fly:scene", scenePath.string()}});
+      return 0.0;
+    }
+    if (!ev100) {
       std::vector<float> lum(rgb.size() / 3);
       for (size_t i = 0; i < lum.size(); ++i)
         lum[i] = luminance(Rgb(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
       ev100 = autoExposureEv100Histogram(lum);
     }
-    renderer.toneMap(ToneMapSettings{op, ev100, o.whitePoint});
+    renderer.toneMap(ToneMapSettings{op, *ev100, o.whitePoint});
     const std::vector<uint8_t> px = renderer.srgb8();
-    writePng(o.out, int(width), int(height), 3, px.data());
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writePng(path, int(width), int(height), 3, px.data());
+    return *ev100;
+  };
 
   std::ostringstream t;
   t << "scene     " << scenePath.string() << " (" << rdb.triangleCount() << " triangles"
@@ -128,26 +217,76 @@ int runRender(const RenderOptions& o) {
   t << "view      " << viewName << "\n";
   t << "mode      " << raster::renderModeName(*mode) << "\n";
   t << "light     " << loaded.light << "\n";
-  if (renderer.stats().shadowPasses > 0) {
-    const raster::SunShadowCounts c = renderer.sunShadowCounts();
-    t << "shadows   sun shadow volumes of " << c.keptTriangles << " of " << c.casterTriangles << " triangles, "
-      << c.silhouetteEdges << " silhouette edges ("
-      << (shadows.mode == raster::SunShadowMode::kVisibilityMap
-              ? std::to_string(shadows.visibilityMapTexels) + "² visibility map"
-              : std::string("every sun-facing triangle"))
-      << ")\n";
-  }
+  if (lightMaps && *mode == raster::RenderMode::kSunlight) t << "baked     " << loaded.bakedSunlight << "\n";
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
-  t << "image     " << o.out << " (" << width << "×" << height;
+  // What the last render's sun shadows took, when it drew them.
+  auto shadowLine = [&]() -> std::string {
+    if (renderer.stats().shadowPasses == 0) return "";
+    const raster::SunShadowCounts c = renderer.sunShadowCounts();
+    return "shadows   sun shadow volumes of " + std::to_string(c.keptTriangles) + " of " +
+           std::to_string(c.casterTriangles) + " triangles, " + std::to_string(c.silhouetteEdges) +
+           " silhouette edges (" +
+           (shadows.mode == raster::SunShadowMode::kVisibilityMap
+                ? std::to_string(shadows.visibilityMapTexels) + "² visibility map"
+                : std::string("every sun-facing triangle")) +
+           ")\n";
+  };
   char buf[64];
+  if (!lapse) {
+    const double ev100 = renderImage(o.out, o.exposureEv100);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    t << shadowLine();
+    t << "image     " << o.out << " (" << width << "×" << height;
+    if (ext == ".png") {
+      std::snprintf(buf, sizeof buf, "%.2f", ev100);
+      t << "; exposure EV100 " << buf << (o.exposureEv100 ? "" : " (auto)") << ", " << o.op;
+    } else {
+      t << "; luminance in cd/m²";
+    }
+    std::snprintf(buf, sizeof buf, "%.2f", seconds);
+    t << ") in " << buf << " s\n";
+    std::cout << t.str();
+    return 0;
+  }
+
+  // A time-lapse: one image per time, each written whole (atomically), with one exposure for all (the
+  // first frame's automatic one unless --exposure is given) so that the frames compare.
+  std::cout << t.str() << std::flush;
+  std::optional<double> ev100 = o.exposureEv100;
+  sdb::Scene& scene = loaded.scene;
+  std::vector<std::string> times;  // local, with the UTC offset of each (daylight saving may change between)
+  for (double hours : lapse->hoursAfterFrom) times.push_back(sceneLocalTime(scene, hours));
+  for (size_t k = 0; k < times.size(); ++k) {
+    if (k > 0) {
+      // Only the sky, the sun and the daylight ambient change (rdb::RasterRdbChanges::sky); the light maps
+      // stay on the GPU.
+      renderer.update(rdb, rdb::updateRasterRdb(rdb, scene, scene.setTime(sdb::SiteTime{times[k]}), maps));
+    }
+    const std::string path = framePath(o.out, k);
+    ev100 = renderImage(path, ev100);
+    const std::string& local = times[k];  // 2026-06-21T09:00:00+03:00
+    std::string sun = "sun below the horizon";
+    if (rdb.sky && rdb.sky->hasSun) {
+      std::snprintf(buf, sizeof buf, "sun at %.1f° elevation",
+                    radToDeg(std::asin(std::clamp(double(rdb.sky->sunDirWorld.y), -1.0, 1.0))));
+      sun = buf;
+    }
+    std::cout << "frame     " << path << "  " << local.substr(0, 10) << " " << local.substr(11, 5) << " "
+              << local.substr(19) << ", " << sun << "\n"
+              << std::flush;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::snprintf(buf, sizeof buf, "%.2f", seconds);
+  t.str("");
+  t << "images    " << lapse->hoursAfterFrom.size() << " (" << width << "×" << height;
   if (ext == ".png") {
-    std::snprintf(buf, sizeof buf, "%.2f", ev100);
-    t << "; exposure EV100 " << buf << (o.exposureEv100 ? "" : " (auto)") << ", " << o.op;
+    char e[32];
+    std::snprintf(e, sizeof e, "%.2f", *ev100);
+    t << "; exposure EV100 " << e << (o.exposureEv100 ? "" : " (auto, from the first frame)") << ", " << o.op;
   } else {
     t << "; luminance in cd/m²";
   }
-  std::snprintf(buf, sizeof buf, "%.2f", seconds);
   t << ") in " << buf << " s\n";
   std::cout << t.str();
   return 0;
@@ -180,6 +319,10 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
   addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
   o->daylight.add(*sub);
+  sub->add_option("--time-lapse", o->timeLapse,
+                  "FROM,TO,STEP: one image per time from FROM to TO (times as --time takes them) every STEP "
+                  "(30m, 1h), written to OUT with a frame number (shadows.png → shadows-0000.png …), for "
+                  "shadow studies; sunlight mode unless --mode says otherwise, one exposure for all");
   return {sub, [o]() { return runRender(*o); }};
 }
 

@@ -16,6 +16,7 @@
 #include "base/log.h"
 #include "cli/command.h"
 #include "cli/raster_scene.h"
+#include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
 #include "raster/viewer.h"
 #include "rdb/raster_rdb.h"
@@ -43,26 +44,6 @@ struct ViewOptions {
   std::string screenshot;
 };
 
-// "+03:00" for a UTC offset in hours.
-std::string offsetText(double hours) {
-  const int minutes = int(std::lround(hours * 60.0));  // |offset| ≤ 26 h
-  char b[32];
-  std::snprintf(b, sizeof b, "%c%02d:%02d", minutes < 0 ? '-' : '+', std::abs(minutes) / 60,
-                std::abs(minutes) % 60);
-  return b;
-}
-
-// The scene's time as the site's local civil time with its UTC offset then: "2026-09-15T17:30:00+03:00".
-std::string localTimeWithOffset(const sdb::Scene& scene, double addHours) {
-  const sdb::Site& site = scene.site();
-  const sunsky::UtcTime utc = sunsky::addHours(
-      sunsky::parseTime(scene.time().localDateTime, site.timeZone, "the scene's time"), addHours);
-  const double offsetH = sunsky::utcOffsetHours(site.timeZone, utc);
-  std::string local = sunsky::addHours(utc, offsetH).iso();
-  local.pop_back();  // the "Z"
-  return local + offsetText(offsetH);
-}
-
 class SceneHost : public raster::ViewerHost {
  public:
   SceneHost(RasterScene& scene, rdb::RasterRdb& rdb) : s_(scene), rdb_(rdb) {}
@@ -76,7 +57,7 @@ class SceneHost : public raster::ViewerHost {
     // Steps in UTC, so that a daylight-saving change neither repeats nor skips a step; the new time carries
     // its offset, which the local clock alone would leave ambiguous in the autumn overlap.
     const sdb::SiteTime before = s_.scene.time();
-    const std::string after = localTimeWithOffset(s_.scene, minutes / 60.0);
+    const std::string after = sceneLocalTime(s_.scene, minutes / 60.0);
     const rdb::LightMapStore* maps = s_.lightMaps ? &*s_.lightMaps : nullptr;
     try {
       return rdb::updateRasterRdb(rdb_, s_.scene, s_.scene.setTime(sdb::SiteTime{after}), maps);
@@ -88,8 +69,11 @@ class SceneHost : public raster::ViewerHost {
 
   std::string timeLabel() const override {
     if (!s_.scene.hasSite() || s_.scene.time().localDateTime.empty()) return "";
-    std::string t = localTimeWithOffset(s_.scene, 0.0);  // 2026-09-15T17:30:00+03:00
-    return t.substr(0, 10) + " " + t.substr(11, 5) + " " + t.substr(19);
+    std::string t = sceneLocalTime(s_.scene);  // 2026-09-15T17:30:00+03:00
+    std::string label = t.substr(0, 10) + " " + t.substr(11, 5) + " " + t.substr(19);
+    // Over a bake that keeps the sun's direct light apart, the indirect light stays as baked.
+    if (!s_.bakedSunTime.empty()) label += ", indirect baked at " + s_.bakedSunTime;
+    return label;
   }
 
   void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) override {
@@ -176,8 +160,10 @@ int runView(const ViewOptions& o) {
             << "view      "
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
-            << "\nlight     " << scene.light << "\nOpenGL    " << window->info().major << "." << window->info().minor << " core, "
-            << window->info().renderer << " (" << window->info().platform << ")\n"
+            << "\nlight     " << scene.light
+            << (scene.bakedSunlight.empty() ? "" : "\nbaked     " + scene.bakedSunlight) << "\nOpenGL    "
+            << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
+            << " (" << window->info().platform << ")\n"
             << std::flush;
   SceneHost host(scene, rdb);
   const raster::ViewerResult r = raster::runViewer(*window, rdb, host, v);

@@ -33,6 +33,8 @@ RasterScene loadRasterScene(const std::filesystem::path& sceneOrBakedDir, const 
     r.lightMaps = readBakedLightMaps(r.scenePath);
     manifestPath = (r.scenePath / "manifest.json").string();
     bakedDaylight = manifest.value("daylight", nlohmann::json());
+    r.bakedSunTime = bakedSunTime(manifest);
+    r.bakedSunlight = bakedSunlightText(manifest);
     r.scenePath = bakedScenePath(r.scenePath, manifest);
   }
   LitScene lit = loadLitScene(r.scenePath, daylight, bakedDaylight, manifestPath);

@@ -22,6 +22,10 @@ struct RasterScene {
   sdb::Scene scene;
   std::optional<rdb::LightMapStore> lightMaps;  // a baked directory's
   std::string light;                            // what lights it (cli/scene_daylight.h, describeLight)
+  // A baked directory's: when its light was baked (cli/baked_manifest.h, bakedSunTime; "" when the bake kept
+  // no sun-direct part) and the line on what sunlight mode shows of it (bakedSunlightText).
+  std::string bakedSunTime;
+  std::string bakedSunlight;
 };
 
 // Loads `sceneOrBakedDir` with its daylight (cli/scene_daylight.h, loadLitScene: a baked directory's recorded

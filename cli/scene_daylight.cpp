@@ -307,6 +307,29 @@ LitScene loadLitScene(const std::filesystem::path& scenePath, const DaylightOpti
   return r;
 }
 
+namespace {
+
+// "+03:00" for a UTC offset in hours.
+std::string offsetText(double hours) {
+  const int minutes = int(std::lround(hours * 60.0));  // |offset| ≤ 26 h
+  char b[32];
+  std::snprintf(b, sizeof b, "%c%02d:%02d", minutes < 0 ? '-' : '+', std::abs(minutes) / 60,
+                std::abs(minutes) % 60);
+  return b;
+}
+
+}  // namespace
+
+std::string sceneLocalTime(const sdb::Scene& scene, double addHours) {
+  const sdb::Site& site = scene.site();
+  const sunsky::UtcTime utc = sunsky::addHours(
+      sunsky::parseTime(scene.time().localDateTime, site.timeZone, "the scene's time"), addHours);
+  const double offsetH = sunsky::utcOffsetHours(site.timeZone, utc);
+  std::string local = sunsky::addHours(utc, offsetH).iso();
+  local.pop_back();  // the "Z"
+  return local + offsetText(offsetH);
+}
+
 nlohmann::json daylightJson(const sdb::Scene& scene, bool defaultDaylight) {
   nlohmann::json j;
   j["default"] = defaultDaylight;

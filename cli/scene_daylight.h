@@ -61,6 +61,11 @@ LitScene loadLitScene(const std::filesystem::path& scenePath, const DaylightOpti
 // so that the bake's light maps are shown, resumed and described under the light they were baked with.
 nlohmann::json daylightJson(const sdb::Scene& scene, bool defaultDaylight);
 
+// The scene's time shifted by addHours, as the site's local civil time with its UTC offset then:
+// "2026-09-15T17:30:00+03:00" (steps in UTC, so that a daylight-saving change neither repeats nor skips one).
+// The scene must have a site and a local time.
+std::string sceneLocalTime(const sdb::Scene& scene, double addHours = 0.0);
+
 // Sets the recorded site, time and sky on `scene` (the site's map grid stays the scene's). Returns the
 // record's "default". InputError naming `file` for a malformed record.
 bool applyDaylightJson(sdb::Scene& scene, const nlohmann::json& record, const std::string& file);

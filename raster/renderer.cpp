@@ -129,6 +129,8 @@ enum VariantBit : uint32_t {
   kVariantVertexColor = 1u << 11,
   kVariantAlphaMask = 1u << 12,
   kVariantBlendPass = 1u << 13,
+  // Sunlight mode over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect).
+  kVariantSunDirect = 1u << 14,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -262,6 +264,7 @@ struct Renderer::SceneProgram {
 struct Renderer::Gpu {
   GLuint vao = 0;
   GLuint positions = 0, normals = 0, corners = 0, surfaces = 0, frontLux = 0, backLux = 0, indices = 0;
+  GLuint frontSunLux = 0, backSunLux = 0;  // rdb::RasterRdb::frontSunDirectLux, backSunDirectLux
   GLuint materials = 0, lights = 0, gonio = 0;
   GLuint skyTexture = 0;
   // Light textures (uploadLightTextures): per vertex the light-map UV and the slot; the slots' rectangles;
@@ -296,7 +299,7 @@ struct Renderer::Gpu {
   ~Gpu() {
     const GLuint buffers[] = {positions, normals, corners,   surfaces, frontLux, backLux, indices,
                               materials, lights,  gonio,     uv0,      uv1,      colors,  tangents,
-                              drawIndices};
+                              drawIndices, frontSunLux, backSunLux};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteTextures(GLsizei(textures.size()), textures.data());
     for (const auto& [key, sampler] : samplers) glDeleteSamplers(1, &sampler);
@@ -423,7 +426,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantUv1, "uv1", "FLY_UV1"},
                    {kVariantVertexColor, "vertexcolor", "FLY_VERTEX_COLOR"},
                    {kVariantAlphaMask, "mask", "FLY_ALPHA_MASK"},
-                   {kVariantBlendPass, "blend", "FLY_BLEND_PASS"}};
+                   {kVariantBlendPass, "blend", "FLY_BLEND_PASS"},
+                   {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -434,7 +438,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                              (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
   const std::string fragment =
       std::string(shaders::kLuminanceEncoding) +
-      (perFragment ? std::string(shaders::kSceneCommon) + shaders::kSurfaceFragment : shaders::kSceneFragment);
+      (perFragment ? std::string(shaders::kSceneCommon) + shaders::kLightTextureLookup + shaders::kSurfaceFragment
+                   : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
   const GLuint p = compileProgram(name, defines,
                                   {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
@@ -529,6 +534,8 @@ void Renderer::uploadGeometry() {
     storeBuffer(buffer, values);
     attrib(index, buffer, components, GLsizei(components * sizeof(float)));
   };
+  optional(12, gpu_->frontSunLux, r.frontSunDirectLux, 3);
+  optional(13, gpu_->backSunLux, r.backSunDirectLux, 3);
   optional(8, gpu_->uv0, r.uv0, 2);
   optional(9, gpu_->uv1, r.uv1, 2);
   optional(10, gpu_->colors, r.colors, 4);
@@ -567,6 +574,9 @@ void Renderer::uploadLightTextures() {
     firstSlot.push_back(uint32_t(slots.size()));
     slots.push_back({&t.frontLux, t.width, t.height});
     if (!t.backLux.empty()) slots.push_back({&t.backLux, t.width, t.height});
+    // The sun-direct texels follow in the same order (kSceneFragment, flyLightTexel).
+    if (!t.frontSunDirectLux.empty()) slots.push_back({&t.frontSunDirectLux, t.width, t.height});
+    if (!t.backSunDirectLux.empty()) slots.push_back({&t.backSunDirectLux, t.width, t.height});
     layerW = std::max(layerW, t.width);
     layerH = std::max(layerH, t.height);
   }
@@ -882,13 +892,16 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   if (gpu_->indexCount > 0) {
     const bool lightMaps = mode != RenderMode::kSimple && v.lightMap;
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
+    // Sunlight mode over light maps without the sun's direct part: that part drawn for the current sun.
+    const bool sunDirect = sunlight && lightMaps && v.sunDirect;
     const uint32_t shared = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
-                            (phong && v.sun ? kVariantSun : 0u) |
+                            ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
+                            (sunDirect ? kVariantSunDirect : 0u) |
                             (v.twoSided ? kVariantTwoSided : 0u) | (phong && v.goniometric ? kVariantGonio : 0u) |
                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
     const uint32_t variant = shared | (v.glass ? kVariantGlass : 0u);
     const uint32_t surfaceVariant = shared | kVariantPerFragment | (v.textures ? kVariantTextures : 0u) |
-                                    (phong && v.normalMaps ? kVariantNormalMap : 0u) |
+                                    ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
                                     (v.textures && v.uv1 ? kVariantUv1 : 0u) |
                                     (v.vertexColors ? kVariantVertexColor : 0u);
     const vec3 eye(view.worldFromCamera[3]);
@@ -973,6 +986,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glBindVertexArray(gpu_->vao);
       if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
       if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
+      if (r.backSunDirectLux.empty()) glVertexAttrib3f(13, 0.0f, 0.0f, 0.0f);
     };
     // The opaque and cut-out surfaces: the per-vertex meshes in one draw, then the per-fragment ones.
     auto drawOpaque = [&] {

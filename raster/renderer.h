@@ -11,12 +11,16 @@
 //              reflector of its reflectance under the baked irradiance, the limit of a rough conductor, not
 //              black; Fresnel (dielectric) reflection adds nothing (the same in sunlight mode's light maps)
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
-//              otherwise the modified Phong with the sun as a directional light and the daylight ambient term
-// Where the sun's direct term is drawn (simple and sunlight modes, surfaces without light maps) it is shadowed
-// (setSunShadows; raster/sun_shadows.h): after the scene, a z-fail stencil pass of the sun's shadow volumes,
-// then the pixels inside a volume drawn again at equal depth without the sun (uSunNormalLux = 0: the colour
-// target cannot blend). Glass and blended surfaces, drawn after that, get the sun unshadowed. The volumes are
-// rebuilt only when the sun's direction, the geometry, the materials or the settings change.
+//              otherwise the modified Phong with the sun as a directional light and the daylight ambient term.
+//              Over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect):
+//              albedo · (E − E_sunDirect) / π plus the sun's direct term (Lambert and Phong lobe, normal maps)
+//              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md)
+// Where the sun's direct term is drawn (simple and sunlight modes: surfaces without light maps, and light maps
+// that keep the sun's direct part apart) it is shadowed (setSunShadows; raster/sun_shadows.h): after the
+// scene, a z-fail stencil pass of the sun's shadow volumes, then the pixels inside a volume drawn again at
+// equal depth without the sun (uSunNormalLux = 0: the colour target cannot blend). Glass and blended surfaces,
+// drawn after that, get the sun unshadowed. The volumes are rebuilt only when the sun's direction, the
+// geometry, the materials or the settings change.
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <utility>
 
 #include "raytracer/sampler.h"
 #include "raytracer/warp.h"
@@ -106,6 +107,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   }
 
   size_t pointCount() const override { return pointVertex_.size(); }
+  bool keepsSunDirect() const override { return integrator_.hasSun(); }
   // Per mesh, its fronts and its backs.
   uint32_t groupCount() const override {
     return 2 * std::max<uint32_t>(1, static_cast<uint32_t>(rdb_.meshes.size()));
@@ -182,7 +184,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   // triangle by area, then the hat density 3 b_v / A in it), so that the mean of the samples is the
   // hat-weighted average ∫ b_v E dA / ∫ b_v dA.
   template <class S>
-  Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const {
+  PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const {
     const uint32_t v = pointVertex_[point];
     sampler.startGroup(kOneRingGroup);
     const vec2 u = sampler.next2D();
@@ -223,7 +225,10 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     const vec3 ngFront = glm::dot(ng, rdb_.normals[v]) >= 0.0f ? ng : -ng;
     if (!(glm::dot(n, ngFront) > 0.0f)) n = ngFront;
     if (isBack(point)) n = -n;
-    return integrator_.sampleIrradiance(p, n, sampler, rays, scene_.triangleMagnitudeM(t));
+    PointSample sample;
+    sample.lux =
+        integrator_.sampleIrradiance(p, n, sampler, rays, scene_.triangleMagnitudeM(t), &sample.sunDirectLux);
+    return sample;
   }
 
   const rdb::TraceRdb& rdb_;
@@ -242,11 +247,27 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
 
 // Vertices without a ring take the mean of their already known neighbours along the mesh's edges (all
 // triangles, degenerate ones included; the back only on two-sided meshes), repeated until nothing changes;
-// the rest stay 0. Returns their count.
+// the rest stay 0. Every map of `maps` (front values and their errors, sun-direct parts) is filled alike.
+// Returns their count.
 size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source, std::vector<bool>& known,
                           VertexLightMaps& maps) {
   const size_t vertexCount = known.size();
-  std::vector<Rgb> sums[4];
+  struct Map {
+    std::vector<Rgb>* values;
+    bool back;
+  };
+  std::vector<Map> all;
+  for (auto [values, back] : {std::pair{&maps.frontLux, false},
+                              {&maps.frontStdErrorLux, false},
+                              {&maps.backLux, true},
+                              {&maps.backStdErrorLux, true},
+                              {&maps.frontSunDirectLux, false},
+                              {&maps.frontSunDirectStdErrorLux, false},
+                              {&maps.backSunDirectLux, true},
+                              {&maps.backSunDirectStdErrorLux, true}}) {
+    if (!values->empty()) all.push_back({values, back});
+  }
+  std::vector<std::vector<Rgb>> sums(all.size());
   for (;;) {
     for (std::vector<Rgb>& s : sums) s.assign(vertexCount, Rgb(0.0f));
     std::vector<uint32_t> counts(vertexCount, 0);
@@ -256,10 +277,7 @@ size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source,
           const uint32_t to = rdb.indices[3 * t + a];
           const uint32_t from = rdb.indices[3 * t + (a + d) % 3];
           if (known[to] || !known[from]) continue;
-          sums[0][to] += maps.frontLux[from];
-          sums[1][to] += maps.frontStdErrorLux[from];
-          sums[2][to] += maps.backLux[from];
-          sums[3][to] += maps.backStdErrorLux[from];
+          for (size_t m = 0; m < all.size(); ++m) sums[m][to] += (*all[m].values)[from];
           ++counts[to];
         }
       }
@@ -268,11 +286,9 @@ size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source,
     for (size_t v = 0; v < vertexCount; ++v) {
       if (counts[v] == 0) continue;
       const float inv = 1.0f / static_cast<float>(counts[v]);
-      maps.frontLux[v] = sums[0][v] * inv;
-      maps.frontStdErrorLux[v] = sums[1][v] * inv;
-      if (source.isTwoSided(static_cast<uint32_t>(v))) {
-        maps.backLux[v] = sums[2][v] * inv;
-        maps.backStdErrorLux[v] = sums[3][v] * inv;
+      const bool twoSided = source.isTwoSided(static_cast<uint32_t>(v));
+      for (size_t m = 0; m < all.size(); ++m) {
+        if (!all[m].back || twoSided) (*all[m].values)[v] = sums[m][v] * inv;
       }
       known[v] = true;
       changed = true;
@@ -290,6 +306,8 @@ class JoinedSource final : public SampleSourceOf<JoinedSource> {
   JoinedSource(const SampleSource& first, const SampleSource& second) : first_(first), second_(second) {}
   size_t pointCount() const override { return first_.pointCount() + second_.pointCount(); }
   uint32_t groupCount() const override { return first_.groupCount() + second_.groupCount(); }
+  // Both sources use the same integrator, so they keep the sun's direct part alike.
+  bool keepsSunDirect() const override { return first_.keepsSunDirect(); }
   uint32_t groupOf(size_t point) const override {
     const size_t n = first_.pointCount();
     return point < n ? first_.groupOf(point) : first_.groupCount() + second_.groupOf(point - n);
@@ -297,13 +315,27 @@ class JoinedSource final : public SampleSourceOf<JoinedSource> {
 
  private:
   template <class S>
-  Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const {
+  PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const {
     const size_t n = first_.pointCount();
     return point < n ? first_.sample(point, sampler, rays) : second_.sample(point - n, sampler, rays);
   }
   const SampleSource& first_;
   const SampleSource& second_;
 };
+
+// The nearest-rank 95th percentile of the relative standard error of luminance of the sun-direct part, over
+// the points it reaches (mean > 0); 0 for none.
+float sunDirectRelativeErrorP95(const std::vector<IrradianceEstimate>& points) {
+  std::vector<float> rel;
+  for (const IrradianceEstimate& e : points) {
+    const float mean = luminance(e.sunDirectMeanLux);
+    if (mean > 0.0f) rel.push_back(luminance(e.sunDirectStdErrorLux) / mean);
+  }
+  if (rel.empty()) return 0.0f;
+  const size_t k = std::min(rel.size() - 1, static_cast<size_t>(std::ceil(0.95 * double(rel.size()))) - 1);
+  std::nth_element(rel.begin(), rel.begin() + static_cast<std::ptrdiff_t>(k), rel.end());
+  return rel[k];
+}
 
 }  // namespace
 
@@ -324,6 +356,7 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     point.samples = soFar.samplesPerPoint;
     point.relativeErrorP95 = soFar.relativeErrorP95;
     point.raysPerSecond = passSeconds > 0.0 ? static_cast<double>(passRays) / passSeconds : 0.0;
+    if (source.keepsSunDirect()) point.sunDirectRelativeErrorP95 = sunDirectRelativeErrorP95(soFar.points);
     maps.history.push_back(point);
     state.history = maps.history;
     return !progress || progress(point, settings.estimate.maxSamples);
@@ -342,13 +375,25 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
   maps.backLux.assign(vertexCount, Rgb(0.0f));
   maps.backStdErrorLux.assign(vertexCount, Rgb(0.0f));
   maps.frontSamples.assign(vertexCount, 0);
+  const bool sun = source.keepsSunDirect();
+  if (sun) {
+    for (std::vector<Rgb>* m : {&maps.frontSunDirectLux, &maps.frontSunDirectStdErrorLux,
+                                &maps.backSunDirectLux, &maps.backSunDirectStdErrorLux}) {
+      m->assign(vertexCount, Rgb(0.0f));
+    }
+  }
   const size_t vertexPoints = vertexSource.pointCount();
   for (size_t i = 0; i < vertexPoints; ++i) {
     const uint32_t v = vertexSource.pointVertex(i);
     const IrradianceEstimate& e = result.points[i];
-    (vertexSource.isBack(i) ? maps.backLux : maps.frontLux)[v] = e.meanLux;
-    (vertexSource.isBack(i) ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
-    if (!vertexSource.isBack(i)) maps.frontSamples[v] = e.samples;
+    const bool back = vertexSource.isBack(i);
+    (back ? maps.backLux : maps.frontLux)[v] = e.meanLux;
+    (back ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
+    if (sun) {
+      (back ? maps.backSunDirectLux : maps.frontSunDirectLux)[v] = e.sunDirectMeanLux;
+      (back ? maps.backSunDirectStdErrorLux : maps.frontSunDirectStdErrorLux)[v] = e.sunDirectStdErrorLux;
+    }
+    if (!back) maps.frontSamples[v] = e.samples;
   }
   std::vector<bool> known(vertexCount);
   for (uint32_t v = 0; v < vertexCount; ++v) known[v] = vertexSource.hasRing(v);

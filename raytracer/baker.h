@@ -27,6 +27,9 @@ struct ConvergencePoint {
   float relativeErrorP95 =
       0.0f;  // 95th percentile over vertex sides and texels of the relative standard error of luminance
   double raysPerSecond = 0.0;  // over the pass
+  // With a sun (VertexLightMaps::hasSunDirect): the 95th percentile of the relative standard error of
+  // luminance of the sun-direct part, over the vertex sides and texels that receive it; 0 otherwise.
+  float sunDirectRelativeErrorP95 = 0.0f;
 };
 
 // Called after every pass (from the calling thread); return false to stop after it.
@@ -40,6 +43,15 @@ struct VertexLightMaps {
   // The same for the back (the side of −normal) of vertices of two-sided meshes; 0 for one-sided ones.
   std::vector<Rgb> backLux;
   std::vector<Rgb> backStdErrorLux;
+  // With a sun that lights the scene (Integrator::hasSun), the part of frontLux / backLux that arrived
+  // straight from the sun's disc (Integrator::sampleIrradiance's sunDirectLux), from the same samples, and
+  // its standard error, per vertex as above; all four empty without one. E − E_sunDirect is what sunlight
+  // mode keeps baked while it draws the sun's direct term in real time.
+  std::vector<Rgb> frontSunDirectLux;
+  std::vector<Rgb> frontSunDirectStdErrorLux;
+  std::vector<Rgb> backSunDirectLux;
+  std::vector<Rgb> backSunDirectStdErrorLux;
+  bool hasSunDirect() const { return !frontSunDirectLux.empty(); }
   // Samples per point of the points still sampled at the end (the most any point took); groups settled
   // earlier (kSettledPercentile) took fewer: frontSamples per vertex and LightTexture::samples tell.
   uint32_t samplesPerVertex = 0;

@@ -84,6 +84,10 @@ float meanEmittedLuminance(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m
 
 }  // namespace
 
+bool sunLights(const rdb::TraceRdb& rdb) {
+  return rdb.hasSun && luminance(rdb.sun.normalIlluminanceLux) > 0.0f;
+}
+
 Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings)
     : rdb_(rdb), scene_(scene), settings_(settings) {
   if (rdb.triangleMaterial.size() != rdb.triangleCount()) {
@@ -240,7 +244,7 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
   }
   if (positionalLights_.size() > kAllPunctualLights) positionalDistribution_.emplace(fluxesLm);
 
-  if (rdb.hasSun && luminance(rdb.sun.normalIlluminanceLux) > 0.0f) {
+  if (sunLights(rdb)) {
     // ∫ over the cone of half-angle θ_s of cos(angle to its axis) dω = π sin² θ_s; sin² θ_s = w (2 − w), w =
     // 1 − cos θ_s.
     sunOneMinusCos_ = oneMinusCos(rdb.sun.halfAngleRad);
@@ -630,7 +634,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
 
 template <class S>
 Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter,
-                            float uPunctual, S& sampler, uint64_t& rays) const {
+                            float uPunctual, S& sampler, uint64_t& rays, Rgb* sunPart) const {
   sampler.startGroup(group);
   Rgb sum(0.0f);
   // The ray origin on the side of the light.
@@ -647,6 +651,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
       sum += sunRadianceCdM2_ * fCos * (1.0f / uniformConePdf(sunOneMinusCos_)) *
              visibility(originTowards(d), d, std::numeric_limits<float>::infinity(), rays);
     }
+    if (sunPart) *sunPart = sum;
   }
 
   if (skyDistribution_ && allLights) {
@@ -747,8 +752,9 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
 
 template <class S>
 Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
-                                 float surfaceMagnitudeM) const {
+                                 float surfaceMagnitudeM, Rgb* sunDirectLux) const {
   Rgb sum(0.0f);
+  if (sunDirectLux) *sunDirectLux = Rgb(0.0f);
   // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos
   // θ), over the Russian-roulette survival probabilities.
   Rgb beta(1.0f);
@@ -802,8 +808,9 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     }
 
     if (deltaLightSampling) {
-      sum +=
-          beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler, rays);
+      // At the sensor (depth 0, β = 1) the sun's sample is the sun-direct part.
+      sum += beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler,
+                                rays, depth == 0 ? sunDirectLux : nullptr);
     }
 
     // The continuation.
@@ -914,8 +921,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   return sum;
 }
 
-template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float) const;
-template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float) const;
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float,
+                                          Rgb*) const;
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float,
+                                          Rgb*) const;
 
 namespace {
 

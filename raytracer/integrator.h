@@ -171,9 +171,18 @@ class Integrator {
   // `rays` grows by the rays traced. Finite and ≥ 0 for finite input. When p lies on a triangle, pass the
   // triangle's EmbreeScene::triangleMagnitudeM as surfaceMagnitudeM so that rays leave it far enough
   // (rayOffsetM); a free sensor needs none.
+  // sunDirectLux, when given, receives the part of the returned sample that arrived straight from the sun's
+  // disc at p: the sensor's sun sample (through clear panes and partial coverage with their transmittance),
+  // the only way the disc reaches the sensor directly (its continuation is a cosine sample, never a mirror,
+  // and the sky table holds no sun). The sample minus it is the same path's estimate of everything else:
+  // the sky, lights, emitters and all reflected light, the sun's included (FLY §3's sunlight mode bakes that
+  // and draws the sun's direct term in real time). 0 without a sun.
   template <class S>
   Rgb sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
-                       float surfaceMagnitudeM = 0.0f) const;
+                       float surfaceMagnitudeM = 0.0f, Rgb* sunDirectLux = nullptr) const;
+
+  // Whether the scene has a sun that lights it (sunLights): only then has sampleIrradiance a sun-direct part.
+  bool hasSun() const { return sunOneMinusCos_ > 0.0f; }
 
  private:
   struct Vertex {
@@ -193,10 +202,10 @@ class Integrator {
   // sensor), MIS-weighted where BSDF sampling also finds the light. Uses the sampler's group `group`;
   // uEmitter and uPunctual choose an emitter point and a punctual light.
   // allLights: also the sky and emitters (v.bsdf has a non-delta lobe); else the sun and punctual lights
-  // only.
+  // only. sunPart, when given, receives the sun's share of the result.
   template <class S>
   Rgb directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter, float uPunctual,
-                  S& sampler, uint64_t& rays) const;
+                  S& sampler, uint64_t& rays, Rgb* sunPart = nullptr) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
   // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor; θ from the
   // shading normal), and the density per steradian with which v's continuation samples d. False when v takes
@@ -308,6 +317,9 @@ class Integrator {
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.
   std::optional<Distribution1D> positionalDistribution_;
 };
+
+// Whether rdb's sun lights the scene: it has one, above the horizon (a sun below it has no illuminance).
+bool sunLights(const rdb::TraceRdb& rdb);
 
 // Progressive passes over all points in parallel. A point's samples depend only on (seed + point index,
 // replicate, sample index), and each point's statistics are updated in sample order by one thread, so the

@@ -32,6 +32,7 @@ class Accumulators {
       : state_(state), groups_(std::move(groups)), groupCount_(groups_.empty() ? 1 : groupCount) {}
 
   uint32_t replicates() const { return state_.replicates; }
+  uint32_t channels() const { return state_.channels; }
 
   // Whether the point's group is settled (it takes no more samples), and the samples it has when the others
   // have `total`.
@@ -43,16 +44,14 @@ class Accumulators {
     return settled(point) ? state_.settledSamples[groupOf(point)] : total;
   }
 
-  // Welford's update with the point's count-th sample (count ≥ 1).
-  void addWelford(size_t point, uint32_t count, const Rgb& x) {
-    dvec3* sums = &state_.sums[point * sumsPerPoint(state_.replicates)];
+  // Welford's update of the point's channel with its count-th sample (count ≥ 1).
+  void addWelford(size_t point, uint32_t channel, uint32_t count, const Rgb& x) {
+    dvec3* sums = at(point, channel);
     const dvec3 delta = dvec3(x) - sums[0];
     sums[0] += delta / static_cast<double>(count);
     sums[1] += delta * (dvec3(x) - sums[0]);
   }
-  dvec3& replicateSum(size_t point, uint32_t r) {
-    return state_.sums[point * sumsPerPoint(state_.replicates) + 2 + r];
-  }
+  dvec3& replicateSum(size_t point, uint32_t channel, uint32_t r) { return at(point, channel)[2 + r]; }
 
   // The variances of a point's mean after `samples` samples: from the spread of its samples (naive: the
   // error of independent samples) and, with replicates ≥ 2, from the spread of its replicates' means (honest
@@ -62,8 +61,8 @@ class Accumulators {
     dvec3 naive{0.0};
     dvec3 replicate{0.0};
   };
-  Variances variances(size_t point, uint32_t samples) const {
-    const dvec3* sums = &state_.sums[point * sumsPerPoint(state_.replicates)];
+  Variances variances(size_t point, uint32_t channel, uint32_t samples) const {
+    const dvec3* sums = at(point, channel);
     Variances v;
     v.mean = sums[0];
     if (samples > 1) v.naive = sums[1] / (static_cast<double>(samples) * (samples - 1));
@@ -82,7 +81,7 @@ class Accumulators {
     return v;
   }
 
-  // Every point's estimate after `samples` samples (all replicates together).
+  // Every point's estimate after `samples` samples (all replicates together), of every channel.
   //
   // replicates = 1: the standard error is the naive one, honest for plain Monte Carlo only.
   //
@@ -102,10 +101,24 @@ class Accumulators {
   // kModeratedDegreesOfFreedom − (K − 1)) tops few replicates up to the steadiness of 8 (7 degrees of
   // freedom), and leaves 8 or more to themselves: pooling assumes that all points gain alike from the nets,
   // which holds only roughly (a point in smooth light gains more than one on a shadow edge), so it is used no
-  // more than the replicates need.
+  // more than the replicates need. The sun's direct part (channel 1) has its own η², pooled alike.
   void estimates(uint32_t samples, std::vector<IrradianceEstimate>& out) const {
+    out.assign(state_.pointCount, IrradianceEstimate{});
+    for (uint32_t c = 0; c < state_.channels; ++c) estimatesOf(c, samples, out);
+  }
+
+ private:
+  dvec3* at(size_t point, uint32_t channel) {
+    const size_t perPoint = sumsPerPoint(state_.replicates);
+    return &state_.sums[(point * state_.channels + channel) * perPoint];
+  }
+  const dvec3* at(size_t point, uint32_t channel) const {
+    const size_t perPoint = sumsPerPoint(state_.replicates);
+    return &state_.sums[(point * state_.channels + channel) * perPoint];
+  }
+
+  void estimatesOf(uint32_t channel, uint32_t samples, std::vector<IrradianceEstimate>& out) const {
     const size_t count = state_.pointCount;
-    out.assign(count, IrradianceEstimate{});
     const uint32_t k = state_.replicates;
     // Per group (SampleSource::groupOf), and the last entry over all points.
     const size_t groups = groupCount_;
@@ -114,7 +127,7 @@ class Accumulators {
     std::vector<size_t> members(groups + 1, 0);
     if (k > 1 && k - 1 < kModeratedDegreesOfFreedom) {
       for (size_t i = 0; i < count; ++i) {
-        const Variances v = variances(i, samplesOf(i, samples));
+        const Variances v = variances(i, channel, samplesOf(i, samples));
         for (size_t g : {size_t{groupOf(i)}, groups}) {
           sumNaive[g] += v.naive;
           sumReplicate[g] += v.replicate;
@@ -132,13 +145,13 @@ class Accumulators {
     const double dof = static_cast<double>(k - 1);
     const double priorDof = std::max(0.0, kModeratedDegreesOfFreedom - dof);
     for (size_t i = 0; i < count; ++i) {
-      const Variances v = variances(i, samplesOf(i, samples));
+      const Variances v = variances(i, channel, samplesOf(i, samples));
       IrradianceEstimate& e = out[i];
       e.samples = samplesOf(i, samples);
-      e.meanLux = Rgb(v.mean);
       const dvec3 variance =
           k == 1 ? v.naive : (priorDof * eta2[groupOf(i)] * v.naive + dof * v.replicate) / (priorDof + dof);
-      e.stdErrorLux = Rgb(glm::sqrt(variance));
+      (channel == 0 ? e.meanLux : e.sunDirectMeanLux) = Rgb(v.mean);
+      (channel == 0 ? e.stdErrorLux : e.sunDirectStdErrorLux) = Rgb(glm::sqrt(variance));
     }
   }
 
@@ -184,6 +197,7 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
   std::atomic<size_t> next{pointBegin};
   std::atomic<uint64_t> totalRays{0};
   const uint32_t k = acc.replicates();
+  const bool sunDirect = acc.channels() == 2;
   auto work = [&] {
     constexpr size_t kChunk = 16;
     uint64_t threadRays = 0;
@@ -194,7 +208,9 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
           S sampler(settings.seed + i);
           for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
             sampler.startSample(s);
-            acc.addWelford(i, s + 1, source.sample(i, sampler, threadRays));
+            const PointSample x = source.sample(i, sampler, threadRays);
+            acc.addWelford(i, 0, s + 1, x.lux);
+            if (sunDirect) acc.addWelford(i, 1, s + 1, x.sunDirectLux);
           }
           continue;
         }
@@ -204,12 +220,15 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
         for (uint32_t r = 0; r < k; ++r) {
           // An independent randomisation per replicate.
           S sampler(detail::mix64(settings.seed + i) + r);
-          dvec3& sum = acc.replicateSum(i, r);
           for (uint32_t s = firstSample / k; s < (firstSample + sampleCount) / k; ++s) {
             sampler.startSample(s);
-            const Rgb x = source.sample(i, sampler, threadRays);
-            sum += dvec3(x);
-            acc.addWelford(i, ++count, x);
+            const PointSample x = source.sample(i, sampler, threadRays);
+            acc.replicateSum(i, 0, r) += dvec3(x.lux);
+            acc.addWelford(i, 0, ++count, x.lux);
+            if (sunDirect) {
+              acc.replicateSum(i, 1, r) += dvec3(x.sunDirectLux);
+              acc.addWelford(i, 1, count, x.sunDirectLux);
+            }
           }
         }
       }
@@ -271,19 +290,22 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
   }
   const size_t pointCount = source.pointCount();
   const uint32_t replicates = replicatesFor(settings, pointCount);
-  const size_t perPoint = sumsPerPoint(replicates);
+  const uint32_t channels = source.keepsSunDirect() ? 2 : 1;
+  const size_t perPoint = sumsPerPoint(replicates) * channels;
   if (!state.started()) {
     state = ProgressState{};
     state.pointCount = pointCount;
     state.replicates = replicates;
+    state.channels = channels;
     state.sums.assign(pointCount * perPoint, dvec3(0.0));
-  } else if (state.pointCount != pointCount || state.replicates != replicates ||
+  } else if (state.pointCount != pointCount || state.replicates != replicates || state.channels != channels ||
              state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount ||
              state.settledSamples.size() > source.groupCount()) {
-    throw std::invalid_argument("estimateProgressively: the state to continue has " +
-                                std::to_string(state.pointCount) + " points and " +
-                                std::to_string(state.replicates) + " replicates, the estimate " +
-                                std::to_string(pointCount) + " and " + std::to_string(replicates));
+    throw std::invalid_argument(
+        "estimateProgressively: the state to continue has " + std::to_string(state.pointCount) + " points, " +
+        std::to_string(state.replicates) + " replicates and " + std::to_string(state.channels) +
+        " channels, the estimate " + std::to_string(pointCount) + ", " + std::to_string(replicates) +
+        " and " + std::to_string(channels));
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -406,8 +428,10 @@ uint64_t fnv1a(const std::string& bytes, size_t count) {
   return h;
 }
 
-// Version 3 adds the settled groups and the last pass's point count; version 2 (before them) is still read.
-constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '3'};
+// Version 4 adds the channel count (the sun's direct part); version 3 added the settled groups and the last
+// pass's point count. Versions 2 and 3 are still read, as one channel.
+constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '4'};
+constexpr char kStateTagV3[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '3'};
 constexpr char kStateTagV2[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '2'};
 
 template <class T>
@@ -423,6 +447,7 @@ std::string serializeProgressState(const ProgressState& s) {
   std::string out(kStateTag, sizeof kStateTag);
   put(out, s.pointCount);
   put(out, s.replicates);
+  put(out, s.channels);
   put(out, s.samplesPerPoint);
   put(out, s.passSamples);
   put(out, s.passPointsDone);
@@ -451,10 +476,12 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
     return InputError(SourceLocation{fileName}, "not a usable checkpoint: " + what,
                       "the checkpoint is damaged or from another version of fly; start the bake afresh");
   };
-  const bool version2 = bytes.size() >= sizeof kStateTagV2 &&
-                        bytes.compare(0, sizeof kStateTagV2, kStateTagV2, sizeof kStateTagV2) == 0;
-  if (bytes.size() < sizeof kStateTag + 8 ||
-      (!version2 && bytes.compare(0, sizeof kStateTag, kStateTag, sizeof kStateTag) != 0))
+  auto tagged = [&](const char(&tag)[8]) {
+    return bytes.size() >= sizeof tag && bytes.compare(0, sizeof tag, tag, sizeof tag) == 0;
+  };
+  const bool version2 = tagged(kStateTagV2);
+  const bool version3 = tagged(kStateTagV3);
+  if (bytes.size() < sizeof kStateTag + 8 || (!version2 && !version3 && !tagged(kStateTag)))
     throw bad("it does not start with the fly progress-state tag");
   uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
@@ -469,6 +496,7 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
   ProgressState s;
   get(s.pointCount);
   get(s.replicates);
+  if (!version2 && !version3) get(s.channels);
   get(s.samplesPerPoint);
   get(s.passSamples);
   get(s.passPointsDone);
@@ -481,8 +509,10 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
   get(s.lastPassSamples);
   uint64_t count = 0;
   get(count);
-  const size_t perPoint = sumsPerPoint(s.replicates);
-  if (s.replicates == 0 || count != s.pointCount * perPoint || count > (bytes.size() - at) / 24)
+  if (s.replicates == 0 || s.replicates > (1u << 20) || (s.channels != 1 && s.channels != 2))
+    throw bad("its sizes do not agree");
+  const size_t perPoint = sumsPerPoint(s.replicates) * s.channels;
+  if (count != s.pointCount * perPoint || count > (bytes.size() - at) / 24)
     throw bad("its sizes do not agree");
   s.sums.resize(count);
   for (dvec3& v : s.sums) {

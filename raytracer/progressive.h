@@ -16,11 +16,27 @@
 
 namespace fly::raytracer {
 
-// One point's estimate: the mean of its samples and the standard error of that mean, per channel.
+// One point's estimate: the mean of its samples and the standard error of that mean, per channel; for
+// sources that keep the sun's direct light apart (SampleSource::keepsSunDirect), the same of that part.
 struct IrradianceEstimate {
   Rgb meanLux{0.0f};
   Rgb stdErrorLux{0.0f};
   uint32_t samples = 0;
+  // The part of meanLux that arrived straight from the sun's disc at the point, estimated from the same
+  // samples (so meanLux − sunDirectMeanLux is the estimate of the rest), and its standard error; 0 for
+  // sources that do not keep it apart.
+  Rgb sunDirectMeanLux{0.0f};
+  Rgb sunDirectStdErrorLux{0.0f};
+};
+
+// One sample of a point: its irradiance (lux) and the part of it that came straight from the sun's disc
+// (raytracer/integrator.h, sampleIrradiance's sunDirectLux), 0 where the source does not keep it apart. A
+// plain Rgb converts to a sample without a sun-direct part.
+struct PointSample {
+  Rgb lux{0.0f};
+  Rgb sunDirectLux{0.0f};
+  PointSample(const Rgb& irradianceLux = Rgb(0.0f), const Rgb& sunDirect = Rgb(0.0f))  // NOLINT: implicit
+      : lux(irradianceLux), sunDirectLux(sunDirect) {}
 };
 
 enum class SamplerKind { kSobol, kRandom };
@@ -93,20 +109,24 @@ class SampleSource {
   // kMinPointsToPool, else over all points. Groups are numbered 0 … groupCount() − 1.
   virtual uint32_t groupCount() const { return 1; }
   virtual uint32_t groupOf(size_t /*point*/) const { return 0; }
-  virtual Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const = 0;
-  virtual Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
+  // Whether the samples carry the sun's direct part (PointSample::sunDirectLux): the driver then keeps its
+  // statistics too (IrradianceEstimate::sunDirectMeanLux). The stopping rules and settled groups look at
+  // the irradiance alone.
+  virtual bool keepsSunDirect() const { return false; }
+  virtual PointSample sample(size_t point, SobolSampler& sampler, uint64_t& rays) const = 0;
+  virtual PointSample sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
 };
 
 // A SampleSource whose two overloads are one template: Derived provides
-// `template <class S> Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const` (public, or with this
-// class as a friend), so both samplers compute the same function by construction.
+// `template <class S> PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const` (or returning
+// Rgb; public, or with this class as a friend), so both samplers compute the same function by construction.
 template <class Derived>
 class SampleSourceOf : public SampleSource {
  public:
-  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const final {
+  PointSample sample(size_t point, SobolSampler& sampler, uint64_t& rays) const final {
     return static_cast<const Derived&>(*this).sampleAt(point, sampler, rays);
   }
-  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const final {
+  PointSample sample(size_t point, RandomSampler& sampler, uint64_t& rays) const final {
     return static_cast<const Derived&>(*this).sampleAt(point, sampler, rays);
   }
 };
@@ -129,6 +149,8 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
 struct ProgressState {
   uint64_t pointCount = 0;
   uint32_t replicates = 0;
+  // Quantities per point: 1 (the irradiance), or 2 (also its sun-direct part: SampleSource::keepsSunDirect).
+  uint32_t channels = 1;
   uint32_t samplesPerPoint = 0;  // after the last complete pass, of the points not settled
   uint32_t passSamples = 0;      // samples per point of the pass in progress; 0 = none
   uint64_t passPointsDone = 0;   // points of the pass in progress that are done
@@ -139,8 +161,9 @@ struct ProgressState {
   double passSeconds = 0.0;      // run time of the pass in progress so far
   double lastPassS = 0.0;        // duration of the last complete pass (predicts the next one's)
   uint32_t lastPassSamples = 0;  // samples per point of the last complete pass
-  // Per point (point-major): Welford's mean and sum of squared deviations over all its samples, then with
-  // replicates ≥ 2 each replicate's sum of its samples (2 + replicates entries).
+  // Per point (point-major) and per channel (channel-major within the point): Welford's mean and sum of
+  // squared deviations over all its samples, then with replicates ≥ 2 each replicate's sum of its samples
+  // (channels × (2 + replicates) entries a point).
   std::vector<dvec3> sums;
   // Per group (SampleSource::groupOf): the samples per point at which it was settled
   // (kSettledFractionOfTarget), 0 while it is not; empty when none is.
@@ -150,9 +173,10 @@ struct ProgressState {
   bool started() const { return samplesPerPoint > 0 || passPointsDone > 0; }
 };
 
-// A state as bytes (little-endian, with a format tag and an FNV-1a checksum at the end), and back.
-// deserializeProgressState throws InputError naming `fileName` when the bytes are truncated, corrupt or of
-// another format version.
+// A state as bytes (little-endian, with a format tag and an FNV-1a checksum at the end), and back. Format 4
+// (with the channel count); formats 2 and 3, written before the sun's direct part was kept apart, are read as
+// one channel. deserializeProgressState throws InputError naming `fileName` when the bytes are truncated,
+// corrupt or of another format version.
 std::string serializeProgressState(const ProgressState& state);
 ProgressState deserializeProgressState(const std::string& bytes, const std::string& fileName);
 
@@ -164,9 +188,9 @@ struct Checkpointing {
   std::function<void(const ProgressState&)> save;
 };
 
-// As above, continuing from `state` when state.started() (std::invalid_argument when its point count or
-// replicates do not match), and leaving in it the state at the end. The result's seconds and rays include
-// those of earlier runs.
+// As above, continuing from `state` when state.started() (std::invalid_argument when its point count,
+// replicates or channels do not match), and leaving in it the state at the end. The result's seconds and rays
+// include those of earlier runs.
 EstimateResult estimateProgressively(const SampleSource& source, const EstimateSettings& settings,
                                      const PassCallback& afterPass, ProgressState& state,
                                      const Checkpointing& checkpointing = {});

@@ -333,7 +333,7 @@ uint32_t TexelSource::groupOf(size_t point) const {
 }
 
 template <class S>
-Rgb TexelSource::sampleAt(size_t point, S& sampler, uint64_t& rays) const {
+PointSample TexelSource::sampleAt(size_t point, S& sampler, uint64_t& rays) const {
   const Point& pt = points_[point];
   const Texel& texel = texels_[pt.texel];
   sampler.startGroup(kFootprintGroup);
@@ -389,13 +389,15 @@ Rgb TexelSource::sampleAt(size_t point, S& sampler, uint64_t& rays) const {
       p = texel.anchorM + std::max(hit->distanceM - lift, 0.0f) * dir;
     }
   }
-  return integrator_.sampleIrradiance(p, n, sampler, rays, magnitude);
+  PointSample x;
+  x.lux = integrator_.sampleIrradiance(p, n, sampler, rays, magnitude, &x.sunDirectLux);
+  return x;
 }
 
-Rgb TexelSource::sample(size_t point, SobolSampler& sampler, uint64_t& rays) const {
+PointSample TexelSource::sample(size_t point, SobolSampler& sampler, uint64_t& rays) const {
   return sampleAt(point, sampler, rays);
 }
-Rgb TexelSource::sample(size_t point, RandomSampler& sampler, uint64_t& rays) const {
+PointSample TexelSource::sample(size_t point, RandomSampler& sampler, uint64_t& rays) const {
   return sampleAt(point, sampler, rays);
 }
 
@@ -413,19 +415,31 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
     tex.mesh = lt.mesh;
     tex.width = lt.width;
     tex.height = lt.height;
-    tex.frontLux.assign(n, Rgb(0.0f));
-    tex.frontStdErrorLux.assign(n, Rgb(0.0f));
-    if (rdb_.meshes[lt.mesh].twoSided) {
-      tex.backLux.assign(n, Rgb(0.0f));
-      tex.backStdErrorLux.assign(n, Rgb(0.0f));
+    const bool twoSided = rdb_.meshes[lt.mesh].twoSided;
+    const bool sun = keepsSunDirect();
+    for (auto [values, wanted] : {std::pair{&tex.frontLux, true},
+                                  {&tex.frontStdErrorLux, true},
+                                  {&tex.backLux, twoSided},
+                                  {&tex.backStdErrorLux, twoSided},
+                                  {&tex.frontSunDirectLux, sun},
+                                  {&tex.frontSunDirectStdErrorLux, sun},
+                                  {&tex.backSunDirectLux, sun && twoSided},
+                                  {&tex.backSunDirectStdErrorLux, sun && twoSided}}) {
+      if (wanted) values->assign(n, Rgb(0.0f));
     }
     baked[k].assign(n, 0);
   }
   for (size_t i = 0; i < points_.size(); ++i) {
     const Texel& texel = texels_[points_[i].texel];
     LightTexture& tex = out[texel.texture];
-    (points_[i].back ? tex.backLux : tex.frontLux)[texel.index] = estimates[i].meanLux;
-    (points_[i].back ? tex.backStdErrorLux : tex.frontStdErrorLux)[texel.index] = estimates[i].stdErrorLux;
+    const bool back = points_[i].back;
+    (back ? tex.backLux : tex.frontLux)[texel.index] = estimates[i].meanLux;
+    (back ? tex.backStdErrorLux : tex.frontStdErrorLux)[texel.index] = estimates[i].stdErrorLux;
+    if (!tex.frontSunDirectLux.empty()) {
+      (back ? tex.backSunDirectLux : tex.frontSunDirectLux)[texel.index] = estimates[i].sunDirectMeanLux;
+      (back ? tex.backSunDirectStdErrorLux : tex.frontSunDirectStdErrorLux)[texel.index] =
+          estimates[i].sunDirectStdErrorLux;
+    }
     baked[texel.texture][texel.index] = 1;
     tex.samples = std::max(tex.samples, estimates[i].samples);
   }
@@ -436,8 +450,12 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
       tex.bakedTexels += baked[k][t];
       tex.emptyTexels += touched_[k][t] && !baked[k][t];
     }
-    std::vector<std::vector<Rgb>*> maps = {&tex.frontLux, &tex.frontStdErrorLux};
-    if (!tex.backLux.empty()) maps.insert(maps.end(), {&tex.backLux, &tex.backStdErrorLux});
+    std::vector<std::vector<Rgb>*> maps;
+    for (std::vector<Rgb>* m :
+         {&tex.frontLux, &tex.frontStdErrorLux, &tex.backLux, &tex.backStdErrorLux, &tex.frontSunDirectLux,
+          &tex.frontSunDirectStdErrorLux, &tex.backSunDirectLux, &tex.backSunDirectStdErrorLux}) {
+      if (!m->empty()) maps.push_back(m);
+    }
     dilate(tex.width, tex.height, baked[k], maps);
     tex.baked = baked[k];
 
@@ -480,8 +498,11 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
       }
     }
     if (!seam.empty()) {
-      makeSeamsAgree(seam, tex.frontLux);
-      if (!tex.backLux.empty()) makeSeamsAgree(seam, tex.backLux);
+      // The same linear projection for E and its sun-direct part, so that E − E_sunDirect is projected alike.
+      for (std::vector<Rgb>* m :
+           {&tex.frontLux, &tex.backLux, &tex.frontSunDirectLux, &tex.backSunDirectLux}) {
+        if (!m->empty()) makeSeamsAgree(seam, *m);
+      }
     }
   }
   return out;

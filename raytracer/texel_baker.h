@@ -65,6 +65,12 @@ struct LightTexture {
   // The back (the side of −normal) of two-sided meshes; empty for one-sided ones.
   std::vector<Rgb> backLux;
   std::vector<Rgb> backStdErrorLux;
+  // With a sun (VertexLightMaps::frontSunDirectLux): the part of frontLux / backLux that came straight from
+  // the sun's disc, and its standard error, filled and made consistent across seams alike; empty without.
+  std::vector<Rgb> frontSunDirectLux;
+  std::vector<Rgb> frontSunDirectStdErrorLux;
+  std::vector<Rgb> backSunDirectLux;
+  std::vector<Rgb> backSunDirectStdErrorLux;
   std::vector<uint8_t> baked;  // per texel: 1 where baked, 0 where filled (dilated, empty)
   size_t bakedTexels = 0;      // texels with footprint area: the progressive run's points
   size_t emptyTexels = 0;      // touched by a triangle but without area to sample: filled from neighbours
@@ -84,8 +90,9 @@ class TexelSource final : public SampleSource {
   // Per light texture, its fronts and its backs.
   uint32_t groupCount() const override;
   uint32_t groupOf(size_t point) const override;
-  Rgb sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override;
-  Rgb sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override;
+  bool keepsSunDirect() const override { return integrator_.hasSun(); }
+  PointSample sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override;
+  PointSample sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override;
 
   // The light textures from the estimates of this source's points (pointCount() of them, in point order):
   // baked texels set, the rest dilated, seams made consistent. std::invalid_argument for a wrong count.
@@ -120,7 +127,7 @@ class TexelSource final : public SampleSource {
   };
 
   template <class S>
-  Rgb sampleAt(size_t point, S& sampler, uint64_t& rays) const;
+  PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const;
   // World position and interpolated shading normal (unit, on the front of the geometric normal) at
   // texel-space point x of triangle t of texture k.
   void surfaceAt(uint32_t k, uint32_t t, const vec2& x, vec3& pM, vec3& n) const;

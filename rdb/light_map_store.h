@@ -25,6 +25,9 @@ struct MeshLightTexture {
   // 10⁻⁷·|e1|·|e2| in world space) have no corners here, as in TraceMesh and RasterRdb. The corners of one
   // vertex differ where the atlas's charts meet (seams).
   std::vector<vec2> cornerUv;
+  // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), the same
+  // size; empty when the bake kept none apart.
+  std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
 };
 
 // The baked irradiance of one placed mesh: SDB node `sdbNodeId` holding SDB mesh `sdbMeshId`.
@@ -36,10 +39,24 @@ struct MeshLightMap {
   std::vector<Rgb> frontLux, backLux;
   // The light texture, for a mesh baked with one; the engine draws it instead of the vertex values.
   std::optional<MeshLightTexture> lightTexture;
+  // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), per vertex as
+  // they are; empty when the bake kept none apart.
+  std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
+};
+
+// The sun of a bake that kept its direct light apart (FLY §3's sunlight mode: baked light without the sun's
+// direct term, which the engine draws in real time for any sun).
+struct BakedSun {
+  vec3 directionWorld{0.0f, 1.0f, 0.0f};  // unit, towards the sun
+  Rgb normalIlluminanceLux{0.0f};         // on a surface facing it
 };
 
 struct LightMapStore {
   std::vector<MeshLightMap> meshes;
+  // With it, every mesh's frontSunDirectLux (and backSunDirectLux where it has backLux) and its light
+  // texture's are filled; without it (a bake without a sun, or by a fly that did not keep it apart) all are
+  // empty.
+  std::optional<BakedSun> sun;
 
   // The light map of SDB mesh `sdbMeshId` as placed by node `sdbNodeId`, or nullptr when none was baked.
   const MeshLightMap* find(uint32_t sdbNodeId, uint32_t sdbMeshId) const;

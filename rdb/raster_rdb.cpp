@@ -27,11 +27,12 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
   return positionsM == o.positionsM && normals == o.normals && cornerFactor == o.cornerFactor &&
          indices == o.indices && meshes == o.meshes && materials == o.materials &&
          boundsM.min == o.boundsM.min && boundsM.max == o.boundsM.max && frontLux == o.frontLux &&
-         backLux == o.backLux && lightMapUv == o.lightMapUv && lightTextures == o.lightTextures &&
-         uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors && tangents == o.tangents &&
-         textures == o.textures && lights == o.lights && goniometricCd == o.goniometricCd &&
-         ambient == o.ambient && daylightAmbient == o.daylightAmbient && cameras == o.cameras &&
-         sameSky(sky, o.sky) && variants == o.variants;
+         backLux == o.backLux && frontSunDirectLux == o.frontSunDirectLux &&
+         backSunDirectLux == o.backSunDirectLux && lightMapUv == o.lightMapUv &&
+         lightTextures == o.lightTextures && uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors &&
+         tangents == o.tangents && textures == o.textures && lights == o.lights &&
+         goniometricCd == o.goniometricCd && ambient == o.ambient && daylightAmbient == o.daylightAmbient &&
+         cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants;
 }
 
 bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
@@ -299,7 +300,9 @@ void splitAtSeams(RasterRdb& rdb, RasterMesh& rm, const sdb::Mesh& mesh, const M
   const bool finite = std::all_of(texture.cornerUv.begin(), texture.cornerUv.end(),
                                   [](const vec2& c) { return std::isfinite(c.x) && std::isfinite(c.y); });
   if (texture.cornerUv.size() != rm.indexCount || texels == 0 || texture.frontLux.size() != texels ||
-      (!texture.backLux.empty() && texture.backLux.size() != texels) || !finite) {
+      (!texture.backLux.empty() && texture.backLux.size() != texels) ||
+      (!texture.frontSunDirectLux.empty() && texture.frontSunDirectLux.size() != texels) ||
+      (!texture.backSunDirectLux.empty() && texture.backSunDirectLux.size() != texels) || !finite) {
     throw InputError({scene.sourcePath.string()},
                      "the light texture of mesh \"" + mesh.name + "\" has " +
                          std::to_string(texture.cornerUv.size() / 3) + " triangles but the mesh has " +
@@ -343,6 +346,8 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
   rdb.meshes.clear();
   rdb.frontLux.clear();
   rdb.backLux.clear();
+  rdb.frontSunDirectLux.clear();
+  rdb.backSunDirectLux.clear();
   rdb.lightMapUv.clear();
   rdb.lightTextures.clear();
   rdb.uv0.clear();
@@ -379,8 +384,11 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
       rdb.normals.insert(rdb.normals.end(), placed.normals.begin(), placed.normals.end());
       const MeshLightMap* map = lightMaps ? lightMaps->find(nodeId.value, meshId.value) : nullptr;
       if (map) {
+        const bool sunDirect = lightMaps->sun.has_value();
         if (map->frontLux.size() != mesh.vertexCount() ||
-            (!map->backLux.empty() && map->backLux.size() != mesh.vertexCount())) {
+            (!map->backLux.empty() && map->backLux.size() != mesh.vertexCount()) ||
+            (sunDirect && map->frontSunDirectLux.size() != mesh.vertexCount()) ||
+            (sunDirect && map->backSunDirectLux.size() != map->backLux.size())) {
           throw InputError({scene.sourcePath.string()},
                            "the light map of mesh \"" + mesh.name + "\" has " +
                                std::to_string(map->frontLux.size()) + " values but the mesh has " +
@@ -394,9 +402,21 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
       if (map && map->lightTexture) {
         splitAtSeams(rdb, rm, mesh, *map->lightTexture, scene, copies, uv);
         rm.lightTexture = uint32_t(rdb.lightTextures.size());
-        rdb.lightTextures.push_back({map->lightTexture->width, map->lightTexture->height,
-                                     map->lightTexture->frontLux,
-                                     mesh.twoSided ? map->lightTexture->backLux : std::vector<Rgb>{}});
+        const MeshLightTexture& t = *map->lightTexture;
+        RasterLightTexture r{t.width, t.height, t.frontLux, {}, {}, {}};
+        if (mesh.twoSided) r.backLux = t.backLux;
+        if (lightMaps->sun) {
+          if (t.frontSunDirectLux.size() != t.frontLux.size() ||
+              t.backSunDirectLux.size() != t.backLux.size()) {
+            throw InputError({scene.sourcePath.string()},
+                             "the light texture of mesh \"" + mesh.name +
+                                 "\" has no sun-direct texels to match its irradiance",
+                             "bake the scene again");
+          }
+          r.frontSunDirectLux = t.frontSunDirectLux;
+          if (mesh.twoSided) r.backSunDirectLux = t.backSunDirectLux;
+        }
+        rdb.lightTextures.push_back(std::move(r));
       }
       const AttributeNeeds needs = attributeNeeds(scene.material(mesh.material), mesh);
       MeshAttributes a;
@@ -443,8 +463,12 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
   bool anyBack = false;
   for (size_t i = 0; i < maps.size(); ++i)
     anyBack |= maps[i] && rdb.meshes[i].twoSided && !maps[i]->backLux.empty();
+  // The sun-direct parts come with every light map of a bake that kept them (LightMapStore::sun).
+  const bool sunDirect = anyMap && lightMaps->sun.has_value();
   if (anyMap) rdb.frontLux.assign(rdb.positionsM.size(), Rgb(0.0f));
   if (anyBack) rdb.backLux.assign(rdb.positionsM.size(), Rgb(0.0f));
+  if (sunDirect) rdb.frontSunDirectLux.assign(rdb.positionsM.size(), Rgb(0.0f));
+  if (sunDirect && anyBack) rdb.backSunDirectLux.assign(rdb.positionsM.size(), Rgb(0.0f));
   // A mesh's seam copies (after its SDB vertices) carry their source vertex's values.
   const auto place = [&](std::vector<Rgb>& out, const std::vector<Rgb>& values, size_t i) {
     const RasterMesh& rm = rdb.meshes[i];
@@ -455,9 +479,13 @@ void buildGeometry(RasterRdb& rdb, const sdb::Scene& scene, const LightMapStore*
   for (size_t i = 0; i < maps.size(); ++i) {
     if (!maps[i]) continue;
     place(rdb.frontLux, maps[i]->frontLux, i);
+    if (sunDirect) place(rdb.frontSunDirectLux, maps[i]->frontSunDirectLux, i);
     if (anyBack && rdb.meshes[i].twoSided) {
       // A two-sided mesh baked one-sided (no back values) shows its front values on both faces.
-      place(rdb.backLux, maps[i]->backLux.empty() ? maps[i]->frontLux : maps[i]->backLux, i);
+      const bool front = maps[i]->backLux.empty();
+      place(rdb.backLux, front ? maps[i]->frontLux : maps[i]->backLux, i);
+      if (sunDirect)
+        place(rdb.backSunDirectLux, front ? maps[i]->frontSunDirectLux : maps[i]->backSunDirectLux, i);
     }
   }
   if (!rdb.lightTextures.empty()) {
@@ -748,6 +776,7 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   const sdb::SceneFeatures f = sdb::computeFeatures(scene);
   rdb.variants.lightMap = !rdb.frontLux.empty();
   rdb.variants.lightTexture = !rdb.lightTextures.empty();
+  rdb.variants.sunDirect = !rdb.frontSunDirectLux.empty();
   rdb.variants.twoSided =
       std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [](const RasterMesh& m) { return m.twoSided; });
   rdb.variants.sky = rdb.sky.has_value();

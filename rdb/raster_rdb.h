@@ -141,6 +141,10 @@ struct RasterLightTexture {
   uint32_t width = 0, height = 0;  // texels, ≥ 1
   std::vector<Rgb> frontLux;       // width·height
   std::vector<Rgb> backLux;        // two-sided meshes baked on both sides, else empty (front on both faces)
+  // The part of frontLux / backLux that came straight from the sun's disc (RasterRdb::frontSunDirectLux),
+  // the same sizes; empty when the bake kept none apart.
+  std::vector<Rgb> frontSunDirectLux;
+  std::vector<Rgb> backSunDirectLux;
 
   bool operator==(const RasterLightTexture&) const = default;
 };
@@ -191,6 +195,9 @@ struct RasterCamera {
 struct RasterVariants {
   bool lightMap = false;     // some mesh has a light map: light-map mode is possible
   bool lightTexture = false; // some mesh has a light texture: light-map modes sample it per fragment
+  // The light maps keep the sun's direct part apart (RasterRdb::frontSunDirectLux): sunlight mode shows the
+  // rest and draws the sun's direct term in real time.
+  bool sunDirect = false;
   bool twoSided = false;     // two-sided meshes: the vertex shader's front/back choice
   bool sky = false;          // a sky dome (sunlight mode's background)
   bool sun = false;          // a sun disc (sunlight mode) and the sun as a directional light (both modes)
@@ -246,6 +253,12 @@ struct RasterRdb {
   // Empty when no mesh has a light map; backLux empty when no mesh with a light map is two-sided.
   std::vector<Rgb> frontLux;
   std::vector<Rgb> backLux;
+  // The part of frontLux / backLux that arrived straight from the sun's disc at the bake's sun
+  // (LightMapStore::sun), aligned alike; both empty when the light maps keep none apart (a bake without a
+  // sun, or by a fly that did not keep it), backSunDirectLux also when backLux is. Sunlight mode shows
+  // albedo · (E − E_sunDirect) / π plus the sun's direct term for the current sun (FLY §3).
+  std::vector<Rgb> frontSunDirectLux;
+  std::vector<Rgb> backSunDirectLux;
 
   // Light textures. A light-textured mesh's vertices are split where its atlas's charts meet, as in the baked
   // scene.gltf (cli/baked_scene.h): each SDB vertex keeps the UV of its first triangle corner ((0, 0) for a

@@ -79,6 +79,12 @@ struct TraceRdbBuilder {
     light.intensity = intensityCd;
     rdb.punctualLights.push_back(light);
   }
+  // The sun: a disc of the default angular size towards `towardsSun`, normalLux on a surface facing it.
+  void sun(const vec3& towardsSun, const Rgb& normalLux) {
+    rdb.hasSun = true;
+    rdb.sun.directionWorld = glm::normalize(towardsSun);
+    rdb.sun.normalIlluminanceLux = normalLux;
+  }
   void directionalLight(const vec3& towardsLight, const Rgb& lux) {
     TracePunctualLight light;
     light.type = PunctualType::kDirectional;

@@ -9,6 +9,9 @@
 //                  meshes that have one
 //   FLY_GLASS      clear glass: drawn in a second pass over a copy of the first, adding T(θ) times what lies
 //                  behind it (rdb/raster_rdb.h, RasterMaterial::transmission)
+//   FLY_SUN_DIRECT sunlight mode over light maps that keep the sun's direct part apart (with FLY_LIGHT_MAP):
+//                  L = albedo · (E − E_sunDirect) / π + the sun's direct term (flySunTerm) for the current sun
+//                  (FLY §3: baked indirect light, real-time sun)
 // The surfaces that rdb::RasterRdb::shadedPerFragment names (textures, COLOR_0, alpha coverage) are drawn by
 // kSurfaceVertex + kSurfaceFragment, which shade per fragment with the same terms, and these #defines too:
 //   FLY_TEXTURES      base colour, emission and normal textures (RasterMaterial's texture slots)
@@ -92,7 +95,7 @@ vec3 flyLightMapReflectance(vec3 albedo, Material m) {
 }
 #endif
 
-#ifdef FLY_PHONG
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
 // Direct illuminance on the surface (lux) and the Blinn–Phong lobe towards `toEye`.
 void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponent, inout vec3 diffuseLux,
               inout vec3 specularLux) {
@@ -102,6 +105,20 @@ void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponen
   vec3 h = normalize(toLight + toEye);
   specularLux += eLux * cosSurface * (exponent + 8.0) / (8.0 * kPi) * pow(max(dot(n, h), 0.0), exponent);
 }
+#endif
+
+#if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
+// The sun's direct term of the modified Phong alone (cd/m²): what `phong` adds for the sun, for a light-mapped
+// surface whose light map holds everything but it.
+vec3 flySunTerm(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye) {
+  vec3 diffuseLux = vec3(0.0);
+  vec3 specularLux = vec3(0.0);
+  addLight(p, n, toEye, uSunDirWorld, uSunNormalLux, m.specular.w, diffuseLux, specularLux);
+  return albedo / kPi * diffuseLux + m.specular.rgb * specularLux;
+}
+#endif
+
+#ifdef FLY_PHONG
 
 // Luminance (cd/m²) of a surface of Lambertian albedo `albedo` and material m's reflection lobe at p.
 vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
@@ -157,13 +174,19 @@ layout(location = 2) in float aCorner;
 layout(location = 3) in vec3 aFrontLux;
 layout(location = 4) in vec3 aBackLux;
 layout(location = 5) in uint aSurface;
+#ifdef FLY_SUN_DIRECT
+layout(location = 12) in vec3 aFrontSunLux;  // the sun-direct part of aFrontLux (rdb::RasterRdb)
+layout(location = 13) in vec3 aBackSunLux;
+#endif
 #ifdef FLY_LIGHT_TEXTURE
 layout(location = 6) in vec2 aLightMapUv;  // rdb/lightmap_uv.h's convention
 // The slot of the mesh's front light texture (raster/renderer.cpp, uploadLightTextures); bit 31: the back's
-// slot follows it; 0xffffffff: no light texture.
+// slot follows it; 0xffffffff: no light texture. With sun-direct texels, those of the front (and back)
+// follow in the same order.
 layout(location = 7) in uint aLightSlot;
 out vec2 vLightMapUv;
-flat out uint vLightSlot;      // the slot of the side this vertex faces, 0xffffffff: none
+flat out uint vLightSlot;      // aLightSlot of the triangle, 0xffffffff: none
+flat out uint vBack;           // 1: the triangle's provoking vertex faces its back
 flat out vec3 vAlbedoOverPi;   // sr⁻¹
 #endif
 
@@ -191,12 +214,25 @@ void main() {
   bool useLightMap = false;
 #ifdef FLY_LIGHT_MAP
   useLightMap = (aSurface & 0x80000000u) != 0u;
+  // The sun's direct term drawn in real time over a light map without it (FLY_SUN_DIRECT), else 0.
+  vec3 sunTerm = vec3(0.0);
   if (useLightMap) {
 #ifdef FLY_TWO_SIDED
-    l = flyLightMapReflectance(m.diffuse.rgb, m) * (back ? aBackLux : aFrontLux) / kPi;
+    vec3 eLux = back ? aBackLux : aFrontLux;
 #else
-    l = flyLightMapReflectance(m.diffuse.rgb, m) * aFrontLux / kPi;
+    vec3 eLux = aFrontLux;
 #endif
+#ifdef FLY_SUN_DIRECT
+#ifdef FLY_TWO_SIDED
+    eLux = max(eLux - (back ? aBackSunLux : aFrontSunLux), vec3(0.0));
+#else
+    eLux = max(eLux - aFrontSunLux, vec3(0.0));
+#endif
+#ifdef FLY_SUN
+    sunTerm = flySunTerm(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye);
+#endif
+#endif
+    l = flyLightMapReflectance(m.diffuse.rgb, m) * eLux / kPi + sunTerm;
   }
 #endif
 #ifdef FLY_LIGHT_TEXTURE
@@ -204,9 +240,11 @@ void main() {
   vLightMapUv = aLightMapUv;
   vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) / kPi;
   vLightSlot = 0xffffffffu;
+  vBack = 0u;
   if (useLightMap && aLightSlot != 0xffffffffu) {
-    vLightSlot = (aLightSlot & 0x7fffffffu) + ((back && (aLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
-    l = vec3(0.0);
+    vLightSlot = aLightSlot;
+    vBack = back ? 1u : 0u;
+    l = sunTerm;
   }
 #endif
 #ifdef FLY_PHONG
@@ -265,6 +303,40 @@ vec3 flyDecodeLuminance(uvec2 p) {
 }
 )GLSL";
 
+// The light textures' lookup, prepended to both fragment stages (raster/renderer.cpp, sceneProgram) with
+// FLY_LIGHT_TEXTURE.
+inline constexpr const char* kLightTextureLookup = R"GLSL(
+#ifdef FLY_LIGHT_TEXTURE
+// A slot's place in the array texture: rect = x, y, width, height (texels of the layer); layer = its index,
+// 1 / layer width, 1 / layer height.
+struct LightRect {
+  vec4 rect;
+  vec4 layer;
+};
+layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[]; };
+layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
+// The irradiance (lux) a mesh's light texture shows at light-map UV `uv` on the face `back` or not: its
+// slots begin at `slots` (aLightSlot: bit 31, the back follows the front); with FLY_SUN_DIRECT the sun-direct
+// texels' slots follow in the same order, and the result is E − E_sunDirect. Bilinear, clamped to the edge of
+// each slot's own texels (its neighbours in the layer are never read).
+vec3 flySlotTexel(uint slot, vec2 uv) {
+  LightRect r = lightRects[slot];
+  vec2 t = clamp(uv * r.rect.zw, vec2(0.5), r.rect.zw - vec2(0.5));
+  return texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
+}
+vec3 flyLightTexel(uint slots, bool back, vec2 uv) {
+  bool hasBack = (slots & 0x80000000u) != 0u;
+  uint front = slots & 0x7fffffffu;
+  uint side = (back && hasBack) ? 1u : 0u;
+  vec3 e = flySlotTexel(front + side, uv);
+#ifdef FLY_SUN_DIRECT
+  e = max(e - flySlotTexel(front + (hasBack ? 2u : 1u) + side, uv), vec3(0.0));
+#endif
+  return e;
+}
+#endif
+)GLSL";
+
 // The back of a one-sided surface has no light value: it shows black (it still hides what is behind it, unless
 // it is clear glass, whose both faces pass light).
 inline constexpr const char* kSceneFragment = R"GLSL(
@@ -282,15 +354,8 @@ layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLum
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
 flat in uint vLightSlot;
+flat in uint vBack;
 flat in vec3 vAlbedoOverPi;
-// A slot's place in the array texture: rect = x, y, width, height (texels of the layer); layer = its index,
-// 1 / layer width, 1 / layer height.
-struct LightRect {
-  vec4 rect;
-  vec4 layer;
-};
-layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[]; };
-layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
 #endif
 void main() {
 #ifdef FLY_GLASS
@@ -299,10 +364,7 @@ void main() {
   vec3 l = vLuminance;
 #ifdef FLY_LIGHT_TEXTURE
   if (vLightSlot != 0xffffffffu) {
-    LightRect r = lightRects[vLightSlot];
-    // Bilinear, clamped to the edge of the slot's own texels (its neighbours in the layer are never read).
-    vec2 t = clamp(vLightMapUv * r.rect.zw, vec2(0.5), r.rect.zw - vec2(0.5));
-    l += vAlbedoOverPi * texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
+    l += vAlbedoOverPi * flyLightTexel(vLightSlot, vBack != 0u, vLightMapUv);
   }
 #endif
 #ifdef FLY_TWO_SIDED
@@ -333,6 +395,14 @@ layout(location = 7) in uint aLightSlot;
 out vec2 vLightMapUv;
 flat out uint vLightSlot;
 #endif
+#ifdef FLY_SUN_DIRECT
+layout(location = 12) in vec3 aFrontSunLux;
+layout(location = 13) in vec3 aBackSunLux;
+out vec3 vFrontSunLux;
+#ifdef FLY_TWO_SIDED
+out vec3 vBackSunLux;
+#endif
+#endif
 #ifdef FLY_TEXTURES
 layout(location = 8) in vec2 aUv0;
 out vec2 vUv0;
@@ -350,9 +420,11 @@ layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(nor
 out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
-#ifdef FLY_PHONG
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
 out vec3 vPositionM;
 out vec3 vNormal;
+#endif
+#ifdef FLY_PHONG
 out float vCorner;
 #endif
 #ifdef FLY_LIGHT_MAP
@@ -370,10 +442,18 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
-#ifdef FLY_PHONG
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
   vPositionM = aPositionM;
   vNormal = aNormal;
+#endif
+#ifdef FLY_PHONG
   vCorner = aCorner;
+#endif
+#ifdef FLY_SUN_DIRECT
+  vFrontSunLux = aFrontSunLux;
+#ifdef FLY_TWO_SIDED
+  vBackSunLux = aBackSunLux;
+#endif
 #endif
 #ifdef FLY_LIGHT_MAP
   vFrontLux = aFrontLux;
@@ -409,10 +489,18 @@ void main() {
 // the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
-#ifdef FLY_PHONG
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
 in vec3 vPositionM;
 in vec3 vNormal;
+#endif
+#ifdef FLY_PHONG
 in float vCorner;
+#endif
+#ifdef FLY_SUN_DIRECT
+in vec3 vFrontSunLux;
+#ifdef FLY_TWO_SIDED
+in vec3 vBackSunLux;
+#endif
 #endif
 #ifdef FLY_LIGHT_MAP
 in vec3 vFrontLux;
@@ -429,12 +517,6 @@ uniform uint uMaterial;
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
 flat in uint vLightSlot;
-struct LightRect {
-  vec4 rect;
-  vec4 layer;
-};
-layout(std430, binding = 3) readonly buffer LightRects { LightRect lightRects[]; };
-layout(binding = 2) uniform sampler2DArray uLightTextures;  // irradiance, lux
 #endif
 #ifdef FLY_TEXTURES
 in vec2 vUv0;
@@ -500,6 +582,27 @@ void main() {
 #endif
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+  // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
+  vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
+  vec3 n = normalize(vNormal);
+#ifdef FLY_NORMAL_MAP
+  if ((uTextureSlots & 4u) != 0u) {
+    // glTF's tangent space: x along the tangent, y along w · cross(n, t), z along n.
+    vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
+    float tl = dot(t, t);
+    if (tl > 1e-12) {
+      t *= inversesqrt(tl);
+      vec3 b = (vTangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+      vec3 s = normalTexel * 2.0 - 1.0;
+      s.xy *= m.coverage.z;
+      vec3 bent = t * s.x + b * s.y + n * s.z;
+      if (dot(bent, bent) > 1e-12) n = normalize(bent);
+    }
+  }
+#endif
+  if (back && twoSided) n = -n;
+#endif
   bool useLightMap = false;
 #ifdef FLY_LIGHT_MAP
 #ifdef FLY_PHONG
@@ -513,38 +616,25 @@ void main() {
 #else
     vec3 eLux = vFrontLux;
 #endif
+#ifdef FLY_SUN_DIRECT
+    // The light map without the sun's direct part; the sun's direct term for the current sun instead.
+#ifdef FLY_TWO_SIDED
+    eLux = max(eLux - ((back && twoSided) ? vBackSunLux : vFrontSunLux), vec3(0.0));
+#else
+    eLux = max(eLux - vFrontSunLux, vec3(0.0));
+#endif
+#endif
 #ifdef FLY_LIGHT_TEXTURE
-    if (vLightSlot != 0xffffffffu) {
-      uint slot = (vLightSlot & 0x7fffffffu) + ((back && (vLightSlot & 0x80000000u) != 0u) ? 1u : 0u);
-      LightRect r = lightRects[slot];
-      vec2 t = clamp(vLightMapUv * r.rect.zw, vec2(0.5), r.rect.zw - vec2(0.5));
-      eLux = texture(uLightTextures, vec3((r.rect.xy + t) * r.layer.yz, r.layer.x)).rgb;
-    }
+    if (vLightSlot != 0xffffffffu) eLux = flyLightTexel(vLightSlot, back, vLightMapUv);
 #endif
     l = flyLightMapReflectance(base.rgb, m) * eLux / kPi;
+#if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
+    l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
+#endif
   }
 #endif
 #ifdef FLY_PHONG
-  if (!useLightMap) {
-    vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
-    vec3 n = normalize(vNormal);
-#ifdef FLY_NORMAL_MAP
-    if ((uTextureSlots & 4u) != 0u) {
-      // glTF's tangent space: x along the tangent, y along w · cross(n, t), z along n.
-      vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
-      float tl = dot(t, t);
-      if (tl > 1e-12) {
-        t *= inversesqrt(tl);
-        vec3 b = (vTangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
-        vec3 s = normalTexel * 2.0 - 1.0;
-        s.xy *= m.coverage.z;
-        vec3 bent = t * s.x + b * s.y + n * s.z;
-        if (dot(bent, bent) > 1e-12) n = normalize(bent);
-      }
-    }
-#endif
-    l = phong(base.rgb, m, vPositionM, (back && twoSided) ? -n : n, toEye, vCorner);
-  }
+  if (!useLightMap) l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
 #endif
   l += emission;
   // The back of a one-sided surface shows black (kSceneFragment).

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "rdb/trace_rdb_builder.h"
 
 namespace fly::cli {
 namespace {
@@ -68,6 +69,28 @@ class BakeCheckpointTest : public ::testing::Test {
   BakeJob job_;
   raytracer::BakeCheckpoint state_;
 };
+
+// A checkpoint of a fly that did not keep the sun's direct part apart (one quantity a point: progress-state
+// formats 2 and 3) resumes a bake without a sun, and is refused, naming checkpoint.json, for one under the sun.
+TEST_F(BakeCheckpointTest, AnOldCheckpointCannotContinueABakeUnderTheSun) {
+  rdb::TraceRdbBuilder b;
+  b.ground(1.0f, 1, b.material(Rgb(0.5f)));
+  b.uniformSky(Rgb(1000.0f));
+  const LoadedCheckpoint c = loadBakeCheckpoint(job_.outDir);
+  ASSERT_EQ(c.state.progress.channels, 1u);
+  EXPECT_NO_THROW(checkCheckpointKeepsWhatTheBakeNeeds(c.state, b.rdb, job_.outDir));
+  b.sun(vec3(0.3f, 0.8f, 0.1f), Rgb(80000.0f));
+  try {
+    checkCheckpointKeepsWhatTheBakeNeeds(c.state, b.rdb, job_.outDir);
+    ADD_FAILURE() << "a one-quantity checkpoint was accepted for a bake under the sun";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().file, jsonPath().string());
+    EXPECT_NE(std::string(e.what()).find("did not keep the sun's direct light apart"), std::string::npos);
+  }
+  raytracer::BakeCheckpoint sunState = c.state;
+  sunState.progress.channels = 2;
+  EXPECT_NO_THROW(checkCheckpointKeepsWhatTheBakeNeeds(sunState, b.rdb, job_.outDir));
+}
 
 TEST_F(BakeCheckpointTest, LoadGivesBackWhatWasSaved) {
   const LoadedCheckpoint c = loadBakeCheckpoint(job_.outDir);

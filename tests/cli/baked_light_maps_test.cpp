@@ -13,6 +13,7 @@
 #include "base/error.h"
 #include "base/image_io.h"
 #include "cli/baked_scene.h"
+#include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
 #include "raster/renderer.h"
 #include "raytracer/baker.h"
@@ -73,8 +74,9 @@ struct Baked {
 };
 
 // A floor, a two-sided wall, a light-textured cube, a mesh of only degenerate triangles and a 100 cd point
-// light, lowered and baked in-process with few samples (the values only need to be what the bake gives).
-Baked bakeTinyScene(const fs::path& dir) {
+// light, lowered and baked in-process with few samples (the values only need to be what the bake gives);
+// withSun adds a clear sky with the sun placed directly, whose direct part the bake keeps apart.
+Baked bakeTinyScene(const fs::path& dir, bool withSun = false) {
   Baked b;
   sdb::Scene& s = b.scene;
   const auto place = [&s](const char* name, sdb::Mesh m) {
@@ -93,6 +95,10 @@ Baked bakeTinyScene(const fs::path& dir) {
   s.addNode({.name = "lamp",
              .parentFromLocal = frameTransform({1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.3f, 1.5f, 0.2f}),
              .light = lightId});
+  if (withSun) {
+    s.setSky({.model = sdb::SkyModel::kClear, .sun = true});
+    s.setTime({.sunDirection = sdb::SunDirection{200.0, 35.0}});
+  }
 
   b.rdb = rdb::buildTraceRdb(s);
   const raytracer::EmbreeScene embree(b.rdb);
@@ -105,6 +111,7 @@ Baked bakeTinyScene(const fs::path& dir) {
 
   BakeDescription d;
   d.scenePath = "in-process";
+  d.daylight = daylightJson(s, false);
   d.settings = json::object();
   d.timingsS = json::object();
   d.meshNames.assign(b.rdb.meshes.size(), "");
@@ -115,6 +122,11 @@ Baked bakeTinyScene(const fs::path& dir) {
 }
 
 void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStore& expected) {
+  ASSERT_EQ(actual.sun.has_value(), expected.sun.has_value());
+  if (expected.sun) {
+    EXPECT_EQ(actual.sun->directionWorld, expected.sun->directionWorld);
+    EXPECT_EQ(actual.sun->normalIlluminanceLux, expected.sun->normalIlluminanceLux);
+  }
   ASSERT_EQ(actual.meshes.size(), expected.meshes.size());
   for (size_t k = 0; k < expected.meshes.size(); ++k) {
     const rdb::MeshLightMap& a = actual.meshes[k];
@@ -123,12 +135,16 @@ void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStor
     EXPECT_EQ(a.sdbMeshId, e.sdbMeshId) << "mesh " << k;
     EXPECT_TRUE(a.frontLux == e.frontLux) << "mesh " << k << " front";  // bit for bit
     EXPECT_TRUE(a.backLux == e.backLux) << "mesh " << k << " back";
+    EXPECT_TRUE(a.frontSunDirectLux == e.frontSunDirectLux) << "mesh " << k << " front sun direct";
+    EXPECT_TRUE(a.backSunDirectLux == e.backSunDirectLux) << "mesh " << k << " back sun direct";
     ASSERT_EQ(a.lightTexture.has_value(), e.lightTexture.has_value()) << "mesh " << k;
     if (!e.lightTexture) continue;
     EXPECT_EQ(a.lightTexture->width, e.lightTexture->width) << "mesh " << k;
     EXPECT_EQ(a.lightTexture->height, e.lightTexture->height) << "mesh " << k;
     EXPECT_TRUE(a.lightTexture->frontLux == e.lightTexture->frontLux) << "mesh " << k << " front texels";
     EXPECT_TRUE(a.lightTexture->backLux == e.lightTexture->backLux) << "mesh " << k << " back texels";
+    EXPECT_TRUE(a.lightTexture->frontSunDirectLux == e.lightTexture->frontSunDirectLux) << "mesh " << k;
+    EXPECT_TRUE(a.lightTexture->backSunDirectLux == e.lightTexture->backSunDirectLux) << "mesh " << k;
     EXPECT_TRUE(a.lightTexture->cornerUv == e.lightTexture->cornerUv) << "mesh " << k << " corner UVs";
   }
 }
@@ -145,6 +161,10 @@ TEST_F(BakedLightMapsTest, ReadBackEqualsTheBakeExactly) {
   const Baked b = bakeTinyScene(dir_);
   const rdb::LightMapStore fromBake = lightMapStoreFromBake(b.rdb, b.maps);
   expectEqualStores(readBakedLightMaps(dir_), fromBake);
+  // Without a sun nothing of it is stored.
+  EXPECT_FALSE(fromBake.sun);
+  EXPECT_TRUE(readJson(dir_ / "manifest.json")["sun_direct"].is_null());
+  EXPECT_FALSE(fs::exists(dir_ / "lightmaps/object2_front_sun.exr"));
 
   // Floor, wall and cube; the mesh of degenerate triangles has nothing to draw and no light map.
   ASSERT_EQ(b.rdb.meshes.size(), 4u);
@@ -187,6 +207,59 @@ TEST_F(BakedLightMapsTest, ReadBackEqualsTheBakeExactly) {
   EXPECT_NE(t.cornerUv[0], t.cornerUv[6]);  // vertex 0 in two charts (its −Z and −Y faces)
   EXPECT_TRUE(
       std::any_of(t.frontLux.begin(), t.frontLux.end(), [](const Rgb& e) { return luminance(e) > 0.0f; }));
+}
+
+// Under the sun the bake also stores the sun's direct part (vertex attributes _SUN_DIRECT_FRONT/_BACK, the
+// light textures' _sun EXR files) and the bake's sun in the manifest; it reads back exactly. A baked scene
+// whose manifest has no "sun_direct" (a bake by a fly that did not keep it apart) still loads, without those
+// parts.
+TEST_F(BakedLightMapsTest, SunDirectPartsReadBackAndOldBakesStillLoad) {
+  const Baked b = bakeTinyScene(dir_, true);
+  ASSERT_TRUE(b.maps.hasSunDirect());
+  const rdb::LightMapStore fromBake = lightMapStoreFromBake(b.rdb, b.maps);
+  ASSERT_TRUE(fromBake.sun);
+  EXPECT_EQ(fromBake.sun->directionWorld, b.rdb.sun.directionWorld);
+  const rdb::LightMapStore read = readBakedLightMaps(dir_);
+  expectEqualStores(read, fromBake);
+  // The two-sided wall has both sides; the sunlit floor's sun part is the larger share of its light and at
+  // most all of it.
+  EXPECT_EQ(read.meshes[1].backSunDirectLux.size(), read.meshes[1].backLux.size());
+  const Rgb floorE = read.meshes[0].frontLux[0];
+  const Rgb floorSun = read.meshes[0].frontSunDirectLux[0];
+  EXPECT_GT(luminance(floorSun), 0.5f * luminance(floorE));
+  EXPECT_LE(luminance(floorSun), luminance(floorE) * (1 + 1e-6f));
+  ASSERT_TRUE(read.meshes[2].lightTexture);
+  EXPECT_EQ(read.meshes[2].lightTexture->frontSunDirectLux.size(),
+            read.meshes[2].lightTexture->frontLux.size());
+  const json manifest = readJson(dir_ / "manifest.json");
+  const json& sun = manifest["sun_direct"];
+  ASSERT_TRUE(sun.is_object());
+  EXPECT_NEAR(sun["elevation_deg"].get<double>(), radToDeg(std::asin(b.rdb.sun.directionWorld.y)), 1e-3);
+  EXPECT_NEAR(sun["normal_illuminance_luminance_lux"].get<double>(),
+              luminance(b.rdb.sun.normalIlluminanceLux), 1e-2);
+  EXPECT_EQ(sun["sun_direction"]["azimuth_deg"].get<double>(), 200.0);
+  EXPECT_TRUE(manifest["objects"][0].contains("front_sun_direct"));
+  EXPECT_TRUE(fs::exists(dir_ / "lightmaps/object2_front_sun.exr"));
+  EXPECT_TRUE(fs::exists(dir_ / "lightmaps/object2_front_sun_stderr.exr"));
+
+  // Damage: a sun_direct without a direction names the key.
+  json damaged = manifest;
+  damaged["sun_direct"].erase("direction_world");
+  writeText(dir_ / "manifest.json", damaged.dump());
+  try {
+    readBakedLightMaps(dir_);
+    ADD_FAILURE() << "a sun_direct without direction_world was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location().jsonPath, "/sun_direct/direction_world");
+  }
+  // An older bake: no "sun_direct" at all. It loads as E alone.
+  json old = manifest;
+  old.erase("sun_direct");
+  writeText(dir_ / "manifest.json", old.dump());
+  const rdb::LightMapStore oldStore = readBakedLightMaps(dir_);
+  EXPECT_FALSE(oldStore.sun);
+  EXPECT_TRUE(oldStore.meshes[0].frontSunDirectLux.empty());
+  EXPECT_TRUE(oldStore.meshes[0].frontLux == fromBake.meshes[0].frontLux);
 }
 
 // A real scene with light textures (the one cli.bake.light_textures bakes: the floor, the tall block and the

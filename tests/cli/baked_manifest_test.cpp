@@ -50,12 +50,39 @@ TEST(BakedManifest, SummaryOfAValidManifest) {
             "bake       64 samples per vertex, 95th percentile of relative standard error 1.25 %, 2.5 s, 2 "
             "objects\n"
             "light tex  object 1 \"Wall\": 64 x 32 texels, 20.0 texels/m (automatic), "
-            "lightmaps/object1_front.exr\n");
+            "lightmaps/object1_front.exr\n"
+            "sunlight   note: this bake keeps no separate sun-direct light (baked without a sun, or by a fly "
+            "before it was kept apart): sunlight mode shows the baked light as light-map mode does, under the "
+            "bake's sun; bake again to move the sun\n");
   const json j = bakeSummaryJson(m);
   EXPECT_EQ(j["objects"], 2);
   ASSERT_EQ(j["light_textures"].size(), 1u);
   EXPECT_EQ(j["light_textures"][0]["object"], 1);
   EXPECT_EQ(j["light_textures"][0]["name"], "Wall");
+}
+
+// A bake that kept the sun's direct light apart says when its indirect light was baked: the site's time with
+// its zone, or the sun placed directly.
+TEST(BakedManifest, TheBakesSunTimeForSunlightMode) {
+  json m = manifest();
+  m["sun_direct"] = {{"direction_world", {0.0, 0.76, 0.65}},
+                     {"elevation_deg", 49.46},
+                     {"normal_illuminance_lux", {90000.0, 85000.0, 70000.0}},
+                     {"normal_illuminance_luminance_lux", 84290.4},
+                     {"time", "2026-06-21T15:00"},
+                     {"time_zone", "Europe/Helsinki"},
+                     {"sun_direction", nullptr}};
+  EXPECT_EQ(bakedSunTime(m), "2026-06-21 15:00 Europe/Helsinki");
+  EXPECT_EQ(bakedSunlightText(m),
+            "indirect light baked at 2026-06-21 15:00 Europe/Helsinki (sun at 49.5° elevation, 84290 lx); the "
+            "sun's direct light is drawn for the time rendered");
+  m["sun_direct"]["time"] = nullptr;
+  m["sun_direct"]["sun_direction"] = {{"azimuth_deg", 200.0}, {"elevation_deg", 35.0}};
+  EXPECT_EQ(bakedSunTime(m), "the sun placed at azimuth 200.0°, elevation 35.0°");
+  m["sun_direct"] = nullptr;
+  EXPECT_EQ(bakedSunTime(m), "");
+  m["sun_direct"] = "damaged";
+  EXPECT_EQ(bakedSunTime(m), "");
 }
 
 // What fly info reads must be there with its type: before, these reached the summary and ended the program

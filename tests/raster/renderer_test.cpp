@@ -155,6 +155,96 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+lightmap"}));
 }
 
+// Sunlight mode over light maps that keep the sun's direct part apart (FLY §3): albedo · (E − E_sunDirect) /
+// π plus the sun's Lambert term for the current sun. A matte quad facing +Z (south: north is −Z) under a
+// clear sky with the sun placed at azimuth 180°; its light map holds E = E_other + E_sunDirect with
+// E_sunDirect = E_n cos θ, what a bake without occluders gives at that sun. At the bake's sun sunlight mode
+// shows what light-map mode shows; at another sun it differs by albedo/π · (E_n' cos θ' − E_n cos θ), the
+// Lambert term's change. Both per vertex (one draw) and per texel (a light texture). The sky behind the quad
+// is left out of the comparison (light-map mode draws black there).
+TEST(Renderer, SunlightModeAddsTheRealTimeSunToTheLightMapWithoutItsDirectPart) {
+  context();
+  for (const bool texture : {false, true}) {
+    QuadScene q = quadScene(false);
+    sdb::Material matte;
+    matte.diffuseColor = Rgb(0.5f, 0.6f, 0.7f);
+    matte.reflectionColor = Rgb(0.0f);
+    q.scene.setMaterial(q.material, matte);
+    q.scene.setSky({.model = sdb::SkyModel::kClear, .sun = true});
+    q.scene.setTime({.sunDirection = sdb::SunDirection{180.0, 30.0}});
+    // The sun as the engine draws it: E_n on a surface facing it, towards sunDirWorld.
+    auto sunOf = [](const rdb::RasterRdb& r, vec3& dir) {
+      const rdb::RasterSky& sky = *r.sky;
+      dir = sky.sunDirWorld;
+      return sky.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(sky.sunHalfAngleRad))));
+    };
+    vec3 bakedDir;
+    const Rgb bakedNormalLux = sunOf(rdb::buildRasterRdb(q.scene), bakedDir);
+    ASSERT_GT(bakedDir.z, 0.5f);
+    const Rgb sunDirect = bakedNormalLux * bakedDir.z;  // the quad's normal is +Z
+    rdb::LightMapStore store;
+    store.sun = rdb::BakedSun{bakedDir, bakedNormalLux};
+    rdb::MeshLightMap map{q.node.value, q.mesh.value, {}, {}};
+    for (const Rgb& other : kFrontLux) {
+      map.frontLux.push_back(other + sunDirect);
+      map.frontSunDirectLux.push_back(sunDirect);
+    }
+    if (texture) {
+      // One texel per corner's quarter: 2 × 2 texels, E_other of the corners, over the quad's UV square.
+      rdb::MeshLightTexture t;
+      t.width = t.height = 2;
+      for (const Rgb& other : {kFrontLux[3], kFrontLux[2], kFrontLux[0], kFrontLux[1]}) {
+        t.frontLux.push_back(other + sunDirect);
+        t.frontSunDirectLux.push_back(sunDirect);
+      }
+      t.cornerUv = {{0, 1}, {1, 1}, {1, 0}, {0, 1}, {1, 0}, {0, 0}};
+      map.lightTexture = t;
+    }
+    store.meshes.push_back(map);
+    rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+    ASSERT_TRUE(r.variants.sunDirect);
+    Renderer renderer;
+    renderer.upload(r);
+    renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+    const std::vector<float> lightMap = renderer.luminanceRgb();
+    renderer.render(orthoView(false), RenderMode::kSunlight, 64, 32);
+    const std::vector<float> atBake = renderer.luminanceRgb();
+    // Another time: the sun at 60°, with the light map as it was.
+    const rdb::RasterRdbChanges changes = rdb::updateRasterRdb(
+        r, q.scene, q.scene.setTime({.sunDirection = sdb::SunDirection{180.0, 60.0}}), &store);
+    EXPECT_FALSE(changes.geometry);  // the light maps stay; only the sky and sun are re-made
+    const auto geometryUploads = renderer.stats().geometryUploads;
+    renderer.update(r, changes);
+    EXPECT_EQ(renderer.stats().geometryUploads, geometryUploads);  // nor are they uploaded again
+    renderer.render(orthoView(false), RenderMode::kSunlight, 64, 32);
+    const std::vector<float> later = renderer.luminanceRgb();
+    vec3 laterDir;
+    const Rgb laterNormalLux = sunOf(r, laterDir);
+    const Rgb albedo = matte.diffuseColor;
+    const Rgb change = albedo / kPiF * (laterNormalLux * laterDir.z - sunDirect);
+    EXPECT_GT(std::abs(luminance(change)), 0.05f * luminance(albedo / kPiF * sunDirect));
+    size_t compared = 0, bad = 0;
+    for (size_t i = 0; i < lightMap.size(); ++i) {
+      if (lightMap[i] <= 0.0f) continue;  // not the quad
+      ++compared;
+      const float tolerance = 1e-4f * lightMap[i];
+      const float expectedLater = lightMap[i] + change[int(i % 3)];
+      if (!(std::abs(atBake[i] - lightMap[i]) <= tolerance) ||
+          !(std::abs(later[i] - expectedLater) <= tolerance)) {
+        if (++bad <= 5)
+          ADD_FAILURE() << (texture ? "light texture" : "vertex light map") << ", value " << i
+                        << ": light map " << lightMap[i] << ", sunlight at the bake's sun " << atBake[i]
+                        << ", at 60° " << later[i] << " (expected " << expectedLater << ")";
+      }
+    }
+    EXPECT_EQ(compared, 64u * 32u * 3u / 4u);  // the quad covers a quarter of the view
+    EXPECT_EQ(bad, 0u);
+    const std::vector<std::string>& programs = renderer.stats().programs;
+    EXPECT_TRUE(std::any_of(programs.begin(), programs.end(),
+                            [](const std::string& p) { return p.find("+sundirect") != std::string::npos; }));
+  }
+}
+
 // Clear glass shows what lies behind it times T(θ) = t · (1 − r · F(θ)) (rdb/raster_rdb.h): a pane of
 // transmission (0.9, 0.8, 0.7), white Fresnel reflection at ior 1.5 and no diffuse over the left half of the
 // light-mapped quad, 1 m in front of it, seen head-on (orthographic: cos θ = 1, F = F0 = 0.04), with its front
@@ -624,6 +714,64 @@ TEST(Renderer, NormalMapsBendTheNormalOfThePhongTerms) {
     n = glm::normalize(n);
     const float l = 0.5f / kPiF * (1000.0f * n.z + r.ambient.upLux.g);
     expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 2e-4f);
+  }
+}
+
+// Sunlight mode's real-time sun term on a light-mapped, normal-mapped surface (per fragment) bends with the
+// normal map as the Phong terms do: L = ρ/π · (E − E_sunDirect) + ρ/π · E_n · max(0, n' · s), n' the texel's
+// normal (as in NormalMapsBendTheNormalOfThePhongTerms), s the current sun's direction; E − E_sunDirect is
+// interpolated over the quad. Every mesh is light-mapped, so no Phong program is compiled, yet the normal map
+// is.
+TEST(Renderer, SunlightModesRealTimeSunFollowsTheNormalMapOfALightMappedSurface) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.5f);
+  m.reflectionColor = Rgb(0.0f);
+  m.bumpTexture.texture = addTexture(s, 1, 1, 3, {204, 128, 230});
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  const sdb::MeshId meshId = s.addMesh(uvQuad(mat)).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  s.setSky({.model = sdb::SkyModel::kClear, .sun = true});
+  s.setTime({.sunDirection = sdb::SunDirection{120.0, 40.0}});  // east-south-east: the bend (towards +X) matters
+  const rdb::RasterRdb unbaked = rdb::buildRasterRdb(s);
+  const rdb::RasterSky& sky = *unbaked.sky;
+  const Rgb normalLux = sky.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(sky.sunHalfAngleRad))));
+  rdb::LightMapStore store;
+  store.sun = rdb::BakedSun{sky.sunDirWorld, normalLux};
+  rdb::MeshLightMap map{node.value, meshId.value, {}, {}};
+  const Rgb sunDirect = normalLux * sky.sunDirWorld.z;  // what the bake held, on the unbent normal +Z
+  for (const Rgb& other : kFrontLux) {
+    map.frontLux.push_back(other + sunDirect);
+    map.frontSunDirectLux.push_back(sunDirect);
+  }
+  store.meshes.push_back(map);
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  ASSERT_TRUE(r.variants.sunDirect && r.variants.normalMaps);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kSunlight, 64, 32);
+  const vec3 bent = glm::normalize(vec3(204, 128, 230) / 255.0f * 2.0f - 1.0f);
+  const float cosBent = std::max(0.0f, glm::dot(bent, sky.sunDirWorld));
+  ASSERT_GT(std::abs(cosBent - sky.sunDirWorld.z), 0.05f);  // the bend matters
+  std::vector<Rgb> expected;
+  for (const Rgb& other : kFrontLux) expected.push_back(0.5f / kPiF * (other + normalLux * cosBent));
+  const std::vector<float> want = expectedQuad(64, 32, expected, false);
+  const std::vector<float> got = renderer.luminanceRgb();
+  size_t compared = 0, bad = 0;
+  for (size_t i = 0; i < want.size(); ++i) {
+    if (want[i] <= 0.0f) continue;  // the sky around the quad
+    ++compared;
+    if (!(std::abs(got[i] - want[i]) <= 2e-4f * want[i]) && ++bad <= 5)
+      ADD_FAILURE() << "value " << i << ": " << got[i] << " vs " << want[i];
+  }
+  EXPECT_EQ(compared, 64u * 32u * 3u / 4u);
+  EXPECT_EQ(bad, 0u);
+  for (const std::string& p : renderer.stats().programs) {
+    if (p.find("perfragment") == std::string::npos) continue;
+    EXPECT_NE(p.find("+sundirect"), std::string::npos) << p;
+    EXPECT_NE(p.find("+normalmap"), std::string::npos) << p;
+    EXPECT_EQ(p.find("+phong"), std::string::npos) << p;
   }
 }
 

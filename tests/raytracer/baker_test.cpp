@@ -109,6 +109,113 @@ TEST(Baker, UniformSkyOverPlaneIsPiLAtEveryVertex) {
   EXPECT_EQ(maps.unfilledVertices, 0u);
 }
 
+// FLY §3's sunlight mode: the bake keeps the sun's direct part E_sunDirect apart. Under the sun alone (black
+// sky, nothing else to reflect light back), every sample is the sensor's sun sample: E_sunDirect = E =
+// E_n cos θ at every vertex (a uniform disc's ∫ cos over its cone is cos θ at its centre times its solid
+// angle's projected area, exactly), and E − E_sunDirect = 0 exactly.
+TEST(Baker, UnderTheSunAloneEveryVertexIsSunDirect) {
+  MeshBuilder b;
+  b.ground(3.0f, 6, b.material(Rgb(0.5f)));
+  const vec3 towardsSun = glm::normalize(vec3(0.5f, 0.8f, -0.3f));
+  const Rgb normalLux(90000.0f, 80000.0f, 60000.0f);
+  b.sun(towardsSun, normalLux);
+  const VertexLightMaps maps = bake(b.rdb, 256);
+  ASSERT_TRUE(maps.hasSunDirect());
+  ASSERT_EQ(maps.frontSunDirectLux.size(), b.rdb.positionsM.size());
+  expectAgrees("sun alone", maps.frontSunDirectLux, maps.frontSunDirectStdErrorLux,
+               std::vector<Rgb>(b.rdb.positionsM.size(), normalLux * towardsSun.y), 0.001f);
+  for (size_t v = 0; v < maps.frontLux.size(); ++v) {
+    EXPECT_EQ(maps.frontLux[v], maps.frontSunDirectLux[v]) << "vertex " << v;
+    EXPECT_EQ(maps.frontStdErrorLux[v], maps.frontSunDirectStdErrorLux[v]) << "vertex " << v;
+  }
+  ASSERT_FALSE(maps.history.empty());
+  EXPECT_GT(maps.history.back().sunDirectRelativeErrorP95, 0.0f);
+  EXPECT_LT(maps.history.back().sunDirectRelativeErrorP95, 1e-3f);
+
+  // Without a sun (or with one below the horizon, which has no illuminance) nothing extra is kept.
+  MeshBuilder night;
+  night.ground(3.0f, 2, night.material(Rgb(0.5f)));
+  night.uniformSky(Rgb(1.0f));
+  EXPECT_FALSE(bake(night.rdb, 16, 8).hasSunDirect());
+  night.sun(vec3(0.3f, -0.2f, 0.1f), Rgb(0.0f));
+  const VertexLightMaps belowHorizon = bake(night.rdb, 16, 8);
+  EXPECT_FALSE(belowHorizon.hasSunDirect());
+  EXPECT_TRUE(belowHorizon.frontSunDirectStdErrorLux.empty() && belowHorizon.backSunDirectLux.empty());
+}
+
+// With a sky, a roof that casts a shadow and surfaces that reflect (the sun's light among them): E_sunDirect
+// on the ground is the hat-weighted average of E_n cos θ over its sunlit part (quadrature), and
+// E − E_sunDirect agrees with an independent bake's E (another seed) minus that exact E_sunDirect — the rest,
+// sky and all interreflections, from the same samples as E.
+TEST(Baker, SunDirectIsTheSunsShareAndTheRestIsEverythingElse) {
+  MeshBuilder b;
+  const uint32_t grey = b.material(Rgb(0.5f));
+  b.ground(2.0f, 10, grey);
+  // The roof: y = 1 over x ∈ [−2, 0], facing down.
+  b.grid(vec3(-2.0f, 1.0f, -2.0f), vec3(2.0f, 0, 0), vec3(0, 0, 4.0f), 2, grey);
+  const Rgb skyCdM2(2000.0f);
+  b.uniformSky(skyCdM2);
+  const vec3 towardsSun = glm::normalize(vec3(-0.6f, 1.0f, 0.2f));
+  const Rgb normalLux(50000.0f);
+  b.sun(towardsSun, normalLux);
+  const auto lit = [&](const vec3& p) {
+    const float t = (1.0f - p.y) / towardsSun.y;
+    const vec3 q = p + t * towardsSun;
+    return !(q.x >= -2.0f && q.x <= 0.0f && q.z >= -2.0f && q.z <= 2.0f);
+  };
+  const std::vector<double> sunAverage = hatAverages(
+      b.rdb, [&](const vec3& p) { return lit(p) ? double{towardsSun.y} : 0.0; }, 100);
+  const uint32_t groundVertices = b.rdb.meshes[0].vertexCount;
+
+  const EmbreeScene scene(b.rdb);
+  auto run = [&](uint64_t seed) {
+    BakeSettings settings;
+    settings.estimate.firstPassSamples = kTestReplicates;
+    settings.estimate.maxSamples = 1024;
+    settings.estimate.replicates = kTestReplicates;
+    settings.estimate.seed = seed;
+    return bakeVertexLightMaps(b.rdb, scene, settings);
+  };
+  const VertexLightMaps maps = run(1);
+  const VertexLightMaps other = run(7777777);
+  ASSERT_TRUE(maps.hasSunDirect());
+  std::vector<Rgb> exactSun, sun, sunError;
+  for (uint32_t v = 0; v < groundVertices; ++v) {
+    exactSun.push_back(normalLux * float(sunAverage[v]));
+    sun.push_back(maps.frontSunDirectLux[v]);
+    sunError.push_back(maps.frontSunDirectStdErrorLux[v]);
+  }
+  // Shaded vertices have E_sunDirect = 0 exactly, with no error to compare against.
+  expectAgrees("sun direct, ground", sun, sunError, exactSun, 0.2f);
+  double worst = 0.0, restSum = 0.0;
+  size_t shaded = 0, partly = 0;
+  for (uint32_t v = 0; v < groundVertices; ++v) {
+    shaded += sunAverage[v] == 0.0;
+    partly += sunAverage[v] > 0.0 && sunAverage[v] < towardsSun.y * (1 - 1e-3);
+    const Rgb rest = maps.frontLux[v] - maps.frontSunDirectLux[v];
+    const Rgb restElsewhere = other.frontLux[v] - exactSun[v];
+    // The error of a difference is at most the sum of the errors (whatever their correlation).
+    const Rgb bound =
+        maps.frontStdErrorLux[v] + maps.frontSunDirectStdErrorLux[v] + other.frontStdErrorLux[v];
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_LE(std::abs(rest[c] - restElsewhere[c]), 4.0f * bound[c] + 1e-5f * other.frontLux[v][c])
+          << "vertex " << v << " channel " << c << ": rest " << rest[c] << ", independent "
+          << restElsewhere[c];
+      EXPECT_GE(rest[c], -1e-3f * maps.frontLux[v][c]) << "vertex " << v;
+      if (bound[c] > 0.0f) worst = std::max(worst, double(std::abs(rest[c] - restElsewhere[c]) / bound[c]));
+    }
+    restSum += luminance(rest);
+  }
+  std::cout << "[ baker    ] sun and rest: " << groundVertices << " ground vertices (" << shaded
+            << " shaded, " << partly << " on the shadow edge), mean rest " << restSum / groundVertices
+            << " lx, worst |rest − independent| " << worst << " × the summed errors\n";
+  EXPECT_GT(shaded, 5u);
+  EXPECT_GT(partly, 5u);
+  // The rest holds the sky (π L unshaded) and the sun's interreflections: well above 0 everywhere.
+  for (uint32_t v = 0; v < groundVertices; ++v)
+    EXPECT_GT(luminance(maps.frontLux[v] - maps.frontSunDirectLux[v]), 0.1f * kPiF * luminance(skyCdM2));
+}
+
 // E(x) = I cos θ / d² = I h / d³, averaged over each one-ring with the hat weight by quadrature.
 void expectPointLightOverPlane(const char* what, MeshBuilder& b) {
   const vec3 light(0.3f, 0.7f, -0.2f);
@@ -330,12 +437,17 @@ TEST(Baker, DeterministicAcrossThreadCounts) {
   b.grid(vec3(-1, 0.5f, -1), vec3(2, 0, 0), vec3(0, 0, 2), 3, b.material(Rgb(0.7f)));  // a roof facing down
   b.uniformSky(Rgb(1.0f));
   b.pointLight(vec3(0.2f, 0.3f, 0.1f), Rgb(5.0f));
+  b.sun(vec3(0.5f, 0.6f, 0.2f), Rgb(100.0f));
   const VertexLightMaps one = bake(b.rdb, 64, 8, 1);
   const VertexLightMaps two = bake(b.rdb, 64, 8, 2);
   EXPECT_EQ(one.frontLux, two.frontLux);
   EXPECT_EQ(one.frontStdErrorLux, two.frontStdErrorLux);
   EXPECT_EQ(one.backLux, two.backLux);
   EXPECT_EQ(one.backStdErrorLux, two.backStdErrorLux);
+  ASSERT_TRUE(one.hasSunDirect());
+  EXPECT_EQ(one.frontSunDirectLux, two.frontSunDirectLux);
+  EXPECT_EQ(one.frontSunDirectStdErrorLux, two.frontSunDirectStdErrorLux);
+  EXPECT_EQ(one.backSunDirectLux, two.backSunDirectLux);
   EXPECT_EQ(one.rays, two.rays);
 }
 

@@ -43,7 +43,8 @@ class SmoothSource final : public SampleSourceOf<SmoothSource> {
 
 // Two groups of points that gain unequally from scrambled nets, each with the exact integral 1: group 0
 // bright (1000×) and smooth in the first pair (nets gain a lot), group 1 dim and a product over 16
-// dimensions in 4 groups (nets gain little).
+// dimensions in 4 groups (nets gain little). Group 0's samples carry a sun-direct part (the first term), so
+// that settled groups are exercised with two quantities a point.
 class TwoGroupSource final : public SampleSourceOf<TwoGroupSource> {
   friend SampleSourceOf<TwoGroupSource>;
 
@@ -53,14 +54,15 @@ class TwoGroupSource final : public SampleSourceOf<TwoGroupSource> {
   uint32_t groupCount() const override { return 2; }
   uint32_t groupOf(size_t point) const override { return point < kPerGroup ? 0 : 1; }
   static float exact(size_t point) { return point < kPerGroup ? 1000.0f : 1.0f; }
+  bool keepsSunDirect() const override { return true; }
 
  private:
   template <class S>
-  Rgb sampleAt(size_t point, S& sampler, uint64_t& /*rays*/) const {
+  PointSample sampleAt(size_t point, S& sampler, uint64_t& /*rays*/) const {
     sampler.startGroup(0);
     if (point < kPerGroup) {
       const vec2 u = sampler.next2D();
-      return Rgb(1000.0f * (u.x + u.y));  // ∫∫ (x + y) = 1
+      return {Rgb(1000.0f * (u.x + u.y)), Rgb(1000.0f * u.x)};  // ∫∫ (x + y) = 1
     }
     float f = 1.0f;
     for (int d = 0; d < 16; ++d) f *= 0.5f + sampler.next1D();  // ∫ (1/2 + x) = 1 per dimension
@@ -153,7 +155,10 @@ bool sameBits(const std::vector<IrradianceEstimate>& a, const std::vector<Irradi
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i) {
     if (std::memcmp(&a[i].meanLux, &b[i].meanLux, sizeof(Rgb)) != 0 ||
-        std::memcmp(&a[i].stdErrorLux, &b[i].stdErrorLux, sizeof(Rgb)) != 0 || a[i].samples != b[i].samples) {
+        std::memcmp(&a[i].stdErrorLux, &b[i].stdErrorLux, sizeof(Rgb)) != 0 ||
+        std::memcmp(&a[i].sunDirectMeanLux, &b[i].sunDirectMeanLux, sizeof(Rgb)) != 0 ||
+        std::memcmp(&a[i].sunDirectStdErrorLux, &b[i].sunDirectStdErrorLux, sizeof(Rgb)) != 0 ||
+        a[i].samples != b[i].samples) {
       return false;
     }
   }
@@ -223,6 +228,8 @@ TEST(SettledGroupsTest, ContinuingFromEveryCheckpointEqualsTheUninterruptedEstim
   const EstimateResult whole = estimateProgressively(source, settings);
   ASSERT_EQ(whole.points.front().samples, 16u);  // group 0 settled after the first pass
   ASSERT_GT(whole.points.back().samples, 16u);
+  EXPECT_NEAR(whole.points.front().sunDirectMeanLux.g, 500.0f,
+              5.0f * whole.points.front().sunDirectStdErrorLux.g);
   std::vector<std::string> saved;
   ProgressState state;
   Checkpointing checkpointing;
@@ -238,30 +245,87 @@ TEST(SettledGroupsTest, ContinuingFromEveryCheckpointEqualsTheUninterruptedEstim
   }
 }
 
-// A state of format version 2 (before settled groups) still reads, with no group settled.
-TEST(ProgressStateTest, ReadsVersion2StatesWithoutSettledGroups) {
-  ProgressState s;
-  s.pointCount = 2;
-  s.replicates = 1;
-  s.samplesPerPoint = 16;
-  s.passes = 1;
-  s.sums.assign(4, dvec3(1.0, 2.0, 3.0));
+// The bytes of a one-channel state in an older format version: 3 (no channel count: the 4 bytes after the
+// point count and replicates) or 2 (neither the settled-group count and list, 8 bytes for an empty one, nor
+// the last pass's point count, 8 bytes, before the FNV-1a checksum).
+std::string olderFormat(const ProgressState& s, char version) {
   std::string bytes = serializeProgressState(s);
-  // Version 2: tag "FLYPROG2", no settled-group count and list (8 bytes for an empty one) nor last-pass
-  // point count (8 bytes) before the FNV-1a checksum (8 bytes).
-  bytes.resize(bytes.size() - 24);
-  bytes[7] = '2';
+  bytes.erase(8 + 8 + 4, 4);
+  bytes.resize(bytes.size() - (version == '2' ? 24 : 8));
+  bytes[7] = version;
   uint64_t h = 0xcbf29ce484222325ull;
   for (const char c : bytes) {
     h ^= static_cast<unsigned char>(c);
     h *= 0x100000001b3ull;
   }
   bytes.append(reinterpret_cast<const char*>(&h), sizeof h);
-  const ProgressState read = deserializeProgressState(bytes, "old.bin");
-  EXPECT_EQ(read.samplesPerPoint, 16u);
-  EXPECT_EQ(read.sums.size(), 4u);
-  EXPECT_TRUE(read.settledSamples.empty());
-  EXPECT_EQ(read.lastPassPoints, 0u);
+  return bytes;
+}
+
+// States of format versions 2 (before settled groups) and 3 (before the sun's direct part) still read, as one
+// channel.
+TEST(ProgressStateTest, ReadsVersion2And3StatesAsOneChannel) {
+  ProgressState s;
+  s.pointCount = 2;
+  s.replicates = 1;
+  s.samplesPerPoint = 16;
+  s.passes = 1;
+  s.sums.assign(4, dvec3(1.0, 2.0, 3.0));
+  s.lastPassPoints = 2;
+  const ProgressState v2 = deserializeProgressState(olderFormat(s, '2'), "old.bin");
+  EXPECT_EQ(v2.samplesPerPoint, 16u);
+  EXPECT_EQ(v2.sums.size(), 4u);
+  EXPECT_EQ(v2.channels, 1u);
+  EXPECT_TRUE(v2.settledSamples.empty());
+  EXPECT_EQ(v2.lastPassPoints, 0u);
+  const ProgressState v3 = deserializeProgressState(olderFormat(s, '3'), "old.bin");
+  EXPECT_EQ(v3.channels, 1u);
+  EXPECT_EQ(v3.sums.size(), 4u);
+  EXPECT_EQ(v3.lastPassPoints, 2u);
+}
+
+// A source that keeps a second quantity (the sun's direct part): its own smooth function of the same sample.
+class SunSource final : public SampleSourceOf<SunSource> {
+  friend SampleSourceOf<SunSource>;
+
+ public:
+  size_t pointCount() const override { return 100; }
+  bool keepsSunDirect() const override { return true; }
+
+ private:
+  template <class S>
+  PointSample sampleAt(size_t point, S& sampler, uint64_t& /*rays*/) const {
+    sampler.startGroup(0);
+    const vec2 u = sampler.next2D();
+    const float sun = 2.0f * float(point) * u.x * u.x * 1.5f;  // ∫ = point
+    return {Rgb(sun + u.y), Rgb(sun)};                         // ∫ = point + 1/2
+  }
+};
+
+// The sun-direct channel: its mean and honest standard error from the same samples, kept in the state (format
+// 4, round trip), and a one-channel state (an older checkpoint) refused by a source that keeps it.
+TEST(ProgressStateTest, TheSunDirectChannelIsEstimatedKeptAndChecked) {
+  EstimateSettings settings;
+  settings.maxSamples = 1024;
+  settings.replicates = 8;
+  ProgressState state;
+  const EstimateResult r = estimateProgressively(SunSource(), settings, {}, state);
+  EXPECT_EQ(state.channels, 2u);
+  for (size_t i = 1; i < r.points.size(); ++i) {
+    const IrradianceEstimate& e = r.points[i];
+    EXPECT_NEAR(e.sunDirectMeanLux.g, float(i), 5.0f * e.sunDirectStdErrorLux.g + 1e-4f) << i;
+    EXPECT_NEAR(e.meanLux.g, float(i) + 0.5f, 5.0f * e.stdErrorLux.g + 1e-4f) << i;
+    EXPECT_GT(e.sunDirectStdErrorLux.g, 0.0f);
+    EXPECT_LT(e.sunDirectStdErrorLux.g, 0.01f * float(i));
+  }
+  const std::string bytes = serializeProgressState(state);
+  const ProgressState back = deserializeProgressState(bytes, "state.bin");
+  EXPECT_EQ(back.channels, 2u);
+  EXPECT_EQ(serializeProgressState(back), bytes);
+
+  ProgressState oneChannel;
+  estimateProgressively(SmoothSource(100), settings, {}, oneChannel);
+  EXPECT_THROW(estimateProgressively(SunSource(), settings, {}, oneChannel), std::invalid_argument);
 }
 
 TEST(ProgressStateTest, RoundTripsAndRefusesDamage) {
@@ -328,6 +392,7 @@ TEST(BakeCheckpointTest, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
   b.grid(vec3(-1, 0, -1), vec3(0, 2, 0), vec3(0, 0, 2), 4, grey, true);  // a two-sided wall
   b.uniformSky(Rgb(1000.0f));
   b.pointLight(vec3(2, 3, 1), Rgb(5000.0f));
+  b.sun(vec3(0.4f, 0.7f, -0.5f), Rgb(60000.0f));  // its direct part is kept apart and resumed alike
   const EmbreeScene scene(b.rdb);
   BakeSettings settings;
   settings.estimate.maxSamples = 64;
@@ -364,12 +429,20 @@ TEST(BakeCheckpointTest, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
   EXPECT_EQ(std::memcmp(continued.frontStdErrorLux.data(), whole.frontStdErrorLux.data(),
                         whole.frontStdErrorLux.size() * sizeof(Rgb)),
             0);
+  ASSERT_TRUE(whole.hasSunDirect());
+  for (auto part : {&VertexLightMaps::frontSunDirectLux, &VertexLightMaps::frontSunDirectStdErrorLux,
+                    &VertexLightMaps::backSunDirectLux, &VertexLightMaps::backSunDirectStdErrorLux}) {
+    ASSERT_EQ((continued.*part).size(), (whole.*part).size());
+    EXPECT_EQ(std::memcmp((continued.*part).data(), (whole.*part).data(), (whole.*part).size() * sizeof(Rgb)),
+              0);
+  }
   EXPECT_EQ(continued.samplesPerVertex, whole.samplesPerVertex);
   EXPECT_EQ(continued.rays, whole.rays);
   ASSERT_EQ(continued.history.size(), whole.history.size());
   for (size_t i = 0; i < whole.history.size(); ++i) {
     EXPECT_EQ(continued.history[i].samples, whole.history[i].samples);
     EXPECT_EQ(continued.history[i].relativeErrorP95, whole.history[i].relativeErrorP95);
+    EXPECT_EQ(continued.history[i].sunDirectRelativeErrorP95, whole.history[i].sunDirectRelativeErrorP95);
   }
 }
 
