@@ -401,7 +401,6 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
 }
 
 void SunShadows::drawStencil(const mat4& clipFromWorld) {
-  glEnable(GL_DEPTH_CLAMP);
   glDepthMask(GL_FALSE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glDepthFunc(GL_LESS);
@@ -413,7 +412,6 @@ void SunShadows::drawStencil(const mat4& clipFromWorld) {
   drawVolumes(clipFromWorld);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
-  glDisable(GL_DEPTH_CLAMP);
 }
 
 void SunShadows::drawVolumes(const mat4& clipFromWorld) {
@@ -425,17 +423,28 @@ void SunShadows::drawVolumes(const mat4& clipFromWorld) {
   glBindVertexArray(g.capVao);
   glUseProgram(g.capProgram);
   glUniformMatrix4fv(g.capClipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
+  // The caps are drawn as the scene was (clipped at the near plane, no depth clamp: a GPU may take another
+  // depth path with the clamp on) and pushed back by a few depth steps (polygon offset), so that a lit
+  // surface's own cap counts as behind it even where a driver's invariant positions differ in the last bits
+  // (seen on NVIDIA's): only surfaces within that offset behind a caster's front face, in contact with it,
+  // could lose their shadow.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 4.0f);
   glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(kFacingOffset));
   // The turned caps keep the scene's vertex order (and so its exact depths); their other winding faces the
   // sun.
   glFrontFace(GL_CW);
   glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(kTurnedOffset));
   glFrontFace(GL_CCW);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  // The sides reach the point at infinity away from the sun (w = 0): depth-clamped.
+  glEnable(GL_DEPTH_CLAMP);
   glBindVertexArray(g.pulledVao);
   glUseProgram(g.sideProgram);
   glUniformMatrix4fv(g.sideClipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
   glUniform3fv(g.sideSunDir, 1, &g.builtSunDir[0]);
   glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(kSidesOffset));
+  glDisable(GL_DEPTH_CLAMP);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
 
