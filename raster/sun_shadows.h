@@ -56,9 +56,10 @@
 // The stencil pass (z-fail): with the scene's depth, the volumes' faces behind the visible surface count +1
 // (back faces) and −1 (front faces), so a pixel's count is the number of volumes its surface lies in, right
 // with the camera inside a volume too. A lit surface does not shadow itself: its cap is drawn with the
-// scene's vertex expression, both invariant (raster/shaders/shadow_glsl.h), so it lies at the surface's depth
-// exactly, and the depth test (LESS) counts equal depth as behind — the surface is on the prism's boundary,
-// outside it. The stencil wraps at 256 overlapping volumes.
+// scene's vertex expression, both invariant (raster/shaders/shadow_glsl.h), without depth clamp as the scene
+// is, and pushed back by a polygon offset of a few depth steps, so that the depth test (LESS) counts it as
+// behind the surface — which lies on the prism's boundary, outside it — also where a driver's invariant
+// positions differ in the last bits (NVIDIA's do). The stencil wraps at 256 overlapping volumes.
 //
 // All of it runs on the GPU (compute passes, atomic appends, indirect draws); the CPU only welds the edges
 // once per geometry and sets uniforms. It is rebuilt when the sun's direction, the geometry or the settings
