@@ -31,13 +31,21 @@ struct Commands {
            turnedBaseInstance = 0;
   uint32_t sideCount = 0, sideInstances = 1, sideFirst = 0, sideBaseInstance = 0;
   uint32_t visible = 0, silhouetteEdges = 0;
+  // Per frame (drawStencil): 1 when the camera's near-plane rectangle may lie in a volume; then the draws it
+  // issues: facing caps, turned caps and sides for z-fail, sides for z-pass — copies of the above with the
+  // counts of the method not taken set to 0 (shadow_glsl.h, kShadowSelectCompute).
+  uint32_t nearInVolume = 0;
+  uint32_t selected[18] = {};
 };
-static_assert(sizeof(Commands) == 16 * sizeof(uint32_t));
+static_assert(sizeof(Commands) == 35 * sizeof(uint32_t));
 // Visibility map levels: the whole map, then twice the square around what the previous level left undecided.
 constexpr int kMapLevels = 3;
 
 constexpr GLintptr kFacingOffset = 0, kTurnedOffset = 5 * sizeof(uint32_t),
                    kSidesOffset = 10 * sizeof(uint32_t);
+constexpr GLintptr kSelectedFacingOffset = 17 * sizeof(uint32_t), kSelectedTurnedOffset = 22 * sizeof(uint32_t),
+                   kSelectedZFailSidesOffset = 27 * sizeof(uint32_t),
+                   kSelectedZPassSidesOffset = 31 * sizeof(uint32_t);
 
 // Caster flags (shadow_glsl.h): bits 0–2 edge directions, bits 3–4 the mesh's closure.
 constexpr uint32_t kClosedOut = 1u << 3, kClosedIn = 2u << 3;
@@ -89,8 +97,11 @@ struct SunShadows::Gpu {
   GLuint visibility = 0, visibilityDepth = 0, visibilityFbo = 0;
   uint32_t visibilityTexels = 0;
   GLuint visibilityProgram = 0, markProgram = 0, classifyProgram = 0, shellsProgram = 0, keepProgram = 0,
-         edgesProgram = 0, capProgram = 0, sideProgram = 0;
+         edgesProgram = 0, capProgram = 0, sideProgram = 0, nearProgram = 0, selectProgram = 0;
   uint32_t casterCount = 0, edgeCount = 0, shellCount = 0;
+  // Cut-out (alpha MASK) casters: seen through their holes, their caps matter to z-pass too, so a scene with
+  // them always takes z-fail.
+  bool maskCasters = false;
   GLuint shellKept = 0;  // per shell: 1 when one of its triangles is kept
   GLint capClipFromWorld = -1, sideClipFromWorld = -1, sideSunDir = -1;  // drawVolumes' uniforms
   Bounds3 boundsM;                                                       // of the casters
@@ -109,7 +120,7 @@ struct SunShadows::Gpu {
     glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
     for (GLuint p : {visibilityProgram, markProgram, classifyProgram, shellsProgram, keepProgram,
-                     edgesProgram, capProgram, sideProgram}) {
+                     edgesProgram, capProgram, sideProgram, nearProgram, selectProgram}) {
       glDeleteProgram(p);
     }
   }
@@ -145,8 +156,10 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
   std::vector<Caster> casters;
   casters.reserve(r.indices.size() / 3);
   g.boundsM = Bounds3{};
+  g.maskCasters = false;
   for (const rdb::RasterMesh& mesh : r.meshes) {
     if (!castsSunShadows(r.materials[mesh.material])) continue;
+    g.maskCasters |= r.materials[mesh.material].alphaMode == rdb::RasterAlphaMode::kMask;
     for (uint32_t i = mesh.firstIndex; i + 2 < mesh.firstIndex + mesh.indexCount; i += 3) {
       Caster c;
       c.vertices = uvec4(r.indices[i], r.indices[i + 1], r.indices[i + 2], 0u);
@@ -243,6 +256,8 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     g.sideProgram = compile_("shadow-sides", common,
                              {{GL_VERTEX_SHADER, shaders::kShadowSideVertex},
                               {GL_FRAGMENT_SHADER, shaders::kShadowVolumeFragment}});
+    g.nearProgram = compile_("shadow-near", common, {{GL_COMPUTE_SHADER, shaders::kShadowNearCompute}});
+    g.selectProgram = compile_("shadow-select", common, {{GL_COMPUTE_SHADER, shaders::kShadowSelectCompute}});
     g.capClipFromWorld = glGetUniformLocation(g.capProgram, "uClipFromWorld");
     g.sideClipFromWorld = glGetUniformLocation(g.sideProgram, "uClipFromWorld");
     g.sideSunDir = glGetUniformLocation(g.sideProgram, "uSunDirWorld");
@@ -401,24 +416,64 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
 }
 
 void SunShadows::drawStencil(const mat4& clipFromWorld) {
+  Gpu& g = *gpu_;
+  // z-pass (the volumes' faces in front of the surface, no caps) is right and cheaper whenever the camera's
+  // near-plane rectangle lies in no volume; otherwise z-fail with caps. The GPU decides per frame, from a
+  // conservative test of the rectangle (enlarged by 2 %) against every kept triangle's prism, and writes the
+  // draws of the method taken; the CPU issues both with their stencil operations, one of them empty.
+  const mat4 worldFromClip = glm::inverse(clipFromWorld);
+  vec3 corners[4];
+  vec3 centre(0.0f);
+  bool finite = true;
+  for (int k = 0; k < 4; ++k) {
+    const vec4 p = worldFromClip * vec4(k & 1 ? 1.0f : -1.0f, k & 2 ? 1.0f : -1.0f, -1.0f, 1.0f);
+    corners[k] = vec3(p) / p.w;
+    finite = finite && isFinite(corners[k]);
+    centre += 0.25f * corners[k];
+  }
+  for (vec3& c : corners) c = centre + 1.02f * (c - centre);
+  const GLuint ssbos[] = {g.positions, g.casters};
+  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 2, ssbos);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.caps);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, g.commands);
+  const bool forceZFail = g.maskCasters || !finite;
+  if (!forceZFail && g.casterCount > 0) {
+    glUseProgram(g.nearProgram);
+    glUniform1ui(glGetUniformLocation(g.nearProgram, "uCasterCount"), g.casterCount);
+    glUniform1ui(glGetUniformLocation(g.nearProgram, "uCapCapacity"), 3 * g.casterCount);
+    glUniform3fv(glGetUniformLocation(g.nearProgram, "uSunDirWorld"), 1, &g.builtSunDir[0]);
+    glUniform3fv(glGetUniformLocation(g.nearProgram, "uNearCornersM"), 4, &corners[0][0]);
+    glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  glUseProgram(g.selectProgram);
+  glUniform1i(glGetUniformLocation(g.selectProgram, "uForceZFail"), forceZFail ? 1 : 0);
+  glDispatchCompute(1, 1, 1);
+  glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+
   glDepthMask(GL_FALSE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glDepthFunc(GL_LESS);
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xff);
   glStencilFunc(GL_ALWAYS, 0, 0xff);
+  // z-fail: faces behind the surface, back +1, front −1.
   glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
   glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-  drawVolumes(clipFromWorld);
+  drawVolumes(clipFromWorld, kSelectedFacingOffset, kSelectedTurnedOffset, kSelectedZFailSidesOffset);
+  // z-pass: faces in front of the surface, front +1 (entering a volume), back −1.
+  glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+  glStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+  // Not depth-clamped: with the clamp, faces between the eye and the near plane would count too, and z-pass
+  // would need the eye, not the near plane, outside every volume; their parts beyond the scene never count.
+  drawSides(clipFromWorld, kSelectedZPassSidesOffset, false);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
 }
 
-void SunShadows::drawVolumes(const mat4& clipFromWorld) {
+void SunShadows::drawVolumes(const mat4& clipFromWorld, intptr_t facingOffset, intptr_t turnedOffset,
+                             intptr_t sidesOffset) {
   Gpu& g = *gpu_;
-  const GLuint ssbos[] = {g.positions, g.casters};
-  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 2, ssbos);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.sides);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.commands);
   glBindVertexArray(g.capVao);
   glUseProgram(g.capProgram);
@@ -430,20 +485,30 @@ void SunShadows::drawVolumes(const mat4& clipFromWorld) {
   // could lose their shadow.
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 4.0f);
-  glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(kFacingOffset));
+  glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(facingOffset));
   // The turned caps keep the scene's vertex order (and so its exact depths); their other winding faces the
   // sun.
   glFrontFace(GL_CW);
-  glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(kTurnedOffset));
+  glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(turnedOffset));
   glFrontFace(GL_CCW);
   glDisable(GL_POLYGON_OFFSET_FILL);
-  // The sides reach the point at infinity away from the sun (w = 0): depth-clamped.
-  glEnable(GL_DEPTH_CLAMP);
+  drawSides(clipFromWorld, sidesOffset, true);
+}
+
+void SunShadows::drawSides(const mat4& clipFromWorld, intptr_t sidesOffset, bool depthClamp) {
+  Gpu& g = *gpu_;
+  const GLuint ssbos[] = {g.positions, g.casters};
+  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 2, ssbos);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, g.sides);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.commands);
   glBindVertexArray(g.pulledVao);
   glUseProgram(g.sideProgram);
   glUniformMatrix4fv(g.sideClipFromWorld, 1, GL_FALSE, &clipFromWorld[0][0]);
   glUniform3fv(g.sideSunDir, 1, &g.builtSunDir[0]);
-  glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(kSidesOffset));
+  // The sides reach the point at infinity away from the sun (w = 0): for z-fail depth-clamped, so that none of
+  // it is clipped at the far plane.
+  if (depthClamp) glEnable(GL_DEPTH_CLAMP);
+  glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(sidesOffset));
   glDisable(GL_DEPTH_CLAMP);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
@@ -456,7 +521,7 @@ uint64_t SunShadows::measureFill(const mat4& clipFromWorld) {
   glEnable(GL_DEPTH_CLAMP);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glBeginQuery(GL_SAMPLES_PASSED, query);
-  drawVolumes(clipFromWorld);
+  drawVolumes(clipFromWorld, kFacingOffset, kTurnedOffset, kSidesOffset);
   glEndQuery(GL_SAMPLES_PASSED);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_DEPTH_CLAMP);
@@ -480,6 +545,7 @@ SunShadowCounts SunShadows::counts() const {
   c.keptTriangles = (cmd.facingCount + cmd.turnedCount) / 3;
   c.silhouetteEdges = cmd.silhouetteEdges;
   c.sideTriangles = cmd.sideCount / 3;
+  c.lastFrameZFail = cmd.selected[0] != 0 || cmd.selected[5] != 0 || cmd.selected[10] != 0;
   return c;
 }
 

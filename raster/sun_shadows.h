@@ -66,6 +66,7 @@
 // change, and never built for a scene without a sun above the horizon.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
@@ -102,6 +103,7 @@ struct SunShadowCounts {
   uint32_t keptTriangles = 0;     // front caps: the triangles whose prisms make the volumes
   uint32_t silhouetteEdges = 0;   // edges with a non-zero count
   uint32_t sideTriangles = 0;     // extruded sides (each silhouette edge |count| times)
+  bool lastFrameZFail = false;    // the last stencil pass took z-fail (the near plane may lie in a volume)
   float texelSizeM = 0.0f;        // the visibility map's t
 };
 
@@ -121,8 +123,9 @@ class SunShadows {
   // Rebuilds the visibility map and the volumes when the sun direction (unit, towards the sun) or the
   // settings differ from the last build's, or the geometry changed; returns whether it did.
   bool build(const vec3& sunDirWorld, const SunShadowSettings& settings);
-  // The z-fail stencil pass into the bound framebuffer, whose depth holds the scene's; leaves the stencil
-  // test enabled and the colour and depth writes as they were.
+  // The stencil pass into the bound framebuffer, whose depth holds the scene's — z-pass without caps when the
+  // camera's near plane lies in no volume and no caster is a cut-out, else z-fail (decided on the GPU each
+  // frame); leaves the stencil test enabled and the colour and depth writes as they were.
   void drawStencil(const mat4& clipFromWorld);
   // Fragments the volumes rasterise over the framebuffer with neither depth nor stencil test (their fill),
   // counted with a GL_SAMPLES_PASSED query; for benchmarks, not per frame.
@@ -131,7 +134,9 @@ class SunShadows {
 
  private:
   struct Gpu;
-  void drawVolumes(const mat4& clipFromWorld);
+  // The caps and sides of the indirect draws at these offsets of the commands buffer.
+  void drawVolumes(const mat4& clipFromWorld, intptr_t facingOffset, intptr_t turnedOffset, intptr_t sidesOffset);
+  void drawSides(const mat4& clipFromWorld, intptr_t sidesOffset, bool depthClamp);
   std::unique_ptr<Gpu> gpu_;
   Compile compile_;
 };

@@ -300,6 +300,81 @@ void main() {
 }
 )GLSL";
 
+// Per frame, one invocation per cap slot: whether the camera's near-plane rectangle (uNearCornersM, already
+// enlarged) may lie inside the prism of the kept triangle there — the points at or below it, away from the
+// sun. Conservative: the rectangle's and the triangle's extents across the sun's direction overlap (with a
+// margin for rounding) and some of the rectangle is no higher towards the sun than the triangle's highest
+// point. A yes anywhere sets commands[16], and the stencil pass is z-fail.
+inline constexpr const char* kShadowNearCompute = R"GLSL(
+layout(local_size_x = 64) in;
+uniform uint uCasterCount;
+uniform uint uCapCapacity;
+uniform vec3 uSunDirWorld;
+uniform vec3 uNearCornersM[4];
+layout(std430, binding = 4) readonly buffer Caps { uint capIndices[]; };
+void main() {
+  uint slot = gl_GlobalInvocationID.x;
+  if (slot >= uCasterCount) return;
+  uint at = 3u * slot;
+  if (at + 3u > commands[0] && at < uCapCapacity - commands[5]) return;  // neither a facing nor a turned cap
+  vec3 z = uSunDirWorld;
+  vec3 x = normalize(abs(z.y) < 0.9 ? cross(vec3(0.0, 1.0, 0.0), z) : cross(vec3(1.0, 0.0, 0.0), z));
+  vec3 y = cross(z, x);
+  vec3 tMin = vec3(3.4e38), tMax = vec3(-3.4e38), qMin = vec3(3.4e38), qMax = vec3(-3.4e38);
+  float scale = 0.0;
+  for (uint k = 0u; k < 3u; ++k) {
+    vec3 p = flyPosition(capIndices[at + k]);
+    vec3 s = vec3(dot(p, x), dot(p, y), dot(p, z));
+    tMin = min(tMin, s);
+    tMax = max(tMax, s);
+    scale = max(scale, max(abs(s.x), max(abs(s.y), abs(s.z))));
+  }
+  for (int k = 0; k < 4; ++k) {
+    vec3 p = uNearCornersM[k];
+    vec3 s = vec3(dot(p, x), dot(p, y), dot(p, z));
+    qMin = min(qMin, s);
+    qMax = max(qMax, s);
+    scale = max(scale, max(abs(s.x), max(abs(s.y), abs(s.z))));
+  }
+  float margin = 1e-5 * scale + 1e-3 * length(qMax - qMin);
+  if (any(lessThan(tMax.xy + margin, qMin.xy)) || any(greaterThan(tMin.xy - margin, qMax.xy))) return;
+  if (qMin.z > tMax.z + margin) return;
+  atomicOr(commands[16], 1u);
+}
+)GLSL";
+
+// Per frame, one invocation after kShadowNearCompute: the draws of the method taken (commands 17–34, see
+// SunShadows::Commands), the other's counts 0; and the flag cleared for the next frame.
+inline constexpr const char* kShadowSelectCompute = R"GLSL(
+layout(local_size_x = 1) in;
+uniform bool uForceZFail;
+void main() {
+  // Constant indices only (NVIDIA's compiler refuses computed ones into this buffer: "lvalue too complex").
+  bool zFail = uForceZFail || commands[16] != 0u;
+  uint capsFacing = zFail ? commands[0] : 0u, capsTurned = zFail ? commands[5] : 0u;
+  uint sidesZFail = zFail ? commands[10] : 0u, sidesZPass = zFail ? 0u : commands[10];
+  commands[17] = capsFacing;
+  commands[18] = commands[1];
+  commands[19] = commands[2];
+  commands[20] = commands[3];
+  commands[21] = commands[4];
+  commands[22] = capsTurned;
+  commands[23] = commands[6];
+  commands[24] = commands[7];
+  commands[25] = commands[8];
+  commands[26] = commands[9];
+  commands[27] = sidesZFail;
+  commands[28] = commands[11];
+  commands[29] = commands[12];
+  commands[30] = commands[13];
+  commands[31] = sidesZPass;
+  commands[32] = commands[11];
+  commands[33] = commands[12];
+  commands[34] = commands[13];
+  commands[16] = 0u;
+}
+)GLSL";
+
 // The volumes write only stencil.
 inline constexpr const char* kShadowVolumeFragment = R"GLSL(
 void main() {}

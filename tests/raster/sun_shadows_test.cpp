@@ -330,17 +330,25 @@ TEST(SunShadows, ClosedCarWithInteriorMatchesShadowRaysAndPrunesTheInterior) {
 }
 
 // The camera stands in the car's shadow, inside its shadow volume, looking at the car and the ground behind
-// it (z-fail counts only what lies behind the visible surface).
+// it (z-fail counts only what lies behind the visible surface; z-pass would be wrong here).
 TEST(SunShadows, CameraInsideAShadowVolume) {
   context();
   const rdb::RasterRdb r = withSun(car(), vec3(-0.5f, 0.7f, 0.5f));
   const vec3 eye(2.2f, 0.4f, -0.4f);
   const CpuTracer tracer(r);
   ASSERT_TRUE(tracer.occluded(dvec3(eye), glm::normalize(dvec3(r.sky->sunDirWorld))));
-  const MaskCheck c = checkShadowMask(r, lookAt(eye, vec3(4.5f, 0.0f, -2.5f)), RenderMode::kSimple, 320, 180);
+  const View inside = lookAt(eye, vec3(4.5f, 0.0f, -2.5f));
+  const MaskCheck c = checkShadowMask(r, inside, RenderMode::kSimple, 320, 180);
   EXPECT_EQ(c.mismatches, 0u);
   EXPECT_GT(c.shadowed, 1000u);
   EXPECT_GT(c.lit, 1000u);
+  // The stencil pass took z-fail here (the near plane lies in a volume), z-pass from the sunlit viewpoint.
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(inside, RenderMode::kSimple, 160, 90);
+  EXPECT_TRUE(renderer.sunShadowCounts().lastFrameZFail);
+  renderer.render(lookAt(vec3(-6.0f, 3.5f, -5.0f), vec3(0.0f, 0.3f, 0.5f)), RenderMode::kSimple, 160, 90);
+  EXPECT_FALSE(renderer.sunShadowCounts().lastFrameZFail);
 }
 
 // An open roof on four posts: one-sided panels facing down (a ceiling: the sun sees their backs, and they
