@@ -320,20 +320,20 @@ void main() {
   vec3 z = uSunDirWorld;
   vec3 x = normalize(abs(z.y) < 0.9 ? cross(vec3(0.0, 1.0, 0.0), z) : cross(vec3(1.0, 0.0, 0.0), z));
   vec3 y = cross(z, x);
+  // Extents in the sun's frame (x, y across its direction, z towards it) of the triangle (t) and the
+  // rectangle (q), and the largest coordinate, for the rounding margin.
   vec3 tMin = vec3(3.4e38), tMax = vec3(-3.4e38), qMin = vec3(3.4e38), qMax = vec3(-3.4e38);
   float scale = 0.0;
-  for (uint k = 0u; k < 3u; ++k) {
-    vec3 p = flyPosition(capIndices[at + k]);
+  for (uint k = 0u; k < 7u; ++k) {
+    vec3 p = k < 3u ? flyPosition(capIndices[at + k]) : uNearCornersM[k - 3u];
     vec3 s = vec3(dot(p, x), dot(p, y), dot(p, z));
-    tMin = min(tMin, s);
-    tMax = max(tMax, s);
-    scale = max(scale, max(abs(s.x), max(abs(s.y), abs(s.z))));
-  }
-  for (int k = 0; k < 4; ++k) {
-    vec3 p = uNearCornersM[k];
-    vec3 s = vec3(dot(p, x), dot(p, y), dot(p, z));
-    qMin = min(qMin, s);
-    qMax = max(qMax, s);
+    if (k < 3u) {
+      tMin = min(tMin, s);
+      tMax = max(tMax, s);
+    } else {
+      qMin = min(qMin, s);
+      qMax = max(qMax, s);
+    }
     scale = max(scale, max(abs(s.x), max(abs(s.y), abs(s.z))));
   }
   float margin = 1e-5 * scale + 1e-3 * length(qMax - qMin);

@@ -29,18 +29,24 @@ Rgb albedoOf(const F& f, float cosThetaIn, int n = 128) {
   return Rgb(sum * (kPi / (double(n) * m)));
 }
 
-MeasuredBrdf tableOf(const CarPaintBrdf& b) {
+// A MERL table of f(ωi, ωo) at every sample's directions.
+template <class F>
+MeasuredBrdf tableFrom(const F& f) {
   std::vector<Rgb> samples(MeasuredBrdf::kSamples);
   for (int i = 0; i < MeasuredBrdf::kThetaHalfRes; ++i) {
     for (int j = 0; j < MeasuredBrdf::kThetaDiffRes; ++j) {
       for (int k = 0; k < MeasuredBrdf::kPhiDiffRes; ++k) {
         vec3 wi, wo;
         directionsOf(MeasuredBrdf::sampleAngles(i, j, k), wi, wo);
-        samples[MeasuredBrdf::sampleIndex(i, j, k)] = b.evalPerSr(wi, wo);
+        samples[MeasuredBrdf::sampleIndex(i, j, k)] = f(wi, wo);
       }
     }
   }
   return MeasuredBrdf(std::move(samples));
+}
+
+MeasuredBrdf tableOf(const CarPaintBrdf& b) {
+  return tableFrom([&](const vec3& wi, const vec3& wo) { return b.evalPerSr(wi, wo); });
 }
 
 CarPaintBrdf metallicBlue() {
@@ -137,24 +143,14 @@ TEST(CarPaintFit, FitsAPaintFormulaItWasNotMadeFrom) {
     const Rgb f = f0 + (Rgb(1.0f) - f0) * std::pow(1.0f - cd, 5.0f);
     return f * (a2 / (kPi * d * d)) * g1(wi.z) * g1(wo.z) / (4.0f * wi.z * wo.z);
   };
-  std::vector<Rgb> samples(MeasuredBrdf::kSamples);
-  for (int i = 0; i < MeasuredBrdf::kThetaHalfRes; ++i) {
-    for (int j = 0; j < MeasuredBrdf::kThetaDiffRes; ++j) {
-      for (int k = 0; k < MeasuredBrdf::kPhiDiffRes; ++k) {
-        vec3 wi, wo;
-        directionsOf(MeasuredBrdf::sampleAngles(i, j, k), wi, wo);
-        Rgb f(0.0f);
-        if (wi.z > 0.0f && wo.z > 0.0f) {
-          const float through = (1.0f - 0.04f - 0.96f * std::pow(1.0f - wi.z, 5.0f)) *
-                                (1.0f - 0.04f - 0.96f * std::pow(1.0f - wo.z, 5.0f));
-          f = ggx(wi, wo, 0.04f, Rgb(0.04f)) +
-              through * (0.3f * ggx(wi, wo, 0.25f, Rgb(0.5f, 0.55f, 0.7f)) + Rgb(0.02f, 0.04f, 0.2f) / kPi);
-        }
-        samples[MeasuredBrdf::sampleIndex(i, j, k)] = f;
-      }
-    }
-  }
-  const CarPaintFit fit = fitCarPaint(MeasuredBrdf(std::move(samples)), 2);
+  const MeasuredBrdf table = tableFrom([&](const vec3& wi, const vec3& wo) {
+    if (wi.z <= 0.0f || wo.z <= 0.0f) return Rgb(0.0f);
+    const float through = (1.0f - 0.04f - 0.96f * std::pow(1.0f - wi.z, 5.0f)) *
+                          (1.0f - 0.04f - 0.96f * std::pow(1.0f - wo.z, 5.0f));
+    return ggx(wi, wo, 0.04f, Rgb(0.04f)) +
+           through * (0.3f * ggx(wi, wo, 0.25f, Rgb(0.5f, 0.55f, 0.7f)) + Rgb(0.02f, 0.04f, 0.2f) / kPi);
+  });
+  const CarPaintFit fit = fitCarPaint(table, 2);
   RecordProperty("rms_relative_error", std::to_string(fit.rmsRelativeError));
   RecordProperty("rms_relative_error_cos_weighted", std::to_string(fit.rmsRelativeErrorCosWeighted));
   // Measured: RMS relative error 9.2 %, 8.2 % weighted by cos θi cos θo (1 lobe 8.2 %, 3 lobes 7.7 %); the
