@@ -39,7 +39,8 @@
 // triangle ("classic"); with the volumes' size (kept triangles, silhouette edges, extruded sides) and fill
 // (fragments they rasterise over the 1080p frame with neither depth nor stencil test, GL_SAMPLES_PASSED). Scenes:
 // the 300k and 1M boxes-on-a-ground scenes above; a generated car (a closed body of subdivided boxes with
-// seats, a dashboard with 64 knobs and a steering column inside, wheels below: 280k triangles); and the
+// seats, a dashboard with 64 knobs and a steering column inside, wheels below: 280k triangles); a generated
+// office (a closed room with window gaps and 80 desks and chairs, ≈ 300k triangles, seen from inside); and the
 // repository's scenes/house (walls, roof, furniture, glass). "rebuild ms": a visibility map and volume rebuild,
 // i.e. what a frame costs more when the sun moves every frame (each frame with glFinish, wall clock, against
 // frames with a still sun).
@@ -266,6 +267,44 @@ sdb::Scene makeCar() {
   return s;
 }
 
+// The generated office of the shadow section: a 30 × 20 m room (floor and roof slabs, thick walls as closed
+// boxes, the south wall (−Z) of six piers with five window gaps between them) with 10 × 8 desks and chairs
+// inside, ≈ 300k triangles: an interior whose furniture the sun reaches only through the windows.
+sdb::Scene makeOffice() {
+  sdb::Scene s;
+  sdb::Material wall, desk, ground;
+  wall.diffuseColor = Rgb(0.7f);
+  desk.diffuseColor = Rgb(0.4f, 0.3f, 0.2f);
+  ground.diffuseColor = Rgb(0.4f);
+  const sdb::MaterialId wallId = s.addMaterial(wall).id, deskId = s.addMaterial(desk).id,
+                        groundId = s.addMaterial(ground).id;
+  auto add = [&](const char* name, const sdb::Mesh& m) { s.addNode({.name = name, .meshes = {s.addMesh(m).id}}); };
+  add("ground", subdividedBox(vec3(-60.0f, -0.3f, -60.0f), vec3(60.0f, -0.2f, 60.0f), 1, groundId));
+  add("floor", subdividedBox(vec3(-15.0f, -0.2f, -10.0f), vec3(15.0f, 0.0f, 10.0f), 40, wallId));
+  add("roof", subdividedBox(vec3(-15.0f, 3.0f, -10.0f), vec3(15.0f, 3.3f, 10.0f), 40, wallId));
+  add("north", subdividedBox(vec3(-15.0f, 0.0f, 9.7f), vec3(15.0f, 3.0f, 10.0f), 30, wallId));
+  add("west", subdividedBox(vec3(-15.0f, 0.0f, -10.0f), vec3(-14.7f, 3.0f, 10.0f), 30, wallId));
+  add("east", subdividedBox(vec3(14.7f, 0.0f, -10.0f), vec3(15.0f, 3.0f, 10.0f), 30, wallId));
+  for (int k = 0; k < 6; ++k) {
+    const float x = -15.0f + 5.9f * float(k);
+    add("pier", subdividedBox(vec3(x, 0.0f, -10.0f), vec3(x + 1.2f, 3.0f, -9.7f), 12, wallId));
+  }
+  for (int j = 0; j < 8; ++j) {
+    for (int i = 0; i < 10; ++i) {
+      const vec3 at(-13.0f + 2.8f * float(i), 0.0f, -8.0f + 2.2f * float(j));
+      add("desk", subdividedBox(at + vec3(0.0f, 0.7f, 0.0f), at + vec3(1.6f, 0.75f, 0.8f), 10, deskId));
+      add("chair", subdividedBox(at + vec3(0.5f, 0.0f, 1.0f), at + vec3(1.0f, 0.9f, 1.5f), 10, deskId));
+    }
+  }
+  sdb::Camera cam;
+  cam.name = "inside";
+  s.addNode({.name = "eye",
+             .parentFromLocal = sdb::lookAtTransform(vec3(-12.0f, 1.6f, 8.5f), vec3(4.0f, 0.6f, -6.0f), vec3(0, 1, 0)),
+             .camera = s.addCamera(cam).id});
+  fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
+  return s;
+}
+
 rdb::LightMapStore syntheticLightMaps(const rdb::RasterRdb& r) {
   rdb::LightMapStore store;
   for (const rdb::RasterMesh& m : r.meshes) {
@@ -474,6 +513,10 @@ int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h,
   {
     rdb::RasterRdb r = rdb::buildRasterRdb(makeCar());
     benchShadows("car", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
+  }
+  {
+    rdb::RasterRdb r = rdb::buildRasterRdb(makeOffice());
+    benchShadows("office", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
   }
   if (!std::filesystem::exists(housePath)) {
     std::printf("(%s not found: the house is skipped; run from the repository's root or pass --house)\n",
