@@ -2,7 +2,9 @@
 // With the ambient term off, the floor shows only the sun's direct term; where the sun reaches it through the
 // pane, that term is T(θ) times the unshaded floor's (the same scene without the pane), T computed here from
 // the material (rdb::RasterMaterial: T = t · (1 − r · F(θ)), F Schlick's), elsewhere it is unchanged, and a
-// plate above the pane (between it and the sun) is unattenuated.
+// plate above the pane (between it and the sun) is unattenuated. The floor is drawn three ways: shaded per
+// vertex and per fragment in simple mode, and in sunlight mode over a light map that keeps the sun's direct
+// part apart (E − E_sunDirect = 0: the floor shows the real-time sun term alone; docs/mixed-lighting.md).
 #include "raster/sun_glass.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +19,7 @@
 #include "../support/helsinki_daylight.h"
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
+#include "rdb/light_map_store.h"
 #include "rdb/raster_rdb.h"
 #include "sdb/camera.h"
 #include "sdb/scene.h"
@@ -40,9 +43,16 @@ View lookAt(const vec3& eye, const vec3& target) {
   return v;
 }
 
-// A 10 m floor (COLOR_0 on it when `perFragment`: it is then shaded per fragment), the pane when `withPane`,
-// a small plate above the pane; the sun at kElevationRad towards +Z, no ambient light.
-rdb::RasterRdb scene(bool withPane, bool perFragment) {
+enum class Floor { kPerVertex, kPerFragment, kBakedSunDirect };
+
+RenderMode modeOf(Floor f) {
+  return f == Floor::kBakedSunDirect ? RenderMode::kSunlight : RenderMode::kSimple;
+}
+
+// A 10 m floor (COLOR_0 on it for kPerFragment: it is then shaded per fragment; a light map that is all sun
+// for kBakedSunDirect), the pane when `withPane`, a small plate above the pane; the sun at kElevationRad
+// towards +Z, no ambient light.
+rdb::RasterRdb scene(bool withPane, Floor shading) {
   sdb::Scene s;
   sdb::Material paint;
   paint.diffuseColor = Rgb(0.5f);
@@ -53,8 +63,9 @@ rdb::RasterRdb scene(bool withPane, bool perFragment) {
   floor.normals.assign(4, vec3(0, 1, 0));
   floor.indices = {0, 2, 1, 0, 3, 2};
   floor.material = mat;
-  if (perFragment) floor.colors.assign(4, vec4(1.0f));
-  s.addNode({.name = "floor", .meshes = {s.addMesh(floor).id}});
+  if (shading == Floor::kPerFragment) floor.colors.assign(4, vec4(1.0f));
+  const sdb::MeshId floorMesh = s.addMesh(floor).id;
+  const sdb::NodeId floorNode = s.addNode({.name = "floor", .meshes = {floorMesh}}).id;
   s.addNode({.name = "plate",
              .meshes = {s.addMesh(test::box(vec3(kPlateLo, kPlateBottomM, kPlateLo),
                                             vec3(kPlateHi, kPlateTopM, kPlateHi), mat))
@@ -73,7 +84,21 @@ rdb::RasterRdb scene(bool withPane, bool perFragment) {
                .meshes = {s.addMesh(pane).id}});
   }
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
-  rdb::RasterRdb r = rdb::buildRasterRdb(s, nullptr, {32, 16});
+  rdb::LightMapStore store;
+  if (shading == Floor::kBakedSunDirect) {
+    // What a bake at another sun kept: E = E_sunDirect, so that only the real-time sun term shows.
+    const Rgb bakedLux(40000.0f);
+    store.sun = rdb::BakedSun{glm::normalize(vec3(0.2f, 0.9f, 0.3f)), Rgb(100000.0f)};
+    store.meshes.push_back({floorNode.value,
+                            floorMesh.value,
+                            std::vector<Rgb>(4, bakedLux),
+                            {},
+                            {},
+                            std::vector<Rgb>(4, bakedLux),
+                            {}});
+  }
+  rdb::RasterRdb r = rdb::buildRasterRdb(s, shading == Floor::kBakedSunDirect ? &store : nullptr, {32, 16});
+  EXPECT_EQ(r.variants.sunDirect, shading == Floor::kBakedSunDirect);
   EXPECT_TRUE(r.variants.sun);
   EXPECT_EQ(r.variants.glass, withPane);
   EXPECT_TRUE(r.lights.empty());
@@ -82,11 +107,11 @@ rdb::RasterRdb scene(bool withPane, bool perFragment) {
   return r;
 }
 
-std::vector<float> render(const rdb::RasterRdb& r, const View& view, uint32_t w, uint32_t h,
+std::vector<float> render(const rdb::RasterRdb& r, RenderMode mode, const View& view, uint32_t w, uint32_t h,
                           RendererStats* stats = nullptr) {
   Renderer renderer;
   renderer.upload(r);
-  renderer.render(view, RenderMode::kSimple, w, h);
+  renderer.render(view, mode, w, h);
   if (stats) *stats = renderer.stats();
   return renderer.luminanceRgb();
 }
@@ -113,9 +138,12 @@ bool near(float x, float z, float lo, float hi, float margin) {
 TEST(SunGlass, FloorUnderAPaneGetsTheSunTimesTAndNothingElseChanges) {
   context();
   const double cosTheta = std::sin(kElevationRad);  // the sun against the pane's normal (+Y)
-  for (const bool perFragment : {false, true}) {
-    SCOPED_TRACE(perFragment ? "floor shaded per fragment" : "floor shaded per vertex");
-    const rdb::RasterRdb withPane = scene(true, perFragment), open = scene(false, perFragment);
+  for (const Floor shading : {Floor::kPerVertex, Floor::kPerFragment, Floor::kBakedSunDirect}) {
+    SCOPED_TRACE(shading == Floor::kPerVertex     ? "floor shaded per vertex"
+                 : shading == Floor::kPerFragment ? "floor shaded per fragment"
+                                                  : "floor light-mapped, sunlight mode");
+    const RenderMode mode = modeOf(shading);
+    const rdb::RasterRdb withPane = scene(true, shading), open = scene(false, shading);
     // T(θ) from the material's inputs (Schlick 1994): F = F0 + (1 − F0)(1 − cos θ)⁵, F0 from the IOR 1.5.
     const rdb::RasterMaterial& glass = withPane.materials.back();
     ASSERT_GT(maxComponent(glass.transmission), 0.0f);
@@ -128,8 +156,8 @@ TEST(SunGlass, FloorUnderAPaneGetsTheSunTimesTAndNothingElseChanges) {
     const uint32_t w = 160, h = 90;
     const View low = lookAt(vec3(0.0f, 0.9f, 1.2f), vec3(0.0f, 0.0f, -1.2f));
     RendererStats stats;
-    const std::vector<float> lit = render(withPane, low, w, h, &stats);
-    const std::vector<float> unshaded = render(open, low, w, h);
+    const std::vector<float> lit = render(withPane, mode, low, w, h, &stats);
+    const std::vector<float> unshaded = render(open, mode, low, w, h);
     EXPECT_EQ(stats.sunGlassUploads, 1);
     EXPECT_EQ(stats.sunGlassBuilds, 1);
     // The unshaded floor itself: albedo / π · E_sun · cos θ (no specular lobe, no ambient light).
@@ -172,7 +200,8 @@ TEST(SunGlass, FloorUnderAPaneGetsTheSunTimesTAndNothingElseChanges) {
 
     // The plate's top, above the pane and between it and the sun: unattenuated.
     const View high = lookAt(vec3(0.65f, 3.0f, 1.2f), vec3(0.65f, kPlateTopM, 0.65f));
-    const std::vector<float> top = render(withPane, high, w, h), topOpen = render(open, high, w, h);
+    const std::vector<float> top = render(withPane, mode, high, w, h),
+                             topOpen = render(open, mode, high, w, h);
     size_t plate = 0;
     for (uint32_t j = 0; j < h; ++j) {
       for (uint32_t i = 0; i < w; ++i) {
@@ -193,7 +222,7 @@ TEST(SunGlass, FloorUnderAPaneGetsTheSunTimesTAndNothingElseChanges) {
 // Built once per sun direction; a scene without glass makes no map and compiles nothing for it.
 TEST(SunGlass, BuiltOnlyForGlassAndWhenTheSunMoves) {
   context();
-  rdb::RasterRdb r = scene(true, false);
+  rdb::RasterRdb r = scene(true, Floor::kPerVertex);
   const View low = lookAt(vec3(0.0f, 0.9f, 1.2f), vec3(0.0f, 0.0f, -1.2f));
   Renderer renderer;
   renderer.upload(r);
@@ -208,7 +237,7 @@ TEST(SunGlass, BuiltOnlyForGlassAndWhenTheSunMoves) {
   for (const std::string& p : renderer.stats().programs) compiled |= p == "sun-glass";
   EXPECT_TRUE(compiled);
 
-  const rdb::RasterRdb open = scene(false, true);
+  const rdb::RasterRdb open = scene(false, Floor::kPerFragment);
   Renderer plain;
   plain.upload(open);
   plain.render(low, RenderMode::kSimple, 32, 18);
