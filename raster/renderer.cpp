@@ -1169,6 +1169,10 @@ SunShadowCounts Renderer::sunShadowCounts() const {
   return shadows_ ? shadows_->counts() : SunShadowCounts{};
 }
 
+SunGlassCounts Renderer::sunGlassCounts() const {
+  return sunGlass_ ? sunGlass_->counts() : SunGlassCounts{};
+}
+
 uint64_t Renderer::shadowVolumeFill() {
   if (!shadows_ || stats_.shadowPasses == 0) return 0;
   glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);

@@ -146,6 +146,8 @@ class Renderer {
   void setSunShadows(const SunShadowSettings& settings);
   // What the last shadow build made (read back from the GPU; zeros before the first).
   SunShadowCounts sunShadowCounts() const;
+  // What the last transmittance map through clear glass drew (raster/sun_glass.h; zeros before the first).
+  SunGlassCounts sunGlassCounts() const;
   // The fragments the last frame's shadow volumes rasterise with neither depth nor stencil test (their fill,
   // GL_SAMPLES_PASSED); 0 when it drew none. For benchmarks: it draws the volumes again.
   uint64_t shadowVolumeFill();

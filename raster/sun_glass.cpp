@@ -195,8 +195,10 @@ float SunGlassMap::biasM() const {
   return 2.0f * gpu_->texelSizeM;
 }
 
-float SunGlassMap::texelSizeM() const {
-  return gpu_->texelSizeM;
+SunGlassCounts SunGlassMap::counts() const {
+  const Gpu& g = *gpu_;
+  if (!g.built) return {};
+  return {uint32_t(g.vertices.size() / 3), g.mapTexels, g.texelSizeM};
 }
 
 }  // namespace fly::raster

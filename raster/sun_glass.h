@@ -37,6 +37,13 @@
 
 namespace fly::raster {
 
+// What the last build drew (tests, `fly render`'s report).
+struct SunGlassCounts {
+  uint32_t glassTriangles = 0;  // clear-glass triangles drawn into the map
+  uint32_t texels = 0;          // per side
+  float texelSizeM = 0.0f;      // t
+};
+
 class SunGlassMap {
  public:
   explicit SunGlassMap(SunShadows::Compile compile);
@@ -58,7 +65,7 @@ class SunGlassMap {
   unsigned texture() const;
   const mat4& mapFromWorld() const;
   float biasM() const;
-  float texelSizeM() const;
+  SunGlassCounts counts() const;
 
  private:
   struct Gpu;

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -229,10 +230,21 @@ TEST(SunGlass, BuiltOnlyForGlassAndWhenTheSunMoves) {
   renderer.render(low, RenderMode::kSimple, 32, 18);
   renderer.render(low, RenderMode::kSunlight, 32, 18);
   EXPECT_EQ(renderer.stats().sunGlassBuilds, 1);
+  // The map is fitted to the pane's projection: 2 m along X (perpendicular to the sun), 2 m · sin 40° along
+  // the other (the pane's Z seen from the sun), the larger plus 0.1 % over 1024 texels.
+  const SunGlassCounts counts = renderer.sunGlassCounts();
+  EXPECT_EQ(counts.glassTriangles, 2u);
+  EXPECT_EQ(counts.texels, 1024u);
+  EXPECT_NEAR(counts.texelSizeM, 2.0 * 1.001 / 1024.0, 1e-7);
   r.sky->sunDirWorld = glm::normalize(vec3(0.1f, 0.7f, 0.7f));
   renderer.render(low, RenderMode::kSimple, 32, 18);
   EXPECT_EQ(renderer.stats().sunGlassBuilds, 2);
   EXPECT_EQ(renderer.stats().sunGlassUploads, 1);
+  renderer.setSunShadows({.transmittanceMapTexels = 256});
+  renderer.render(low, RenderMode::kSimple, 32, 18);
+  EXPECT_EQ(renderer.stats().sunGlassBuilds, 3);
+  EXPECT_EQ(renderer.sunGlassCounts().texels, 256u);
+  EXPECT_THROW(renderer.setSunShadows({.transmittanceMapTexels = 8}), std::invalid_argument);
   bool compiled = false;
   for (const std::string& p : renderer.stats().programs) compiled |= p == "sun-glass";
   EXPECT_TRUE(compiled);
@@ -244,6 +256,7 @@ TEST(SunGlass, BuiltOnlyForGlassAndWhenTheSunMoves) {
   plain.render(low, RenderMode::kSunlight, 32, 18);
   EXPECT_EQ(plain.stats().sunGlassUploads, 0);
   EXPECT_EQ(plain.stats().sunGlassBuilds, 0);
+  EXPECT_EQ(plain.sunGlassCounts().glassTriangles, 0u);
   EXPECT_GT(plain.stats().shadowBuilds, 0);
   for (const std::string& p : plain.stats().programs) {
     EXPECT_EQ(p.find("sun-glass"), std::string::npos) << p;
