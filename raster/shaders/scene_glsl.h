@@ -401,7 +401,8 @@ void main() {
 #endif
   vec3 l = vLuminance;
 #ifdef FLY_SUN_GLASS
-  // A pane's own sun term (its reflection) is not behind it (raster/sun_glass.h).
+  // A pane's own sun term (its reflection) is not behind it (raster/sun_glass.h). The renderer compiles
+  // FLY_SUN_GLASS only for scenes with clear glass, so FLY_GLASS (vGlass) is defined with it.
   l += vGlass != 0u ? vSunLuminance : vSunLuminance * flySunGlass(vPositionM);
 #endif
 #ifdef FLY_LIGHT_TEXTURE
