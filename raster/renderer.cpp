@@ -919,7 +919,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
     // The sun through clear glass (raster/sun_glass.h), where a program draws the sun's direct term, the sun
     // is above the horizon and the scene has clear glass: the transmittance map is rebuilt here only when the
-    // sun or the glass changed.
+    // sun, the geometry or the materials changed.
     uint32_t sunGlass = 0;
     if ((shared & kVariantSun) && v.sun && v.glass) {
       if (!sunGlass_) sunGlass_ = std::make_unique<SunGlassMap>(compiler());

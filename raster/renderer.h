@@ -24,7 +24,7 @@
 // T(θ) (raster/sun_glass.h), from a transmittance map rendered from the sun (the product of the panes' T per
 // texel and the height of the one nearest the sun) that the sun term of every surface behind a pane reads per
 // fragment — built, and the FLY_SUN_GLASS variants compiled, only in scenes with clear glass and a sun above
-// the horizon, rebuilt only when the sun's direction, the glass or the map's size change.
+// the horizon, rebuilt only when the sun's direction, the geometry, the materials or the map's size change.
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per

@@ -24,7 +24,7 @@
 // pane gets none.
 //
 // Built only when the scene has clear glass, a sun above the horizon and a program that draws the sun's
-// term; rebuilt only when the sun's direction, the glass (geometry, materials) or the map's size change.
+// term; rebuilt only when the sun's direction, the geometry, the materials or the map's size change.
 #pragma once
 
 #include <cstdint>
