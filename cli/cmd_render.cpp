@@ -232,11 +232,21 @@ int runRender(const RenderOptions& options) {
                 : std::string("every sun-facing triangle")) +
            ")\n";
   };
+  // The sun through clear glass, when the last render drew it.
+  auto glassLine = [&]() -> std::string {
+    const raster::SunGlassCounts g = renderer.sunGlassCounts();
+    if (g.glassTriangles == 0) return "";
+    char size[32];
+    std::snprintf(size, sizeof size, "%.1f", double(g.texelSizeM) * 100.0);
+    return "glass     the sun through " + std::to_string(g.glassTriangles) +
+           " clear-glass triangles times T(θ) (" + std::to_string(g.texels) + "² transmittance map, texels " +
+           size + " cm)\n";
+  };
   char buf[64];
   if (!lapse) {
     const double ev100 = renderImage(o.out, o.exposureEv100);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    t << shadowLine();
+    t << shadowLine() << glassLine();
     t << "image     " << o.out << " (" << width << "×" << height;
     if (ext == ".png") {
       std::snprintf(buf, sizeof buf, "%.2f", ev100);

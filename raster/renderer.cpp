@@ -12,6 +12,8 @@
 
 #include "base/log.h"
 #include "raster/shaders/scene_glsl.h"
+#include "raster/shaders/sun_glass_glsl.h"
+#include "raster/sun_glass.h"
 
 namespace fly::raster {
 
@@ -131,6 +133,8 @@ enum VariantBit : uint32_t {
   kVariantBlendPass = 1u << 13,
   // Sunlight mode over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect).
   kVariantSunDirect = 1u << 14,
+  // The sun's direct term through clear glass times its T (raster/sun_glass.h): scenes with glass and a sun.
+  kVariantSunGlass = 1u << 15,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -190,8 +194,8 @@ struct ToneMapProgram {
   GLint op = -1, exposureScale = -1, whitePoint = -1;
 };
 
-// One draw of per-fragment surfaces (rdb::RasterRdb::shadedPerFragment): a material's opaque or cut-out meshes,
-// or one blended mesh, as a range of the draw-ordered index buffer (Renderer::uploadDraws).
+// One draw of per-fragment surfaces (rdb::RasterRdb::shadedPerFragment): a material's opaque or cut-out
+// meshes, or one blended mesh, as a range of the draw-ordered index buffer (Renderer::uploadDraws).
 struct SurfaceDraw {
   size_t firstIndex = 0;
   GLsizei indexCount = 0;
@@ -258,7 +262,7 @@ struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
-        material = -1;
+        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1;
 };
 
 struct Renderer::Gpu {
@@ -276,8 +280,8 @@ struct Renderer::Gpu {
   GLuint behindColor = 0;
   GLuint srgbFbo = 0, srgbColor = 0;
   // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
-  // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges), and
-  // for blended ones the blend target (RGBA32F, kBlendComposite) with its framebuffer (sharing `depth`).
+  // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges),
+  // and for blended ones the blend target (RGBA32F, kBlendComposite) with its framebuffer (sharing `depth`).
   GLuint uv0 = 0, uv1 = 0, colors = 0, tangents = 0, drawIndices = 0;
   std::vector<GLuint> textures;
   // One sampler object per distinct glTF sampler the materials use (samplerFor), by samplerKey.
@@ -297,9 +301,9 @@ struct Renderer::Gpu {
   bool everyMeshLightMapped = false;
 
   ~Gpu() {
-    const GLuint buffers[] = {positions, normals, corners,   surfaces, frontLux, backLux, indices,
-                              materials, lights,  gonio,     uv0,      uv1,      colors,  tangents,
-                              drawIndices, frontSunLux, backSunLux};
+    const GLuint buffers[] = {positions, normals,   corners,     surfaces,    frontLux,  backLux,
+                              indices,   materials, lights,      gonio,       uv0,       uv1,
+                              colors,    tangents,  drawIndices, frontSunLux, backSunLux};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteTextures(GLsizei(textures.size()), textures.data());
     for (const auto& [key, sampler] : samplers) glDeleteSamplers(1, &sampler);
@@ -372,6 +376,13 @@ unsigned Renderer::samplerFor(const rdb::RasterTextureRef& ref) {
 
 Renderer::~Renderer() = default;
 
+SunShadows::Compile Renderer::compiler() {
+  return [this](const std::string& name, const std::string& defines,
+                std::initializer_list<std::pair<unsigned, const char*>> stages) {
+    return compileProgram(name, defines, stages);
+  };
+}
+
 unsigned Renderer::compileProgram(const std::string& name, const std::string& defines,
                                   std::initializer_list<std::pair<unsigned, const char*>> stages) {
   const std::string head = "#version 450 core\n" + defines;
@@ -427,21 +438,23 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantVertexColor, "vertexcolor", "FLY_VERTEX_COLOR"},
                    {kVariantAlphaMask, "mask", "FLY_ALPHA_MASK"},
                    {kVariantBlendPass, "blend", "FLY_BLEND_PASS"},
-                   {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"}};
+                   {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"},
+                   {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
-  const std::string vertex = std::string(shaders::kSceneCommon) +
+  const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kSceneCommon +
                              (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
   const std::string fragment =
-      std::string(shaders::kLuminanceEncoding) +
-      (perFragment ? std::string(shaders::kSceneCommon) + shaders::kLightTextureLookup + shaders::kSurfaceFragment
-                   : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
-  const GLuint p = compileProgram(name, defines,
-                                  {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+      std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup +
+      (perFragment
+           ? std::string(shaders::kSceneCommon) + shaders::kLightTextureLookup + shaders::kSurfaceFragment
+           : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
+  const GLuint p = compileProgram(
+      name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
   sp.clipFromWorld = loc("uClipFromWorld");
   sp.eye = loc("uEyeM");
@@ -456,6 +469,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.textureSlots = loc("uTextureSlots");
   sp.uvRows = loc("uUvRows");
   sp.material = loc("uMaterial");
+  sp.sunGlassFromWorld = loc("uSunGlassFromWorld");
+  sp.sunGlassBias = loc("uSunGlassBiasM");
   sp.program = p;
   return sp;
 }
@@ -484,6 +499,7 @@ void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& ch
       const char casts = castsSunShadows(rdb.materials[i]) ? 1 : 0;
       shadowGeometryDirty_ |= casts != materialCasts_.at(i);
       materialCasts_[i] = casts;
+      sunGlassDirty_ = true;  // its T, or whether it is glass, may have changed
       for (SurfaceDraw& d : gpu_->surfaceDraws) {
         // Its samplers may have changed.
         if (d.material == i)
@@ -548,6 +564,7 @@ void Renderer::uploadGeometry() {
       std::all_of(r.meshes.begin(), r.meshes.end(), [](const rdb::RasterMesh& m) { return m.hasLightMap; });
   uploadLightTextures();
   shadowGeometryDirty_ = true;
+  sunGlassDirty_ = true;
   ++stats_.geometryUploads;
 }
 
@@ -670,6 +687,7 @@ void Renderer::uploadMaterials() {
   for (const rdb::RasterMaterial& x : r.materials) casts.push_back(castsSunShadows(x) ? 1 : 0);
   shadowGeometryDirty_ |= casts != materialCasts_;
   materialCasts_ = std::move(casts);
+  sunGlassDirty_ = true;
   ++stats_.materialTableUploads;
 }
 
@@ -896,14 +914,29 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const bool sunDirect = sunlight && lightMaps && v.sunDirect;
     const uint32_t shared = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
                             ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
-                            (sunDirect ? kVariantSunDirect : 0u) |
-                            (v.twoSided ? kVariantTwoSided : 0u) | (phong && v.goniometric ? kVariantGonio : 0u) |
+                            (sunDirect ? kVariantSunDirect : 0u) | (v.twoSided ? kVariantTwoSided : 0u) |
+                            (phong && v.goniometric ? kVariantGonio : 0u) |
                             (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
-    const uint32_t variant = shared | (v.glass ? kVariantGlass : 0u);
-    const uint32_t surfaceVariant = shared | kVariantPerFragment | (v.textures ? kVariantTextures : 0u) |
-                                    ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
-                                    (v.textures && v.uv1 ? kVariantUv1 : 0u) |
-                                    (v.vertexColors ? kVariantVertexColor : 0u);
+    // The sun through clear glass (raster/sun_glass.h), where a program draws the sun's direct term, the sun
+    // is above the horizon and the scene has clear glass: the transmittance map is rebuilt here only when the
+    // sun, the geometry or the materials changed.
+    uint32_t sunGlass = 0;
+    if ((shared & kVariantSun) && v.sun && v.glass) {
+      if (!sunGlass_) sunGlass_ = std::make_unique<SunGlassMap>(compiler());
+      if (sunGlassDirty_) {
+        sunGlass_->setGlass(r);
+        sunGlassDirty_ = false;
+        ++stats_.sunGlassUploads;
+      }
+      if (sunGlass_->build(r.sky->sunDirWorld, shadowSettings_.transmittanceMapTexels))
+        ++stats_.sunGlassBuilds;
+      if (!sunGlass_->empty()) sunGlass = kVariantSunGlass;
+    }
+    const uint32_t variant = shared | sunGlass | (v.glass ? kVariantGlass : 0u);
+    const uint32_t surfaceVariant =
+        shared | sunGlass | kVariantPerFragment | (v.textures ? kVariantTextures : 0u) |
+        ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
+        (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
@@ -918,13 +951,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const bool shadows =
         ((variant | surfaceVariant) & kVariantSun) && v.sun && shadowSettings_.mode != SunShadowMode::kOff;
     if (shadows) {
-      if (!shadows_) {
-        shadows_ = std::make_unique<SunShadows>(
-            [this](const std::string& name, const std::string& defines,
-                   std::initializer_list<std::pair<unsigned, const char*>> stages) {
-              return compileProgram(name, defines, stages);
-            });
-      }
+      if (!shadows_) shadows_ = std::make_unique<SunShadows>(compiler());
       if (shadowGeometryDirty_) {
         shadows_->setGeometry(r, gpu_->positions);
         shadowGeometryDirty_ = false;
@@ -948,6 +975,10 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       if (v.sun) {
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
+      }
+      if (programVariant & kVariantSunGlass) {
+        glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);
+        glUniform1f(p.sunGlassBias, sunGlass_->biasM());
       }
       return p;
     };
@@ -983,6 +1014,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, gpu_->lightRects);
         glBindTextureUnit(2, gpu_->lightTextures);
       }
+      if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
       glBindVertexArray(gpu_->vao);
       if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
       if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
@@ -1038,8 +1070,8 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glTextureParameteri(gpu_->behindColor, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(gpu_->behindColor, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
       }
-      glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0, 0,
-                         0, w, h, 1);
+      glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0,
+                         0, 0, w, h, 1);
       glBindTextureUnit(4, gpu_->behindColor);
       const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
@@ -1061,7 +1093,8 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glTextureStorage2D(gpu_->blendColor, 1, GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
         glCreateFramebuffers(1, &gpu_->blendFbo);
         glNamedFramebufferTexture(gpu_->blendFbo, GL_COLOR_ATTACHMENT0, gpu_->blendColor, 0);
-        glNamedFramebufferRenderbuffer(gpu_->blendFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, gpu_->depth);
+        glNamedFramebufferRenderbuffer(gpu_->blendFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                                       gpu_->depth);
       }
       glBindFramebuffer(GL_FRAMEBUFFER, gpu_->blendFbo);
       const GLfloat empty[4] = {0.0f, 0.0f, 0.0f, 1.0f};
@@ -1125,11 +1158,19 @@ void Renderer::setSunShadows(const SunShadowSettings& settings) {
     throw std::invalid_argument("the sun's visibility map takes 16 to 16384 texels per side, not " +
                                 std::to_string(settings.visibilityMapTexels));
   }
+  if (settings.transmittanceMapTexels < 16 || settings.transmittanceMapTexels > 16384) {
+    throw std::invalid_argument("the sun's transmittance map takes 16 to 16384 texels per side, not " +
+                                std::to_string(settings.transmittanceMapTexels));
+  }
   shadowSettings_ = settings;
 }
 
 SunShadowCounts Renderer::sunShadowCounts() const {
   return shadows_ ? shadows_->counts() : SunShadowCounts{};
+}
+
+SunGlassCounts Renderer::sunGlassCounts() const {
+  return sunGlass_ ? sunGlass_->counts() : SunGlassCounts{};
 }
 
 uint64_t Renderer::shadowVolumeFill() {

@@ -20,7 +20,11 @@
 // scene, a z-fail stencil pass of the sun's shadow volumes, then the pixels inside a volume drawn again at
 // equal depth without the sun (uSunNormalLux = 0: the colour target cannot blend). Glass and blended surfaces,
 // drawn after that, get the sun unshadowed. The volumes are rebuilt only when the sun's direction, the
-// geometry, the materials or the settings change.
+// geometry, the materials or the settings change. Clear glass casts no volume: the sun passes it times its
+// T(θ) (raster/sun_glass.h), from a transmittance map rendered from the sun (the product of the panes' T per
+// texel and the height of the one nearest the sun) that the sun term of every surface behind a pane reads per
+// fragment — built, and the FLY_SUN_GLASS variants compiled, only in scenes with clear glass and a sun above
+// the horizon, rebuilt only when the sun's direction, the geometry, the materials or the map's size change.
 // In every mode, clear glass (rdb::RasterMaterial::transmission) adds T(θ) times what lies behind it: the scene
 // is drawn without the glass, copied, and the glass drawn over it reading the copy — only in scenes with glass.
 // Textured surfaces (and those with COLOR_0 or alpha coverage: rdb::RasterRdb::shadedPerFragment) are shaded per
@@ -51,6 +55,7 @@
 
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
 
@@ -91,6 +96,8 @@ struct RendererStats {
   int shadowGeometryUploads = 0;  // the sun shadows' caster and edge tables (raster/sun_shadows.h)
   int shadowBuilds = 0;           // visibility map and shadow volumes (re)built: a new sun direction or geometry
   int shadowPasses = 0;           // frames drawn with the shadow volumes' stencil pass
+  int sunGlassUploads = 0;  // the clear glass's triangles for the sun's transmittance map (raster/sun_glass.h)
+  int sunGlassBuilds = 0;   // transmittance map (re)built: a new sun direction or glass
   int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
   int samplerObjects = 0;             // GL sampler objects: one per distinct glTF sampler drawn with
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
@@ -139,6 +146,8 @@ class Renderer {
   void setSunShadows(const SunShadowSettings& settings);
   // What the last shadow build made (read back from the GPU; zeros before the first).
   SunShadowCounts sunShadowCounts() const;
+  // What the last transmittance map through clear glass drew (raster/sun_glass.h; zeros before the first).
+  SunGlassCounts sunGlassCounts() const;
   // The fragments the last frame's shadow volumes rasterise with neither depth nor stencil test (their fill,
   // GL_SAMPLES_PASSED); 0 when it drew none. For benchmarks: it draws the volumes again.
   uint64_t shadowVolumeFill();
@@ -155,6 +164,7 @@ class Renderer {
   unsigned compileProgram(const std::string& name, const std::string& defines,
                           std::initializer_list<std::pair<unsigned, const char*>> stages);
   const SceneProgram& sceneProgram(uint32_t variant);
+  SunShadows::Compile compiler();  // compileProgram, for SunShadows and SunGlassMap
   unsigned samplerFor(const rdb::RasterTextureRef& ref);
   void uploadGeometry();
   void uploadLightTextures();
@@ -169,6 +179,8 @@ class Renderer {
   std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
   SunShadowSettings shadowSettings_;
   bool shadowGeometryDirty_ = true;
+  std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass
+  bool sunGlassDirty_ = true;
   std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;

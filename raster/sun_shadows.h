@@ -92,6 +92,9 @@ struct SunShadowSettings {
   SunShadowMode mode = SunShadowMode::kVisibilityMap;
   // Texels per side of the visibility map, [16, 16384] (capped at the driver's largest texture).
   uint32_t visibilityMapTexels = 2048;
+  // Texels per side of the sun's transmittance map through clear glass (raster/sun_glass.h), [16, 16384]
+  // (capped at the driver's largest texture).
+  uint32_t transmittanceMapTexels = 1024;
 
   bool operator==(const SunShadowSettings&) const = default;
 };

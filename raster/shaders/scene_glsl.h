@@ -12,6 +12,10 @@
 //   FLY_SUN_DIRECT sunlight mode over light maps that keep the sun's direct part apart (with FLY_LIGHT_MAP):
 //                  L = albedo · (E − E_sunDirect) / π + the sun's direct term (flySunTerm) for the current sun
 //                  (FLY §3: baked indirect light, real-time sun)
+//   FLY_SUN_GLASS  scenes with clear glass and a sun (with FLY_SUN): the sun's direct term times the T of the
+//                  glass between the surface and the sun, per fragment (raster/sun_glass.h; kSunGlassLookup,
+//                  prepended to every stage). Per-vertex meshes pass the sun's term apart from the rest
+//                  (vSunLuminance) for their fragment stage to multiply
 // The surfaces that rdb::RasterRdb::shadedPerFragment names (textures, COLOR_0, alpha coverage) are drawn by
 // kSurfaceVertex + kSurfaceFragment, which shade per fragment with the same terms, and these #defines too:
 //   FLY_TEXTURES      base colour, emission and normal textures (RasterMaterial's texture slots)
@@ -107,13 +111,26 @@ void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponen
 }
 #endif
 
-#if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
+#ifdef FLY_SUN
+// The sun's illuminance on a surface at p facing it (lux): per fragment with FLY_SUN_GLASS, times the T of the
+// clear glass between p and the sun; per vertex the fragment stage applies that T to the sun's term, which the
+// vertex stage passes apart (kSceneVertex).
+vec3 flySunLux(vec3 p) {
+#if defined(FLY_SUN_GLASS) && defined(FLY_PER_FRAGMENT)
+  return uSunNormalLux * flySunGlass(p);
+#else
+  return uSunNormalLux;
+#endif
+}
+#endif
+
+#if defined(FLY_SUN) && (defined(FLY_SUN_DIRECT) || defined(FLY_SUN_GLASS))
 // The sun's direct term of the modified Phong alone (cd/m²): what `phong` adds for the sun, for a light-mapped
-// surface whose light map holds everything but it.
+// surface whose light map holds everything but it, and for the sun's term kept apart (FLY_SUN_GLASS).
 vec3 flySunTerm(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye) {
   vec3 diffuseLux = vec3(0.0);
   vec3 specularLux = vec3(0.0);
-  addLight(p, n, toEye, uSunDirWorld, uSunNormalLux, m.specular.w, diffuseLux, specularLux);
+  addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, specularLux);
   return albedo / kPi * diffuseLux + m.specular.rgb * specularLux;
 }
 #endif
@@ -153,8 +170,8 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
     addLight(p, n, toEye, toLight, l.intensity.rgb * (cd * window / dist2), m.specular.w, diffuseLux,
              specularLux);
   }
-#ifdef FLY_SUN
-  addLight(p, n, toEye, uSunDirWorld, uSunNormalLux, m.specular.w, diffuseLux, specularLux);
+#if defined(FLY_SUN) && (!defined(FLY_SUN_GLASS) || defined(FLY_PER_FRAGMENT))
+  addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, specularLux);
 #endif
   // The directional ambient term (rdb/raster_rdb.h, DirectionalAmbient).
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
@@ -199,6 +216,10 @@ flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying cost
 out vec3 vTransmittance;  // T(θ) towards the eye
 flat out uint vGlass;
 #endif
+#ifdef FLY_SUN_GLASS
+out vec3 vSunLuminance;  // the sun's direct term (cd/m²), not in vLuminance: the fragment applies the glass's T
+out vec3 vPositionM;
+#endif
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
@@ -212,6 +233,10 @@ void main() {
   Material m = materials[aSurface & 0x3fffffffu];
   vec3 l = vec3(0.0);
   bool useLightMap = false;
+#ifdef FLY_SUN_GLASS
+  vSunLuminance = vec3(0.0);
+  vPositionM = aPositionM;
+#endif
 #ifdef FLY_LIGHT_MAP
   useLightMap = (aSurface & 0x80000000u) != 0u;
   // The sun's direct term drawn in real time over a light map without it (FLY_SUN_DIRECT), else 0.
@@ -232,6 +257,10 @@ void main() {
     sunTerm = flySunTerm(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye);
 #endif
 #endif
+#ifdef FLY_SUN_GLASS
+    vSunLuminance = sunTerm;
+    sunTerm = vec3(0.0);
+#endif
     l = flyLightMapReflectance(m.diffuse.rgb, m) * eLux / kPi + sunTerm;
   }
 #endif
@@ -248,7 +277,12 @@ void main() {
   }
 #endif
 #ifdef FLY_PHONG
-  if (!useLightMap) l = phong(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye, aCorner);
+  if (!useLightMap) {
+    l = phong(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye, aCorner);
+#ifdef FLY_SUN_GLASS
+    vSunLuminance = flySunTerm(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye);
+#endif
+  }
 #endif
   vLuminance = l + m.emission.rgb;
 #ifdef FLY_TWO_SIDED
@@ -344,6 +378,10 @@ in vec3 vLuminance;
 #ifdef FLY_TWO_SIDED
 flat in uint vTwoSided;
 #endif
+#ifdef FLY_SUN_GLASS
+in vec3 vSunLuminance;
+in vec3 vPositionM;
+#endif
 layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
 #ifdef FLY_GLASS
 in vec3 vTransmittance;
@@ -362,6 +400,11 @@ void main() {
   if ((vGlass != 0u) != (uGlassPass != 0)) discard;
 #endif
   vec3 l = vLuminance;
+#ifdef FLY_SUN_GLASS
+  // A pane's own sun term (its reflection) is not behind it (raster/sun_glass.h). The renderer compiles
+  // FLY_SUN_GLASS only for scenes with clear glass, so FLY_GLASS (vGlass) is defined with it.
+  l += vGlass != 0u ? vSunLuminance : vSunLuminance * flySunGlass(vPositionM);
+#endif
 #ifdef FLY_LIGHT_TEXTURE
   if (vLightSlot != 0xffffffffu) {
     l += vAlbedoOverPi * flyLightTexel(vLightSlot, vBack != 0u, vLightMapUv);
