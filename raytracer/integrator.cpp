@@ -84,10 +84,6 @@ float meanEmittedLuminance(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m
 
 }  // namespace
 
-bool sunLights(const rdb::TraceRdb& rdb) {
-  return rdb.hasSun && luminance(rdb.sun.normalIlluminanceLux) > 0.0f;
-}
-
 Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings)
     : rdb_(rdb), scene_(scene), settings_(settings) {
   if (rdb.triangleMaterial.size() != rdb.triangleCount()) {

@@ -319,7 +319,10 @@ class Integrator {
 };
 
 // Whether rdb's sun lights the scene: it has one, above the horizon (a sun below it has no illuminance).
-bool sunLights(const rdb::TraceRdb& rdb);
+// Inline: the checkpoint reader (and its fuzz target, which links no Embree) asks it too.
+inline bool sunLights(const rdb::TraceRdb& rdb) {
+  return rdb.hasSun && luminance(rdb.sun.normalIlluminanceLux) > 0.0f;
+}
 
 // Progressive passes over all points in parallel. A point's samples depend only on (seed + point index,
 // replicate, sample index), and each point's statistics are updated in sample order by one thread, so the
