@@ -574,6 +574,26 @@ TEST(Renderer, LightMapModeShowsAMetalAsARoughReflectorOfItsReflectance) {
 // pixel shows the texel that the wrap mode maps its UV into, computed here from the GL specification's
 // definitions (OpenGL 4.5 §8.14.2: REPEAT takes the fractional part, MIRRORED_REPEAT mirrors every other
 // copy, CLAMP_TO_EDGE clamps to the edge texels' centres). Unlit black ground, light map E = π lx: L = texel.
+// The 2 × 1 m quad (test::quadXY) of material m, its UV running from −1 to 2 along x and from 2.5 to −0.5
+// along y, under a light map of E = π lx (so L = the albedo).
+struct UvQuad {
+  rdb::RasterRdb rdb;
+  sdb::MaterialId material;
+  rdb::LightMapStore store;
+};
+UvQuad uvQuadUnderLightMap(sdb::Scene& s, const sdb::Material& m) {
+  UvQuad q;
+  q.material = s.addMaterial(m).id;
+  sdb::Mesh mesh = test::quadXY(q.material);
+  for (const vec3& p : mesh.positions)
+    mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
+  const sdb::MeshId meshId = s.addMesh(mesh).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  q.store.meshes.push_back({node.value, meshId.value, std::vector<Rgb>(4, Rgb(kPiF)), {}});
+  q.rdb = rdb::buildRasterRdb(s, &q.store);
+  return q;
+}
+
 TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
   context();
   const uint8_t texels[4][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {255, 255, 255}};
@@ -607,15 +627,7 @@ TEST(Renderer, SamplerWrapModesAndNearestFilteringPickTheExpectedTexels) {
       m.diffuseTexture.wrapT = wt;
       m.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
       m.diffuseTexture.minFilter = sdb::MinFilter::kNearest;
-      const sdb::MaterialId mat = s.addMaterial(m).id;
-      sdb::Mesh mesh = test::quadXY(mat);
-      for (const vec3& p : mesh.positions)
-        mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
-      const sdb::MeshId meshId = s.addMesh(mesh).id;
-      const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
-      rdb::LightMapStore store;
-      store.meshes.push_back({node.value, meshId.value, std::vector<Rgb>(4, Rgb(kPiF)), {}});
-      const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+      const rdb::RasterRdb r = uvQuadUnderLightMap(s, m).rdb;
       Renderer renderer;
       renderer.upload(r);
       constexpr uint32_t kW = 96, kH = 48;  // 24 pixels per metre: the quad is 48 × 24 pixels
@@ -656,29 +668,22 @@ TEST(Renderer, SamplerEditRendersLikeAFreshUpload) {
   m.reflectionColor = Rgb(0.0f);
   m.diffuseTexture.texture = addTexture(s, 2, 2, 3, {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255});
   m.diffuseTexture.magFilter = sdb::MagFilter::kNearest;
-  const sdb::MaterialId mat = s.addMaterial(m).id;
-  sdb::Mesh mesh = test::quadXY(mat);
-  for (const vec3& p : mesh.positions)
-    mesh.uv0.push_back(vec2(1.5f * (p.x + 1.0f) - 1.0f, 1.5f - 2.0f * (p.y + 0.5f)));
-  const sdb::MeshId meshId = s.addMesh(mesh).id;
-  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
-  rdb::LightMapStore store;
-  store.meshes.push_back({node.value, meshId.value, std::vector<Rgb>(4, Rgb(kPiF)), {}});
-  rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  UvQuad q = uvQuadUnderLightMap(s, m);
+  rdb::RasterRdb& r = q.rdb;
   Renderer renderer;
   renderer.upload(r);
   renderer.render(orthoView(false), RenderMode::kLightMap, 96, 48);
   const std::vector<float> repeat = renderer.luminanceRgb();
   m.diffuseTexture.wrapS = sdb::WrapMode::kClampToEdge;
   m.diffuseTexture.wrapT = sdb::WrapMode::kMirroredRepeat;
-  const rdb::RasterRdbChanges ch = rdb::updateRasterRdb(r, s, s.setMaterial(mat, m), &store);
+  const rdb::RasterRdbChanges ch = rdb::updateRasterRdb(r, s, s.setMaterial(q.material, m), &q.store);
   ASSERT_EQ(ch.materialBlocks, std::vector<uint32_t>{1});
   renderer.update(r, ch);
   renderer.render(orthoView(false), RenderMode::kLightMap, 96, 48);
   const std::vector<float> clamped = renderer.luminanceRgb();
   EXPECT_NE(repeat, clamped);
   EXPECT_EQ(renderer.stats().samplerObjects, 2);
-  const rdb::RasterRdb fresh = rdb::buildRasterRdb(s, &store);
+  const rdb::RasterRdb fresh = rdb::buildRasterRdb(s, &q.store);
   Renderer other;
   other.upload(fresh);
   other.render(orthoView(false), RenderMode::kLightMap, 96, 48);
