@@ -42,7 +42,7 @@ struct RenderOptions {
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
-  std::string shadows = "vismap";
+  std::string shadows = "classic";
   uint32_t shadowMapTexels = 2048;
   DaylightOptions daylight;
   std::string timeLapse;  // FROM,TO,STEP

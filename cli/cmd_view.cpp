@@ -36,7 +36,7 @@ struct ViewOptions {
   std::string size = "1280x720";
   std::optional<double> exposureEv100;
   std::string op = "filmic";
-  std::string shadows = "vismap";
+  std::string shadows = "classic";
   uint32_t shadowMapTexels = 2048;
   DaylightOptions daylight;
   uint64_t frames = 0;

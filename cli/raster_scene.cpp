@@ -70,8 +70,9 @@ ToneOperator parseToneOperator(const std::string& name) {
 
 void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityMapTexels) {
   sub.add_option("--shadows", shadows,
-                 "the sun's shadows where its direct term is drawn: vismap (shadow volumes of the triangles a "
-                 "visibility map from the sun finds; the default), classic (of every sun-facing triangle) or off");
+                 "the sun's shadows where its direct term is drawn: classic (shadow volumes of every sun-facing "
+                 "triangle; the default), vismap (of the triangles a visibility map from the sun finds: fewer, "
+                 "but a sun-lit sliver thinner than a texel can leak a streak of light) or off");
   sub.add_option("--shadow-map", visibilityMapTexels,
                  "texels per side of the sun's visibility map, 16 to 16384 (default 2048)");
 }

@@ -81,15 +81,18 @@ namespace fly::raster {
 
 enum class SunShadowMode {
   kOff,            // the sun's direct term unshadowed
-  kVisibilityMap,  // shadow volumes of the triangles the sun sees (the default)
-  kSunFacing,      // shadow volumes of every triangle facing the sun (the classic method, for comparison)
+  // Shadow volumes of the triangles the sun sees (FLY §3's pruning): fewer, but a sliver of a triangle that the
+  // sun sees, thinner than √2 texels, can be missed and leak a streak of light (the house's interior floor).
+  kVisibilityMap,
+  // Shadow volumes of every triangle facing the sun (the classic method): exact, the default.
+  kSunFacing,
 };
 
 // Whether triangles of material `m` cast the sun's shadows: all but clear glass and blended surfaces.
 bool castsSunShadows(const rdb::RasterMaterial& m);
 
 struct SunShadowSettings {
-  SunShadowMode mode = SunShadowMode::kVisibilityMap;
+  SunShadowMode mode = SunShadowMode::kSunFacing;
   // Texels per side of the visibility map, [16, 16384] (capped at the driver's largest texture).
   uint32_t visibilityMapTexels = 2048;
   // Texels per side of the sun's transmittance map through clear glass (raster/sun_glass.h), [16, 16384]

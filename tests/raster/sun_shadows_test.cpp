@@ -107,7 +107,7 @@ struct MaskCheck {
 // Renders `r` from `view` in `mode` with the sun's shadows and without, and compares the shadow mask with the
 // CPU's shadow rays (see the top of the file).
 MaskCheck checkShadowMask(const rdb::RasterRdb& r, const View& view, RenderMode mode, uint32_t w, uint32_t h,
-                          const SunShadowSettings& settings = {}) {
+                          const SunShadowSettings& settings = {SunShadowMode::kVisibilityMap}) {
   Renderer renderer;
   renderer.upload(r);
   renderer.setSunShadows({SunShadowMode::kOff});
@@ -305,6 +305,10 @@ TEST(SunShadows, ClosedCarWithInteriorMatchesShadowRaysAndPrunesTheInterior) {
   EXPECT_GT(c.shadowed, 1000u);
   EXPECT_GT(c.lit, 1000u);
   EXPECT_LT(c.edgeMismatches, (c.shadowed + c.lit) / 10);
+  // The classic method (the default) too.
+  const MaskCheck k = checkShadowMask(r, view, RenderMode::kSunlight, 320, 180, {SunShadowMode::kSunFacing});
+  EXPECT_EQ(k.mismatches, 0u);
+  EXPECT_LT(k.edgeMismatches, (k.shadowed + k.lit) / 10);
 
   SunShadowCounts counts[2];
   uint64_t fill[2];
@@ -342,6 +346,7 @@ TEST(SunShadows, CameraInsideAShadowVolume) {
   EXPECT_EQ(c.mismatches, 0u);
   EXPECT_GT(c.shadowed, 1000u);
   EXPECT_GT(c.lit, 1000u);
+  EXPECT_EQ(checkShadowMask(r, inside, RenderMode::kSimple, 320, 180, {SunShadowMode::kSunFacing}).mismatches, 0u);
   // The stencil pass took z-fail here (the near plane lies in a volume), z-pass from the sunlit viewpoint.
   Renderer renderer;
   renderer.upload(r);
