@@ -5,6 +5,8 @@
 #include <memory>
 
 #include "raster/gl_context.h"
+#include "raster/renderer.h"
+#include "sdb/camera.h"
 #include "sdb/scene.h"
 
 namespace fly::raster::test {
@@ -15,6 +17,16 @@ inline GlContext& context() {
   static const std::unique_ptr<GlContext> c = createHeadlessContext();
   c->makeCurrent();
   return *c;
+}
+
+// A perspective view (0.9 rad vertical field, near plane 5 cm) from `eye` towards `target`, +Y up.
+inline View lookAtView(const vec3& eye, const vec3& target, float zfarM) {
+  View v;
+  v.worldFromCamera = sdb::lookAtTransform(eye, target, vec3(0, 1, 0));
+  v.yfovRad = 0.9f;
+  v.znearM = 0.05f;
+  v.zfarM = zfarM;
+  return v;
 }
 
 // A quad in the local XY plane from (−1, −0.5) to (1, 0.5) at z = 0, normals +Z, counter-clockwise seen from

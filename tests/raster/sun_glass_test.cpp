@@ -35,14 +35,7 @@ constexpr float kPaneHeightM = 1.0f;  // the pane: y = 1, x and z in [−1, 1]
 constexpr float kPlateLo = 0.5f, kPlateHi = 0.8f, kPlateBottomM = 1.4f, kPlateTopM = 1.45f;  // x and z
 const Rgb kTransmission(0.9f, 0.7f, 0.5f);
 
-View lookAt(const vec3& eye, const vec3& target) {
-  View v;
-  v.worldFromCamera = sdb::lookAtTransform(eye, target, vec3(0, 1, 0));
-  v.yfovRad = 0.9f;
-  v.znearM = 0.05f;
-  v.zfarM = 100.0f;
-  return v;
-}
+View lookAt(const vec3& eye, const vec3& target) { return test::lookAtView(eye, target, 100.0f); }
 
 enum class Floor { kPerVertex, kPerFragment, kBakedSunDirect };
 

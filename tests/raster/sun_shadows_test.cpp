@@ -89,14 +89,7 @@ class CpuTracer {
   std::vector<Tri> tris_;
 };
 
-View lookAt(const vec3& eye, const vec3& target) {
-  View v;
-  v.worldFromCamera = sdb::lookAtTransform(eye, target, vec3(0, 1, 0));
-  v.yfovRad = 0.9f;
-  v.znearM = 0.05f;
-  v.zfarM = 200.0f;
-  return v;
-}
+View lookAt(const vec3& eye, const vec3& target) { return test::lookAtView(eye, target, 200.0f); }
 
 struct MaskCheck {
   size_t lit = 0, shadowed = 0;  // pixels compared, by the rays' verdict
