@@ -135,6 +135,8 @@ enum VariantBit : uint32_t {
   kVariantSunDirect = 1u << 14,
   // The sun's direct term through clear glass times its T (raster/sun_glass.h): scenes with glass and a sun.
   kVariantSunGlass = 1u << 15,
+  // Measured BRDFs shown by their ball textures (raster/ball_texture.h): scenes with such materials.
+  kVariantMeasured = 1u << 16,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -262,7 +264,7 @@ struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
-        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1;
+        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, viewFromWorld = -1;
 };
 
 struct Renderer::Gpu {
@@ -439,7 +441,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantAlphaMask, "mask", "FLY_ALPHA_MASK"},
                    {kVariantBlendPass, "blend", "FLY_BLEND_PASS"},
                    {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"},
-                   {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"}};
+                   {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"},
+                   {kVariantMeasured, "measured", "FLY_MEASURED"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -471,6 +474,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.material = loc("uMaterial");
   sp.sunGlassFromWorld = loc("uSunGlassFromWorld");
   sp.sunGlassBias = loc("uSunGlassBiasM");
+  sp.ballLayer = loc("uBallLayer");
+  sp.viewFromWorld = loc("uViewFromWorld");
   sp.program = p;
   return sp;
 }
@@ -482,6 +487,16 @@ void Renderer::upload(const rdb::RasterRdb& rdb) {
   uploadMaterials();
   uploadLights();
   uploadSky();
+}
+
+void Renderer::setBallSettings(const BallSettings& settings) {
+  if (!balls_) balls_ = std::make_unique<BallTextures>(compiler());
+  balls_->setSettings(settings);
+}
+
+std::vector<float> Renderer::ballLayer(uint32_t layer) const {
+  if (!balls_ || stats_.ballsMade == 0) throw std::logic_error("Renderer::ballLayer before a ball was made");
+  return balls_->readLayer(layer);
 }
 
 void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes) {
@@ -688,6 +703,7 @@ void Renderer::uploadMaterials() {
   shadowGeometryDirty_ |= casts != materialCasts_;
   materialCasts_ = std::move(casts);
   sunGlassDirty_ = true;
+  ballBrdfsDirty_ = true;
   ++stats_.materialTableUploads;
 }
 
@@ -934,7 +950,8 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     }
     const uint32_t variant = shared | sunGlass | (v.glass ? kVariantGlass : 0u);
     const uint32_t surfaceVariant =
-        shared | sunGlass | kVariantPerFragment | (v.textures ? kVariantTextures : 0u) |
+        shared | sunGlass | kVariantPerFragment | (v.measuredBrdf ? kVariantMeasured : 0u) |
+        (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u);
     const vec3 eye(view.worldFromCamera[3]);
@@ -959,6 +976,38 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       }
       if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
     }
+    // The measured materials' balls under this frame's lights (raster/ball_texture.h): remade only where
+    // the view's rotation, the lights, the environment or the BRDFs changed.
+    const mat3 viewFromWorld = glm::transpose(mat3(view.worldFromCamera));
+    if (v.measuredBrdf) {
+      if (!balls_) balls_ = std::make_unique<BallTextures>(compiler());
+      if (ballBrdfsDirty_) {
+        balls_->setBrdfs(r);
+        ballBrdfsDirty_ = false;
+      }
+      BallLighting lighting;
+      lighting.viewFromWorld = viewFromWorld;
+      lighting.sun = v.sun;
+      if (v.sun) {
+        lighting.sunDirWorld = r.sky->sunDirWorld;
+        lighting.sunLux = sunLux;
+      }
+      // The sky where it is drawn (sunlight mode) or baked with (light maps); simple mode's directional
+      // ambient term as two hemispheres otherwise.
+      if (v.sky && mode != RenderMode::kSimple) {
+        lighting.environment = BallLighting::Environment::kSky;
+        lighting.skyTexture = gpu_->skyTexture;
+        lighting.skyVersion = uint64_t(stats_.skyUploads);
+      } else if (maxComponent(r.ambient.upLux) > 0.0f || maxComponent(r.ambient.downLux) > 0.0f) {
+        lighting.environment = BallLighting::Environment::kHemispheres;
+        lighting.upLux = r.ambient.upLux;
+        lighting.downLux = r.ambient.downLux;
+      }
+      const int made = balls_->update(r, lighting);
+      stats_.ballsMade += made;
+      stats_.ballsReused += int(r.measuredBrdfs.size()) - made;
+      glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
+    }
     // The sun's illuminance the scene programs get (uSunNormalLux): 0 in the pass over shadowed pixels.
     vec3 sunPassLux = sunLux;
     // Binds a scene program and sets its uniforms.
@@ -976,6 +1025,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
+      if (programVariant & kVariantMeasured) glUniformMatrix3fv(p.viewFromWorld, 1, GL_FALSE, &viewFromWorld[0][0]);
       if (programVariant & kVariantSunGlass) {
         glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);
         glUniform1f(p.sunGlassBias, sunGlass_->biasM());
@@ -987,6 +1037,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     auto bindTextures = [&](const SceneProgram& p, const SurfaceDraw& d) {
       const rdb::RasterMaterial& m = r.materials[d.material];
       glUniform1ui(p.material, d.material);
+      glUniform1i(p.ballLayer, m.measured == rdb::RasterTextureRef::kNone ? -1 : GLint(2 * m.measured));
       const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
       GLuint bits = 0;
       vec4 rows[6];
@@ -1015,6 +1066,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glBindTextureUnit(2, gpu_->lightTextures);
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
+      if (v.measuredBrdf) glBindTextureUnit(9, balls_->texture());
       glBindVertexArray(gpu_->vao);
       if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
       if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);

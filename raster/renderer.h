@@ -55,6 +55,7 @@
 
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "raster/ball_texture.h"
 #include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
@@ -101,6 +102,8 @@ struct RendererStats {
   int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
   int samplerObjects = 0;             // GL sampler objects: one per distinct glTF sampler drawn with
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
+  int ballsMade = 0;    // measured materials' ball textures made (raster/ball_texture.h)
+  int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
 
@@ -152,6 +155,12 @@ class Renderer {
   // GL_SAMPLES_PASSED); 0 when it drew none. For benchmarks: it draws the volumes again.
   uint64_t shadowVolumeFill();
 
+  // The measured materials' ball textures' size and environment quadrature (raster/ball_texture.h);
+  // std::invalid_argument out of range. Default: BallSettings{}.
+  void setBallSettings(const BallSettings& settings);
+  // A layer of the ball textures, as last made (BallTextures::readLayer); for tests.
+  std::vector<float> ballLayer(uint32_t layer) const;
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -181,6 +190,8 @@ class Renderer {
   bool shadowGeometryDirty_ = true;
   std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass
   bool sunGlassDirty_ = true;
+  std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
+  bool ballBrdfsDirty_ = true;
   std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;

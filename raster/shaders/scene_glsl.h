@@ -25,6 +25,8 @@
 //   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
 //   FLY_BLEND_PASS    a blended surface: writes (coverage · L, coverage) into the blend target, composited
 //                     over the image by kBlendComposite
+//   FLY_MEASURED      measured BRDFs (rdb::RasterMeasuredBrdf): a material with one shows its ball texture
+//                     (raster/ball_texture.h) by reflection mapping (kMeasuredLookup)
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
@@ -463,7 +465,7 @@ layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(nor
 out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -485,7 +487,7 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -532,7 +534,7 @@ void main() {
 // the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -589,6 +591,64 @@ layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", bac
 layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
 #endif
 
+#ifdef FLY_MEASURED
+// The draw's material's ball (raster/ball_texture.h): layer uBallLayer the lights and the environment,
+// uBallLayer + 1 the sun; −1 for a material without a measured BRDF.
+layout(binding = 9) uniform sampler2DArray uBalls;
+uniform int uBallLayer;
+uniform mat3 uViewFromWorld;
+
+// Sphere mapping with the view direction per pixel: the reflection r of the direction to the eye about the
+// normal (view frame) is what the ball shows at the normal halfway between r and the ball's +Z.
+vec2 flyBallUv(vec3 n, vec3 toEye) {
+  vec3 nView = uViewFromWorld * n;
+  vec3 vView = uViewFromWorld * toEye;
+  vec3 r = 2.0 * dot(nView, vView) * nView - vView;
+  vec3 h = r + vec3(0.0, 0.0, 1.0);
+  float len = length(h);
+  vec2 xy = len > 1e-6 ? h.xy / len : vec2(1.0, 0.0);
+  return xy * 0.5 + 0.5;
+}
+
+// Luminance (cd/m²) under the current lights: the ball's lights and environment plus its sun where the sun
+// reaches the pixel (uSunNormalLux is 0 in the shadow pass), times the glass's T on the way (FLY_SUN_GLASS).
+vec3 flyMeasuredLit(vec3 n, vec3 toEye) {
+  vec2 uv = flyBallUv(n, toEye);
+  vec3 l = texture(uBalls, vec3(uv, float(uBallLayer))).rgb;
+  vec3 sunFactor = vec3(max(uSunNormalLux.r, max(uSunNormalLux.g, uSunNormalLux.b)) > 0.0 ? 1.0 : 0.0);
+#if defined(FLY_SUN) && defined(FLY_SUN_GLASS)
+  sunFactor *= flySunGlass(vPositionM);
+#endif
+  return l + sunFactor * texture(uBalls, vec3(uv, float(uBallLayer + 1))).rgb;
+}
+
+#ifdef FLY_LIGHT_MAP
+// Luminance under baked light of irradiance eLux (lux): an irradiance light map does not say where its light
+// came from, which a measured BRDF needs, so the ball's directional distribution is kept and scaled to the
+// baked level: L = Y(E_baked) · (ball + ε · albedo/π) / (Y(E_ball) + ε), with E_ball the irradiance the ball's
+// own light gives the pixel's normal (the balls' a, read at the normal's own texel). Shadows and
+// interreflections scale the highlight; where the ball's light gives nothing (E_ball ≪ ε) it is a diffuse
+// albedo · E / π. ε = 10⁻³ · Y(E_baked) + 10⁻⁶ lux. Over light maps that keep the sun apart (FLY_SUN_DIRECT)
+// the ratio is of the other light, and the ball's sun is added as in flyMeasuredLit.
+vec3 flyMeasuredLightMap(vec3 eLux, vec3 albedo, vec3 n, vec3 toEye) {
+  vec2 uv = flyBallUv(n, toEye);
+  vec3 nView = uViewFromWorld * n;
+  vec2 nUv = (nView.z > 0.0 ? nView.xy : normalize(nView.xy + vec2(1e-12, 0.0))) * 0.5 + 0.5;
+  float eBaked = dot(eLux, vec3(0.2126, 0.7152, 0.0722));
+  float eps = 1e-3 * eBaked + 1e-6;
+  vec3 lights = texture(uBalls, vec3(uv, float(uBallLayer))).rgb;
+  float eBall = texture(uBalls, vec3(nUv, float(uBallLayer))).a;
+#if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
+  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps) + flyMeasuredLit(n, toEye) - lights;
+#else
+  lights += texture(uBalls, vec3(uv, float(uBallLayer + 1))).rgb;
+  eBall += texture(uBalls, vec3(nUv, float(uBallLayer + 1))).a;
+  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps);
+#endif
+}
+#endif
+#endif
+
 #ifdef FLY_TEXTURES
 vec2 flyTextureUv(vec4 row0, vec4 row1) {
 #ifdef FLY_UV1
@@ -625,7 +685,7 @@ void main() {
 #endif
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
   // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 n = normalize(vNormal);
@@ -674,10 +734,23 @@ void main() {
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
 #endif
+#ifdef FLY_MEASURED
+    if (uBallLayer >= 0) l = flyMeasuredLightMap(eLux, base.rgb, n, toEye);
+#endif
   }
 #endif
 #ifdef FLY_PHONG
-  if (!useLightMap) l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+  if (!useLightMap) {
+#ifdef FLY_MEASURED
+    if (uBallLayer >= 0) {
+      l = flyMeasuredLit(n, toEye);
+    } else {
+      l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+    }
+#else
+    l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+#endif
+  }
 #endif
   l += emission;
   // The back of a one-sided surface shows black (kSceneFragment).

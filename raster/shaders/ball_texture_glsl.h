@@ -1,0 +1,248 @@
+// GLSL 4.50 sources of the ball textures (raster/ball_texture.h; FLY §4): the measured BRDFs of
+// rdb::RasterMeasuredBrdf evaluated per texel — the MERL table by the same trilinear interpolation as
+// sdb::MeasuredBrdf::evalPerSr, the car-paint model by the same formulas as sdb::CarPaintBrdf::evalPerSr — and
+// the compute pass that writes a ball. Units: illuminance in lux, radiance in cd/m², BRDF in 1/sr.
+#pragma once
+
+namespace fly::raster::shaders {
+
+// The BRDF evaluation (prepended to kBallCompute).
+inline constexpr const char* kMeasuredBrdf = R"GLSL(
+const float kPi = 3.14159265358979;
+
+// rdb::RasterMeasuredBrdf as a std430 block (raster/ball_texture.cpp, GpuBallBrdf).
+struct BallBrdf {
+  vec4 kind;               // x 0 table, 1 car paint; y the table's first θh slice in uBrdfTables; z coat η; w coat α
+  vec4 base;               // rgb the pigment's albedo, w the coat's internal diffuse reflectance F̄int
+  vec4 lobes[3];           // rgb the flakes' F0 (0: no lobe), w GGX α
+  vec4 albedo[FLY_ALBEDO_STEPS];  // rgb ρ(θo) at cos θo = (k + 0.5) / FLY_ALBEDO_STEPS
+};
+layout(std430, binding = 0) readonly buffer BallBrdfs { BallBrdf brdfs[]; };
+// The MERL tables one after the other along z: texel (φd, θd, first slice + θh), rgb 1/sr, a 1 where measured.
+layout(binding = 0) uniform sampler3D uBrdfTables;
+
+// sdb::MeasuredBrdf::evalPerSr: trilinear in (√(θh/(π/2)), θd, φd) over the corners that were measured.
+vec3 flyTableBrdf(int firstSlice, vec3 wi, vec3 wo) {
+  if (!(wi.z > 0.0) || !(wo.z > 0.0)) return vec3(0.0);
+  vec3 h = normalize(wi + wo);
+  float sinH = length(h.xy);
+  float thetaH = atan(sinH, h.z);
+  // Rusinkiewicz's rotation taking h to the normal, as a frame: ωi's coordinates in it are the difference
+  // vector (sdb::halfDiffAngles).
+  vec3 hx = vec3(1.0, 0.0, 0.0), hy = vec3(0.0, 1.0, 0.0);
+  if (sinH > 1e-9) {
+    vec2 cs = h.xy / sinH;
+    hx = vec3(h.z * cs.x, h.z * cs.y, -sinH);
+    hy = vec3(-cs.y, cs.x, 0.0);
+  }
+  vec3 diff = vec3(dot(wi, hx), dot(wi, hy), dot(wi, h));
+  float sinD = length(diff.xy);
+  float thetaD = atan(sinD, diff.z);
+  float phiD = sinD > 1e-12 ? mod(atan(diff.y, diff.x), kPi) : 0.0;
+  float x = clamp(sqrt(max(0.0, thetaH / (0.5 * kPi))) * 90.0, 0.0, 89.0);
+  float y = clamp(thetaD / (0.5 * kPi) * 90.0, 0.0, 89.0);
+  float z = clamp(phiD / kPi * 180.0, 0.0, 180.0);
+  int h0 = min(int(x), 88), d0 = min(int(y), 88), p0 = min(int(z), 179);
+  int p1 = (p0 + 1) % 180;
+  vec3 f = vec3(x - float(h0), y - float(d0), z - float(p0));
+  vec3 sum = vec3(0.0);
+  float weightSum = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    int hi = h0 + (c & 1), di = d0 + ((c >> 1) & 1), pi = (c & 4) != 0 ? p1 : p0;
+    float w = ((c & 1) != 0 ? f.x : 1.0 - f.x) * ((c & 2) != 0 ? f.y : 1.0 - f.y) * ((c & 4) != 0 ? f.z : 1.0 - f.z);
+    vec4 s = texelFetch(uBrdfTables, ivec3(pi, di, firstSlice + hi), 0);
+    if (w > 0.0 && s.a > 0.5) {
+      sum += w * s.rgb;
+      weightSum += w;
+    }
+  }
+  return weightSum > 0.0 ? sum / weightSum : texelFetch(uBrdfTables, ivec3(p0, d0, firstSlice + h0), 0).rgb;
+}
+
+// Walter et al. 2007, eq. 33 (GGX D) and eq. 34 (Smith G1), as sdb/car_paint_brdf.cpp.
+float flyGgxD(float cosThetaH, float alpha) {
+  float a2 = alpha * alpha;
+  float d = cosThetaH * cosThetaH * (a2 - 1.0) + 1.0;
+  return a2 / (kPi * d * d);
+}
+float flySmithG1(float cosTheta, float alpha) {
+  float c2 = cosTheta * cosTheta;
+  float tan2 = max(0.0, 1.0 - c2) / max(c2, 1e-12);
+  return 2.0 / (1.0 + sqrt(1.0 + alpha * alpha * tan2));
+}
+float flyGgxLobe(vec3 wi, vec3 wo, float alpha, out float cosThetaD) {
+  vec3 h = normalize(wi + wo);
+  cosThetaD = clamp(dot(wi, h), 0.0, 1.0);
+  return flyGgxD(h.z, alpha) * flySmithG1(wi.z, alpha) * flySmithG1(wo.z, alpha) / (4.0 * wi.z * wo.z);
+}
+float flyDielectricFresnel(float cosTheta, float eta) {
+  float c = clamp(cosTheta, 0.0, 1.0);
+  float sin2t = (1.0 - c * c) / (eta * eta);
+  if (sin2t >= 1.0) return 1.0;
+  float ct = sqrt(1.0 - sin2t);
+  float rs = (c - eta * ct) / (c + eta * ct);
+  float rp = (eta * c - ct) / (eta * c + ct);
+  return 0.5 * (rs * rs + rp * rp);
+}
+vec3 flyRefractedInside(vec3 w, float eta) {
+  vec2 t = w.xy / eta;
+  return vec3(t, sqrt(max(0.0, 1.0 - dot(t, t))));
+}
+
+// sdb::CarPaintBrdf::evalPerSr: the coat's GGX reflection plus the base (diffuse and flake lobes) through it.
+vec3 flyCarPaintBrdf(BallBrdf b, vec3 wi, vec3 wo) {
+  if (!(wi.z > 0.0) || !(wo.z > 0.0)) return vec3(0.0);
+  float eta = b.kind.z;
+  vec3 f = vec3(0.0);
+  float through = 1.0;
+  vec3 wiBase = wi, woBase = wo;
+  if (eta > 1.0) {
+    float cosThetaD;
+    float lobe = flyGgxLobe(wi, wo, b.kind.w, cosThetaD);
+    f += vec3(flyDielectricFresnel(cosThetaD, eta) * lobe);
+    through = (1.0 - flyDielectricFresnel(wi.z, eta)) * (1.0 - flyDielectricFresnel(wo.z, eta)) / (eta * eta);
+    wiBase = flyRefractedInside(wi, eta);
+    woBase = flyRefractedInside(wo, eta);
+  }
+  vec3 base = b.base.rgb / (kPi * (vec3(1.0) - b.base.rgb * b.base.w));
+  for (int k = 0; k < 3; ++k) {
+    vec3 f0 = b.lobes[k].rgb;
+    if (f0 == vec3(0.0)) continue;
+    float cosThetaD;
+    float lobe = flyGgxLobe(wiBase, woBase, b.lobes[k].w, cosThetaD);
+    float x = 1.0 - cosThetaD;
+    float x2 = x * x;
+    base += (f0 + (vec3(1.0) - f0) * (x2 * x2 * x)) * lobe;
+  }
+  return f + through * base;
+}
+
+// The BRDF (1/sr) of brdfs[index] for unit directions in the surface's frame (z = normal).
+vec3 flyMeasuredBrdf(int index, vec3 wi, vec3 wo) {
+  BallBrdf b = brdfs[index];
+  return b.kind.x < 0.5 ? flyTableBrdf(int(b.kind.y), wi, wo) : flyCarPaintBrdf(b, wi, wo);
+}
+
+// ρ(θo), linear between the table's samples.
+vec3 flyAlbedo(int index, float cosThetaOut) {
+  float x = clamp(cosThetaOut * float(FLY_ALBEDO_STEPS) - 0.5, 0.0, float(FLY_ALBEDO_STEPS - 1));
+  int k = min(int(x), FLY_ALBEDO_STEPS - 2);
+  return mix(brdfs[index].albedo[k].rgb, brdfs[index].albedo[k + 1].rgb, x - float(k));
+}
+)GLSL";
+
+// One ball: texel (i, j) of an N × N image is the point (x, y) = ((i + ½)/N · 2 − 1, (j + ½)/N · 2 − 1) of a
+// unit ball seen along −Z of the view frame (orthographic), its normal n = (x, y, √(1 − x² − y²)) and the
+// direction to the eye ωo = +Z. Texels outside the disc take the normal at radius 1 − 1/N (what bilinear
+// filtering near the rim reads). Layer z = 0: the lights and the environment, a = the luminance of their
+// irradiance on the texel's normal (lux); layer z = 1: the sun alone, a = its irradiance's luminance.
+//   lights:      Σ f(ωi, ωo) cos θi E_i, each light a distant one (ωi towards it, E_i its illuminance, lux)
+//   environment: ∫ f(ωi, ωo) cos θi L(ωi) dωi ≈ ρ(θo) · Σ w f L / Σ w f over a midpoint grid of the half
+//                vector (θh = u² · π/2, φh), ωi = 2(ωo·h)h − ωo, w = cos θi · 4 (ωo·h) · sin θh · u: the
+//                BRDF-weighted mean of L times the exact albedo, so a coarse grid errs only where L varies
+//                within the lobe; its irradiance π · Σ w' L / Σ w' likewise (w' without f), or for the two
+//                hemispheres exactly, from their view factors
+inline constexpr const char* kBallCompute = R"GLSL(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rgba32f) uniform writeonly image2DArray uBalls;
+struct BallLight {
+  vec4 toLightView;  // xyz unit, towards the light, view frame
+  vec4 lux;          // rgb illuminance on a surface facing it
+};
+layout(std430, binding = 1) readonly buffer BallLights { BallLight ballLights[]; };
+layout(binding = 1) uniform sampler2D uSky;  // rdb::RasterSky's equirectangular image, world directions
+uniform int uBrdf;           // index into brdfs
+uniform int uFirstLayer;     // the ball's layer 0 in uBalls
+uniform int uSize;           // N
+uniform int uLightCount;
+uniform vec3 uSunView;       // unit, towards the sun, view frame
+uniform vec3 uSunLux;        // 0: no sun
+uniform int uEnvironment;    // 0 none, 1 two hemispheres (uUpCdM2 above, uDownCdM2 below), 2 the sky image
+uniform vec3 uUpView;        // world +Y in the view frame
+uniform vec3 uUpCdM2;
+uniform vec3 uDownCdM2;
+uniform mat3 uWorldFromView;
+uniform int uEnvSteps;       // grid steps per axis of the environment quadrature
+
+vec3 flyEnvironment(vec3 dView) {
+  if (uEnvironment == 1) return dot(dView, uUpView) > 0.0 ? uUpCdM2 : uDownCdM2;
+  vec3 d = uWorldFromView * dView;
+  float phi = atan(d.z, d.x);
+  if (phi < 0.0) phi += 2.0 * kPi;
+  float theta = acos(clamp(d.y, -1.0, 1.0));
+  return textureLod(uSky, vec2(phi / (2.0 * kPi), theta / kPi), 0.0).rgb;
+}
+
+float flyLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+void main() {
+  ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+  if (texel.x >= uSize || texel.y >= uSize) return;
+  int layer = int(gl_GlobalInvocationID.z);
+  vec2 xy = (vec2(texel) + 0.5) / float(uSize) * 2.0 - 1.0;
+  float rimRadius = 1.0 - 1.0 / float(uSize);
+  float r2 = dot(xy, xy);
+  if (r2 > rimRadius * rimRadius) {
+    xy *= rimRadius * inversesqrt(r2);
+    r2 = rimRadius * rimRadius;
+  }
+  vec3 n = vec3(xy, sqrt(max(0.0, 1.0 - r2)));
+  // The surface frame: any tangent (the BRDFs are isotropic).
+  vec3 t = normalize(cross(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), n));
+  vec3 b = cross(n, t);
+  mat3 viewFromLocal = mat3(t, b, n);
+  vec3 wo = vec3(t.z, b.z, n.z);  // +Z in the surface frame
+  vec3 l = vec3(0.0);
+  float eLux = 0.0;
+  if (layer == 1) {
+    vec3 wi = transpose(viewFromLocal) * uSunView;
+    l = flyMeasuredBrdf(uBrdf, wi, wo) * max(wi.z, 0.0) * uSunLux;
+    eLux = flyLuminance(uSunLux) * max(wi.z, 0.0);
+  } else {
+    for (int k = 0; k < uLightCount; ++k) {
+      vec3 wi = transpose(viewFromLocal) * ballLights[k].toLightView.xyz;
+      l += flyMeasuredBrdf(uBrdf, wi, wo) * max(wi.z, 0.0) * ballLights[k].lux.rgb;
+      eLux += flyLuminance(ballLights[k].lux.rgb) * max(wi.z, 0.0);
+    }
+    if (uEnvironment != 0) {
+      vec3 sumFL = vec3(0.0), sumF = vec3(0.0);
+      float sumL = 0.0, sumW = 0.0;
+      for (int a = 0; a < uEnvSteps; ++a) {
+        float u = (float(a) + 0.5) / float(uEnvSteps);
+        float thetaH = u * u * 0.5 * kPi;
+        float sinH = sin(thetaH), cosH = cos(thetaH);
+        for (int c = 0; c < uEnvSteps; ++c) {
+          float phi = 2.0 * kPi * (float(c) + 0.5) / float(uEnvSteps);
+          vec3 h = vec3(sinH * cos(phi), sinH * sin(phi), cosH);
+          float woDotH = dot(wo, h);
+          if (woDotH <= 0.0) continue;
+          vec3 wi = 2.0 * woDotH * h - wo;
+          if (wi.z <= 0.0) continue;
+          float w = wi.z * 4.0 * woDotH * sinH * u;
+          vec3 radiance = flyEnvironment(viewFromLocal * wi);
+          vec3 f = flyMeasuredBrdf(uBrdf, wi, wo);
+          sumFL += w * f * radiance;
+          sumF += w * f;
+          if (uEnvironment == 2) {
+            sumL += w * flyLuminance(radiance);
+            sumW += w;
+          }
+        }
+      }
+      vec3 albedo = flyAlbedo(uBrdf, wo.z);
+      l += vec3(sumF.r > 0.0 ? albedo.r * sumFL.r / sumF.r : 0.0, sumF.g > 0.0 ? albedo.g * sumFL.g / sumF.g : 0.0,
+                sumF.b > 0.0 ? albedo.b * sumFL.b / sumF.b : 0.0);
+      if (uEnvironment == 1) {
+        // Two uniform hemispheres: the view factors (1 ± cos θ)/2 of a plane tilted θ from the up direction.
+        float c = dot(n, uUpView);
+        eLux += kPi * flyLuminance(uUpCdM2 * (0.5 + 0.5 * c) + uDownCdM2 * (0.5 - 0.5 * c));
+      } else if (sumW > 0.0) {
+        eLux += kPi * sumL / sumW;
+      }
+    }
+  }
+  imageStore(uBalls, ivec3(texel, uFirstLayer + layer), vec4(l, eLux));
+}
+)GLSL";
+
+}  // namespace fly::raster::shaders
