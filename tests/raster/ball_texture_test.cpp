@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "../support/helsinki_daylight.h"
 #include "raster/ball_texture.h"
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
@@ -391,6 +393,159 @@ TEST(BallTexture, DistantLightApproximationBreaksDownNearALargeObject) {
   EXPECT_GT(errors.front(), 0.3);   // 1.5 radii: the ball's one direction is far from most points'
   EXPECT_LT(errors.back(), 0.1);    // 20 radii
   for (size_t k = 1; k < errors.size(); ++k) EXPECT_LT(errors[k], errors[k - 1]);
+}
+
+// Fine quadrature (kSteps² half vectors) of ∫ f cos θi L dωi on the CPU for the ball texel of view-frame
+// normal nView, with ωo = the view's +Z and `radiance` a function of the world direction.
+template <class Radiance>
+Rgb environmentReference(const Brdf& brdf, const mat3& worldFromView, const vec3& nView, const Radiance& radiance) {
+  const vec3 n = worldFromView * nView;
+  const vec3 wo = worldFromView * vec3(0.0f, 0.0f, 1.0f);
+  const vec3 t = glm::normalize(glm::cross(std::abs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), n));
+  const vec3 bt = glm::cross(n, t);
+  const vec3 woLocal(glm::dot(wo, t), glm::dot(wo, bt), glm::dot(wo, n));
+  constexpr int kSteps = 512;
+  dvec3 sum(0.0);
+  for (int p = 0; p < kSteps; ++p) {
+    const double u = (p + 0.5) / kSteps, thetaH = u * u * kPi / 2;
+    for (int q = 0; q < kSteps; ++q) {
+      const double phi = 2.0 * kPi * (q + 0.5) / kSteps;
+      const vec3 h(float(std::sin(thetaH) * std::cos(phi)), float(std::sin(thetaH) * std::sin(phi)),
+                   float(std::cos(thetaH)));
+      const float woDotH = glm::dot(woLocal, h);
+      if (woDotH <= 0.0f) continue;
+      const vec3 wi = 2.0f * woDotH * h - woLocal;
+      if (wi.z <= 0.0f) continue;
+      const double dOmega = 4.0 * woDotH * std::sin(thetaH) * kPi * u / kSteps * 2.0 * kPi / kSteps;
+      sum += dvec3(brdf(wi, woLocal) * radiance(wi.x * t + wi.y * bt + wi.z * n)) * (double(wi.z) * dOmega);
+    }
+  }
+  return Rgb(sum);
+}
+
+// Sunlight mode: the environment is the sky image (Helsinki, clear, 21 June 15:00; its ground below the
+// horizon) and the sun a distant light in layer 1. Both layers at texels spread over the ball against the
+// CPU: the sky by fine quadrature of the same image (bilinear, as the GPU samples it), the sun per texel.
+TEST(BallTexture, SkyAndSunInSunlightMode) {
+  context();
+  const Brdf brdf{nullptr, testPaint()};
+  SphereScene s = sphereScene(brdf, {});
+  fly::test::setHelsinkiClearSky(s.scene, "2026-06-21T15:00");
+  s.rdb = rdb::buildRasterRdb(s.scene);
+  ASSERT_TRUE(s.rdb.sky && s.rdb.sky->hasSun);
+  const rdb::RasterSky& sky = *s.rdb.sky;
+  auto skyRadiance = [&](const vec3& d) {
+    double phi = std::atan2(double(d.z), double(d.x));
+    if (phi < 0.0) phi += 2.0 * kPi;
+    const double theta = std::acos(std::clamp(double(d.y), -1.0, 1.0));
+    const double x = phi / (2.0 * kPi) * sky.width - 0.5, y = theta / kPi * sky.height - 0.5;
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    const float fx = float(x - x0), fy = float(y - y0);
+    auto at = [&](int i, int j) {
+      i = ((i % int(sky.width)) + int(sky.width)) % int(sky.width);
+      j = std::clamp(j, 0, int(sky.height) - 1);
+      return sky.radianceCdM2[size_t(j) * sky.width + size_t(i)];
+    };
+    return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+  };
+  Renderer renderer;
+  constexpr uint32_t kBall = 64;
+  renderer.setBallSettings({kBall, 16});
+  renderer.upload(s.rdb);
+  const View view = test::lookAtView(vec3(0.0f, 1.0f, 4.9f), vec3(0.0f), 20.0f);
+  renderer.render(view, RenderMode::kSunlight, 16, 16);
+  const std::vector<float> skyLayer = renderer.ballLayer(0), sunLayer = renderer.ballLayer(1);
+  const mat3 worldFromView(view.worldFromCamera);
+  const Rgb sunLux =
+      sky.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(sky.sunHalfAngleRad))));
+  RelativeRms skyRms, sunRms;
+  for (int a = 0; a < 7; ++a) {
+    for (int b = 0; b < 7; ++b) {
+      const uint32_t i = uint32_t(4 + a * 9), j = uint32_t(4 + b * 9);
+      const float x = (float(i) + 0.5f) / kBall * 2.0f - 1.0f, y = (float(j) + 0.5f) / kBall * 2.0f - 1.0f;
+      if (x * x + y * y >= 0.97f) continue;
+      const vec3 nView(x, y, std::sqrt(1.0f - x * x - y * y));
+      const size_t texel = 4 * (size_t(j) * kBall + i);
+      skyRms.add(Rgb(skyLayer[texel], skyLayer[texel + 1], skyLayer[texel + 2]),
+                 environmentReference(brdf, worldFromView, nView, skyRadiance));
+      const Rgb sunWant =
+          referenceLuminance(brdf, worldFromView * nView, worldFromView * vec3(0, 0, 1), {{sky.sunDirWorld, sunLux}});
+      sunRms.add(Rgb(sunLayer[texel], sunLayer[texel + 1], sunLayer[texel + 2]), sunWant);
+    }
+  }
+  std::printf("sunlight mode, ball 64²: sky term (16² half vectors) RMS relative error %.4f, sun term %.2e, at %zu "
+              "texels\n",
+              skyRms.value(), sunRms.value(), skyRms.count);
+  EXPECT_LT(skyRms.value(), 0.02);
+  EXPECT_LT(sunRms.value(), 0.01);
+}
+
+// Light-map mode: the ball's distribution scaled to the baked irradiance (raster/renderer.h). With light
+// maps that hold exactly the irradiance the ball's own lights give each vertex (the sphere shadows nothing),
+// the image is simple mode's; with half of it, half; where the lights give nothing, albedo · E / π.
+TEST(BallTexture, LightMapModeScalesTheBallToTheBakedIrradiance) {
+  context();
+  const Brdf brdf{nullptr, testPaint()};
+  // Lights from +X only, so the −X half of the sphere gets none of their light.
+  const std::vector<TestLight> lights = {{glm::normalize(vec3(1.0f, 0.3f, 0.6f)), Rgb(1000.0f)},
+                                         {glm::normalize(vec3(0.8f, -0.4f, 0.2f)), Rgb(500.0f, 450.0f, 400.0f)}};
+  SphereScene s = sphereScene(brdf, lights);
+  auto storeOf = [&](float scale, float floorLux) {
+    rdb::LightMapStore store;
+    for (const rdb::RasterMesh& m : s.rdb.meshes) {
+      rdb::MeshLightMap map{m.sdbNodeId, m.sdbMeshId, {}, {}};
+      for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) {
+        Rgb e(floorLux);
+        for (const TestLight& l : lights) e += scale * l.lux * std::max(0.0f, glm::dot(s.rdb.normals[v], l.toLight));
+        map.frontLux.push_back(e);
+      }
+      store.meshes.push_back(std::move(map));
+    }
+    return store;
+  };
+  constexpr uint32_t kPx = 96;
+  auto render = [&](const rdb::LightMapStore* store, RenderMode mode) {
+    rdb::RasterRdb r = rdb::buildRasterRdb(s.scene, store);
+    r.ambient = {};
+    Renderer renderer;
+    renderer.setBallSettings({128, 4});
+    renderer.upload(r);
+    renderer.render(frontView(), mode, kPx, kPx);
+    return std::pair(renderer.luminanceRgb(), r.materials.at(r.meshes.at(0).material).diffuse);
+  };
+  const std::vector<float> simple = render(nullptr, RenderMode::kSimple).first;
+  const rdb::LightMapStore exact = storeOf(1.0f, 0.0f), half = storeOf(0.5f, 0.0f), lifted = storeOf(1.0f, 100.0f);
+  const std::vector<float> same = render(&exact, RenderMode::kLightMap).first;
+  const std::vector<float> halved = render(&half, RenderMode::kLightMap).first;
+  const auto [floored, albedo] = render(&lifted, RenderMode::kLightMap);
+  RelativeRms sameRms, halfRms;
+  double darkSide = 0.0, darkWant = 0.0;
+  size_t dark = 0;
+  for (uint32_t y = 0; y < kPx; ++y) {
+    for (uint32_t x = 0; x < kPx; ++x) {
+      const float px = ((float(x) + 0.5f) / kPx * 2.0f - 1.0f) * 1.1f, py = (1.0f - (float(y) + 0.5f) / kPx * 2.0f) * 1.1f;
+      if (px * px + py * py >= 0.91f) continue;
+      const size_t i = 3 * (size_t(y) * kPx + x);
+      const Rgb want(simple[i], simple[i + 1], simple[i + 2]);
+      sameRms.add(Rgb(same[i], same[i + 1], same[i + 2]), want);
+      halfRms.add(Rgb(halved[i], halved[i + 1], halved[i + 2]), 0.5f * want);
+      const vec3 n(px, py, std::sqrt(1.0f - px * px - py * py));
+      bool unlit = true;
+      for (const TestLight& l : lights) unlit &= glm::dot(n, l.toLight) < -0.1f;
+      if (unlit) {
+        darkSide += luminance(Rgb(floored[i], floored[i + 1], floored[i + 2]));
+        darkWant += luminance(albedo) * 100.0 / kPi;
+        ++dark;
+      }
+    }
+  }
+  std::printf("light-map mode: exact light maps %.4f, halved %.4f (RMS relative to simple mode); unlit side "
+              "%.3f of albedo · E / π over %zu pixels\n",
+              sameRms.value(), halfRms.value(), darkSide / darkWant, dark);
+  EXPECT_LT(sameRms.value(), 0.02);
+  EXPECT_LT(halfRms.value(), 0.02);
+  EXPECT_GT(dark, 500u);
+  EXPECT_NEAR(darkSide / darkWant, 1.0, 0.01);
 }
 
 // A ball is remade only when what it depends on changes; a scene without measured materials compiles no
