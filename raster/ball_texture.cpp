@@ -78,18 +78,23 @@ std::vector<DistantLight> distantLights(const rdb::RasterRdb& rdb, const vec3& c
 }
 
 struct BallTextures::Gpu {
-  GLuint program = 0;
-  GLint brdf = -1, firstLayer = -1, size = -1, lightCount = -1, sunView = -1, sunLux = -1, environment = -1,
-        upView = -1, upCdM2 = -1, downCdM2 = -1, worldFromView = -1, envSteps = -1;
-  GLuint brdfs = 0, lights = 0, tables = 0, balls = 0;
-  uint32_t ballSize = 0, ballLayers = 0;
+  struct Program {
+    GLuint program = 0;
+    GLint brdf = -1, size = -1, firstLayer = -1;
+    GLint firstLight = -1, lightCount = -1, sunView = -1, sunLux = -1, hasEnvironment = -1;  // the ball pass
+    GLint environment = -1, upView = -1, upCdM2 = -1, downCdM2 = -1, worldFromView = -1, envSteps = -1;  // env
+  };
+  Program ball, env;
+  GLuint brdfs = 0, lights = 0, tables = 0, balls = 0, environment = 0;
+  uint32_t ballSize = 0, envSize = 0, layers = 0;
 
   ~Gpu() {
-    glDeleteProgram(program);
+    glDeleteProgram(ball.program);
+    glDeleteProgram(env.program);
     const GLuint buffers[] = {brdfs, lights};
     glDeleteBuffers(2, buffers);
-    glDeleteTextures(1, &tables);
-    glDeleteTextures(1, &balls);
+    const GLuint textures[] = {tables, balls, environment};
+    glDeleteTextures(3, textures);
   }
 };
 
@@ -100,10 +105,13 @@ BallTextures::~BallTextures() = default;
 void BallTextures::setSettings(const BallSettings& settings) {
   if (settings.sizePx < 8 || settings.sizePx > 4096)
     throw std::invalid_argument("a ball texture takes 8 to 4096 texels per side, not " + std::to_string(settings.sizePx));
+  if (settings.envSizePx < 4 || settings.envSizePx > settings.sizePx)
+    throw std::invalid_argument("the ball's environment image takes 4 texels per side up to the ball's " +
+                                std::to_string(settings.sizePx) + ", not " + std::to_string(settings.envSizePx));
   if (settings.envGridSteps < 1 || settings.envGridSteps > 256)
     throw std::invalid_argument("the ball's environment grid takes 1 to 256 steps per axis, not " +
                                 std::to_string(settings.envGridSteps));
-  if (settings.sizePx != settings_.sizePx || settings.envGridSteps != settings_.envGridSteps) {
+  if (!(settings == settings_)) {
     for (auto& k : keys_) k.clear();
   }
   settings_ = settings;
@@ -152,100 +160,140 @@ void BallTextures::setBrdfs(const rdb::RasterRdb& rdb) {
                        blocks.empty() ? nullptr : blocks.data(), 0);
 }
 
+namespace {
+
+// An RGBA32F array texture of `layers` size × size layers, bilinear, clamped.
+GLuint arrayTexture(uint32_t size, uint32_t layers) {
+  GLuint t = 0;
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
+  glTextureStorage3D(t, 1, GL_RGBA32F, GLsizei(size), GLsizei(size), GLsizei(layers));
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+}  // namespace
+
 int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting) {
   if (brdfCount_ == 0) return 0;
-  const uint32_t n = settings_.sizePx;
-  if (gpu_->ballSize != n || gpu_->ballLayers != 2 * brdfCount_) {
-    glDeleteTextures(1, &gpu_->balls);
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &gpu_->balls);
-    glTextureStorage3D(gpu_->balls, 1, GL_RGBA32F, GLsizei(n), GLsizei(n), GLsizei(2 * brdfCount_));
-    glTextureParameteri(gpu_->balls, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(gpu_->balls, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(gpu_->balls, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(gpu_->balls, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    gpu_->ballSize = n;
-    gpu_->ballLayers = 2 * brdfCount_;
+  Gpu& g = *gpu_;
+  const uint32_t n = settings_.sizePx, m = settings_.envSizePx;
+  if (g.ballSize != n || g.envSize != m || g.layers != brdfCount_) {
+    const GLuint old[] = {g.balls, g.environment};
+    glDeleteTextures(2, old);
+    g.balls = arrayTexture(n, 2 * brdfCount_);
+    g.environment = arrayTexture(m, brdfCount_);
+    g.ballSize = n;
+    g.envSize = m;
+    g.layers = brdfCount_;
     for (auto& k : keys_) k.clear();
   }
-  Gpu& g = *gpu_;
-  if (!g.program) {
-    const std::string defines = "#define FLY_ALBEDO_STEPS " + std::to_string(rdb::kRasterAlbedoSteps) + "\n";
+  const bool hasEnvironment = lighting.environment != BallLighting::Environment::kNone;
+  auto program = [&](Gpu::Program& p, bool env) {
+    if (p.program) return;
+    const std::string defines = "#define FLY_ALBEDO_STEPS " + std::to_string(rdb::kRasterAlbedoSteps) + "\n" +
+                                (env ? "#define FLY_BALL_ENV\n" : "");
     const std::string source = std::string(shaders::kMeasuredBrdf) + shaders::kBallCompute;
-    g.program = compile_("ball", defines, {{GL_COMPUTE_SHADER, source.c_str()}});
-    auto loc = [&](const char* name) { return glGetUniformLocation(g.program, name); };
-    g.brdf = loc("uBrdf");
-    g.firstLayer = loc("uFirstLayer");
-    g.size = loc("uSize");
-    g.lightCount = loc("uLightCount");
-    g.sunView = loc("uSunView");
-    g.sunLux = loc("uSunLux");
-    g.environment = loc("uEnvironment");
-    g.upView = loc("uUpView");
-    g.upCdM2 = loc("uUpCdM2");
-    g.downCdM2 = loc("uDownCdM2");
-    g.worldFromView = loc("uWorldFromView");
-    g.envSteps = loc("uEnvSteps");
-  }
+    p.program = compile_(env ? "ball-environment" : "ball", defines, {{GL_COMPUTE_SHADER, source.c_str()}});
+    auto loc = [&](const char* name) { return glGetUniformLocation(p.program, name); };
+    p.brdf = loc("uBrdf");
+    p.size = loc("uSize");
+    p.firstLayer = loc("uFirstLayer");
+    p.firstLight = loc("uFirstLight");
+    p.lightCount = loc("uLightCount");
+    p.sunView = loc("uSunView");
+    p.sunLux = loc("uSunLux");
+    p.hasEnvironment = loc("uHasEnvironment");
+    p.environment = loc("uEnvironment");
+    p.upView = loc("uUpView");
+    p.upCdM2 = loc("uUpCdM2");
+    p.downCdM2 = loc("uDownCdM2");
+    p.worldFromView = loc("uWorldFromView");
+    p.envSteps = loc("uEnvSteps");
+  };
   const mat3& viewFromWorld = lighting.viewFromWorld;
-  const mat3 worldFromView = glm::transpose(viewFromWorld);
   const vec3 sunView = glm::normalize(viewFromWorld * lighting.sunDirWorld);
   const Rgb sunLux = lighting.sun ? lighting.sunLux : Rgb(0.0f);
-  const vec3 upView = viewFromWorld * vec3(0, 1, 0);
-  const int environment = int(lighting.environment);
-  int made = 0;
-  bool bound = false;
+  // Every ball's lights in one buffer; the balls whose inputs changed.
+  std::vector<GpuBallLight> lights;
+  std::vector<uint32_t> firstLight(brdfCount_ + 1, 0);
+  std::vector<uint32_t> changed;
   for (uint32_t k = 0; k < brdfCount_; ++k) {
-    const rdb::RasterMeasuredBrdf& b = rdb.measuredBrdfs[k];
-    std::vector<GpuBallLight> lights;
-    for (const DistantLight& d : distantLights(rdb, b.centreM)) {
+    firstLight[k] = uint32_t(lights.size());
+    for (const DistantLight& d : distantLights(rdb, rdb.measuredBrdfs[k].centreM)) {
       lights.push_back({vec4(glm::normalize(viewFromWorld * d.toLightWorld), 0.0f), vec4(d.illuminanceLux, 0.0f)});
     }
+    firstLight[k + 1] = uint32_t(lights.size());
     // What the ball is made from.
     std::vector<float> key;
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) key.push_back(viewFromWorld[c][r]);
-    key.insert(key.end(), {sunView.x, sunView.y, sunView.z, sunLux.r, sunLux.g, sunLux.b, float(environment)});
+    key.insert(key.end(), {sunView.x, sunView.y, sunView.z, sunLux.r, sunLux.g, sunLux.b,
+                           float(int(lighting.environment))});
     if (lighting.environment == BallLighting::Environment::kSky) key.push_back(float(lighting.skyVersion));
     if (lighting.environment == BallLighting::Environment::kHemispheres) {
       key.insert(key.end(), {lighting.upLux.r, lighting.upLux.g, lighting.upLux.b, lighting.downLux.r,
                              lighting.downLux.g, lighting.downLux.b});
     }
-    for (const GpuBallLight& l : lights) {
-      for (int c = 0; c < 3; ++c) key.insert(key.end(), {l.toLightView[c], l.lux[c]});
+    for (uint32_t i = firstLight[k]; i < firstLight[k + 1]; ++i) {
+      for (int c = 0; c < 3; ++c) key.insert(key.end(), {lights[i].toLightView[c], lights[i].lux[c]});
     }
     if (key == keys_[k]) continue;
-    if (!bound) {
-      glUseProgram(g.program);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.brdfs);
-      if (g.tables) glBindTextureUnit(0, g.tables);
-      if (lighting.environment == BallLighting::Environment::kSky) glBindTextureUnit(1, lighting.skyTexture);
-      glBindImageTexture(0, g.balls, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      glUniform1i(g.size, GLint(n));
-      glUniform3fv(g.sunView, 1, &sunView[0]);
-      glUniform3fv(g.sunLux, 1, &sunLux[0]);
-      glUniform1i(g.environment, environment);
-      glUniform3fv(g.upView, 1, &upView[0]);
-      const Rgb up = lighting.upLux / kPiF, down = lighting.downLux / kPiF;
-      glUniform3fv(g.upCdM2, 1, &up[0]);
-      glUniform3fv(g.downCdM2, 1, &down[0]);
-      glUniformMatrix3fv(g.worldFromView, 1, GL_FALSE, &worldFromView[0][0]);
-      glUniform1i(g.envSteps, GLint(settings_.envGridSteps));
-      bound = true;
-    }
-    glDeleteBuffers(1, &g.lights);
-    glCreateBuffers(1, &g.lights);
-    glNamedBufferStorage(g.lights, GLsizeiptr(std::max<size_t>(1, lights.size()) * sizeof(GpuBallLight)),
-                         lights.empty() ? nullptr : lights.data(), 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.lights);
-    glUniform1i(g.brdf, GLint(k));
-    glUniform1i(g.firstLayer, GLint(2 * k));
-    glUniform1i(g.lightCount, GLint(lights.size()));
-    glDispatchCompute((n + 7) / 8, (n + 7) / 8, 2);
     keys_[k] = std::move(key);
-    ++made;
+    changed.push_back(k);
   }
-  if (made > 0) glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  return made;
+  if (changed.empty()) return 0;
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.brdfs);
+  if (g.tables) glBindTextureUnit(0, g.tables);
+  if (hasEnvironment) {
+    // The environment term of each changed ball, at M × M.
+    program(g.env, true);
+    const Gpu::Program& p = g.env;
+    glUseProgram(p.program);
+    if (lighting.environment == BallLighting::Environment::kSky) glBindTextureUnit(1, lighting.skyTexture);
+    glBindImageTexture(0, g.environment, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    const vec3 upView = viewFromWorld * vec3(0, 1, 0);
+    const Rgb up = lighting.upLux / kPiF, down = lighting.downLux / kPiF;
+    const mat3 worldFromView = glm::transpose(viewFromWorld);
+    glUniform1i(p.size, GLint(m));
+    glUniform1i(p.environment, int(lighting.environment));
+    glUniform3fv(p.upView, 1, &upView[0]);
+    glUniform3fv(p.upCdM2, 1, &up[0]);
+    glUniform3fv(p.downCdM2, 1, &down[0]);
+    glUniformMatrix3fv(p.worldFromView, 1, GL_FALSE, &worldFromView[0][0]);
+    glUniform1i(p.envSteps, GLint(settings_.envGridSteps));
+    for (uint32_t k : changed) {
+      glUniform1i(p.brdf, GLint(k));
+      glUniform1i(p.firstLayer, GLint(k));
+      glDispatchCompute((m + 7) / 8, (m + 7) / 8, 1);
+    }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+  program(g.ball, false);
+  const Gpu::Program& p = g.ball;
+  glUseProgram(p.program);
+  glDeleteBuffers(1, &g.lights);
+  glCreateBuffers(1, &g.lights);
+  glNamedBufferStorage(g.lights, GLsizeiptr(std::max<size_t>(1, lights.size()) * sizeof(GpuBallLight)),
+                       lights.empty() ? nullptr : lights.data(), 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.lights);
+  glBindTextureUnit(2, g.environment);
+  glBindImageTexture(0, g.balls, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glUniform1i(p.size, GLint(n));
+  glUniform1i(p.hasEnvironment, hasEnvironment ? 1 : 0);
+  glUniform3fv(p.sunView, 1, &sunView[0]);
+  glUniform3fv(p.sunLux, 1, &sunLux[0]);
+  for (uint32_t k : changed) {
+    glUniform1i(p.brdf, GLint(k));
+    glUniform1i(p.firstLayer, GLint(2 * k));
+    glUniform1i(p.firstLight, GLint(firstLight[k]));
+    glUniform1i(p.lightCount, GLint(firstLight[k + 1] - firstLight[k]));
+    glDispatchCompute((n + 7) / 8, (n + 7) / 8, 2);
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  return int(changed.size());
 }
 
 unsigned BallTextures::texture() const { return gpu_->balls; }

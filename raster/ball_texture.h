@@ -7,8 +7,9 @@
 // texel is exact (no interpolation between vertices, no refinement to place) and all lights go into one pass
 // (docs/ball-textures.md). Lights are distant lights from the centre of the material's objects: the sun, and
 // point, spot and goniometric lights by their direction and illuminance there (distantLights); the
-// environment (the sky image, or the directional ambient term's two hemispheres) is integrated per texel over
-// a grid of half vectors (shaders/ball_texture_glsl.h, kBallCompute).
+// environment (the sky image, or the directional ambient term's two hemispheres) is integrated over a grid of
+// half vectors per texel of a smaller image of its own that the ball reads bilinearly (shaders/
+// ball_texture_glsl.h, kBallCompute).
 //
 // Each ball has two layers of RGBA32F: the lights and the environment, and the sun alone (so the sun's shadow
 // pass and its glass transmittance can drop or scale it); a = the luminance of the irradiance (lux) the
@@ -30,7 +31,12 @@ namespace fly::raster {
 
 struct BallSettings {
   uint32_t sizePx = 256;       // N × N texels per ball, [8, 4096]
+  // The environment term is made at M × M texels, [4, N], and read bilinearly by the ball: the sky is smooth
+  // and its integral over a lobe smoother, so a quarter of the ball's resolution costs 1/16 of the work.
+  uint32_t envSizePx = 64;
   uint32_t envGridSteps = 16;  // the environment quadrature's half-vector grid, steps per axis, [1, 256]
+
+  bool operator==(const BallSettings&) const = default;
 };
 
 // A light as a distant light from a point: the unit direction towards it (world) and the illuminance it

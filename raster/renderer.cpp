@@ -976,36 +976,10 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       }
       if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
     }
-    // The measured materials' balls under this frame's lights (raster/ball_texture.h): remade only where
-    // the view's rotation, the lights, the environment or the BRDFs changed.
+    // The measured materials' balls under this frame's lights (raster/ball_texture.h).
     const mat3 viewFromWorld = glm::transpose(mat3(view.worldFromCamera));
     if (v.measuredBrdf) {
-      if (!balls_) balls_ = std::make_unique<BallTextures>(compiler());
-      if (ballBrdfsDirty_) {
-        balls_->setBrdfs(r);
-        ballBrdfsDirty_ = false;
-      }
-      BallLighting lighting;
-      lighting.viewFromWorld = viewFromWorld;
-      lighting.sun = v.sun;
-      if (v.sun) {
-        lighting.sunDirWorld = r.sky->sunDirWorld;
-        lighting.sunLux = sunLux;
-      }
-      // The sky where it is drawn (sunlight mode) or baked with (light maps); simple mode's directional
-      // ambient term as two hemispheres otherwise.
-      if (v.sky && mode != RenderMode::kSimple) {
-        lighting.environment = BallLighting::Environment::kSky;
-        lighting.skyTexture = gpu_->skyTexture;
-        lighting.skyVersion = uint64_t(stats_.skyUploads);
-      } else if (maxComponent(r.ambient.upLux) > 0.0f || maxComponent(r.ambient.downLux) > 0.0f) {
-        lighting.environment = BallLighting::Environment::kHemispheres;
-        lighting.upLux = r.ambient.upLux;
-        lighting.downLux = r.ambient.downLux;
-      }
-      const int made = balls_->update(r, lighting);
-      stats_.ballsMade += made;
-      stats_.ballsReused += int(r.measuredBrdfs.size()) - made;
+      makeBalls(view, mode);
       glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
     }
     // The sun's illuminance the scene programs get (uSunNormalLux): 0 in the pass over shadowed pixels.
@@ -1176,6 +1150,41 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   }
 
   ++stats_.scenePasses;
+}
+
+int Renderer::makeBalls(const View& view, RenderMode mode) {
+  if (!rdb_) throw std::logic_error("Renderer::makeBalls before upload");
+  const rdb::RasterRdb& r = *rdb_;
+  const rdb::RasterVariants& v = r.variants;
+  if (!v.measuredBrdf) return 0;
+  if (!balls_) balls_ = std::make_unique<BallTextures>(compiler());
+  if (ballBrdfsDirty_) {
+    balls_->setBrdfs(r);
+    ballBrdfsDirty_ = false;
+  }
+  BallLighting lighting;
+  lighting.viewFromWorld = glm::transpose(mat3(view.worldFromCamera));
+  lighting.sun = v.sun;
+  if (v.sun) {
+    const rdb::RasterSky& s = *r.sky;
+    lighting.sunDirWorld = s.sunDirWorld;
+    lighting.sunLux = s.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad))));
+  }
+  // The sky where it is drawn (sunlight mode) or baked with (light maps); simple mode's directional ambient
+  // term as two hemispheres otherwise (none where it is 0).
+  if (v.sky && mode != RenderMode::kSimple) {
+    lighting.environment = BallLighting::Environment::kSky;
+    lighting.skyTexture = gpu_->skyTexture;
+    lighting.skyVersion = uint64_t(stats_.skyUploads);
+  } else if (maxComponent(r.ambient.upLux) > 0.0f || maxComponent(r.ambient.downLux) > 0.0f) {
+    lighting.environment = BallLighting::Environment::kHemispheres;
+    lighting.upLux = r.ambient.upLux;
+    lighting.downLux = r.ambient.downLux;
+  }
+  const int made = balls_->update(r, lighting);
+  stats_.ballsMade += made;
+  stats_.ballsReused += int(r.measuredBrdfs.size()) - made;
+  return made;
 }
 
 void Renderer::toneMap(const ToneMapSettings& settings) {

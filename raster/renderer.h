@@ -158,6 +158,10 @@ class Renderer {
   // The measured materials' ball textures' size and environment quadrature (raster/ball_texture.h);
   // std::invalid_argument out of range. Default: BallSettings{}.
   void setBallSettings(const BallSettings& settings);
+  // Makes the measured materials' ball textures for `view` in `mode` where what they depend on changed (the
+  // view's rotation, the lights, the environment, the BRDFs); render() does this itself. Returns how many it
+  // made. For benchmarks, which time this pass alone.
+  int makeBalls(const View& view, RenderMode mode);
   // A layer of the ball textures, as last made (BallTextures::readLayer); for tests.
   std::vector<float> ballLayer(uint32_t layer) const;
 

@@ -134,35 +134,49 @@ vec3 flyAlbedo(int index, float cosThetaOut) {
 // One ball: texel (i, j) of an N × N image is the point (x, y) = ((i + ½)/N · 2 − 1, (j + ½)/N · 2 − 1) of a
 // unit ball seen along −Z of the view frame (orthographic), its normal n = (x, y, √(1 − x² − y²)) and the
 // direction to the eye ωo = +Z. Texels outside the disc take the normal at radius 1 − 1/N (what bilinear
-// filtering near the rim reads). Layer z = 0: the lights and the environment, a = the luminance of their
-// irradiance on the texel's normal (lux); layer z = 1: the sun alone, a = its irradiance's luminance.
-//   lights:      Σ f(ωi, ωo) cos θi E_i, each light a distant one (ωi towards it, E_i its illuminance, lux)
-//   environment: ∫ f(ωi, ωo) cos θi L(ωi) dωi ≈ ρ(θo) · Σ w f L / Σ w f over a midpoint grid of the half
-//                vector (θh = u² · π/2, φh), ωi = 2(ωo·h)h − ωo, w = cos θi · 4 (ωo·h) · sin θh · u: the
-//                BRDF-weighted mean of L times the exact albedo, so a coarse grid errs only where L varies
-//                within the lobe; its irradiance π · Σ w' L / Σ w' likewise (w' without f), or for the two
-//                hemispheres exactly, from their view factors
+// filtering near the rim reads). Two passes of this source:
+//   FLY_BALL_ENV  the environment term into an image of its own (M × M, M ≤ N; layer = the BRDF's index):
+//                 ∫ f(ωi, ωo) cos θi L(ωi) dωi ≈ ρ(θo) · Σ w f L / Σ w f over a midpoint grid of the half
+//                 vector (θh = u² · π/2, φh), ωi = 2(ωo·h)h − ωo, w = cos θi · 4 (ωo·h) · sin θh · u: the
+//                 BRDF-weighted mean of L times the exact albedo, so a coarse grid errs only where L varies
+//                 within the lobe; a = its irradiance's luminance, for the two hemispheres exactly from their
+//                 view factors, for the sky π · Σ w' L / Σ w' (w' without f)
+//   otherwise     the ball: layer z = 0 the lights, Σ f(ωi, ωo) cos θi E_i (each light a distant one: ωi
+//                 towards it, E_i its illuminance in lux), plus the environment image (bilinear at the texel's
+//                 (x, y)); layer z = 1 the sun alone. a = the luminance of the irradiance (lux) of the layer's
+//                 light on the texel's normal.
 inline constexpr const char* kBallCompute = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, rgba32f) uniform writeonly image2DArray uBalls;
-struct BallLight {
-  vec4 toLightView;  // xyz unit, towards the light, view frame
-  vec4 lux;          // rgb illuminance on a surface facing it
-};
-layout(std430, binding = 1) readonly buffer BallLights { BallLight ballLights[]; };
+layout(binding = 0, rgba32f) uniform writeonly image2DArray uOut;
+uniform int uBrdf;        // index into brdfs
+uniform int uSize;        // the output image's N (or M)
+uniform int uFirstLayer;  // where the output goes in uOut
+
+float flyLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// The normal and surface frame of texel `texel` of an size × size ball.
+mat3 flyBallFrame(ivec2 texel, int size) {
+  vec2 xy = (vec2(texel) + 0.5) / float(size) * 2.0 - 1.0;
+  float rimRadius = 1.0 - 1.0 / float(size);
+  float r2 = dot(xy, xy);
+  if (r2 > rimRadius * rimRadius) {
+    xy *= rimRadius * inversesqrt(r2);
+    r2 = rimRadius * rimRadius;
+  }
+  vec3 n = vec3(xy, sqrt(max(0.0, 1.0 - r2)));
+  // Any tangent: the BRDFs are isotropic.
+  vec3 t = normalize(cross(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), n));
+  return mat3(t, cross(n, t), n);
+}
+
+#ifdef FLY_BALL_ENV
 layout(binding = 1) uniform sampler2D uSky;  // rdb::RasterSky's equirectangular image, world directions
-uniform int uBrdf;           // index into brdfs
-uniform int uFirstLayer;     // the ball's layer 0 in uBalls
-uniform int uSize;           // N
-uniform int uLightCount;
-uniform vec3 uSunView;       // unit, towards the sun, view frame
-uniform vec3 uSunLux;        // 0: no sun
-uniform int uEnvironment;    // 0 none, 1 two hemispheres (uUpCdM2 above, uDownCdM2 below), 2 the sky image
+uniform int uEnvironment;    // 1 two hemispheres (uUpCdM2 above, uDownCdM2 below), 2 the sky image
 uniform vec3 uUpView;        // world +Y in the view frame
 uniform vec3 uUpCdM2;
 uniform vec3 uDownCdM2;
 uniform mat3 uWorldFromView;
-uniform int uEnvSteps;       // grid steps per axis of the environment quadrature
+uniform int uEnvSteps;       // grid steps per axis
 
 vec3 flyEnvironment(vec3 dView) {
   if (uEnvironment == 1) return dot(dView, uUpView) > 0.0 ? uUpCdM2 : uDownCdM2;
@@ -173,76 +187,88 @@ vec3 flyEnvironment(vec3 dView) {
   return textureLod(uSky, vec2(phi / (2.0 * kPi), theta / kPi), 0.0).rgb;
 }
 
-float flyLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+void main() {
+  ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+  if (texel.x >= uSize || texel.y >= uSize) return;
+  mat3 viewFromLocal = flyBallFrame(texel, uSize);
+  vec3 n = viewFromLocal[2];
+  vec3 wo = vec3(viewFromLocal[0].z, viewFromLocal[1].z, n.z);  // +Z in the surface frame
+  vec3 sumFL = vec3(0.0), sumF = vec3(0.0);
+  float sumL = 0.0, sumW = 0.0;
+  for (int a = 0; a < uEnvSteps; ++a) {
+    float u = (float(a) + 0.5) / float(uEnvSteps);
+    float thetaH = u * u * 0.5 * kPi;
+    float sinH = sin(thetaH), cosH = cos(thetaH);
+    for (int c = 0; c < uEnvSteps; ++c) {
+      float phi = 2.0 * kPi * (float(c) + 0.5) / float(uEnvSteps);
+      vec3 h = vec3(sinH * cos(phi), sinH * sin(phi), cosH);
+      float woDotH = dot(wo, h);
+      if (woDotH <= 0.0) continue;
+      vec3 wi = 2.0 * woDotH * h - wo;
+      if (wi.z <= 0.0) continue;
+      float w = wi.z * 4.0 * woDotH * sinH * u;
+      vec3 radiance = flyEnvironment(viewFromLocal * wi);
+      vec3 f = flyMeasuredBrdf(uBrdf, wi, wo);
+      sumFL += w * f * radiance;
+      sumF += w * f;
+      sumL += w * flyLuminance(radiance);
+      sumW += w;
+    }
+  }
+  vec3 albedo = flyAlbedo(uBrdf, wo.z);
+  vec3 l = vec3(sumF.r > 0.0 ? albedo.r * sumFL.r / sumF.r : 0.0, sumF.g > 0.0 ? albedo.g * sumFL.g / sumF.g : 0.0,
+                sumF.b > 0.0 ? albedo.b * sumFL.b / sumF.b : 0.0);
+  float eLux = 0.0;
+  if (uEnvironment == 1) {
+    // Two uniform hemispheres: the view factors (1 ± cos θ)/2 of a plane tilted θ from the up direction.
+    float c = dot(n, uUpView);
+    eLux = kPi * flyLuminance(uUpCdM2 * (0.5 + 0.5 * c) + uDownCdM2 * (0.5 - 0.5 * c));
+  } else if (sumW > 0.0) {
+    eLux = kPi * sumL / sumW;
+  }
+  imageStore(uOut, ivec3(texel, uFirstLayer), vec4(l, eLux));
+}
+#else
+struct BallLight {
+  vec4 toLightView;  // xyz unit, towards the light, view frame
+  vec4 lux;          // rgb illuminance on a surface facing it
+};
+layout(std430, binding = 1) readonly buffer BallLights { BallLight ballLights[]; };
+layout(binding = 2) uniform sampler2DArray uEnvironmentImage;  // the FLY_BALL_ENV pass's output
+uniform int uHasEnvironment;
+uniform int uFirstLight;
+uniform int uLightCount;
+uniform vec3 uSunView;  // unit, towards the sun, view frame
+uniform vec3 uSunLux;   // 0: no sun
 
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
   if (texel.x >= uSize || texel.y >= uSize) return;
   int layer = int(gl_GlobalInvocationID.z);
-  vec2 xy = (vec2(texel) + 0.5) / float(uSize) * 2.0 - 1.0;
-  float rimRadius = 1.0 - 1.0 / float(uSize);
-  float r2 = dot(xy, xy);
-  if (r2 > rimRadius * rimRadius) {
-    xy *= rimRadius * inversesqrt(r2);
-    r2 = rimRadius * rimRadius;
-  }
-  vec3 n = vec3(xy, sqrt(max(0.0, 1.0 - r2)));
-  // The surface frame: any tangent (the BRDFs are isotropic).
-  vec3 t = normalize(cross(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), n));
-  vec3 b = cross(n, t);
-  mat3 viewFromLocal = mat3(t, b, n);
-  vec3 wo = vec3(t.z, b.z, n.z);  // +Z in the surface frame
+  mat3 viewFromLocal = flyBallFrame(texel, uSize);
+  mat3 localFromView = transpose(viewFromLocal);
+  vec3 wo = localFromView * vec3(0.0, 0.0, 1.0);
   vec3 l = vec3(0.0);
   float eLux = 0.0;
   if (layer == 1) {
-    vec3 wi = transpose(viewFromLocal) * uSunView;
+    vec3 wi = localFromView * uSunView;
     l = flyMeasuredBrdf(uBrdf, wi, wo) * max(wi.z, 0.0) * uSunLux;
     eLux = flyLuminance(uSunLux) * max(wi.z, 0.0);
   } else {
-    for (int k = 0; k < uLightCount; ++k) {
-      vec3 wi = transpose(viewFromLocal) * ballLights[k].toLightView.xyz;
+    for (int k = uFirstLight; k < uFirstLight + uLightCount; ++k) {
+      vec3 wi = localFromView * ballLights[k].toLightView.xyz;
       l += flyMeasuredBrdf(uBrdf, wi, wo) * max(wi.z, 0.0) * ballLights[k].lux.rgb;
       eLux += flyLuminance(ballLights[k].lux.rgb) * max(wi.z, 0.0);
     }
-    if (uEnvironment != 0) {
-      vec3 sumFL = vec3(0.0), sumF = vec3(0.0);
-      float sumL = 0.0, sumW = 0.0;
-      for (int a = 0; a < uEnvSteps; ++a) {
-        float u = (float(a) + 0.5) / float(uEnvSteps);
-        float thetaH = u * u * 0.5 * kPi;
-        float sinH = sin(thetaH), cosH = cos(thetaH);
-        for (int c = 0; c < uEnvSteps; ++c) {
-          float phi = 2.0 * kPi * (float(c) + 0.5) / float(uEnvSteps);
-          vec3 h = vec3(sinH * cos(phi), sinH * sin(phi), cosH);
-          float woDotH = dot(wo, h);
-          if (woDotH <= 0.0) continue;
-          vec3 wi = 2.0 * woDotH * h - wo;
-          if (wi.z <= 0.0) continue;
-          float w = wi.z * 4.0 * woDotH * sinH * u;
-          vec3 radiance = flyEnvironment(viewFromLocal * wi);
-          vec3 f = flyMeasuredBrdf(uBrdf, wi, wo);
-          sumFL += w * f * radiance;
-          sumF += w * f;
-          if (uEnvironment == 2) {
-            sumL += w * flyLuminance(radiance);
-            sumW += w;
-          }
-        }
-      }
-      vec3 albedo = flyAlbedo(uBrdf, wo.z);
-      l += vec3(sumF.r > 0.0 ? albedo.r * sumFL.r / sumF.r : 0.0, sumF.g > 0.0 ? albedo.g * sumFL.g / sumF.g : 0.0,
-                sumF.b > 0.0 ? albedo.b * sumFL.b / sumF.b : 0.0);
-      if (uEnvironment == 1) {
-        // Two uniform hemispheres: the view factors (1 ± cos θ)/2 of a plane tilted θ from the up direction.
-        float c = dot(n, uUpView);
-        eLux += kPi * flyLuminance(uUpCdM2 * (0.5 + 0.5 * c) + uDownCdM2 * (0.5 - 0.5 * c));
-      } else if (sumW > 0.0) {
-        eLux += kPi * sumL / sumW;
-      }
+    if (uHasEnvironment != 0) {
+      vec4 env = textureLod(uEnvironmentImage, vec3((vec2(texel) + 0.5) / float(uSize), float(uBrdf)), 0.0);
+      l += env.rgb;
+      eLux += env.a;
     }
   }
-  imageStore(uBalls, ivec3(texel, uFirstLayer + layer), vec4(l, eLux));
+  imageStore(uOut, ivec3(texel, uFirstLayer + layer), vec4(l, eLux));
 }
+#endif
 )GLSL";
 
 }  // namespace fly::raster::shaders

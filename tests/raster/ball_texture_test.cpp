@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../support/helsinki_daylight.h"
+#include "../support/measured_tables.h"
 #include "raster/ball_texture.h"
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
@@ -49,21 +50,6 @@ sdb::CarPaintBrdf silverPaint() {
   p.coatIor = 1.5f;
   p.coatAlpha = 0.01f;
   return p;
-}
-
-// A MERL table tabulated from `paint` (0 where a sample's directions lie below the surface).
-std::shared_ptr<const sdb::MeasuredBrdf> tableOf(const sdb::CarPaintBrdf& paint) {
-  std::vector<Rgb> samples(sdb::MeasuredBrdf::kSamples);
-  for (int i = 0; i < sdb::MeasuredBrdf::kThetaHalfRes; ++i) {
-    for (int j = 0; j < sdb::MeasuredBrdf::kThetaDiffRes; ++j) {
-      for (int k = 0; k < sdb::MeasuredBrdf::kPhiDiffRes; ++k) {
-        vec3 wi, wo;
-        sdb::directionsOf(sdb::MeasuredBrdf::sampleAngles(i, j, k), wi, wo);
-        samples[sdb::MeasuredBrdf::sampleIndex(i, j, k)] = paint.evalPerSr(wi, wo);
-      }
-    }
-  }
-  return std::make_shared<const sdb::MeasuredBrdf>(std::move(samples));
 }
 
 // The BRDF under test as the SDB evaluates it.
@@ -167,7 +153,7 @@ double ballError(const Brdf& brdf, uint32_t sizePx, float* maxLuminance = nullpt
   const std::vector<TestLight> lights = fiveLights();
   const SphereScene s = sphereScene(brdf, lights);
   Renderer renderer;
-  renderer.setBallSettings({sizePx, 16});
+  renderer.setBallSettings({sizePx, 64, 16});
   renderer.upload(s.rdb);
   renderer.render(frontView(), RenderMode::kSimple, 32, 32);
   EXPECT_EQ(renderer.stats().ballsMade, 1);
@@ -205,7 +191,7 @@ TEST(BallTexture, SilverMetallicBallMatchesTheSdbPerTexel) {
 }
 
 TEST(BallTexture, MerlTableBallMatchesTheSdbPerTexel) {
-  const double err = ballError({tableOf(testPaint()), {}}, 128);
+  const double err = ballError({fly::test::tableOf(testPaint()), {}}, 128);
   std::printf("MERL-table ball 128², 5 lights: RMS relative error %.2e\n", err);
   EXPECT_LT(err, 0.02);
 }
@@ -218,7 +204,7 @@ double sphereError(const Brdf& brdf, uint32_t ballPx, const View& view, bool per
   const std::vector<TestLight> lights = fiveLights();
   const SphereScene s = sphereScene(brdf, lights);
   Renderer renderer;
-  renderer.setBallSettings({ballPx, 16});
+  renderer.setBallSettings({ballPx, 64, 16});
   renderer.upload(s.rdb);
   constexpr uint32_t kPx = 160;
   renderer.render(view, RenderMode::kSimple, kPx, kPx);
@@ -297,7 +283,7 @@ TEST(BallTexture, EnvironmentTermAgainstFineQuadrature) {
   s.rdb.ambient.downLux = Rgb(2000.0f);
   Renderer renderer;
   constexpr uint32_t kBall = 64;
-  renderer.setBallSettings({kBall, 16});
+  renderer.setBallSettings({kBall, kBall, 16});
   renderer.upload(s.rdb);
   const View view = test::lookAtView(vec3(0.0f, 2.5f, 4.33f), vec3(0.0f), 20.0f);
   renderer.render(view, RenderMode::kSimple, 16, 16);
@@ -366,7 +352,7 @@ TEST(BallTexture, DistantLightApproximationBreaksDownNearALargeObject) {
     s.rdb = rdb::buildRasterRdb(s.scene);
     s.rdb.ambient = {};
     Renderer renderer;
-    renderer.setBallSettings({256, 16});
+    renderer.setBallSettings({256, 64, 16});
     renderer.upload(s.rdb);
     constexpr uint32_t kPx = 128;
     const View view = frontView();
@@ -448,36 +434,40 @@ TEST(BallTexture, SkyAndSunInSunlightMode) {
     };
     return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
   };
-  Renderer renderer;
   constexpr uint32_t kBall = 64;
-  renderer.setBallSettings({kBall, 16});
-  renderer.upload(s.rdb);
   const View view = test::lookAtView(vec3(0.0f, 1.0f, 4.9f), vec3(0.0f), 20.0f);
-  renderer.render(view, RenderMode::kSunlight, 16, 16);
-  const std::vector<float> skyLayer = renderer.ballLayer(0), sunLayer = renderer.ballLayer(1);
   const mat3 worldFromView(view.worldFromCamera);
   const Rgb sunLux =
       sky.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(sky.sunHalfAngleRad))));
-  RelativeRms skyRms, sunRms;
-  for (int a = 0; a < 7; ++a) {
-    for (int b = 0; b < 7; ++b) {
-      const uint32_t i = uint32_t(4 + a * 9), j = uint32_t(4 + b * 9);
-      const float x = (float(i) + 0.5f) / kBall * 2.0f - 1.0f, y = (float(j) + 0.5f) / kBall * 2.0f - 1.0f;
-      if (x * x + y * y >= 0.97f) continue;
-      const vec3 nView(x, y, std::sqrt(1.0f - x * x - y * y));
-      const size_t texel = 4 * (size_t(j) * kBall + i);
-      skyRms.add(Rgb(skyLayer[texel], skyLayer[texel + 1], skyLayer[texel + 2]),
-                 environmentReference(brdf, worldFromView, nView, skyRadiance));
-      const Rgb sunWant =
-          referenceLuminance(brdf, worldFromView * nView, worldFromView * vec3(0, 0, 1), {{sky.sunDirWorld, sunLux}});
-      sunRms.add(Rgb(sunLayer[texel], sunLayer[texel + 1], sunLayer[texel + 2]), sunWant);
+  // The environment image at the ball's resolution (the quadrature alone), then at a quarter of it (the
+  // default ratio: bilinear between its texels too).
+  for (const uint32_t envPx : {kBall, kBall / 4}) {
+    Renderer renderer;
+    renderer.setBallSettings({kBall, envPx, 16});
+    renderer.upload(s.rdb);
+    renderer.render(view, RenderMode::kSunlight, 16, 16);
+    const std::vector<float> skyLayer = renderer.ballLayer(0), sunLayer = renderer.ballLayer(1);
+    RelativeRms skyRms, sunRms;
+    for (int a = 0; a < 7; ++a) {
+      for (int b = 0; b < 7; ++b) {
+        const uint32_t i = uint32_t(4 + a * 9), j = uint32_t(4 + b * 9);
+        const float x = (float(i) + 0.5f) / kBall * 2.0f - 1.0f, y = (float(j) + 0.5f) / kBall * 2.0f - 1.0f;
+        if (x * x + y * y >= 0.97f) continue;
+        const vec3 nView(x, y, std::sqrt(1.0f - x * x - y * y));
+        const size_t texel = 4 * (size_t(j) * kBall + i);
+        skyRms.add(Rgb(skyLayer[texel], skyLayer[texel + 1], skyLayer[texel + 2]),
+                   environmentReference(brdf, worldFromView, nView, skyRadiance));
+        const Rgb sunWant = referenceLuminance(brdf, worldFromView * nView, worldFromView * vec3(0, 0, 1),
+                                               {{sky.sunDirWorld, sunLux}});
+        sunRms.add(Rgb(sunLayer[texel], sunLayer[texel + 1], sunLayer[texel + 2]), sunWant);
+      }
     }
+    std::printf("sunlight mode, ball 64², environment image %u²: sky term (16² half vectors) RMS relative error "
+                "%.4f, sun term %.2e, at %zu texels\n",
+                envPx, skyRms.value(), sunRms.value(), skyRms.count);
+    EXPECT_LT(skyRms.value(), envPx == kBall ? 0.01 : 0.03);
+    EXPECT_LT(sunRms.value(), 0.01);
   }
-  std::printf("sunlight mode, ball 64²: sky term (16² half vectors) RMS relative error %.4f, sun term %.2e, at %zu "
-              "texels\n",
-              skyRms.value(), sunRms.value(), skyRms.count);
-  EXPECT_LT(skyRms.value(), 0.02);
-  EXPECT_LT(sunRms.value(), 0.01);
 }
 
 // Light-map mode: the ball's distribution scaled to the baked irradiance (raster/renderer.h). With light
@@ -508,7 +498,7 @@ TEST(BallTexture, LightMapModeScalesTheBallToTheBakedIrradiance) {
     rdb::RasterRdb r = rdb::buildRasterRdb(s.scene, store);
     r.ambient = {};
     Renderer renderer;
-    renderer.setBallSettings({128, 4});
+    renderer.setBallSettings({128, 32, 4});
     renderer.upload(r);
     renderer.render(frontView(), mode, kPx, kPx);
     return std::pair(renderer.luminanceRgb(), r.materials.at(r.meshes.at(0).material).diffuse);
@@ -554,7 +544,7 @@ TEST(BallTexture, ReusedWhileNothingChangesAndLeftOutWithoutMeasuredMaterials) {
   context();
   const SphereScene s = sphereScene({nullptr, testPaint()}, fiveLights());
   Renderer renderer;
-  renderer.setBallSettings({32, 4});
+  renderer.setBallSettings({32, 8, 4});
   renderer.upload(s.rdb);
   renderer.render(frontView(), RenderMode::kSimple, 16, 16);
   renderer.render(frontView(), RenderMode::kSimple, 16, 16);
