@@ -38,6 +38,7 @@ struct ViewOptions {
   std::string op = "filmic";
   std::string shadows = "classic";
   uint32_t shadowMapTexels = 2048;
+  uint32_t ballTexels = 256;
   DaylightOptions daylight;
   uint64_t frames = 0;
   std::string keys;
@@ -118,6 +119,7 @@ int runView(const ViewOptions& o) {
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
   const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
+  const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> mode;
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
@@ -147,6 +149,7 @@ int runView(const ViewOptions& o) {
   v.frames = o.frames;
   v.script = script;
   v.shadows = shadows;
+  v.balls = balls;
 
   std::unique_ptr<raster::GlfwWindowContext> window;
   try {
@@ -160,8 +163,9 @@ int runView(const ViewOptions& o) {
             << "view      "
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
-            << "\nlight     " << scene.light
-            << (scene.bakedSunlight.empty() ? "" : "\nbaked     " + scene.bakedSunlight) << "\nOpenGL    "
+            << "\nlight     " << scene.light << "\n"
+            << measuredBrdfLine(rdb, balls)
+            << (scene.bakedSunlight.empty() ? "" : "baked     " + scene.bakedSunlight + "\n") << "OpenGL    "
             << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
             << " (" << window->info().platform << ")\n"
             << std::flush;
@@ -203,6 +207,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
+  addBallOption(*sub, o->ballTexels);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
   sub->add_option(

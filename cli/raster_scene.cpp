@@ -77,6 +77,35 @@ void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityM
                  "texels per side of the sun's visibility map, 16 to 16384 (default 2048)");
 }
 
+void addBallOption(CLI::App& sub, uint32_t& ballTexels) {
+  sub.add_option("--ball", ballTexels,
+                 "texels per side of the ball textures that show measured-BRDF materials (FLY §4), 8 to 4096 "
+                 "(default 256; a sharp clear coat needs more, docs/ball-textures.md)");
+}
+
+raster::BallSettings parseBallOption(uint32_t ballTexels) {
+  if (ballTexels < 8 || ballTexels > 4096)
+    throw UsageError("--ball " + std::to_string(ballTexels) + ": give 8 to 4096 texels per side");
+  raster::BallSettings b;
+  b.sizePx = ballTexels;
+  b.envSizePx = std::max(4u, ballTexels / 4);
+  return b;
+}
+
+std::string measuredBrdfLine(const rdb::RasterRdb& rdb, const raster::BallSettings& balls) {
+  if (rdb.measuredBrdfs.empty()) return "";
+  size_t tables = 0;
+  for (const rdb::RasterMeasuredBrdf& b : rdb.measuredBrdfs) tables += b.kind == rdb::RasterBrdfKind::kTable;
+  const size_t paints = rdb.measuredBrdfs.size() - tables;
+  std::string kinds;
+  if (paints) kinds += "car paint " + std::to_string(paints);
+  if (tables) kinds += std::string(kinds.empty() ? "" : ", ") + "MERL table " + std::to_string(tables);
+  const std::string n = std::to_string(balls.sizePx);
+  return "brdf      " + std::to_string(rdb.measuredBrdfs.size()) + " measured material" +
+         (rdb.measuredBrdfs.size() == 1 ? "" : "s") + " (" + kinds + "), shown by " + n + "×" + n +
+         " ball textures under the current lights (lamps as distant lights from each material's objects)\n";
+}
+
 raster::SunShadowSettings parseShadowOptions(const std::string& shadows, uint32_t visibilityMapTexels) {
   raster::SunShadowSettings s;
   if (shadows == "vismap") {

@@ -44,6 +44,13 @@ ToneOperator parseToneOperator(const std::string& name);
 // converts their values (UsageError naming the option otherwise).
 void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityMapTexels);
 raster::SunShadowSettings parseShadowOptions(const std::string& shadows, uint32_t visibilityMapTexels);
+// --ball N (raster/ball_texture.h): the measured materials' ball textures, N × N texels (8 to 4096), the
+// environment term at N/4; adds it to `sub`, and checks and converts its value (UsageError otherwise).
+void addBallOption(CLI::App& sub, uint32_t& ballTexels);
+raster::BallSettings parseBallOption(uint32_t ballTexels);
+// What the scene's measured materials are and how they are shown: "" without any, else a line for the
+// command's summary ("brdf      2 measured materials (car paint 1, table 1), 256² ball textures …").
+std::string measuredBrdfLine(const rdb::RasterRdb& rdb, const raster::BallSettings& balls);
 
 // `requested` when the scene supports it (UsageError saying why not otherwise), else the best mode it
 // supports (raster::supportedModes).
