@@ -43,6 +43,21 @@ float gonioCd(const rdb::RasterRdb& rdb, const rdb::RasterLight& l, const vec3& 
 
 }  // namespace
 
+mat3 ballFrame(const mat3& viewFromWorld, const vec3& eyeM, bool orthographic, const vec3& centreM) {
+  const vec3 offset = eyeM - centreM;
+  if (orthographic || !(glm::dot(offset, offset) > 0.0f)) return viewFromWorld;
+  const vec3 e = glm::normalize(viewFromWorld * offset);  // towards the eye, view frame
+  const vec3 z(0.0f, 0.0f, 1.0f);
+  const float c = glm::dot(e, z);
+  if (c < 1e-3f) return viewFromWorld;  // the centre at or behind the eye's plane
+  // Rodrigues' rotation about e × z by the angle between them: R v = c v + (k × v) + (k·v) k / (1 + c),
+  // k = e × z (|k| = sin).
+  const vec3 k = glm::cross(e, z);
+  const mat3 kx(vec3(0.0f, k.z, -k.y), vec3(-k.z, 0.0f, k.x), vec3(k.y, -k.x, 0.0f));  // columns
+  const mat3 rotation = mat3(c) + kx + glm::outerProduct(k, k) / (1.0f + c);
+  return rotation * viewFromWorld;
+}
+
 std::vector<DistantLight> distantLights(const rdb::RasterRdb& rdb, const vec3& centreM) {
   std::vector<DistantLight> out;
   for (const rdb::RasterLight& l : rdb.lights) {
@@ -120,6 +135,7 @@ void BallTextures::setSettings(const BallSettings& settings) {
 void BallTextures::setBrdfs(const rdb::RasterRdb& rdb) {
   brdfCount_ = uint32_t(rdb.measuredBrdfs.size());
   keys_.assign(brdfCount_, {});
+  ballFromWorld_.assign(brdfCount_, mat3(1.0f));
   std::vector<GpuBallBrdf> blocks;
   uint32_t tableSlices = 0;
   for (const rdb::RasterMeasuredBrdf& b : rdb.measuredBrdfs) {
@@ -213,14 +229,15 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
     p.worldFromView = loc("uWorldFromView");
     p.envSteps = loc("uEnvSteps");
   };
-  const mat3& viewFromWorld = lighting.viewFromWorld;
-  const vec3 sunView = glm::normalize(viewFromWorld * lighting.sunDirWorld);
   const Rgb sunLux = lighting.sun ? lighting.sunLux : Rgb(0.0f);
   // Every ball's lights in one buffer; the balls whose inputs changed.
   std::vector<GpuBallLight> lights;
   std::vector<uint32_t> firstLight(brdfCount_ + 1, 0);
   std::vector<uint32_t> changed;
   for (uint32_t k = 0; k < brdfCount_; ++k) {
+    const mat3 viewFromWorld =
+        ballFrame(lighting.viewFromWorld, lighting.eyeM, lighting.orthographic, rdb.measuredBrdfs[k].centreM);
+    const vec3 sunView = glm::normalize(viewFromWorld * lighting.sunDirWorld);
     firstLight[k] = uint32_t(lights.size());
     for (const DistantLight& d : distantLights(rdb, rdb.measuredBrdfs[k].centreM)) {
       lights.push_back({vec4(glm::normalize(viewFromWorld * d.toLightWorld), 0.0f), vec4(d.illuminanceLux, 0.0f)});
@@ -242,6 +259,7 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
     }
     if (key == keys_[k]) continue;
     keys_[k] = std::move(key);
+    ballFromWorld_[k] = viewFromWorld;
     changed.push_back(k);
   }
   if (changed.empty()) return 0;
@@ -254,17 +272,17 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
     glUseProgram(p.program);
     if (lighting.environment == BallLighting::Environment::kSky) glBindTextureUnit(1, lighting.skyTexture);
     glBindImageTexture(0, g.environment, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    const vec3 upView = viewFromWorld * vec3(0, 1, 0);
     const Rgb up = lighting.upLux / kPiF, down = lighting.downLux / kPiF;
-    const mat3 worldFromView = glm::transpose(viewFromWorld);
     glUniform1i(p.size, GLint(m));
     glUniform1i(p.environment, int(lighting.environment));
-    glUniform3fv(p.upView, 1, &upView[0]);
     glUniform3fv(p.upCdM2, 1, &up[0]);
     glUniform3fv(p.downCdM2, 1, &down[0]);
-    glUniformMatrix3fv(p.worldFromView, 1, GL_FALSE, &worldFromView[0][0]);
     glUniform1i(p.envSteps, GLint(settings_.envGridSteps));
     for (uint32_t k : changed) {
+      const vec3 upView = ballFromWorld_[k] * vec3(0, 1, 0);
+      const mat3 worldFromView = glm::transpose(ballFromWorld_[k]);
+      glUniform3fv(p.upView, 1, &upView[0]);
+      glUniformMatrix3fv(p.worldFromView, 1, GL_FALSE, &worldFromView[0][0]);
       glUniform1i(p.brdf, GLint(k));
       glUniform1i(p.firstLayer, GLint(k));
       glDispatchCompute((m + 7) / 8, (m + 7) / 8, 1);
@@ -283,9 +301,10 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
   glBindImageTexture(0, g.balls, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glUniform1i(p.size, GLint(n));
   glUniform1i(p.hasEnvironment, hasEnvironment ? 1 : 0);
-  glUniform3fv(p.sunView, 1, &sunView[0]);
   glUniform3fv(p.sunLux, 1, &sunLux[0]);
   for (uint32_t k : changed) {
+    const vec3 sunView = glm::normalize(ballFromWorld_[k] * lighting.sunDirWorld);
+    glUniform3fv(p.sunView, 1, &sunView[0]);
     glUniform1i(p.brdf, GLint(k));
     glUniform1i(p.firstLayer, GLint(2 * k));
     glUniform1i(p.firstLight, GLint(firstLight[k]));

@@ -15,7 +15,9 @@
 // pass and its glass transmittance can drop or scale it); a = the luminance of the irradiance (lux) the
 // layer's light gives a surface with the texel's normal (the light-map modes' ratio, raster/renderer.h). A
 // ball is remade only when what it depends on changes: the view's rotation, its lights (directions and
-// illuminance), its environment, its BRDF or the settings. Needs a current context.
+// illuminance), its environment, its BRDF or the settings; its frame (ballFrame) follows the direction from
+// the material's objects to the eye, so in a perspective view walking past them remakes it too. Needs a
+// current context.
 #pragma once
 
 #include <cstdint>
@@ -46,6 +48,12 @@ struct DistantLight {
   Rgb illuminanceLux{0.0f};
 };
 
+// A ball's frame: the view's rotation, and in a perspective view turned by the least rotation that takes the
+// direction from `centreM` to the eye onto +Z, so that the ball is seen as the material's objects are and
+// sphere mapping errs only by the objects' own angular extent, not by their angle off the view axis (a
+// centre behind the eye keeps the view's rotation).
+mat3 ballFrame(const mat3& viewFromWorld, const vec3& eyeM, bool orthographic, const vec3& centreM);
+
 // The scene's lights (not the sun) as distant lights from `centreM`: directional ones as they are, point,
 // spot and goniometric ones towards their position with I(direction) · window / d² (the same falloffs as
 // the Phong's, shaders/scene_glsl.h). Lights at the centre itself or giving nothing there are left out.
@@ -54,6 +62,8 @@ std::vector<DistantLight> distantLights(const rdb::RasterRdb& rdb, const vec3& c
 // What lights the balls in a frame.
 struct BallLighting {
   mat3 viewFromWorld{1.0f};  // the view's rotation
+  vec3 eyeM{0.0f};           // perspective: the eye (world)
+  bool orthographic = false;
   bool sun = false;
   vec3 sunDirWorld{0, 1, 0};  // unit, towards the sun
   Rgb sunLux{0.0f};           // the sun's illuminance on a surface facing it
@@ -82,6 +92,9 @@ class BallTextures {
 
   // The GL_TEXTURE_2D_ARRAY of all balls: brdf k's layers are 2k (lights and environment) and 2k + 1 (sun).
   unsigned texture() const;
+  // Ball k's frame as last made: the view's rotation, turned (perspective) so that its +Z points from the
+  // material's centre to the eye (ballFrame).
+  const mat3& ballFromWorld(uint32_t k) const { return ballFromWorld_.at(k); }
   // One layer read back, RGBA floats, N × N, rows from the bottom (y = −1) up.
   std::vector<float> readLayer(uint32_t layer) const;
 
@@ -91,6 +104,7 @@ class BallTextures {
   SunShadows::Compile compile_;
   BallSettings settings_;
   std::vector<std::vector<float>> keys_;  // per ball: what it was made from (empty: not made)
+  std::vector<mat3> ballFromWorld_;
   uint32_t brdfCount_ = 0;
 };
 

@@ -264,7 +264,7 @@ struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
-        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, viewFromWorld = -1;
+        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1;
 };
 
 struct Renderer::Gpu {
@@ -475,7 +475,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.sunGlassFromWorld = loc("uSunGlassFromWorld");
   sp.sunGlassBias = loc("uSunGlassBiasM");
   sp.ballLayer = loc("uBallLayer");
-  sp.viewFromWorld = loc("uViewFromWorld");
+  sp.ballFromWorld = loc("uBallFromWorld");
   sp.program = p;
   return sp;
 }
@@ -977,7 +977,6 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
     }
     // The measured materials' balls under this frame's lights (raster/ball_texture.h).
-    const mat3 viewFromWorld = glm::transpose(mat3(view.worldFromCamera));
     if (v.measuredBrdf) {
       makeBalls(view, mode);
       glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
@@ -999,7 +998,6 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
-      if (programVariant & kVariantMeasured) glUniformMatrix3fv(p.viewFromWorld, 1, GL_FALSE, &viewFromWorld[0][0]);
       if (programVariant & kVariantSunGlass) {
         glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);
         glUniform1f(p.sunGlassBias, sunGlass_->biasM());
@@ -1012,6 +1010,10 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       const rdb::RasterMaterial& m = r.materials[d.material];
       glUniform1ui(p.material, d.material);
       glUniform1i(p.ballLayer, m.measured == rdb::RasterTextureRef::kNone ? -1 : GLint(2 * m.measured));
+      if (m.measured != rdb::RasterTextureRef::kNone) {
+        const mat3& ballFromWorld = balls_->ballFromWorld(m.measured);
+        glUniformMatrix3fv(p.ballFromWorld, 1, GL_FALSE, &ballFromWorld[0][0]);
+      }
       const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
       GLuint bits = 0;
       vec4 rows[6];
@@ -1164,6 +1166,8 @@ int Renderer::makeBalls(const View& view, RenderMode mode) {
   }
   BallLighting lighting;
   lighting.viewFromWorld = glm::transpose(mat3(view.worldFromCamera));
+  lighting.eyeM = vec3(view.worldFromCamera[3]);
+  lighting.orthographic = view.orthographic;
   lighting.sun = v.sun;
   if (v.sun) {
     const rdb::RasterSky& s = *r.sky;

@@ -593,16 +593,17 @@ layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
 
 #ifdef FLY_MEASURED
 // The draw's material's ball (raster/ball_texture.h): layer uBallLayer the lights and the environment,
-// uBallLayer + 1 the sun; −1 for a material without a measured BRDF.
+// uBallLayer + 1 the sun; −1 for a material without a measured BRDF. uBallFromWorld: the ball's frame, whose
+// +Z points from the material's objects to the eye (raster/ball_texture.h).
 layout(binding = 9) uniform sampler2DArray uBalls;
 uniform int uBallLayer;
-uniform mat3 uViewFromWorld;
+uniform mat3 uBallFromWorld;
 
 // Sphere mapping with the view direction per pixel: the reflection r of the direction to the eye about the
-// normal (view frame) is what the ball shows at the normal halfway between r and the ball's +Z.
+// normal (ball frame) is what the ball shows at the normal halfway between r and the ball's +Z.
 vec2 flyBallUv(vec3 n, vec3 toEye) {
-  vec3 nView = uViewFromWorld * n;
-  vec3 vView = uViewFromWorld * toEye;
+  vec3 nView = uBallFromWorld * n;
+  vec3 vView = uBallFromWorld * toEye;
   vec3 r = 2.0 * dot(nView, vView) * nView - vView;
   vec3 h = r + vec3(0.0, 0.0, 1.0);
   float len = length(h);
@@ -632,7 +633,7 @@ vec3 flyMeasuredLit(vec3 n, vec3 toEye) {
 // the ratio is of the other light, and the ball's sun is added as in flyMeasuredLit.
 vec3 flyMeasuredLightMap(vec3 eLux, vec3 albedo, vec3 n, vec3 toEye) {
   vec2 uv = flyBallUv(n, toEye);
-  vec3 nView = uViewFromWorld * n;
+  vec3 nView = uBallFromWorld * n;
   vec2 nUv = (nView.z > 0.0 ? nView.xy : normalize(nView.xy + vec2(1e-12, 0.0))) * 0.5 + 0.5;
   float eBaked = dot(eLux, vec3(0.2126, 0.7152, 0.0722));
   float eps = 1e-3 * eBaked + 1e-6;

@@ -269,6 +269,16 @@ TEST(BallTexture, RenderedSphereInPerspective) {
               small, compared);
   EXPECT_GT(compared, 1000u);
   EXPECT_LT(small, 0.02);
+  // The same sphere 25° off the view axis: the ball's frame turns towards it (ballFrame), so the error stays
+  // that of its own angular extent.
+  const double aside = sphereError({nullptr, testPaint()}, 256,
+                                   test::lookAtView(vec3(0.0f, 0.0f, 8.0f), vec3(3.73f, 0.0f, 0.0f), 20.0f), true,
+                                   &compared);
+  std::printf("car-paint sphere 160², perspective 0.9 rad from 8 m, 25° off the view axis, ball 256²: RMS "
+              "relative error %.4f over %zu pixels\n",
+              aside, compared);
+  EXPECT_GT(compared, 800u);
+  EXPECT_LT(aside, 0.02);
 }
 
 // The environment term (simple mode's directional ambient as two hemispheres, 12 000 lux above, 2 000 lux
