@@ -36,8 +36,9 @@ struct Commands {
   // counts of the method not taken set to 0 (shadow_glsl.h, kShadowSelectCompute).
   uint32_t nearInVolume = 0;
   uint32_t selected[18] = {};
+  uint32_t keptByDepth = 0;  // triangles the visibility maps do not show, kept by the depth test
 };
-static_assert(sizeof(Commands) == 35 * sizeof(uint32_t));
+static_assert(sizeof(Commands) == 36 * sizeof(uint32_t));
 // Visibility map levels: the whole map, then twice the square around what the previous level left undecided.
 constexpr int kMapLevels = 3;
 
@@ -95,31 +96,50 @@ struct SunShadows::Gpu {
   GLuint capVao = 0;     // the caps: the scene's positions, the caps' indices
   GLuint pulledVao = 0;  // draws that pull their vertices from buffers (no attributes)
   GLuint visibility = 0, visibilityDepth = 0, visibilityFbo = 0;
+  GLuint depthTestFbo = 0;  // no attachments, the map's size: the depth test's fragments
+
   uint32_t visibilityTexels = 0;
-  GLuint visibilityProgram = 0, markProgram = 0, classifyProgram = 0, shellsProgram = 0, keepProgram = 0,
+  GLuint visibilityProgram = 0, markProgram = 0, classifyProgram = 0, depthTestProgram = 0, shellsProgram = 0,
+         keepProgram = 0,
          edgesProgram = 0, capProgram = 0, sideProgram = 0, nearProgram = 0, selectProgram = 0;
   uint32_t casterCount = 0, edgeCount = 0, shellCount = 0;
   // Cut-out (alpha MASK) casters: seen through their holes, their caps matter to z-pass too, so a scene with
   // them always takes z-fail.
   bool maskCasters = false;
   GLuint shellKept = 0;  // per shell: 1 when one of its triangles is kept
+  GLuint depthTests = 0;  // the depth test's indirect draw and casters (shadow_glsl.h, binding 10)
   GLint capClipFromWorld = -1, sideClipFromWorld = -1, sideSunDir = -1;  // drawVolumes' uniforms
   Bounds3 boundsM;                                                       // of the casters
   bool built = false;
+  bool profiling = false;
+  std::vector<std::pair<std::string, GLuint>> stamps;  // GL_TIMESTAMP queries of the last build, in order
+  void stamp(std::string name) {
+    if (!profiling) return;
+    GLuint q = 0;
+    glCreateQueries(GL_TIMESTAMP, 1, &q);
+    glQueryCounter(q, GL_TIMESTAMP);
+    stamps.emplace_back(std::move(name), q);
+  }
+  void clearStamps() {
+    for (auto& [name, q] : stamps) glDeleteQueries(1, &q);
+    stamps.clear();
+  }
   vec3 builtSunDir{0.0f};
   SunShadowSettings builtSettings;
   float texelSizeM = 0.0f;
 
   ~Gpu() {
+    clearStamps();
     const GLuint buffers[] = {casters,  state, edgeCounts, caps,     edgeVertices,
-                              commands, sides, levels,     shellKept};
+                              commands, sides, levels,     shellKept, depthTests};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteVertexArrays(1, &capVao);
     glDeleteVertexArrays(1, &pulledVao);
     glDeleteTextures(1, &visibility);
     glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
-    for (GLuint p : {visibilityProgram, markProgram, classifyProgram, shellsProgram, keepProgram,
+    glDeleteFramebuffers(1, &depthTestFbo);
+    for (GLuint p : {visibilityProgram, markProgram, classifyProgram, depthTestProgram, shellsProgram, keepProgram,
                      edgesProgram, capProgram, sideProgram, nearProgram, selectProgram}) {
       glDeleteProgram(p);
     }
@@ -225,6 +245,7 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
   }
   g.shellCount = shells;
   storeEmpty(g.shellKept, size_t(shells) * sizeof(uint32_t));
+  storeEmpty(g.depthTests, (4 + casters.size()) * sizeof(uint32_t), GL_DYNAMIC_STORAGE_BIT);
   g.casterCount = uint32_t(casters.size());
   g.edgeCount = uint32_t(edgeVertices.size());
   store(g.casters, casters);
@@ -262,6 +283,8 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     g.sideClipFromWorld = glGetUniformLocation(g.sideProgram, "uClipFromWorld");
     g.sideSunDir = glGetUniformLocation(g.sideProgram, "uSunDirWorld");
   }
+  g.clearStamps();
+  g.stamp("start");
   g.built = true;
   g.builtSunDir = sunDirWorld;
   g.builtSettings = settings;
@@ -307,6 +330,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       g.markProgram = compile_("shadow-mark", common, {{GL_COMPUTE_SHADER, shaders::kShadowMarkCompute}});
       g.classifyProgram =
           compile_("shadow-classify", common, {{GL_COMPUTE_SHADER, shaders::kShadowClassifyCompute}});
+      g.depthTestProgram = compile_("shadow-depth-test", common,
+                                    {{GL_VERTEX_SHADER, shaders::kShadowDepthTestVertex},
+                                     {GL_FRAGMENT_SHADER, shaders::kShadowDepthTestFragment}});
       g.shellsProgram =
           compile_("shadow-shells", common, {{GL_COMPUTE_SHADER, shaders::kShadowShellsCompute}});
     }
@@ -314,6 +340,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       glDeleteTextures(1, &g.visibility);
       glDeleteTextures(1, &g.visibilityDepth);
       glDeleteFramebuffers(1, &g.visibilityFbo);
+      glDeleteFramebuffers(1, &g.depthTestFbo);
       glCreateTextures(GL_TEXTURE_2D, 1, &g.visibility);
       glTextureStorage2D(g.visibility, 1, GL_R32UI, GLsizei(texels), GLsizei(texels));
       glCreateTextures(GL_TEXTURE_2D, 1, &g.visibilityDepth);
@@ -329,6 +356,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
         throw std::runtime_error("the OpenGL driver cannot render a " + std::to_string(texels) +
                                  "² R32UI visibility map");
       }
+      glCreateFramebuffers(1, &g.depthTestFbo);
+      glNamedFramebufferParameteri(g.depthTestFbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(texels));
+      glNamedFramebufferParameteri(g.depthTestFbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, GLint(texels));
       g.visibilityTexels = texels;
     }
     const float half = 0.5f * extentM, cx = 0.5f * (lo.x + hi.x), cy = 0.5f * (lo.y + hi.y);
@@ -344,7 +374,8 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glNamedBufferSubData(g.levels, 0, sizeof regions, regions.data());
     glClearNamedBufferData(g.state, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.levels);
-    for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram}) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.depthTests);
+    for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
       glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "uSunClipFromWorld"), 1, GL_FALSE,
                                 &sunClipFromWorld[0][0]);
       glProgramUniform1i(program, glGetUniformLocation(program, "uMapTexels"), GLint(texels));
@@ -367,7 +398,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     const uint32_t none = 0xffffffffu;
     const float farDepth = 1.0f;
     for (GLint level = 0; level < kMapLevels; ++level) {
-      for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram}) {
+      for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
         glProgramUniform1i(program, glGetUniformLocation(program, "uLevel"), level);
       }
       glClearNamedFramebufferuiv(g.visibilityFbo, GL_COLOR, 0, &none);
@@ -377,16 +408,32 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       glUseProgram(g.visibilityProgram);
       glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * g.casterCount));
       glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
+      const std::string at = " " + std::to_string(level);
+      g.stamp("map" + at);
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+      const uint32_t noDraw[4] = {0, 1, 0, 0};
+      glNamedBufferSubData(g.depthTests, 0, sizeof noDraw, noDraw);
       glUseProgram(g.markProgram);
       glBindImageTexture(0, g.visibility, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
       glDispatchCompute((texels + 7) / 8, (texels + 7) / 8, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      g.stamp("mark" + at);
       glUseProgram(g.classifyProgram);
       glBindTextureUnit(0, g.visibility);
       glBindTextureUnit(1, g.visibilityDepth);
       glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+      g.stamp("classify" + at);
+      // The depth test of what the classification sent to it, over this level's map (depth writes off).
+      glDisable(GL_DEPTH_TEST);
+      glBindFramebuffer(GL_FRAMEBUFFER, g.depthTestFbo);
+      glUseProgram(g.depthTestProgram);
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.depthTests);
+      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
+      glEnable(GL_DEPTH_TEST);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      g.stamp("depth test" + at);
     }
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     glClearNamedBufferData(g.shellKept, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);
@@ -395,6 +442,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glUniform1ui(glGetUniformLocation(g.shellsProgram, "uCasterCount"), g.casterCount);
     glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    g.stamp("shells");
   }
 
   const GLuint capCapacity = 3 * g.casterCount;
@@ -406,13 +454,29 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   glUniform1i(loc("uPrune"), prune ? 1 : 0);
   glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  g.stamp("keep");
   glUseProgram(g.edgesProgram);
   glUniform1ui(glGetUniformLocation(g.edgesProgram, "uEdgeCount"), g.edgeCount);
   glUniform1ui(glGetUniformLocation(g.edgesProgram, "uCapCapacity"), capCapacity);
   glDispatchCompute(std::max(1u, (g.edgeCount + 63) / 64), 1, 1);
   glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT |
                   GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  g.stamp("edges");
   return true;
+}
+
+void SunShadows::setProfiling(bool on) { gpu_->profiling = on; }
+
+std::vector<std::pair<std::string, double>> SunShadows::buildStagesMs() const {
+  std::vector<std::pair<std::string, double>> stages;
+  GLuint64 previous = 0;
+  for (const auto& [name, q] : gpu_->stamps) {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(q, GL_QUERY_RESULT, &ns);
+    if (!stages.empty() || previous != 0) stages.emplace_back(name, 1e-6 * double(ns - previous));
+    previous = ns;
+  }
+  return stages;
 }
 
 void SunShadows::drawStencil(const mat4& clipFromWorld) {
@@ -542,6 +606,7 @@ SunShadowCounts SunShadows::counts() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glGetNamedBufferSubData(g.commands, 0, sizeof cmd, &cmd);
   c.visibleTriangles = cmd.visible;
+  c.keptByDepthTest = cmd.keptByDepth;
   c.keptTriangles = (cmd.facingCount + cmd.turnedCount) / 3;
   c.silhouetteEdges = cmd.silhouetteEdges;
   c.sideTriangles = cmd.sideCount / 3;

@@ -73,6 +73,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "base/math.h"
 #include "rdb/raster_rdb.h"
@@ -106,6 +107,7 @@ struct SunShadowSettings {
 struct SunShadowCounts {
   uint32_t casterTriangles = 0;   // triangles that can cast (not glass, not blended)
   uint32_t visibleTriangles = 0;  // of them, shown by the visibility map
+  uint32_t keptByDepthTest = 0;   // of them, not shown by the map but kept by the depth test
   uint32_t keptTriangles = 0;     // front caps: the triangles whose prisms make the volumes
   uint32_t silhouetteEdges = 0;   // edges with a non-zero count
   uint32_t sideTriangles = 0;     // extruded sides (each silhouette edge |count| times)
@@ -137,6 +139,10 @@ class SunShadows {
   // counted with a GL_SAMPLES_PASSED query; for benchmarks, not per frame.
   uint64_t measureFill(const mat4& clipFromWorld);
   SunShadowCounts counts() const;
+  // GPU time stamps around each stage of build() (GL_TIMESTAMP queries), for benchmarks: off by default.
+  // buildStagesMs() waits for the last build's and returns each stage's name and GPU milliseconds.
+  void setProfiling(bool on);
+  std::vector<std::pair<std::string, double>> buildStagesMs() const;
 
  private:
   struct Gpu;
