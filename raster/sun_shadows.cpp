@@ -95,6 +95,8 @@ struct SunShadows::Gpu {
          levels = 0;
   GLuint capVao = 0;     // the caps: the scene's positions, the caps' indices
   GLuint pulledVao = 0;  // draws that pull their vertices from buffers (no attributes)
+  GLuint casterVao = 0;  // the visibility map: the scene's positions, the casters' vertex indices in order
+  GLuint casterIndices = 0;
   GLuint visibility = 0, visibilityDepth = 0, visibilityFbo = 0;
   GLuint depthTestFbo = 0;  // no attachments, the map's size: the depth test's fragments
 
@@ -135,6 +137,8 @@ struct SunShadows::Gpu {
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteVertexArrays(1, &capVao);
     glDeleteVertexArrays(1, &pulledVao);
+    glDeleteVertexArrays(1, &casterVao);
+    glDeleteBuffers(1, &casterIndices);
     glDeleteTextures(1, &visibility);
     glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
@@ -149,6 +153,7 @@ struct SunShadows::Gpu {
 SunShadows::SunShadows(Compile compile) : gpu_(std::make_unique<Gpu>()), compile_(std::move(compile)) {
   glCreateVertexArrays(1, &gpu_->capVao);
   glCreateVertexArrays(1, &gpu_->pulledVao);
+  glCreateVertexArrays(1, &gpu_->casterVao);
 }
 
 SunShadows::~SunShadows() = default;
@@ -262,6 +267,15 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
   glVertexArrayAttribBinding(g.capVao, 0, 0);
   glEnableVertexArrayAttrib(g.capVao, 0);
   glVertexArrayElementBuffer(g.capVao, g.caps);
+  std::vector<uint32_t> casterIndices;
+  casterIndices.reserve(3 * casters.size());
+  for (const Caster& c : casters) casterIndices.insert(casterIndices.end(), {c.vertices.x, c.vertices.y, c.vertices.z});
+  store(g.casterIndices, casterIndices);
+  glVertexArrayVertexBuffer(g.casterVao, 0, positions, 0, sizeof(vec3));
+  glVertexArrayAttribFormat(g.casterVao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(g.casterVao, 0, 0);
+  glEnableVertexArrayAttrib(g.casterVao, 0);
+  glVertexArrayElementBuffer(g.casterVao, g.casterIndices);
 }
 
 bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& settings) {
@@ -386,7 +400,6 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glProgramUniform3fv(g.classifyProgram, classifyLoc("uSunXWorld"), 1, &x[0]);
     glProgramUniform3fv(g.classifyProgram, classifyLoc("uSunYWorld"), 1, &y[0]);
     glProgramUniform1f(g.classifyProgram, classifyLoc("uBaseTexelM"), g.texelSizeM);
-    glProgramUniform1i(g.classifyProgram, classifyLoc("uLevels"), kMapLevels);
     GLint previousFbo = 0, viewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previousFbo);
     glGetIntegerv(GL_VIEWPORT, viewport);
@@ -394,9 +407,31 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
-    glBindVertexArray(g.pulledVao);
     const uint32_t none = 0xffffffffu;
     const float farDepth = 1.0f;
+    // Classifies what the level leaves undecided, then depth-tests what it sends there (depth writes off).
+    auto classifyAndTest = [&](const std::string& at, bool last) {
+      const uint32_t noDraw[4] = {0, 1, 0, 0};
+      glNamedBufferSubData(g.depthTests, 0, sizeof noDraw, noDraw);
+      glUseProgram(g.classifyProgram);
+      glUniform1i(classifyLoc("uLastLevel"), last ? 1 : 0);
+      glBindTextureUnit(0, g.visibility);
+      glBindTextureUnit(1, g.visibilityDepth);
+      glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+      g.stamp("classify" + at);
+      glDisable(GL_DEPTH_TEST);
+      glBindFramebuffer(GL_FRAMEBUFFER, g.depthTestFbo);
+      glBindVertexArray(g.pulledVao);
+      glUseProgram(g.depthTestProgram);
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.depthTests);
+      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
+      glEnable(GL_DEPTH_TEST);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      g.stamp("depth test" + at);
+    };
+    float side = float(texels);  // the level's square, in level 0's texels
     for (GLint level = 0; level < kMapLevels; ++level) {
       for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
         glProgramUniform1i(program, glGetUniformLocation(program, "uLevel"), level);
@@ -406,34 +441,34 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       glBindFramebuffer(GL_FRAMEBUFFER, g.visibilityFbo);
       glViewport(0, 0, GLsizei(texels), GLsizei(texels));
       glUseProgram(g.visibilityProgram);
-      glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * g.casterCount));
+      glBindVertexArray(g.casterVao);
+      glDrawElements(GL_TRIANGLES, GLsizei(3 * g.casterCount), GL_UNSIGNED_INT, nullptr);
       glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
       const std::string at = " " + std::to_string(level);
       g.stamp("map" + at);
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-      const uint32_t noDraw[4] = {0, 1, 0, 0};
-      glNamedBufferSubData(g.depthTests, 0, sizeof noDraw, noDraw);
       glUseProgram(g.markProgram);
       glBindImageTexture(0, g.visibility, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
       glDispatchCompute((texels + 7) / 8, (texels + 7) / 8, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       g.stamp("mark" + at);
-      glUseProgram(g.classifyProgram);
-      glBindTextureUnit(0, g.visibility);
-      glBindTextureUnit(1, g.visibilityDepth);
-      glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-      g.stamp("classify" + at);
-      // The depth test of what the classification sent to it, over this level's map (depth writes off).
-      glDisable(GL_DEPTH_TEST);
-      glBindFramebuffer(GL_FRAMEBUFFER, g.depthTestFbo);
-      glUseProgram(g.depthTestProgram);
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.depthTests);
-      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
-      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
-      glEnable(GL_DEPTH_TEST);
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-      g.stamp("depth test" + at);
+      const bool last = level + 1 == kMapLevels;
+      classifyAndTest(at, last);
+      if (last) break;
+      // The next level's square (waiting for the GPU: once per rebuild and level). A level pays only where it
+      // refines: when its square is not at most half this one's side, what is undecided takes the depth test
+      // on this level's map instead.
+      glm::ivec4 next;
+      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+      glGetNamedBufferSubData(g.levels, GLintptr((level + 1) * sizeof next), sizeof next, &next);
+      if (next.x > next.z || next.y > next.w) break;  // nothing undecided
+      const float nextSide = float(std::max(next.z - next.x, next.w - next.y)) / 256.0f *
+                                 (1.0f + 8.0f / float(texels)) + 1.0f / 64.0f;
+      if (nextSide > 0.5f * side) {
+        classifyAndTest(at + " (final)", true);
+        break;
+      }
+      side = nextSide;
     }
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     glClearNamedBufferData(g.shellKept, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);

@@ -80,25 +80,24 @@ vec3 flyLevelWindow(vec3 base, vec3 region) {
 )GLSL";
 
 // A visibility map level: every caster triangle drawn orthographically from the sun with its index as its
-// value (R32UI; 0xffffffff where none). Vertices are pulled by gl_VertexID: 3 per caster.
+// value (R32UI; 0xffffffff where none): one indexed draw of the casters' vertex indices in caster order, so a
+// caster's index is its gl_PrimitiveID, over the scene's positions (shared vertices transformed once).
 inline constexpr const char* kShadowVisibilityVertex = R"GLSL(
-flat out uint vCaster;
+layout(location = 0) in vec3 aPositionM;
 void main() {
-  vCaster = uint(gl_VertexID) / 3u;
   vec3 region;
   if (!flyLevelRegion(region)) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the view: an empty level draws nothing
     return;
   }
-  vec3 w = flyLevelWindow(flyBaseWindow(flyPosition(casters[vCaster].vertices[uint(gl_VertexID) % 3u])), region);
+  vec3 w = flyLevelWindow(flyBaseWindow(aPositionM), region);
   gl_Position = vec4(w.xy / float(uMapTexels) * 2.0 - 1.0, w.z * 2.0 - 1.0, 1.0);
 }
 )GLSL";
 
 inline constexpr const char* kShadowVisibilityFragment = R"GLSL(
-flat in uint vCaster;
 layout(location = 0) out uint oCaster;
-void main() { oCaster = vCaster; }
+void main() { oCaster = uint(gl_PrimitiveID); }
 )GLSL";
 
 // Marks the casters a level shows as seen (kept), one invocation per texel. State per caster: 0 undecided,
@@ -131,7 +130,7 @@ uniform vec3 uSunDirWorld;  // unit, towards the sun
 uniform vec3 uSunXWorld;    // the sun's image plane: unit, perpendicular to uSunDirWorld and each other
 uniform vec3 uSunYWorld;
 uniform float uBaseTexelM;  // level 0's texel side t₀, metres
-uniform int uLevels;
+uniform bool uLastLevel;  // what stays undecided goes to the depth test
 layout(std430, binding = 2) buffer State { uint state[]; };
 
 // Whether the triangle lies wholly behind surfaces the level shows over all of its footprint: between four
@@ -188,7 +187,7 @@ void main() {
     return;
   }
   bool significantIfSeen = !(abs(area2) < texelM * 0.70710678 * 1.001 * perimeter);
-  if (significantIfSeen || uLevel + 1 == uLevels) {
+  if (significantIfSeen || uLastLevel) {
     // To the depth test against this level's map, unless part of the footprint's reach lies outside the
     // level, where the map says nothing: then it is kept.
     vec2 lo = min(w0.xy, min(w1.xy, w2.xy)) - kDepthTestReachTexels;
