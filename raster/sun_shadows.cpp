@@ -101,8 +101,8 @@ struct SunShadows::Gpu {
   GLuint depthTestFbo = 0;  // no attachments, the map's size: the depth test's fragments
 
   uint32_t visibilityTexels = 0;
-  GLuint visibilityProgram = 0, markProgram = 0, classifyProgram = 0, depthTestProgram = 0, shellsProgram = 0,
-         keepProgram = 0,
+  GLuint resetProgram = 0, visibilityProgram = 0, markProgram = 0, classifyProgram = 0, depthTestProgram = 0,
+         shellsProgram = 0, keepProgram = 0,
          edgesProgram = 0, capProgram = 0, sideProgram = 0, nearProgram = 0, selectProgram = 0;
   uint32_t casterCount = 0, edgeCount = 0, shellCount = 0;
   // Cut-out (alpha MASK) casters: seen through their holes, their caps matter to z-pass too, so a scene with
@@ -143,8 +143,8 @@ struct SunShadows::Gpu {
     glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
     glDeleteFramebuffers(1, &depthTestFbo);
-    for (GLuint p : {visibilityProgram, markProgram, classifyProgram, depthTestProgram, shellsProgram, keepProgram,
-                     edgesProgram, capProgram, sideProgram, nearProgram, selectProgram}) {
+    for (GLuint p : {resetProgram, visibilityProgram, markProgram, classifyProgram, depthTestProgram, shellsProgram,
+                     keepProgram, edgesProgram, capProgram, sideProgram, nearProgram, selectProgram}) {
       glDeleteProgram(p);
     }
   }
@@ -283,6 +283,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   if (g.built && g.builtSunDir == sunDirWorld && g.builtSettings == settings) return false;
   if (!g.keepProgram) {
     const std::string common = shaders::kShadowCommon;
+    g.resetProgram = compile_("shadow-reset", "", {{GL_COMPUTE_SHADER, shaders::kShadowResetCompute}});
     g.keepProgram = compile_("shadow-keep", common, {{GL_COMPUTE_SHADER, shaders::kShadowKeepCompute}});
     g.edgesProgram = compile_("shadow-edges", common, {{GL_COMPUTE_SHADER, shaders::kShadowEdgesCompute}});
     g.capProgram = compile_("shadow-caps", "",
@@ -329,11 +330,15 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   const float extentM = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.001f;
   g.texelSizeM = extentM / float(texels);
 
-  const GLint zeroInt = 0;
-  glClearNamedBufferData(g.edgeCounts, GL_R32I, GL_RED_INTEGER, GL_INT, &zeroInt);
-  const GLuint ssbos[] = {g.positions, g.casters,      g.state,    g.edgeCounts,
-                          g.caps,      g.edgeVertices, g.commands, g.sides};
+  const GLuint ssbos[] = {g.positions,    g.casters,  g.state, g.edgeCounts, g.caps,
+                          g.edgeVertices, g.commands, g.sides, g.levels,     g.shellKept};
   glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, GLsizei(std::size(ssbos)), ssbos);
+  glUseProgram(g.resetProgram);
+  glUniform1ui(glGetUniformLocation(g.resetProgram, "uCasterCount"), g.casterCount);
+  glUniform1ui(glGetUniformLocation(g.resetProgram, "uEdgeCount"), g.edgeCount);
+  glUniform1ui(glGetUniformLocation(g.resetProgram, "uShellCount"), g.shellCount);
+  glDispatchCompute((std::max({g.casterCount, g.edgeCount, g.shellCount}) + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
   if (prune) {
     if (!g.visibilityProgram) {
@@ -386,9 +391,8 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
                             std::numeric_limits<int>::min(), std::numeric_limits<int>::min()));
     regions[0] = glm::ivec4(0, 0, int(texels) * 256, int(texels) * 256);
     glNamedBufferSubData(g.levels, 0, sizeof regions, regions.data());
-    glClearNamedBufferData(g.state, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.levels);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.depthTests);
+    g.stamp("setup");
     for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
       glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "uSunClipFromWorld"), 1, GL_FALSE,
                                 &sunClipFromWorld[0][0]);
@@ -407,7 +411,6 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
-    const uint32_t none = 0xffffffffu;
     const float farDepth = 1.0f;
     // Classifies what the level leaves undecided, then depth-tests what it sends there (depth writes off).
     auto classifyAndTest = [&](const std::string& at, bool last) {
@@ -432,32 +435,41 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       g.stamp("depth test" + at);
     };
     float side = float(texels);  // the level's square, in level 0's texels
+    uint32_t levelTexels = texels;  // the level's texels per side: its square in the map's corner
+    glEnable(GL_SCISSOR_TEST);
     for (GLint level = 0; level < kMapLevels; ++level) {
       for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
         glProgramUniform1i(program, glGetUniformLocation(program, "uLevel"), level);
+        glProgramUniform1i(program, glGetUniformLocation(program, "uLevelTexels"), GLint(levelTexels));
       }
-      glClearNamedFramebufferuiv(g.visibilityFbo, GL_COLOR, 0, &none);
-      glClearNamedFramebufferfv(g.visibilityFbo, GL_DEPTH, 0, &farDepth);
+      glViewport(0, 0, GLsizei(levelTexels), GLsizei(levelTexels));
+      glScissor(0, 0, GLsizei(levelTexels), GLsizei(levelTexels));
+      const std::string at = " " + std::to_string(level);
+      // The map's textures must not stay bound for sampling while they are drawn into.
+      glBindTextureUnit(0, 0);
+      glBindTextureUnit(1, 0);
+      glClearNamedFramebufferfv(g.visibilityFbo, GL_DEPTH, 0, &farDepth);  // the indices need no clear
+      g.stamp("clear" + at);
       glBindFramebuffer(GL_FRAMEBUFFER, g.visibilityFbo);
-      glViewport(0, 0, GLsizei(texels), GLsizei(texels));
       glUseProgram(g.visibilityProgram);
       glBindVertexArray(g.casterVao);
       glDrawElements(GL_TRIANGLES, GLsizei(3 * g.casterCount), GL_UNSIGNED_INT, nullptr);
       glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
-      const std::string at = " " + std::to_string(level);
       g.stamp("map" + at);
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
       glUseProgram(g.markProgram);
-      glBindImageTexture(0, g.visibility, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
-      glDispatchCompute((texels + 7) / 8, (texels + 7) / 8, 1);
+      glBindTextureUnit(0, g.visibility);
+      glBindTextureUnit(1, g.visibilityDepth);
+      glDispatchCompute((levelTexels + 7) / 8, (levelTexels + 7) / 8, 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       g.stamp("mark" + at);
       const bool last = level + 1 == kMapLevels;
       classifyAndTest(at, last);
       if (last) break;
-      // The next level's square (waiting for the GPU: once per rebuild and level). A level pays only where it
-      // refines: when its square is not at most half this one's side, what is undecided takes the depth test
-      // on this level's map instead.
+      // The next level's square (waiting for the GPU: once per rebuild and level), drawn with texels half as
+      // large as this level's, so in fewer texels per side where the square is smaller. A level pays only where
+      // it refines: when its square is not at most half this one's side (it would need more texels than
+      // level 0), what is undecided takes the depth test on this level's map instead.
       glm::ivec4 next;
       glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
       glGetNamedBufferSubData(g.levels, GLintptr((level + 1) * sizeof next), sizeof next, &next);
@@ -468,11 +480,11 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
         classifyAndTest(at + " (final)", true);
         break;
       }
+      levelTexels = std::clamp(uint32_t(std::ceil(2.0f * float(levelTexels) * nextSide / side)), 16u, texels);
       side = nextSide;
     }
+    glDisable(GL_SCISSOR_TEST);
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    glClearNamedBufferData(g.shellKept, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.shellKept);
     glUseProgram(g.shellsProgram);
     glUniform1ui(glGetUniformLocation(g.shellsProgram, "uCasterCount"), g.casterCount);
     glDispatchCompute((g.casterCount + 63) / 64, 1, 1);

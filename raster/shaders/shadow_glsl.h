@@ -42,12 +42,13 @@ layout(std430, binding = 1) readonly buffer Casters { Caster casters[]; };
 layout(std430, binding = 6) coherent buffer Commands { uint commands[]; };
 
 // The visibility map's levels: level 0 covers the casters' bounds (uSunClipFromWorld); level k + 1 the square
-// around the triangles level k left undecided, at the same number of texels. Per level its region of level 0's
+// around the triangles level k left undecided, with texels half as large as level k's. Per level its region of level 0's
 // image plane, in level 0's texels × 256 (integers, for atomicMin and atomicMax): min x, min y, max x, max y;
 // empty (min > max) when level k left nothing undecided.
 layout(std430, binding = 8) coherent buffer MapLevels { ivec4 levelRegions[]; };
 uniform mat4 uSunClipFromWorld;  // level 0: world → the orthographic view from the sun
-uniform int uMapTexels;          // texels per side of every level
+uniform int uMapTexels;          // texels per side of level 0
+uniform int uLevelTexels;        // texels per side of level uLevel (its texel: half the last level's)
 uniform int uLevel;
 
 // Level uLevel's square: xy its corner and z its side, in level 0's texels; false when the level is empty.
@@ -68,6 +69,13 @@ layout(std430, binding = 10) coherent buffer DepthTests {
   uint depthTestDraw[4];  // count (6 per caster), instances, first, base instance
   uint depthTestCasters[];
 };
+// The level's map: caster indices and their depth from the sun in [0, 1]; the indices are not cleared, so a
+// texel shows a caster only where its depth is below 1 (drawn this level).
+layout(binding = 0) uniform usampler2D uVisibilityIds;
+layout(binding = 1) uniform sampler2D uVisibilityDepth;
+uint flyMapCaster(ivec2 p) {
+  return texelFetch(uVisibilityDepth, p, 0).x < 1.0 ? texelFetch(uVisibilityIds, p, 0).x : 0xffffffffu;
+}
 // p in level 0: xy in texels, z the depth from the sun in [0, 1].
 vec3 flyBaseWindow(vec3 p) {
   vec3 c = (uSunClipFromWorld * vec4(p, 1.0)).xyz;  // orthographic: w = 1
@@ -75,12 +83,29 @@ vec3 flyBaseWindow(vec3 p) {
 }
 // The same point in the level of `region`: xy in its texels.
 vec3 flyLevelWindow(vec3 base, vec3 region) {
-  return vec3((base.xy - region.xy) / region.z * float(uMapTexels), base.z);
+  return vec3((base.xy - region.xy) / region.z * float(uLevelTexels), base.z);
+}
+)GLSL";
+
+// Zeroes the per-build buffers, one invocation per index: the casters' states (binding 2), the edges' counts
+// (3) and the shells' flags (9). (A compute pass: on NVIDIA's driver glClearBufferData is several times
+// slower.)
+inline constexpr const char* kShadowResetCompute = R"GLSL(
+layout(local_size_x = 64) in;
+uniform uint uCasterCount, uEdgeCount, uShellCount;
+layout(std430, binding = 2) writeonly buffer State { uint state[]; };
+layout(std430, binding = 3) writeonly buffer EdgeCounts { int edgeCount[]; };
+layout(std430, binding = 9) writeonly buffer ShellKept { uint shellKept[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i < uCasterCount) state[i] = 0u;
+  if (i < uEdgeCount) edgeCount[i] = 0;
+  if (i < uShellCount) shellKept[i] = 0u;
 }
 )GLSL";
 
 // A visibility map level: every caster triangle drawn orthographically from the sun with its index as its
-// value (R32UI; 0xffffffff where none): one indexed draw of the casters' vertex indices in caster order, so a
+// value (R32UI; where the depth stays 1, none): one indexed draw of the casters' vertex indices in caster order, so a
 // caster's index is its gl_PrimitiveID, over the scene's positions (shared vertices transformed once).
 inline constexpr const char* kShadowVisibilityVertex = R"GLSL(
 layout(location = 0) in vec3 aPositionM;
@@ -91,7 +116,7 @@ void main() {
     return;
   }
   vec3 w = flyLevelWindow(flyBaseWindow(aPositionM), region);
-  gl_Position = vec4(w.xy / float(uMapTexels) * 2.0 - 1.0, w.z * 2.0 - 1.0, 1.0);
+  gl_Position = vec4(w.xy / float(uLevelTexels) * 2.0 - 1.0, w.z * 2.0 - 1.0, 1.0);
 }
 )GLSL";
 
@@ -104,14 +129,13 @@ void main() { oCaster = uint(gl_PrimitiveID); }
 // 1 seen (kept), 2 dropped (it cannot be seen, or is certain to be hidden, or is significant and unseen).
 inline constexpr const char* kShadowMarkCompute = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, r32ui) uniform readonly uimage2D uVisibility;
 layout(std430, binding = 2) buffer State { uint state[]; };
 void main() {
   vec3 region;
   if (!flyLevelRegion(region)) return;
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (p.x >= uMapTexels || p.y >= uMapTexels) return;
-  uint id = imageLoad(uVisibility, p).x;
+  if (p.x >= uLevelTexels || p.y >= uLevelTexels) return;
+  uint id = flyMapCaster(p);
   if (id != 0xffffffffu) state[id] = 1u;
 }
 )GLSL";
@@ -123,8 +147,6 @@ void main() {
 // last level they go to the depth test too).
 inline constexpr const char* kShadowClassifyCompute = R"GLSL(
 layout(local_size_x = 64) in;
-layout(binding = 0) uniform usampler2D uVisibilityIds;  // the level: caster index, 0xffffffff for none
-layout(binding = 1) uniform sampler2D uVisibilityDepth;  // its depth, [0, 1] from the sun
 uniform uint uCasterCount;
 uniform vec3 uSunDirWorld;  // unit, towards the sun
 uniform vec3 uSunXWorld;    // the sun's image plane: unit, perpendicular to uSunDirWorld and each other
@@ -142,16 +164,16 @@ bool flyHiddenBehindMap(vec3 w0, vec3 w1, vec3 w2) {
   vec2 lo = min(w0.xy, min(w1.xy, w2.xy)), hi = max(w0.xy, max(w1.xy, w2.xy));
   float nearest = min(w0.z, min(w1.z, w2.z));
   ivec2 a = ivec2(floor(lo - 0.5)), b = ivec2(floor(hi - 0.5));  // squares from centre a to centre b + 1
-  if (a.x < 0 || a.y < 0 || b.x + 1 >= uMapTexels || b.y + 1 >= uMapTexels) return false;
+  if (a.x < 0 || a.y < 0 || b.x + 1 >= uLevelTexels || b.y + 1 >= uLevelTexels) return false;
   if (b.x - a.x > 3 || b.y - a.y > 3) return false;
   for (int y = a.y; y <= b.y; ++y) {
     for (int x = a.x; x <= b.x; ++x) {
-      uint id = texelFetch(uVisibilityIds, ivec2(x, y), 0).x;
+      uint id = flyMapCaster(ivec2(x, y));
       if (id == 0xffffffffu) return false;
       float farthest = 0.0;
       for (int k = 0; k < 4; ++k) {
         ivec2 c = ivec2(x + (k & 1), y + (k >> 1));
-        if (texelFetch(uVisibilityIds, c, 0).x != id) return false;
+        if (flyMapCaster(c) != id) return false;
         farthest = max(farthest, texelFetch(uVisibilityDepth, c, 0).x);
       }
       if (!(nearest > farthest + 1e-6)) return false;
@@ -177,7 +199,7 @@ void main() {
   vec2 a = vec2(dot(e1, uSunXWorld), dot(e1, uSunYWorld));
   vec2 b = vec2(dot(e2, uSunXWorld), dot(e2, uSunYWorld));
   float perimeter = length(a) + length(b) + length(b - a);
-  float texelM = uBaseTexelM * region.z / float(uMapTexels);
+  float texelM = uBaseTexelM * region.z / float(uLevelTexels);
   // inradius = 2 · area / perimeter, against t/√2 widened by 0.1 % (rounding must not drop a triangle on the
   // boundary: keeping more is always safe)
   vec3 b0 = flyBaseWindow(p0), b1 = flyBaseWindow(p1), b2 = flyBaseWindow(p2);
@@ -192,7 +214,7 @@ void main() {
     // level, where the map says nothing: then it is kept.
     vec2 lo = min(w0.xy, min(w1.xy, w2.xy)) - kDepthTestReachTexels;
     vec2 hi = max(w0.xy, max(w1.xy, w2.xy)) + kDepthTestReachTexels;
-    bool inside = all(greaterThanEqual(lo, vec2(0.0))) && all(lessThanEqual(hi, vec2(float(uMapTexels))));
+    bool inside = all(greaterThanEqual(lo, vec2(0.0))) && all(lessThanEqual(hi, vec2(float(uLevelTexels))));
     state[i] = inside ? kDepthTestAtLevel0 + uint(uLevel) : kKeptByDepth;
     if (inside) depthTestCasters[atomicAdd(depthTestDraw[0], 6u) / 6u] = i;
     return;
@@ -231,12 +253,11 @@ void main() {
   vec2 hi = max(vW0.xy, max(vW1.xy, vW2.xy)) + kDepthTestReachTexels;
   uint corner = k < 3u ? k : k - 2u;  // (0, 1, 2) and (1, 2, 3) of the square's corners
   vec2 p = vec2((corner & 1u) != 0u ? hi.x : lo.x, (corner & 2u) != 0u ? hi.y : lo.y);
-  gl_Position = vec4(p / float(uMapTexels) * 2.0 - 1.0, 0.0, 1.0);
+  gl_Position = vec4(p / float(uLevelTexels) * 2.0 - 1.0, 0.0, 1.0);
 }
 )GLSL";
 
 inline constexpr const char* kShadowDepthTestFragment = R"GLSL(
-layout(binding = 1) uniform sampler2D uVisibilityDepth;  // the level's depth, [0, 1] from the sun
 layout(std430, binding = 2) coherent buffer State { uint state[]; };
 flat in uint vCaster;
 flat in vec3 vW0, vW1, vW2;
