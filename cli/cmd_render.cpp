@@ -42,8 +42,7 @@ struct RenderOptions {
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
-  std::string shadows = "classic";
-  uint32_t shadowMapTexels = 2048;
+  ShadowOptions shadows;
   uint32_t ballTexels = 256;
   DaylightOptions daylight;
   std::string timeLapse;  // FROM,TO,STEP
@@ -126,7 +125,7 @@ int runRender(const RenderOptions& options) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
-  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
   const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
@@ -232,7 +231,9 @@ int runRender(const RenderOptions& options) {
            std::to_string(c.casterTriangles) + " triangles, " + std::to_string(c.silhouetteEdges) +
            " silhouette edges (" +
            (shadows.mode == raster::SunShadowMode::kVisibilityMap
-                ? std::to_string(shadows.visibilityMapTexels) + "² visibility map"
+                ? std::to_string(shadows.visibilityMapTexels) + "² visibility map: " +
+                      std::to_string(c.visibleTriangles) + " seen, " + std::to_string(c.keptByDepthTest) +
+                      " kept by the depth test"
                 : std::string("every sun-facing triangle")) +
            ")\n";
   };
@@ -331,7 +332,7 @@ Command addRenderCommand(CLI::App& app) {
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
-  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
+  addShadowOptions(*sub, o->shadows);
   addBallOption(*sub, o->ballTexels);
   o->daylight.add(*sub);
   sub->add_option("--time-lapse", o->timeLapse,

@@ -36,8 +36,7 @@ struct ViewOptions {
   std::string size = "1280x720";
   std::optional<double> exposureEv100;
   std::string op = "filmic";
-  std::string shadows = "classic";
-  uint32_t shadowMapTexels = 2048;
+  ShadowOptions shadows;
   uint32_t ballTexels = 256;
   DaylightOptions daylight;
   uint64_t frames = 0;
@@ -118,7 +117,7 @@ int runView(const ViewOptions& o) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
-  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
   const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> mode;
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
@@ -206,7 +205,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--size", o->size, "window size WIDTHxHEIGHT in pixels (default 1280x720)");
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
-  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
+  addShadowOptions(*sub, o->shadows);
   addBallOption(*sub, o->ballTexels);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");

@@ -968,7 +968,10 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const bool shadows =
         ((variant | surfaceVariant) & kVariantSun) && v.sun && shadowSettings_.mode != SunShadowMode::kOff;
     if (shadows) {
-      if (!shadows_) shadows_ = std::make_unique<SunShadows>(compiler());
+      if (!shadows_) {
+        shadows_ = std::make_unique<SunShadows>(compiler());
+        shadows_->setProfiling(shadowProfiling_);
+      }
       if (shadowGeometryDirty_) {
         shadows_->setGeometry(r, gpu_->positions);
         shadowGeometryDirty_ = false;
@@ -1232,6 +1235,15 @@ void Renderer::setSunShadows(const SunShadowSettings& settings) {
 
 SunShadowCounts Renderer::sunShadowCounts() const {
   return shadows_ ? shadows_->counts() : SunShadowCounts{};
+}
+
+void Renderer::setShadowProfiling(bool on) {
+  shadowProfiling_ = on;
+  if (shadows_) shadows_->setProfiling(on);
+}
+
+std::vector<std::pair<std::string, double>> Renderer::sunShadowBuildStagesMs() const {
+  return shadows_ ? shadows_->buildStagesMs() : std::vector<std::pair<std::string, double>>{};
 }
 
 SunGlassCounts Renderer::sunGlassCounts() const {

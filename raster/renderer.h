@@ -149,10 +149,14 @@ class Renderer {
   void setMaxAnisotropy(float samples);
 
   // How the sun's direct term is shadowed (raster/sun_shadows.h); std::invalid_argument for a visibility map
-  // size outside [16, 16384]. Default: shadow volumes pruned by a 2048² visibility map.
+  // size outside [16, 16384]. Default: the classic volumes (SunShadowSettings).
   void setSunShadows(const SunShadowSettings& settings);
   // What the last shadow build made (read back from the GPU; zeros before the first).
   SunShadowCounts sunShadowCounts() const;
+  // For benchmarks: GPU time stamps around the stages of each shadow build (off by default), and the last
+  // build's stages in GPU milliseconds (empty when none was profiled).
+  void setShadowProfiling(bool on);
+  std::vector<std::pair<std::string, double>> sunShadowBuildStagesMs() const;
   // What the last transmittance map through clear glass drew (raster/sun_glass.h; zeros before the first).
   SunGlassCounts sunGlassCounts() const;
   // The fragments the last frame's shadow volumes rasterise with neither depth nor stencil test (their fill,
@@ -195,6 +199,7 @@ class Renderer {
   std::unique_ptr<Gpu> gpu_;
   std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
   SunShadowSettings shadowSettings_;
+  bool shadowProfiling_ = false;
   bool shadowGeometryDirty_ = true;
   std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass
   bool sunGlassDirty_ = true;
