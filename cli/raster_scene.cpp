@@ -107,7 +107,7 @@ std::string measuredBrdfLine(const rdb::RasterRdb& rdb, const raster::BallSettin
   const std::string n = std::to_string(balls.sizePx);
   return "brdf      " + std::to_string(rdb.measuredBrdfs.size()) + " measured material" +
          (rdb.measuredBrdfs.size() == 1 ? "" : "s") + " (" + kinds + "), shown by " + n + "×" + n +
-         " ball textures under the current lights (lamps as distant lights from each material's objects)\n";
+         " ball textures under the current lights (near lamps per pixel)\n";
 }
 
 raster::SunShadowSettings parseShadowOptions(const ShadowOptions& options) {

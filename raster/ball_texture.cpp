@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "raster/shaders/ball_texture_glsl.h"
 
@@ -60,8 +61,10 @@ mat3 ballFrame(const mat3& viewFromWorld, const vec3& eyeM, bool orthographic, c
 
 std::vector<DistantLight> distantLights(const rdb::RasterRdb& rdb, const vec3& centreM) {
   std::vector<DistantLight> out;
-  for (const rdb::RasterLight& l : rdb.lights) {
+  for (uint32_t index = 0; index < rdb.lights.size(); ++index) {
+    const rdb::RasterLight& l = rdb.lights[index];
     DistantLight d;
+    d.light = index;
     if (l.type == rdb::RasterLightType::kDirectional) {
       d.toLightWorld = -l.directionWorld;
       d.illuminanceLux = l.intensity;
@@ -126,6 +129,8 @@ void BallTextures::setSettings(const BallSettings& settings) {
   if (settings.envGridSteps < 1 || settings.envGridSteps > 256)
     throw std::invalid_argument("the ball's environment grid takes 1 to 256 steps per axis, not " +
                                 std::to_string(settings.envGridSteps));
+  if (!(settings.nearLightRadii >= 0.0f) || !std::isfinite(settings.nearLightRadii))
+    throw std::invalid_argument("the near lights' distance in object radii must be finite and ≥ 0");
   if (!(settings == settings_)) {
     for (auto& k : keys_) k.clear();
   }
@@ -136,6 +141,7 @@ void BallTextures::setBrdfs(const rdb::RasterRdb& rdb) {
   brdfCount_ = uint32_t(rdb.measuredBrdfs.size());
   keys_.assign(brdfCount_, {});
   ballFromWorld_.assign(brdfCount_, mat3(1.0f));
+  nearLights_.assign(brdfCount_, {});
   std::vector<GpuBallBrdf> blocks;
   uint32_t tableSlices = 0;
   for (const rdb::RasterMeasuredBrdf& b : rdb.measuredBrdfs) {
@@ -209,9 +215,11 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
   const bool hasEnvironment = lighting.environment != BallLighting::Environment::kNone;
   auto program = [&](Gpu::Program& p, bool env) {
     if (p.program) return;
-    const std::string defines = "#define FLY_ALBEDO_STEPS " + std::to_string(rdb::kRasterAlbedoSteps) + "\n" +
+    const std::string defines = "#define FLY_ALBEDO_STEPS " + std::to_string(rdb::kRasterAlbedoSteps) +
+                                "\n#define FLY_BRDF_BINDING 0\n#define FLY_BRDF_TABLE_UNIT 0\n" +
                                 (env ? "#define FLY_BALL_ENV\n" : "");
-    const std::string source = std::string(shaders::kMeasuredBrdf) + shaders::kBallCompute;
+    const std::string source =
+        std::string("const float kPi = 3.14159265358979;\n") + shaders::kMeasuredBrdf + shaders::kBallCompute;
     p.program = compile_(env ? "ball-environment" : "ball", defines, {{GL_COMPUTE_SHADER, source.c_str()}});
     auto loc = [&](const char* name) { return glGetUniformLocation(p.program, name); };
     p.brdf = loc("uBrdf");
@@ -239,7 +247,22 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
         ballFrame(lighting.viewFromWorld, lighting.eyeM, lighting.orthographic, rdb.measuredBrdfs[k].centreM);
     const vec3 sunView = glm::normalize(viewFromWorld * lighting.sunDirWorld);
     firstLight[k] = uint32_t(lights.size());
-    for (const DistantLight& d : distantLights(rdb, rdb.measuredBrdfs[k].centreM)) {
+    // The lamps near this material's objects go to its pixels (the nearest kMaxNearLights), the rest here.
+    const rdb::RasterMeasuredBrdf& brdf = rdb.measuredBrdfs[k];
+    std::vector<std::pair<float, uint32_t>> near;
+    for (uint32_t i = 0; i < rdb.lights.size(); ++i) {
+      const rdb::RasterLight& l = rdb.lights[i];
+      if (l.type == rdb::RasterLightType::kDirectional) continue;
+      const float d = glm::length(l.positionM - brdf.centreM);
+      if (d < settings_.nearLightRadii * brdf.radiusM) near.push_back({d, i});
+    }
+    std::sort(near.begin(), near.end());
+    if (near.size() > kMaxNearLights) near.resize(kMaxNearLights);
+    std::vector<int>& nearIndices = nearLights_[k];
+    nearIndices.clear();
+    for (const auto& [d, i] : near) nearIndices.push_back(int(i));
+    for (const DistantLight& d : distantLights(rdb, brdf.centreM)) {
+      if (std::find(nearIndices.begin(), nearIndices.end(), int(d.light)) != nearIndices.end()) continue;
       lights.push_back({vec4(glm::normalize(viewFromWorld * d.toLightWorld), 0.0f), vec4(d.illuminanceLux, 0.0f)});
     }
     firstLight[k + 1] = uint32_t(lights.size());
@@ -316,6 +339,10 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
 }
 
 unsigned BallTextures::texture() const { return gpu_->balls; }
+
+unsigned BallTextures::brdfBuffer() const { return gpu_->brdfs; }
+
+unsigned BallTextures::tableTexture() const { return gpu_->tables; }
 
 std::vector<float> BallTextures::readLayer(uint32_t layer) const {
   const uint32_t n = gpu_->ballSize;

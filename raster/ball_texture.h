@@ -6,7 +6,8 @@
 // 2004 GPU could evaluate the BRDF only per vertex; here a compute pass evaluates it at every texel, so every
 // texel is exact (no interpolation between vertices, no refinement to place) and all lights go into one pass
 // (docs/ball-textures.md). Lights are distant lights from the centre of the material's objects: the sun, and
-// point, spot and goniometric lights by their direction and illuminance there (distantLights); the
+// point, spot and goniometric lights by their direction and illuminance there (distantLights), except those
+// near the objects, which the scene pass evaluates per pixel (BallSettings::nearLightRadii); the
 // environment (the sky image, or the directional ambient term's two hemispheres) is integrated over a grid of
 // half vectors per texel of a smaller image of its own that the ball reads bilinearly (shaders/
 // ball_texture_glsl.h, kBallCompute).
@@ -37,15 +38,24 @@ struct BallSettings {
   // and its integral over a lobe smoother, so a quarter of the ball's resolution costs 1/16 of the work.
   uint32_t envSizePx = 64;
   uint32_t envGridSteps = 16;  // the environment quadrature's half-vector grid, steps per axis, [1, 256]
+  // Point, spot and goniometric lights nearer to a material's centre than this many times the radius of its
+  // objects (RasterMeasuredBrdf::radiusM) are evaluated per pixel, with each pixel's own direction and
+  // distance, instead of as distant lights in its ball (at most kMaxNearLights, the nearest): the distant-light
+  // approximation errs by about 1.6 R/d (docs/ball-textures.md). [0, ∞); 0 puts every light in the ball.
+  float nearLightRadii = 50.0f;
 
   bool operator==(const BallSettings&) const = default;
 };
+
+// The most lamps a measured material's pixels evaluate themselves (BallSettings::nearLightRadii).
+inline constexpr uint32_t kMaxNearLights = 8;
 
 // A light as a distant light from a point: the unit direction towards it (world) and the illuminance it
 // gives a surface there facing it (lux).
 struct DistantLight {
   vec3 toLightWorld{0, 1, 0};
   Rgb illuminanceLux{0.0f};
+  uint32_t light = 0;  // index into RasterRdb::lights
 };
 
 // A ball's frame: the view's rotation, and in a perspective view turned by the least rotation that takes the
@@ -95,6 +105,12 @@ class BallTextures {
   // Ball k's frame as last made: the view's rotation, turned (perspective) so that its +Z points from the
   // material's centre to the eye (ballFrame).
   const mat3& ballFromWorld(uint32_t k) const { return ballFromWorld_.at(k); }
+  // The lights ball k leaves to its material's pixels (indices into RasterRdb::lights), as of the last update.
+  const std::vector<int>& nearLights(uint32_t k) const { return nearLights_.at(k); }
+  // The BRDFs' block buffer and table texture (shaders/ball_texture_glsl.h, kMeasuredBrdf), which the scene
+  // pass reads for the near lights; the texture is 0 without tables.
+  unsigned brdfBuffer() const;
+  unsigned tableTexture() const;
   // One layer read back, RGBA floats, N × N, rows from the bottom (y = −1) up.
   std::vector<float> readLayer(uint32_t layer) const;
 
@@ -105,6 +121,7 @@ class BallTextures {
   BallSettings settings_;
   std::vector<std::vector<float>> keys_;  // per ball: what it was made from (empty: not made)
   std::vector<mat3> ballFromWorld_;
+  std::vector<std::vector<int>> nearLights_;
   uint32_t brdfCount_ = 0;
 };
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "base/log.h"
+#include "raster/shaders/ball_texture_glsl.h"
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
 #include "raster/sun_glass.h"
@@ -264,7 +265,8 @@ struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
-        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1;
+        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
+        nearLights = -1, nearLightCount = -1;
 };
 
 struct Renderer::Gpu {
@@ -421,7 +423,10 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   std::string name = "scene";
   std::string defines = "#define FLY_CORNER_GAIN " + std::to_string(rdb::kCornerGain) + "\n" +
                         "#define FLY_GONIO_GAMMA_STEPS " + std::to_string(rdb::kRasterGonioGammaSteps) +
-                        "\n" + "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n";
+                        "\n" + "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n" +
+                        "#define FLY_MAX_NEAR_LIGHTS " + std::to_string(kMaxNearLights) + "\n" +
+                        "#define FLY_ALBEDO_STEPS " + std::to_string(rdb::kRasterAlbedoSteps) + "\n" +
+                        "#define FLY_BRDF_BINDING 4\n#define FLY_BRDF_TABLE_UNIT 10\n";
   const struct {
     uint32_t bit;
     const char* tag;
@@ -454,7 +459,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   const std::string fragment =
       std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup +
       (perFragment
-           ? std::string(shaders::kSceneCommon) + shaders::kLightTextureLookup + shaders::kSurfaceFragment
+           ? std::string(shaders::kSceneCommon) + ((variant & kVariantMeasured) ? shaders::kMeasuredBrdf : "") +
+                 shaders::kLightTextureLookup + shaders::kSurfaceFragment
            : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
   const GLuint p = compileProgram(
       name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
@@ -476,6 +482,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.sunGlassBias = loc("uSunGlassBiasM");
   sp.ballLayer = loc("uBallLayer");
   sp.ballFromWorld = loc("uBallFromWorld");
+  sp.nearLights = loc("uNearLights");
+  sp.nearLightCount = loc("uNearLightCount");
   sp.program = p;
   return sp;
 }
@@ -951,6 +959,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const uint32_t variant = shared | sunGlass | (v.glass ? kVariantGlass : 0u);
     const uint32_t surfaceVariant =
         shared | sunGlass | kVariantPerFragment | (v.measuredBrdf ? kVariantMeasured : 0u) |
+        (v.measuredBrdf && v.goniometric ? kVariantGonio : 0u) |
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u);
@@ -1016,6 +1025,9 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       if (m.measured != rdb::RasterTextureRef::kNone) {
         const mat3& ballFromWorld = balls_->ballFromWorld(m.measured);
         glUniformMatrix3fv(p.ballFromWorld, 1, GL_FALSE, &ballFromWorld[0][0]);
+        const std::vector<int>& near = balls_->nearLights(m.measured);
+        glUniform1i(p.nearLightCount, GLint(near.size()));
+        if (!near.empty()) glUniform1iv(p.nearLights, GLsizei(near.size()), near.data());
       }
       const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
       GLuint bits = 0;
@@ -1045,7 +1057,11 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glBindTextureUnit(2, gpu_->lightTextures);
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
-      if (v.measuredBrdf) glBindTextureUnit(9, balls_->texture());
+      if (v.measuredBrdf) {
+        glBindTextureUnit(9, balls_->texture());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, balls_->brdfBuffer());
+        glBindTextureUnit(10, balls_->tableTexture());
+      }
       glBindVertexArray(gpu_->vao);
       if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
       if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);

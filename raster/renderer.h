@@ -36,8 +36,9 @@
 // the per-vertex meshes; a scene without them draws exactly as before.
 // Materials with a measured BRDF (rdb::RasterMeasuredBrdf) are drawn per fragment from their ball textures
 // (raster/ball_texture.h; FLY §4), made before the scene pass where the view's rotation or their light changed,
-// in every mode: the ball's lights and environment plus its sun (0 in the shadow pass, times the glass's T); in
-// the light-map modes scaled to the baked irradiance (shaders/scene_glsl.h, flyMeasuredLightMap).
+// in every mode: the ball's lights and environment, the lamps near the material's objects evaluated per pixel
+// by the same BRDF (BallSettings::nearLightRadii), plus the ball's sun (0 in the shadow pass, times the glass's
+// T); in the light-map modes scaled to the baked irradiance (shaders/scene_glsl.h, flyMeasuredLightMap).
 // Only the shader variants a scene's features call for are compiled, on first use. Needs a current context
 // (raster/gl_context.h) for its whole life.
 // A frame's GPU work, kept lean for GPUs whose graphics pipeline is a small part of the chip (the H100: see

@@ -6,10 +6,10 @@
 
 namespace fly::raster::shaders {
 
-// The BRDF evaluation (prepended to kBallCompute).
+// The BRDF evaluation, for kBallCompute and for the scene pass's lamps evaluated per pixel (shaders/
+// scene_glsl.h, FLY_MEASURED). Its block and table come at binding FLY_BRDF_BINDING and texture unit
+// FLY_BRDF_TABLE_UNIT; kPi comes from the source it is prepended to.
 inline constexpr const char* kMeasuredBrdf = R"GLSL(
-const float kPi = 3.14159265358979;
-
 // rdb::RasterMeasuredBrdf as a std430 block (raster/ball_texture.cpp, GpuBallBrdf).
 struct BallBrdf {
   vec4 kind;               // x 0 table, 1 car paint; y the table's first θh slice in uBrdfTables; z coat η; w coat α
@@ -17,9 +17,9 @@ struct BallBrdf {
   vec4 lobes[3];           // rgb the flakes' F0 (0: no lobe), w GGX α
   vec4 albedo[FLY_ALBEDO_STEPS];  // rgb ρ(θo) at cos θo = (k + 0.5) / FLY_ALBEDO_STEPS
 };
-layout(std430, binding = 0) readonly buffer BallBrdfs { BallBrdf brdfs[]; };
+layout(std430, binding = FLY_BRDF_BINDING) readonly buffer BallBrdfs { BallBrdf brdfs[]; };
 // The MERL tables one after the other along z: texel (φd, θd, first slice + θh), rgb 1/sr, a 1 where measured.
-layout(binding = 0) uniform sampler3D uBrdfTables;
+layout(binding = FLY_BRDF_TABLE_UNIT) uniform sampler3D uBrdfTables;
 
 // sdb::MeasuredBrdf::evalPerSr: trilinear in (√(θh/(π/2)), θd, φd) over the corners that were measured.
 vec3 flyTableBrdf(int firstSlice, vec3 wi, vec3 wo) {

@@ -344,51 +344,63 @@ TEST(BallTexture, EnvironmentTermAgainstFineQuadrature) {
   EXPECT_LT(worstIrradiance, 0.005);
 }
 
-// Where the distant-light approximation breaks down: a 20 000 cd point light at d = 1.5 … 20 radii from the
-// centre of the unit sphere. The ball sees it from the centre (one direction, I/d²); each point of the sphere
-// sees it from its own direction at its own distance. The error grows as R/d.
-TEST(BallTexture, DistantLightApproximationBreaksDownNearALargeObject) {
-  context();
+// Where the distant-light approximation breaks down: a 20 000 cd point light at d = 1.5 … 200 sphere radii from
+// the centre of the unit sphere. In the ball (nearLightRadii 0) it is seen from the centre (one direction,
+// I/d²) while each point of the sphere sees it from its own direction at its own distance: the error grows as
+// R/d. By default a lamp within 50 radii of the objects' bounding box (1.73 m here) is evaluated per pixel
+// instead, exactly; farther ones stay in the ball, whose error there is below 1 %.
+double pointLightError(float dSphereRadii, float nearLightRadii) {
   const Brdf brdf{nullptr, testPaint()};
   const vec3 towards = glm::normalize(vec3(0.3f, 0.5f, 1.0f));
-  std::vector<double> errors;
-  for (float d : {1.5f, 2.0f, 3.0f, 5.0f, 10.0f, 20.0f}) {
-    SphereScene s = sphereScene(brdf, {});
-    sdb::Light l;
-    l.type = sdb::LightType::kPoint;
-    l.intensity = 20000.0f;
-    s.scene.addNode({.name = "lamp", .parentFromLocal = glm::translate(mat4(1.0f), d * towards),
-                     .light = s.scene.addLight(l).id});
-    s.rdb = rdb::buildRasterRdb(s.scene);
-    s.rdb.ambient = {};
-    Renderer renderer;
-    renderer.setBallSettings({256, 64, 16});
-    renderer.upload(s.rdb);
-    constexpr uint32_t kPx = 128;
-    const View view = frontView();
-    renderer.render(view, RenderMode::kSimple, kPx, kPx);
-    const std::vector<float> img = renderer.luminanceRgb();
-    RelativeRms rms;
-    for (uint32_t y = 0; y < kPx; ++y) {
-      for (uint32_t x = 0; x < kPx; ++x) {
-        const float px = ((float(x) + 0.5f) / kPx * 2.0f - 1.0f) * view.ymagM;
-        const float py = (1.0f - (float(y) + 0.5f) / kPx * 2.0f) * view.ymagM;
-        if (px * px + py * py >= 0.91f) continue;  // n·v ≥ 0.3
-        const vec3 n(px, py, std::sqrt(1.0f - px * px - py * py));
-        const vec3 toLamp = d * towards - n;
-        const float dist2 = glm::dot(toLamp, toLamp);
-        const Rgb want =
-            referenceLuminance(brdf, n, vec3(0, 0, 1), {{glm::normalize(toLamp), Rgb(20000.0f / dist2)}});
-        const float* got = &img[3 * (size_t(y) * kPx + x)];
-        rms.add(Rgb(got[0], got[1], got[2]), want);
-      }
+  SphereScene s = sphereScene(brdf, {});
+  sdb::Light l;
+  l.type = sdb::LightType::kPoint;
+  l.intensity = 20000.0f;
+  const float d = dSphereRadii;
+  s.scene.addNode({.name = "lamp", .parentFromLocal = glm::translate(mat4(1.0f), d * towards),
+                   .light = s.scene.addLight(l).id});
+  s.rdb = rdb::buildRasterRdb(s.scene);
+  s.rdb.ambient = {};
+  Renderer renderer;
+  BallSettings settings{256, 64, 16};
+  settings.nearLightRadii = nearLightRadii;
+  renderer.setBallSettings(settings);
+  renderer.upload(s.rdb);
+  constexpr uint32_t kPx = 128;
+  const View view = frontView();
+  renderer.render(view, RenderMode::kSimple, kPx, kPx);
+  const std::vector<float> img = renderer.luminanceRgb();
+  RelativeRms rms;
+  for (uint32_t y = 0; y < kPx; ++y) {
+    for (uint32_t x = 0; x < kPx; ++x) {
+      const float px = ((float(x) + 0.5f) / kPx * 2.0f - 1.0f) * view.ymagM;
+      const float py = (1.0f - (float(y) + 0.5f) / kPx * 2.0f) * view.ymagM;
+      if (px * px + py * py >= 0.91f) continue;  // n·v ≥ 0.3
+      const vec3 n(px, py, std::sqrt(1.0f - px * px - py * py));
+      const vec3 toLamp = d * towards - n;
+      const float dist2 = glm::dot(toLamp, toLamp);
+      const Rgb want =
+          referenceLuminance(brdf, n, vec3(0, 0, 1), {{glm::normalize(toLamp), Rgb(20000.0f / dist2)}});
+      const float* got = &img[3 * (size_t(y) * kPx + x)];
+      rms.add(Rgb(got[0], got[1], got[2]), want);
     }
-    errors.push_back(rms.value());
-    std::printf("point light at %.1f radii: RMS relative error %.4f\n", double(d), rms.value());
   }
-  EXPECT_GT(errors.front(), 0.3);   // 1.5 radii: the ball's one direction is far from most points'
-  EXPECT_LT(errors.back(), 0.1);    // 20 radii
-  for (size_t k = 1; k < errors.size(); ++k) EXPECT_LT(errors[k], errors[k - 1]);
+  return rms.value();
+}
+
+TEST(BallTexture, DistantLightApproximationBreaksDownNearALargeObject) {
+  context();
+  std::vector<double> inBall, byDefault;
+  for (float d : {1.5f, 2.0f, 3.0f, 5.0f, 10.0f, 20.0f, 200.0f}) {
+    inBall.push_back(pointLightError(d, 0.0f));
+    byDefault.push_back(pointLightError(d, BallSettings{}.nearLightRadii));
+    std::printf("point light at %.1f sphere radii: RMS relative error %.4f in the ball, %.4f by default\n",
+                double(d), inBall.back(), byDefault.back());
+  }
+  EXPECT_GT(inBall.front(), 0.3);  // 1.5 radii: the ball's one direction is far from most points'
+  EXPECT_LT(inBall[5], 0.1);       // 20 radii
+  for (size_t k = 1; k < inBall.size(); ++k) EXPECT_LT(inBall[k], inBall[k - 1]);
+  for (double e : byDefault) EXPECT_LT(e, 0.01);
 }
 
 // Fine quadrature (kSteps² half vectors) of ∫ f cos θi L dωi on the CPU for the ball texel of view-frame
@@ -481,7 +493,8 @@ TEST(BallTexture, SkyAndSunInSunlightMode) {
 }
 
 // Light-map mode: the ball's distribution scaled to the baked irradiance (raster/renderer.h). With light
-// maps that hold exactly the irradiance the ball's own lights give each vertex (the sphere shadows nothing),
+// maps that hold exactly the irradiance the ball's own lights and the near lamp give each vertex (the sphere
+// shadows nothing),
 // the image is simple mode's; with half of it, half; where the lights give nothing, albedo · E / π.
 TEST(BallTexture, LightMapModeScalesTheBallToTheBakedIrradiance) {
   context();
@@ -490,13 +503,21 @@ TEST(BallTexture, LightMapModeScalesTheBallToTheBakedIrradiance) {
   const std::vector<TestLight> lights = {{glm::normalize(vec3(1.0f, 0.3f, 0.6f)), Rgb(1000.0f)},
                                          {glm::normalize(vec3(0.8f, -0.4f, 0.2f)), Rgb(500.0f, 450.0f, 400.0f)}};
   SphereScene s = sphereScene(brdf, lights);
+  // And a 20 000 cd lamp 2.3 m from the centre, on the same side: a near lamp, evaluated per pixel.
+  const vec3 lampM(2.0f, 1.0f, 0.5f);
+  sdb::Light lamp;
+  lamp.intensity = 20000.0f;
+  s.scene.addNode({.name = "lamp", .parentFromLocal = glm::translate(mat4(1.0f), lampM), .light = s.scene.addLight(lamp).id});
+  s.rdb = rdb::buildRasterRdb(s.scene);
   auto storeOf = [&](float scale, float floorLux) {
     rdb::LightMapStore store;
     for (const rdb::RasterMesh& m : s.rdb.meshes) {
       rdb::MeshLightMap map{m.sdbNodeId, m.sdbMeshId, {}, {}};
       for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) {
         Rgb e(floorLux);
-        for (const TestLight& l : lights) e += scale * l.lux * std::max(0.0f, glm::dot(s.rdb.normals[v], l.toLight));
+        const vec3 n = s.rdb.normals[v], toLamp = lampM - s.rdb.positionsM[v];
+        for (const TestLight& l : lights) e += scale * l.lux * std::max(0.0f, glm::dot(n, l.toLight));
+        e += Rgb(scale * 20000.0f * std::max(0.0f, glm::dot(n, glm::normalize(toLamp))) / glm::dot(toLamp, toLamp));
         map.frontLux.push_back(e);
       }
       store.meshes.push_back(std::move(map));
@@ -530,7 +551,7 @@ TEST(BallTexture, LightMapModeScalesTheBallToTheBakedIrradiance) {
       sameRms.add(Rgb(same[i], same[i + 1], same[i + 2]), want);
       halfRms.add(Rgb(halved[i], halved[i + 1], halved[i + 2]), 0.5f * want);
       const vec3 n(px, py, std::sqrt(1.0f - px * px - py * py));
-      bool unlit = true;
+      bool unlit = glm::dot(n, glm::normalize(lampM - n)) < -0.1f;
       for (const TestLight& l : lights) unlit &= glm::dot(n, l.toLight) < -0.1f;
       if (unlit) {
         darkSide += luminance(Rgb(floored[i], floored[i + 1], floored[i + 2]));
