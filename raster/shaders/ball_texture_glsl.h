@@ -90,26 +90,31 @@ vec3 flyRefractedInside(vec3 w, float eta) {
 }
 
 // sdb::CarPaintBrdf::evalPerSr: the coat's GGX reflection plus the base (diffuse and flake lobes) through it.
-vec3 flyCarPaintBrdf(BallBrdf b, vec3 wi, vec3 wo) {
+// Reads the block's members where it needs them (a copy of the whole block, albedo table and all, per
+// evaluation would be wasted work).
+vec3 flyCarPaintBrdf(int index, vec3 wi, vec3 wo) {
   if (!(wi.z > 0.0) || !(wo.z > 0.0)) return vec3(0.0);
-  float eta = b.kind.z;
+  vec4 coat = brdfs[index].kind;
+  float eta = coat.z;
   vec3 f = vec3(0.0);
   float through = 1.0;
   vec3 wiBase = wi, woBase = wo;
   if (eta > 1.0) {
     float cosThetaD;
-    float lobe = flyGgxLobe(wi, wo, b.kind.w, cosThetaD);
+    float lobe = flyGgxLobe(wi, wo, coat.w, cosThetaD);
     f += vec3(flyDielectricFresnel(cosThetaD, eta) * lobe);
     through = (1.0 - flyDielectricFresnel(wi.z, eta)) * (1.0 - flyDielectricFresnel(wo.z, eta)) / (eta * eta);
     wiBase = flyRefractedInside(wi, eta);
     woBase = flyRefractedInside(wo, eta);
   }
-  vec3 base = b.base.rgb / (kPi * (vec3(1.0) - b.base.rgb * b.base.w));
+  vec4 pigment = brdfs[index].base;
+  vec3 base = pigment.rgb / (kPi * (vec3(1.0) - pigment.rgb * pigment.w));
   for (int k = 0; k < 3; ++k) {
-    vec3 f0 = b.lobes[k].rgb;
+    vec4 flakes = brdfs[index].lobes[k];
+    vec3 f0 = flakes.rgb;
     if (f0 == vec3(0.0)) continue;
     float cosThetaD;
-    float lobe = flyGgxLobe(wiBase, woBase, b.lobes[k].w, cosThetaD);
+    float lobe = flyGgxLobe(wiBase, woBase, flakes.w, cosThetaD);
     float x = 1.0 - cosThetaD;
     float x2 = x * x;
     base += (f0 + (vec3(1.0) - f0) * (x2 * x2 * x)) * lobe;
@@ -119,8 +124,8 @@ vec3 flyCarPaintBrdf(BallBrdf b, vec3 wi, vec3 wo) {
 
 // The BRDF (1/sr) of brdfs[index] for unit directions in the surface's frame (z = normal).
 vec3 flyMeasuredBrdf(int index, vec3 wi, vec3 wo) {
-  BallBrdf b = brdfs[index];
-  return b.kind.x < 0.5 ? flyTableBrdf(int(b.kind.y), wi, wo) : flyCarPaintBrdf(b, wi, wo);
+  vec4 kind = brdfs[index].kind;
+  return kind.x < 0.5 ? flyTableBrdf(int(kind.y), wi, wo) : flyCarPaintBrdf(index, wi, wo);
 }
 
 // ρ(θo), linear between the table's samples.
