@@ -35,8 +35,8 @@
 //
 // Sun shadows (raster/sun_shadows.h): sunlight mode without light maps, so that the Phong's sun term is drawn
 // and shadowed, timed as above, each scene three ways: shadows off (the baseline of "× off"), shadow volumes of
-// the triangles the 2048² visibility map finds ("vismap"), and the classic method's volumes of every sun-facing
-// triangle ("classic"); with the volumes' size (kept triangles, silhouette edges, extruded sides) and fill
+// the triangles the visibility map (1024² unless --shadow-map N) keeps ("vismap"), and the classic method's
+// volumes of every sun-facing triangle ("classic"); with the volumes' size (kept triangles, silhouette edges, extruded sides) and fill
 // (fragments they rasterise over the 1080p frame with neither depth nor stencil test, GL_SAMPLES_PASSED). Scenes:
 // the 300k and 1M boxes-on-a-ground scenes above; a generated car (a closed body of subdivided boxes with
 // seats, a dashboard with 64 knobs and a steering column inside, wheels below: 280k triangles); a generated
@@ -548,7 +548,7 @@ int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h,
 
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
-  uint32_t shadowMapTexels = 2048;
+  uint32_t shadowMapTexels = 1024;
   bool quick = false, texturedOnly = false, shadowsOnly = false;
   std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {

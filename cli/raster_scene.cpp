@@ -75,7 +75,7 @@ void addShadowOptions(CLI::App& sub, ShadowOptions& options) {
                  "and those a depth test cannot prove hidden: fewer, so faster frames in interiors and cars, "
                  "but slower rebuilds when the sun moves) or off");
   sub.add_option("--shadow-map", options.visibilityMapTexels,
-                 "texels per side of the sun's visibility map (--shadows vismap), 16 to 16384 (default 2048)");
+                 "texels per side of the sun's visibility map (--shadows vismap), 16 to 16384 (default 1024)");
   sub.add_option("--glass-map", options.transmittanceMapTexels,
                  "texels per side of the sun's transmittance map through clear glass, 16 to 16384 (default "
                  "1024): finer follows a pane's edge more closely");

@@ -44,7 +44,7 @@ ToneOperator parseToneOperator(const std::string& name);
 // adds them to `sub`, and checks and converts their values (UsageError naming the option otherwise).
 struct ShadowOptions {
   std::string mode = "classic";
-  uint32_t visibilityMapTexels = 2048;
+  uint32_t visibilityMapTexels = 1024;
   uint32_t transmittanceMapTexels = 1024;
 };
 void addShadowOptions(CLI::App& sub, ShadowOptions& options);

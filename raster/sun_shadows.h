@@ -97,7 +97,7 @@ bool castsSunShadows(const rdb::RasterMaterial& m);
 struct SunShadowSettings {
   SunShadowMode mode = SunShadowMode::kSunFacing;
   // Texels per side of the visibility map, [16, 16384] (capped at the driver's largest texture).
-  uint32_t visibilityMapTexels = 2048;
+  uint32_t visibilityMapTexels = 1024;
   // Texels per side of the sun's transmittance map through clear glass (raster/sun_glass.h), [16, 16384]
   // (capped at the driver's largest texture).
   uint32_t transmittanceMapTexels = 1024;

@@ -12,8 +12,7 @@
 //                    the depth test (kShadowDepthTestFragment), 16 + L to be depth-tested against level L's map
 //                    (dropped unless that test keeps it)
 //   3 edge counts    per undirected edge: the signed number of kept triangles, turned to face the sun, that
-//   run
-//                    along it from its first to its second vertex (+1) or back (−1)
+//                    run along it from its first to its second vertex (+1) or back (−1)
 //   4 caps           the kept triangles' vertex indices: those facing the sun from the start, those turned
 //                    round (drawn with the other winding) from the end
 //   5 edge vertices  per edge: its first and second vertex (indices of positions)
@@ -42,9 +41,9 @@ layout(std430, binding = 1) readonly buffer Casters { Caster casters[]; };
 layout(std430, binding = 6) coherent buffer Commands { uint commands[]; };
 
 // The visibility map's levels: level 0 covers the casters' bounds (uSunClipFromWorld); level k + 1 the square
-// around the triangles level k left undecided, with texels half as large as level k's. Per level its region of level 0's
-// image plane, in level 0's texels × 256 (integers, for atomicMin and atomicMax): min x, min y, max x, max y;
-// empty (min > max) when level k left nothing undecided.
+// around the triangles level k left undecided, with texels half as large as level k's. Per level its region
+// of level 0's image plane, in level 0's texels × 256 (integers, for atomicMin and atomicMax): min x, min y,
+// max x, max y; empty (min > max) when level k left nothing undecided.
 layout(std430, binding = 8) coherent buffer MapLevels { ivec4 levelRegions[]; };
 uniform mat4 uSunClipFromWorld;  // level 0: world → the orthographic view from the sun
 uniform int uMapTexels;          // texels per side of level 0
@@ -65,6 +64,8 @@ const uint kUndecided = 0u, kSeen = 1u, kDropped = 2u, kKeptByDepth = 4u, kDepth
 bool flyKept(uint s) { return s == kUndecided || s == kSeen || s == kKeptByDepth; }
 // The depth test's reach around a footprint, in texels of the level (kShadowDepthTestFragment).
 const float kDepthTestReachTexels = 1.4143;
+// Footprints of at most this many texel centres are depth-tested in the classification's own loop (no draw).
+const int kDepthTestInlineTexels = 64;
 layout(std430, binding = 10) coherent buffer DepthTests {
   uint depthTestDraw[4];  // count (6 per caster), instances, first, base instance
   uint depthTestCasters[];
@@ -75,6 +76,42 @@ layout(binding = 0) uniform usampler2D uVisibilityIds;
 layout(binding = 1) uniform sampler2D uVisibilityDepth;
 uint flyMapCaster(ivec2 p) {
   return texelFetch(uVisibilityDepth, p, 0).x < 1.0 ? texelFetch(uVisibilityIds, p, 0).x : 0xffffffffu;
+}
+// The depth test at the texel centre c of the level (kShadowDepthTestVertex says what and why) of the caster
+// with vertices w0, w1, w2 in the level (xy texels, z depth): whether it keeps the caster.
+vec2 flyNearestOnSegment(vec2 p, vec2 a, vec2 b) {
+  vec2 ab = b - a;
+  float len2 = dot(ab, ab);
+  return a + ab * (len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0);
+}
+float flyCross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+bool flyDepthTestKeeps(vec2 c, vec3 w0, vec3 w1, vec3 w2) {
+  vec2 a = w0.xy, b = w1.xy, d = w2.xy;
+  float det = flyCross2(b - a, d - a);
+  // The caster's point q nearest c in the image plane.
+  vec2 q = c;
+  bool inside = det != 0.0;
+  if (inside) {
+    float s = flyCross2(d - b, c - b) / det, t = flyCross2(a - d, c - d) / det;
+    inside = s >= 0.0 && t >= 0.0 && s + t <= 1.0;
+  }
+  if (!inside) {
+    vec2 q0 = flyNearestOnSegment(c, a, b), q1 = flyNearestOnSegment(c, b, d), q2 = flyNearestOnSegment(c, d, a);
+    float d0 = distance(c, q0), d1 = distance(c, q1), d2 = distance(c, q2);
+    q = d0 <= d1 && d0 <= d2 ? q0 : (d1 <= d2 ? q1 : q2);
+  }
+  if (distance(c, q) > kDepthTestReachTexels) return false;
+  float nearestVertex = min(w0.z, min(w1.z, w2.z));
+  float nearest = nearestVertex;
+  if (abs(det) > 1e-6) {
+    // The plane's depth z(q) and its gradient in the image plane (texels).
+    vec2 gradient = vec2((w1.z - w0.z) * (d.y - a.y) - (w2.z - w0.z) * (b.y - a.y),
+                         (w2.z - w0.z) * (b.x - a.x) - (w1.z - w0.z) * (d.x - a.x)) / det;
+    float zq = w0.z + dot(gradient, q - a);
+    nearest = max(nearestVertex, zq - 2.0 * kDepthTestReachTexels * length(gradient));
+  }
+  float shown = texelFetch(uVisibilityDepth, ivec2(c), 0).x;  // 1 where the map shows nothing
+  return !(shown < nearest - 1e-6);
 }
 // p in level 0: xy in texels, z the depth from the sun in [0, 1].
 vec3 flyBaseWindow(vec3 p) {
@@ -214,9 +251,22 @@ void main() {
     // level, where the map says nothing: then it is kept.
     vec2 lo = min(w0.xy, min(w1.xy, w2.xy)) - kDepthTestReachTexels;
     vec2 hi = max(w0.xy, max(w1.xy, w2.xy)) + kDepthTestReachTexels;
-    bool inside = all(greaterThanEqual(lo, vec2(0.0))) && all(lessThanEqual(hi, vec2(float(uLevelTexels))));
-    state[i] = inside ? kDepthTestAtLevel0 + uint(uLevel) : kKeptByDepth;
-    if (inside) depthTestCasters[atomicAdd(depthTestDraw[0], 6u) / 6u] = i;
+    if (!(all(greaterThanEqual(lo, vec2(0.0))) && all(lessThanEqual(hi, vec2(float(uLevelTexels)))))) {
+      state[i] = kKeptByDepth;
+      return;
+    }
+    // The texel centres (x + ½, y + ½) in [lo, hi]: a few are tested here, many by the rasteriser.
+    ivec2 first = ivec2(ceil(lo - 0.5)), last = ivec2(floor(hi - 0.5));
+    if ((last.x - first.x + 1) * (last.y - first.y + 1) <= kDepthTestInlineTexels) {
+      bool keep = false;
+      for (int y = first.y; y <= last.y && !keep; ++y) {
+        for (int x = first.x; x <= last.x && !keep; ++x) keep = flyDepthTestKeeps(vec2(x, y) + 0.5, w0, w1, w2);
+      }
+      state[i] = keep ? kKeptByDepth : kDropped;
+    } else {
+      state[i] = kDepthTestAtLevel0 + uint(uLevel);
+      depthTestCasters[atomicAdd(depthTestDraw[0], 6u) / 6u] = i;
+    }
     return;
   }
   vec2 lo = min(b0.xy, min(b1.xy, b2.xy)) * 256.0, hi = max(b0.xy, max(b1.xy, b2.xy)) * 256.0;
@@ -261,43 +311,9 @@ inline constexpr const char* kShadowDepthTestFragment = R"GLSL(
 layout(std430, binding = 2) coherent buffer State { uint state[]; };
 flat in uint vCaster;
 flat in vec3 vW0, vW1, vW2;
-
-float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
-vec2 nearestOnSegment(vec2 p, vec2 a, vec2 b) {
-  vec2 ab = b - a;
-  float len2 = dot(ab, ab);
-  return a + ab * (len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0);
-}
-
 void main() {
   if (state[vCaster] == kKeptByDepth) return;
-  vec2 c = gl_FragCoord.xy;  // the texel centre
-  vec2 a = vW0.xy, b = vW1.xy, d = vW2.xy;
-  float det = cross2(b - a, d - a);
-  // Barycentric weights of c on the triangle's plane (in the image plane), and its nearest point q.
-  vec2 q = c;
-  bool inside = det != 0.0;
-  if (inside) {
-    float s = cross2(d - b, c - b) / det, t = cross2(a - d, c - d) / det;
-    inside = s >= 0.0 && t >= 0.0 && s + t <= 1.0;
-  }
-  if (!inside) {
-    vec2 q0 = nearestOnSegment(c, a, b), q1 = nearestOnSegment(c, b, d), q2 = nearestOnSegment(c, d, a);
-    float d0 = distance(c, q0), d1 = distance(c, q1), d2 = distance(c, q2);
-    q = d0 <= d1 && d0 <= d2 ? q0 : (d1 <= d2 ? q1 : q2);
-  }
-  if (distance(c, q) > kDepthTestReachTexels) return;
-  float nearestVertex = min(vW0.z, min(vW1.z, vW2.z));
-  float nearest = nearestVertex;
-  if (abs(det) > 1e-6) {
-    // The plane's depth z(q) and its gradient in the image plane (texels).
-    vec2 gradient = vec2((vW1.z - vW0.z) * (d.y - a.y) - (vW2.z - vW0.z) * (b.y - a.y),
-                         (vW2.z - vW0.z) * (b.x - a.x) - (vW1.z - vW0.z) * (d.x - a.x)) / det;
-    float zq = vW0.z + dot(gradient, q - a);
-    nearest = max(nearestVertex, zq - 2.0 * kDepthTestReachTexels * length(gradient));
-  }
-  float shown = texelFetch(uVisibilityDepth, ivec2(c), 0).x;  // 1 where the map shows nothing
-  if (!(shown < nearest - 1e-6)) state[vCaster] = kKeptByDepth;
+  if (flyDepthTestKeeps(gl_FragCoord.xy, vW0, vW1, vW2)) state[vCaster] = kKeptByDepth;
 }
 )GLSL";
 
