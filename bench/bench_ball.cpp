@@ -260,9 +260,11 @@ int run(int argc, char** argv) {
     base.upload(plain);
     const Timing tPlain = time([&](int) { base.render(view, mode, w, h); base.toneMap({ToneOperator::kFilmic, 12.0}); }, gpuTimers, 1.0);
     std::printf("%-9zu %-9s %-8s %9.3f %9.1f %8s %6s\n", plain.triangleCount(), renderModeName(mode), "plain", tPlain.ms, 1000.0 / tPlain.ms, "1.00", "-");
-    for (const bool turning : {false, true}) {
+    for (const int variant : {0, 1, 2}) {
+      // 0: still camera, 1: turning camera, 2: still camera with every lamp in the balls (no lamp per pixel)
+      const bool turning = variant == 1;
       Renderer renderer;
-      renderer.setBallSettings({ballPx, std::max(4u, ballPx / 4), 16});
+      renderer.setBallSettings({ballPx, std::max(4u, ballPx / 4), 16, variant == 2 ? 0.0f : BallSettings{}.nearLightRadii});
       renderer.upload(measured);
       const int before = renderer.stats().ballsMade;
       const Timing t = time([&](int i) {
@@ -271,7 +273,8 @@ int run(int argc, char** argv) {
       }, gpuTimers, 1.0);
       const double ballsPerFrame = double(renderer.stats().ballsMade - before) / double(t.calls + 2);
       std::printf("%-9zu %-9s %-8s %9.3f %9.1f %8.2f %6.1f\n", measured.triangleCount(), renderModeName(mode),
-                  turning ? "turning" : "still", t.ms, 1000.0 / t.ms, t.ms / tPlain.ms, ballsPerFrame);
+                  variant == 0 ? "still" : (turning ? "turning" : "in-ball"), t.ms, 1000.0 / t.ms, t.ms / tPlain.ms,
+                  ballsPerFrame);
     }
   }
   return 0;
