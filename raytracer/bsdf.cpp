@@ -39,8 +39,12 @@ Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m) {
   return glm::max(Rgb(1.0f) - r - t, Rgb(0.0f)) * glm::clamp(m.diffuseColor, 0.0f, 1.0f);
 }
 
-Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage) {
+Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const MeasuredLobe* measured) {
   coverage_ = std::isfinite(coverage) ? std::clamp(coverage, 0.0f, 1.0f) : 1.0f;
+  if (m.isMeasured() && measured != nullptr) {
+    if (frontFace) measured_ = measured;
+    return;
+  }
   reflection_ = glm::clamp(m.reflection, 0.0f, 1.0f);
   transmission_ = glm::clamp(m.transmission, 0.0f, 1.0f);
   fresnel_ = m.fresnel;
@@ -69,6 +73,7 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage) {
 }
 
 Rgb Bsdf::albedo(float cosO) const {
+  if (measured_) return coverage_ * measured_->albedo(cosO) + Rgb(1.0f - coverage_);
   const Rgb reflected = reflection_ * fresnel(cosO);
   Rgb a(0.0f);
   if (hasDiffuse_) a += diffuseKd_ * (Rgb(1.0f) - reflected);
@@ -78,6 +83,12 @@ Rgb Bsdf::albedo(float cosO) const {
 }
 
 vec4 Bsdf::lobeProbabilities(float cosO) const {
+  if (measured_) {
+    // A floor keeps the lobe chosen where its albedo estimate is 0 but f is not.
+    const vec2 w(coverage_ * std::max(mean(measured_->albedo(cosO)), 1e-4f), 1.0f - coverage_);
+    const float sum = w.x + w.y;
+    return sum > 0.0f ? vec4(w.x, 0.0f, 0.0f, w.y) / sum : vec4(0.0f);
+  }
   const Rgb reflected = reflection_ * fresnel(cosO);
   const vec4 w(hasDiffuse_ ? coverage_ * mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
                hasReflection_ ? coverage_ * mean(reflected) : 0.0f,
@@ -88,6 +99,7 @@ vec4 Bsdf::lobeProbabilities(float cosO) const {
 }
 
 Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
+  if (measured_) return wi.z > 0.0f ? coverage_ * measured_->eval(wo, wi) : Rgb(0.0f);
   Rgb f(0.0f);
   if (wi.z > 0.0f) {
     if (hasDiffuse_) {
@@ -112,6 +124,7 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
 
 float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
   const vec4 p = lobeProbabilities(wo.z);
+  if (measured_) return wi.z > 0.0f ? p.x * measured_->pdf(wo, wi) : 0.0f;
   vec3 h;
   float lobePdf = 0.0f;
   float sum = 0.0f;
@@ -144,7 +157,10 @@ bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const
     out.lobe = Lobe::kStraight;
     return true;
   }
-  if (lobe == 0) {
+  if (lobe == 0 && measured_) {
+    // The rest of uLobe within the lobe's interval chooses among the measured lobe's strategies.
+    if (!measured_->sample(wo, std::min(uLobe / p.x, 0x1.fffffep-1f), u, out.wi)) return false;
+  } else if (lobe == 0) {
     out.wi = sampleCosineHemisphere(u);
   } else if (lobe == 1) {
     if (alphaR_ == 0.0f) {
