@@ -12,8 +12,14 @@ namespace {
 constexpr float kHalfPiF = 0.5f * kPiF;
 
 // The solid angle of the cells of θh row `row` (each kPhiHalfBins-th of half a turn).
-float cellSolidAngle(const std::array<float, TabulatedLobe::kThetaHalfBins + 1>& cosEdge, int row) {
-  return (cosEdge[size_t(row)] - cosEdge[size_t(row) + 1]) * (kPiF / TabulatedLobe::kPhiHalfBins);
+float cellSolidAngle(const std::array<float, TabulatedLobe::kThetaHalfBins + 1>& oneMinusCosEdge, int row) {
+  return (oneMinusCosEdge[size_t(row) + 1] - oneMinusCosEdge[size_t(row)]) * (kPiF / TabulatedLobe::kPhiHalfBins);
+}
+
+// The half vector at 1 − cos θh = w and azimuth φ: sin θh = √(w (2 − w)) without cancellation near the normal.
+vec3 halfVector(float oneMinusCos, float phi) {
+  const float sinH = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
+  return vec3(sinH * std::cos(phi), sinH * std::sin(phi), 1.0f - oneMinusCos);
 }
 
 float mean(const Rgb& c) { return (c.r + c.g + c.b) / 3.0f; }
@@ -24,9 +30,9 @@ TabulatedLobe::TabulatedLobe(std::shared_ptr<const BrdfTable> table, float scale
     : table_(std::move(table)), scale_(scale) {
   for (int i = 0; i <= kThetaHalfBins; ++i) {
     const float u = float(i) / kThetaHalfBins;
-    cosThetaHalfEdge_[size_t(i)] = std::cos(u * u * kHalfPiF);
+    oneMinusCosThetaHalfEdge_[size_t(i)] = oneMinusCos(u * u * kHalfPiF);
   }
-  cosThetaHalfEdge_[kThetaHalfBins] = 0.0f;
+  oneMinusCosThetaHalfEdge_[kThetaHalfBins] = 1.0f;
   halfVectors_.reserve(kThetaOBins);
   albedo_.reserve(kThetaOBins);
   std::vector<float> cells(size_t(kThetaHalfBins) * kPhiHalfBins);
@@ -35,17 +41,16 @@ TabulatedLobe::TabulatedLobe(std::shared_ptr<const BrdfTable> table, float scale
     const vec3 wo(std::sin(thetaO), 0.0f, std::cos(thetaO));
     dvec3 albedo(0.0);
     for (int row = 0; row < kThetaHalfBins; ++row) {
-      const float omega = cellSolidAngle(cosThetaHalfEdge_, row);
+      const float omega = cellSolidAngle(oneMinusCosThetaHalfEdge_, row);
       for (int col = 0; col < kPhiHalfBins; ++col) {
         // g at 2 × 2 points placed evenly in solid angle (cos θh and φ) within the cell.
         Rgb g(0.0f);
         for (int s = 0; s < 4; ++s) {
           const float fy = (float(s >> 1) + 0.5f) * 0.5f;
           const float fx = (float(s & 1) + 0.5f) * 0.5f;
-          const float cosH = glm::mix(cosThetaHalfEdge_[size_t(row)], cosThetaHalfEdge_[size_t(row) + 1], fy);
-          const float sinH = std::sqrt(std::max(0.0f, 1.0f - cosH * cosH));
-          const float phi = (float(col) + fx) * (kPiF / kPhiHalfBins);
-          const vec3 h(sinH * std::cos(phi), sinH * std::sin(phi), cosH);
+          const vec3 h = halfVector(
+              glm::mix(oneMinusCosThetaHalfEdge_[size_t(row)], oneMinusCosThetaHalfEdge_[size_t(row) + 1], fy),
+              (float(col) + fx) * (kPiF / kPhiHalfBins));
           const float woDotH = glm::dot(wo, h);
           if (!(woDotH > 0.0f)) continue;
           const vec3 wi = 2.0f * woDotH * h - wo;
@@ -77,7 +82,7 @@ float TabulatedLobe::halfVectorPdf(int bin, const vec3& h, float phiO) const {
   const float x = std::clamp(phi / kPiF, 0.0f, 1.0f);
   const float cell = halfVectors_[size_t(bin)].pdf(vec2(x, (float(row) + 0.5f) / kThetaHalfBins)) /
                      float(kThetaHalfBins * kPhiHalfBins);
-  return 0.5f * cell / cellSolidAngle(cosThetaHalfEdge_, row);
+  return 0.5f * cell / cellSolidAngle(oneMinusCosThetaHalfEdge_, row);
 }
 
 float TabulatedLobe::pdf(const vec3& wo, const vec3& wi) const {
@@ -101,11 +106,10 @@ bool TabulatedLobe::sample(const vec3& wo, float uChoice, const vec2& u, vec3& w
   const int row = int(s.cell / kPhiHalfBins);
   // Uniform in solid angle within the cell: cos θh linear across the row's fraction.
   const float fy = std::clamp(s.p.y * kThetaHalfBins - float(row), 0.0f, 1.0f);
-  const float cosH = glm::mix(cosThetaHalfEdge_[size_t(row)], cosThetaHalfEdge_[size_t(row) + 1], fy);
-  const float sinH = std::sqrt(std::max(0.0f, 1.0f - cosH * cosH));
   const float phiO = wo.x == 0.0f && wo.y == 0.0f ? 0.0f : std::atan2(wo.y, wo.x);
-  const float phi = phiO + (side < 0.5f ? 1.0f : -1.0f) * s.p.x * kPiF;
-  const vec3 h(sinH * std::cos(phi), sinH * std::sin(phi), cosH);
+  const vec3 h = halfVector(
+      glm::mix(oneMinusCosThetaHalfEdge_[size_t(row)], oneMinusCosThetaHalfEdge_[size_t(row) + 1], fy),
+      phiO + (side < 0.5f ? 1.0f : -1.0f) * s.p.x * kPiF);
   const float woDotH = glm::dot(wo, h);
   if (!(woDotH > 0.0f)) return false;
   wi = glm::normalize(2.0f * woDotH * h - wo);

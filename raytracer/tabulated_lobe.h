@@ -59,7 +59,9 @@ class TabulatedLobe final : public MeasuredLobe {
   float scale_ = 1.0f;
   std::vector<Distribution2D> halfVectors_;  // per θo bin: rows θh, columns φh − φo
   std::vector<Rgb> albedo_;                  // per θo bin
-  std::array<float, kThetaHalfBins + 1> cosThetaHalfEdge_{};  // cos θh at the edges of the θh rows, falling
+  // 1 − cos θh at the edges of the θh rows, rising from 0 to 1 (kept as 1 − cos: the first rows are
+  // narrower than float's resolution of cos θh near 1).
+  std::array<float, kThetaHalfBins + 1> oneMinusCosThetaHalfEdge_{};
 };
 
 }  // namespace fly::raytracer
