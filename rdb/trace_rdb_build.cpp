@@ -254,7 +254,11 @@ class Builder {
     t.emissionTexture = slot(m.emissionTexture);
     t.normalTexture = slot(m.bumpTexture);
     if (m.measuredBrdf) {
-      const auto [it, added] = brdfTableIndex_.try_emplace(m.measuredBrdfPath, uint32_t(rdb_.brdfTables.size()));
+      // One table per file (materials that name it read it each), or per table where the SDB has no file.
+      const std::string key = m.measuredBrdfPath.empty()
+                                  ? "table@" + std::to_string(reinterpret_cast<uintptr_t>(m.measuredBrdf.get()))
+                                  : "file:" + m.measuredBrdfPath;
+      const auto [it, added] = brdfTableIndex_.try_emplace(key, uint32_t(rdb_.brdfTables.size()));
       if (added) rdb_.brdfTables.push_back(lowerBrdfTable(m.measuredBrdfPath, m.measuredBrdf));
       t.brdfTable = it->second;
     }
@@ -474,7 +478,7 @@ class Builder {
   TraceRdb rdb_;
   std::map<uint32_t, uint32_t> materialIndex_;  // SDB material id → index into rdb_.materials
   std::map<uint32_t, uint32_t> textureIndex_;   // SDB texture id → index into rdb_.textures
-  std::map<std::string, uint32_t> brdfTableIndex_;  // measured BRDF file → index into rdb_.brdfTables
+  std::map<std::string, uint32_t> brdfTableIndex_;  // measured BRDF file (or table) → index into rdb_.brdfTables
   bool needUv_[2] = {false, false};             // some texture slot reads TEXCOORD_0 / TEXCOORD_1
   bool anyColors_ = false;                      // some placed mesh has COLOR_0
 };
