@@ -34,14 +34,19 @@ dvec3 tableCoordinates(const vec3& wiLocal, const vec3& woLocal) {
 HalfDiffAngles halfDiffAngles(const vec3& wiLocal, const vec3& woLocal) {
   const dvec3 wi(wiLocal), wo(woLocal);
   const dvec3 half = glm::normalize(wi + wo);
-  const double thetaHalf = angleFromZ(half);
-  const double phiHalf = std::atan2(half.y, half.x);
   // Rotate ωi so that the half vector becomes the normal: by −φh about the normal, then −θh about the
-  // binormal (Rusinkiewicz 1998, §3; BRDFRead.cpp std_coords_to_half_diff_coords).
-  const dvec3 diff = rotate(rotate(wi, dvec3(0, 0, 1), -phiHalf), dvec3(0, 1, 0), -thetaHalf);
+  // binormal (Rusinkiewicz 1998, §3; BRDFRead.cpp std_coords_to_half_diff_coords), with the rotations' cosines
+  // and sines read off the unit half vector (cos φh = h.x / sin θh, sin θh = |h.xy|, cos θh = h.z) rather
+  // than computed from its angles.
+  const double sinThetaHalf = std::sqrt(half.x * half.x + half.y * half.y);
+  const double cosPhiHalf = sinThetaHalf > 0.0 ? half.x / sinThetaHalf : 1.0;
+  const double sinPhiHalf = sinThetaHalf > 0.0 ? half.y / sinThetaHalf : 0.0;
+  const dvec3 turned(wi.x * cosPhiHalf + wi.y * sinPhiHalf, wi.y * cosPhiHalf - wi.x * sinPhiHalf, wi.z);
+  const dvec3 diff(turned.x * half.z - turned.z * sinThetaHalf, turned.y,
+                   turned.z * half.z + turned.x * sinThetaHalf);
   double phiDiff = std::atan2(diff.y, diff.x);
   if (phiDiff < 0.0) phiDiff += 2.0 * kPi;
-  return {float(thetaHalf), float(angleFromZ(diff)), float(phiDiff)};
+  return {float(std::atan2(sinThetaHalf, half.z)), float(angleFromZ(diff)), float(phiDiff)};
 }
 
 void directionsOf(const HalfDiffAngles& a, vec3& wiLocal, vec3& woLocal) {
@@ -87,9 +92,9 @@ Rgb BrdfTable::evalPerSr(const vec3& wiLocal, const vec3& woLocal) const {
   const std::vector<uint8_t>& valid = validSamples();
   Rgb sum(0.0f);
   float weightSum = 0.0f;
-  for (int c = 0; c < 8; ++c) {
-    const int h = c & 1 ? h1 : h0, d = c & 2 ? d1 : d0, p = c & 4 ? p1 : p0;
-    const float w = (c & 1 ? fh : 1.0f - fh) * (c & 2 ? fd : 1.0f - fd) * (c & 4 ? fp : 1.0f - fp);
+  for (int corner = 0; corner < 8; ++corner) {
+    const int h = corner & 1 ? h1 : h0, d = corner & 2 ? d1 : d0, p = corner & 4 ? p1 : p0;
+    const float w = (corner & 1 ? fh : 1.0f - fh) * (corner & 2 ? fd : 1.0f - fd) * (corner & 4 ? fp : 1.0f - fp);
     const size_t s = sampleIndex(h, d, p);
     if (w > 0.0f && valid[s]) {
       sum += w * samples_[s];
