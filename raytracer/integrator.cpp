@@ -97,6 +97,13 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
                                   std::to_string(rdb.materials.size()) + " materials");
     }
   }
+  for (const rdb::TraceMaterial& m : rdb.materials) {
+    if (m.brdfTable != rdb::TraceMaterial::kNoBrdfTable &&
+        (m.brdfTable >= rdb.brdfTables.size() || !rdb.brdfTables[m.brdfTable].table)) {
+      throw std::invalid_argument("Integrator: measured BRDF table " + std::to_string(m.brdfTable) +
+                                  " does not exist");
+    }
+  }
   for (const rdb::TracePunctualLight& light : rdb.punctualLights) {
     if (light.type != rdb::PunctualType::kGoniometric) continue;
     if (light.goniometricTable >= rdb.goniometricTables.size()) {
@@ -198,7 +205,7 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     const MeasuredLobe* lobe = nullptr;
     const MeasuredLobe* deltaLightLobe = nullptr;
     if (m.brdfTable != rdb::TraceMaterial::kNoBrdfTable) {
-      lobe = deltaLightLobe = measuredLobes_.at(m.brdfTable).get();
+      lobe = deltaLightLobe = measuredLobes_[m.brdfTable].get();
     } else if (m.carPaint) {
       measuredLobes_.push_back(std::make_unique<CarPaintBsdfLobe>(*m.carPaint));
       lobe = deltaLightLobe = measuredLobes_.back().get();

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -323,6 +324,15 @@ TEST(MeasuredBrdf, MeasuredLobeReplacesTheAnalyticOnes) {
   const Bsdf half(measuredMaterial(), true, 0.5f, &lobe);
   EXPECT_NEAR(half.eval(wo, vec3(0, 0, 1)).r, 0.5f * kLambertAlbedo[0] / kPiF, 1e-5f);
   EXPECT_NEAR(half.straightTransmittance(0.6f).r, 0.5f, 1e-6f);
+}
+
+// A material that names a table the TraceRdb lacks is refused, not read out of range.
+TEST(MeasuredBrdf, IntegratorRefusesAMissingTable) {
+  rdb::TraceRdbBuilder b;
+  b.rdb.materials.push_back(measuredMaterial());
+  b.ground(1.0f, 1, 0);
+  const EmbreeScene scene(b.rdb);
+  EXPECT_THROW(Integrator(b.rdb, scene), std::invalid_argument);
 }
 
 TEST(MeasuredBrdf, CarPaintEvalIsReciprocal) {
