@@ -19,7 +19,8 @@
 // albedo per θo bin (albedo()).
 //
 // Cost: one table (kThetaOBins · kThetaHalfBins · kPhiHalfBins cells, 2 × 2 evaluations each, 368 640 in all)
-// is built once per measured file at the integrator's start; it holds 92 160 cells (about 1 MB).
+// is built once per measured file at the integrator's start (60–100 ms, docs/benchmarks.md); it holds 92 160
+// cells, about 1.5 MB with their cumulative tables.
 #pragma once
 
 #include <array>
