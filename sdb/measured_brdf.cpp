@@ -55,12 +55,15 @@ MeasuredBrdf readMerlBrdf(const std::filesystem::path& file) {
                     "copy the file again; a MERL file is the header and 3 · 1 458 000 doubles");
   }
   std::vector<Rgb> samples(MeasuredBrdf::kSamples);
+  const std::vector<uint8_t>& valid = MeasuredBrdf::validSamples();
   for (int ch = 0; ch < 3; ++ch) {
     const char* base = bytes.data() + kHeader + size_t(ch) * MeasuredBrdf::kSamples * sizeof(double);
     for (size_t s = 0; s < MeasuredBrdf::kSamples; ++s) {
       double v;
       std::memcpy(&v, base + s * sizeof(double), sizeof v);
-      if (!std::isfinite(v) || v < 0.0) {
+      // Samples whose directions lie below the surface were never measured; the database marks some with
+      // negative values (MERL's BRDFRead.cpp reports them as "below horizon"), which read as 0 there.
+      if (!std::isfinite(v) || (v < 0.0 && valid[s])) {
         const int i = int(s / (MeasuredBrdf::kThetaDiffRes * MeasuredBrdf::kPhiDiffRes));
         const int j = int(s / MeasuredBrdf::kPhiDiffRes % MeasuredBrdf::kThetaDiffRes);
         const int k = int(s % MeasuredBrdf::kPhiDiffRes);
@@ -74,7 +77,7 @@ MeasuredBrdf readMerlBrdf(const std::filesystem::path& file) {
                             "; a BRDF is finite and ≥ 0",
                         "repair the table (e.g. set missing samples to those of their neighbours) and save it again");
       }
-      samples[s][ch] = float(v * kMerlChannelScale[ch]);
+      samples[s][ch] = v < 0.0 ? 0.0f : float(v * kMerlChannelScale[ch]);
     }
   }
   return MeasuredBrdf(std::move(samples));

@@ -26,8 +26,9 @@ using MeasuredBrdf = fly::BrdfTable;
 inline constexpr double kMerlChannelScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
 
 // Reads a MERL binary file. Throws InputError naming the file when it cannot be read, its dimensions are not
-// 90 × 90 × 180, its size does not match them, or a value is NaN, infinite or negative (the first one is
-// named by channel and angles).
+// 90 × 90 × 180, its size does not match them, or a value is NaN, infinite, or negative at a sample whose
+// directions lie above the surface (the first one is named by channel and angles). Negative values at samples
+// below the surface, which no measurement covers, read as 0.
 MeasuredBrdf readMerlBrdf(const std::filesystem::path& file);
 
 // Writes a MERL binary file (atomically) whose sample (i, j, k) is brdfPerSr(MeasuredBrdf::sampleAngles(i, j,
