@@ -61,8 +61,8 @@ MeasuredBrdf readMerlBrdf(const std::filesystem::path& file) {
     for (size_t s = 0; s < MeasuredBrdf::kSamples; ++s) {
       double v;
       std::memcpy(&v, base + s * sizeof(double), sizeof v);
-      // Samples whose directions lie below the surface were never measured; the database marks some with
-      // negative values (MERL's BRDFRead.cpp reports them as "below horizon"), which read as 0 there.
+      // Samples whose directions lie below the surface were never measured; a table may hold negative markers
+      // there (MERL's reference reader reports negative values as "Below horizon"), which read as 0.
       if (!std::isfinite(v) || (v < 0.0 && valid[s])) {
         const int i = int(s / (MeasuredBrdf::kThetaDiffRes * MeasuredBrdf::kPhiDiffRes));
         const int j = int(s / MeasuredBrdf::kPhiDiffRes % MeasuredBrdf::kThetaDiffRes);
