@@ -57,6 +57,21 @@ Rgb roughMetal(const vec3& wi, const vec3& wo) {
   return Rgb(f);
 }
 
+// A lacquer: a sharp clear coat (Schlick F0 0.04, GGX α = 0.02, about 1° wide; height-correlated Smith) over a
+// coloured diffuse base (0.5, 0.2, 0.1) / π.
+Rgb lacquer(const vec3& wi, const vec3& wo) {
+  const double alpha = 0.02, a2 = alpha * alpha;
+  const dvec3 i(wi), o(wo);
+  const dvec3 h = glm::normalize(i + o);
+  const double c2 = h.z * h.z;
+  const double d = a2 / (kPi * (c2 * (a2 - 1.0) + 1.0) * (c2 * (a2 - 1.0) + 1.0));
+  auto lambda = [&](double c) { return 0.5 * (std::sqrt(1.0 + a2 * (1.0 - c * c) / (c * c)) - 1.0); };
+  const double g2 = 1.0 / (1.0 + lambda(i.z) + lambda(o.z));
+  const double s = std::pow(1.0 - std::clamp(glm::dot(i, h), 0.0, 1.0), 5.0);
+  const double coat = (0.04 + 0.96 * s) * d * g2 / (4.0 * i.z * o.z);
+  return Rgb(dvec3(coat) + dvec3(0.5, 0.2, 0.1) / kPi);
+}
+
 // The table of f written to a MERL file by the SDB's writer and read back by its reader, in a directory
 // removed at the end.
 class TableFiles {
@@ -306,6 +321,40 @@ TEST(MeasuredBrdf, PdfIntegratesToTheDrawsAndWeightsToTheAlbedo) {
         for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(s.mean[ch], kLambertAlbedo[ch], 4.0 * s.stdError[ch] + 1e-4);
       }
     }
+  }
+}
+
+// A sharp highlight (the lacquer table, α = 0.02) is importance-sampled: the weights' relative standard
+// deviation per draw stays below 1 where cosine sampling's is 4.5 to 51 (measured: 0.49–0.59 against 4.5, 12
+// and 51 at cos θo = 0.9, 0.5, 0.2), and their mean is the albedo by quadrature fine enough for the lobe
+// (1024 × 2048 cells).
+TEST(MeasuredBrdf, TabulatedLobeSamplesASharpHighlight) {
+  TableFiles files;
+  const TabulatedLobe lobe(files.write("lacquer.binary", &fly::raytracer::lacquer), 1.0f);
+  const Bsdf b(measuredMaterial(), true, 1.0f, &lobe);
+  constexpr uint32_t kCount = 200'000;
+  for (float cosO : {0.9f, 0.5f, 0.2f}) {
+    const vec3 wo = outgoing(cosO);
+    const SampledAlbedo s = sampledAlbedo(b, wo, kCount);
+    double sum = 0.0, sum2 = 0.0;
+    RandomSampler sampler(29);
+    for (uint32_t i = 0; i < kCount; ++i) {
+      sampler.startSample(i);
+      const vec3 wi = sampleCosineHemisphere(sampler.next2D());
+      const double w = double(b.eval(wo, wi).b) * kPi;  // f cos θi / (cos θi / π)
+      sum += w;
+      sum2 += w * w;
+    }
+    const double cosineMean = sum / kCount;
+    const double cosineRelSd = std::sqrt(std::max(sum2 / kCount - cosineMean * cosineMean, 0.0)) / cosineMean;
+    const double relSd = s.stdError.b * std::sqrt(double(kCount)) / s.mean.b;
+    const dvec3 q = quadratureAlbedo([&](const vec3& o, const vec3& i) { return b.eval(o, i); }, wo, 1024);
+    std::cout << "[ sharp    ] lacquer table, cos θo " << cosO << ": albedo " << s.mean.b << " ± " << s.stdError.b
+              << " (quadrature " << q.b << "); relative sd per draw " << relSd << ", cosine sampling's "
+              << cosineRelSd << "\n";
+    EXPECT_LT(relSd, 1.0) << cosO;
+    EXPECT_GT(cosineRelSd, 4.0 * relSd) << cosO;
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(s.mean[ch], q[ch], 4.0 * s.stdError[ch] + 3e-3 * q[ch]) << cosO;
   }
 }
 
