@@ -198,20 +198,31 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
+  // GGX α of regularised lobes (kRegularizedGlossiness²), and the θh radius over which a measured table's
+  // highlights are spread to match it (TabulatedLobe::regularised).
+  constexpr float kMinAlpha = kRegularizedGlossiness * kRegularizedGlossiness;
+  const float regularisedRadiusRad = std::atan(kMinAlpha);
+  const size_t tables = rdb.brdfTables.size();
   for (const rdb::TraceBrdfTable& table : rdb.brdfTables) {
     measuredLobes_.push_back(std::make_unique<TabulatedLobe>(table.table, table.scale));
+  }
+  if (!settings_.caustics) {
+    for (const rdb::TraceBrdfTable& table : rdb.brdfTables) {
+      measuredLobes_.push_back(std::make_unique<TabulatedLobe>(
+          TabulatedLobe::regularised(*table.table, regularisedRadiusRad), table.scale));
+    }
   }
   for (const rdb::TraceMaterial& m : rdb.materials) {
     const MeasuredLobe* lobe = nullptr;
     const MeasuredLobe* deltaLightLobe = nullptr;
     if (m.brdfTable != rdb::TraceMaterial::kNoBrdfTable) {
-      lobe = deltaLightLobe = measuredLobes_[m.brdfTable].get();
+      lobe = measuredLobes_[m.brdfTable].get();
+      deltaLightLobe = settings_.caustics ? lobe : measuredLobes_[tables + m.brdfTable].get();
     } else if (m.carPaint) {
       measuredLobes_.push_back(std::make_unique<CarPaintBsdfLobe>(*m.carPaint));
       lobe = deltaLightLobe = measuredLobes_.back().get();
       if (!settings_.caustics) {
         // The coat's and flakes' highlights regularised as the analytic lobes are (kRegularizedGlossiness).
-        constexpr float kMinAlpha = kRegularizedGlossiness * kRegularizedGlossiness;
         CarPaintBrdf regularised = *m.carPaint;
         regularised.coatAlpha = std::max(regularised.coatAlpha, kMinAlpha);
         for (CarPaintLobe& flakes : regularised.lobes) flakes.alpha = std::max(flakes.alpha, kMinAlpha);

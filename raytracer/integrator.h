@@ -154,8 +154,10 @@ struct IntegratorSettings {
   //   and light sampling of the sun and of punctual lights at surface vertices evaluates reflection lobes
   //   sharper than kRegularizedGlossiness as if they had that glossiness (path regularisation, Kaplanyan &
   //   Dachsbacher, "Path Space Regularization for Holistic and Robust Light Transport", EG 2013): glints are
-  //   blurred over a lobe of GGX α = 0.09 instead of lost, with nearly the same energy. The sky and emitters
-  //   seen in mirrors and glossy surfaces count exactly.
+  //   blurred over a lobe of GGX α = 0.09 instead of lost, with nearly the same energy. Measured BRDFs
+  //   likewise: a car paint's coat and flakes as GGX α ≥ 0.09, a table's highlights spread over half vectors
+  //   within atan 0.09 of their own (TabulatedLobe::regularised). The sky and emitters seen in mirrors and
+  //   glossy surfaces count exactly.
   //   true: all of it exactly (unbiased), for studies of glare, with many samples.
   bool caustics = false;
   // Sky portals at clear-glass triangles (above). Off gives the estimator of bakes before they existed
@@ -260,9 +262,10 @@ class Integrator {
   Rgb sunRadianceCdM2_{0.0f};
   Onb sunFrame_{};  // around the sun's direction
   float sunOneMinusCos_ = 0.0f;
-  // Measured BRDFs: one lobe per measured table (rdb.brdfTables), then per car-paint material one and, without
-  // caustics, its regularised twin; per material the lobe for its Bsdfs and for those of delta-light sampling
-  // (null for analytic materials). Built before the Bsdfs, which point at them.
+  // Measured BRDFs: one lobe per measured table (rdb.brdfTables) and, without caustics, one per regularised
+  // table (TabulatedLobe::regularised), then per car-paint material one and, without caustics, its
+  // regularised twin; per material the lobe for its Bsdfs and for those of delta-light sampling (null for
+  // analytic materials). Built before the Bsdfs, which point at them.
   std::vector<std::unique_ptr<const MeasuredLobe>> measuredLobes_;
   std::vector<const MeasuredLobe*> materialLobe_;
   std::vector<const MeasuredLobe*> deltaLightMaterialLobe_;

@@ -68,6 +68,61 @@ TabulatedLobe::TabulatedLobe(std::shared_ptr<const BrdfTable> table, float scale
   }
 }
 
+std::shared_ptr<const BrdfTable> TabulatedLobe::regularised(const BrdfTable& table, float radiusRad) {
+  constexpr int kRows = BrdfTable::kThetaHalfRes;
+  // Each θh row's angle and the solid angle of the band it stands for (between the midpoints to its
+  // neighbours in the table's coordinate u = √(θh / (π/2))).
+  std::array<double, kRows> thetaH{}, band{};
+  for (int i = 0; i < kRows; ++i) {
+    thetaH[size_t(i)] = double(BrdfTable::sampleAngles(i, 0, 0).thetaHalfRad);
+    const double lo = std::max(0.0, (i - 0.5) / kRows), hi = std::min(1.0, (i + 0.5) / kRows);
+    band[size_t(i)] = std::cos(lo * lo * 0.5 * kPi) - std::cos(hi * hi * 0.5 * kPi);
+  }
+  // kernel[i][n]: the share of the cap of radius r around a half vector at θh_i that row n's band covers,
+  // band_n · Δφ(θ_i, θ_n) / 2π, with Δφ the azimuth range of the ring at θ_n inside the cap (spherical law of
+  // cosines: cos d = cos θ_i cos θ_n + sin θ_i sin θ_n cos Δφ/2 ≤ cos r). It is symmetric once weighted by
+  // band_i, so spreading keeps a column's integral over half vectors as well as a constant.
+  const double cosR = std::cos(double(radiusRad));
+  std::vector<double> kernel(size_t(kRows) * kRows, 0.0);
+  for (int i = 0; i < kRows; ++i) {
+    for (int n = 0; n < kRows; ++n) {
+      const double a = thetaH[size_t(i)], b = thetaH[size_t(n)];
+      const double denominator = std::sin(a) * std::sin(b);
+      double coverage;  // Δφ / 2π
+      if (denominator <= 0.0) {
+        coverage = std::abs(a - b) <= double(radiusRad) ? 1.0 : 0.0;
+      } else {
+        const double c = (cosR - std::cos(a) * std::cos(b)) / denominator;
+        coverage = c <= -1.0 ? 1.0 : (c >= 1.0 ? 0.0 : std::acos(c) / kPi);
+      }
+      kernel[size_t(i) * kRows + size_t(n)] = band[size_t(n)] * coverage;
+    }
+  }
+  const std::vector<uint8_t>& valid = BrdfTable::validSamples();
+  std::vector<Rgb> samples(BrdfTable::kSamples);
+  for (int j = 0; j < BrdfTable::kThetaDiffRes; ++j) {
+    for (int k = 0; k < BrdfTable::kPhiDiffRes; ++k) {
+      for (int i = 0; i < kRows; ++i) {
+        const size_t index = BrdfTable::sampleIndex(i, j, k);
+        samples[index] = table.sample(i, j, k);
+        if (!valid[index]) continue;
+        // The cap's mean over the measured rows (the others hold no measurement).
+        dvec3 sum(0.0);
+        double weights = 0.0;
+        for (int n = 0; n < kRows; ++n) {
+          const double w = kernel[size_t(i) * kRows + size_t(n)];
+          if (w > 0.0 && valid[BrdfTable::sampleIndex(n, j, k)]) {
+            sum += w * dvec3(table.sample(n, j, k));
+            weights += w;
+          }
+        }
+        if (weights > 0.0) samples[index] = Rgb(sum / weights);
+      }
+    }
+  }
+  return std::make_shared<const BrdfTable>(std::move(samples));
+}
+
 int TabulatedLobe::thetaOBin(float cosO) {
   const float thetaO = std::acos(std::clamp(cosO, 0.0f, 1.0f));
   return std::clamp(int(thetaO / kHalfPiF * kThetaOBins), 0, kThetaOBins - 1);

@@ -43,6 +43,14 @@ class TabulatedLobe final : public MeasuredLobe {
   // table: never null; scale multiplies it (TraceBrdfTable::scale).
   TabulatedLobe(std::shared_ptr<const BrdfTable> table, float scale);
 
+  // The table with its highlights blurred for path regularisation (IntegratorSettings::caustics = false):
+  // each (θd, φd) column, taken as a function of the half vector's angle θh from the normal alone, is
+  // averaged over a cap of half vectors of radius radiusRad (a convolution on the sphere, which keeps both a
+  // constant and the column's integral over half vectors) — a highlight narrower than the cap spreads over it
+  // with its energy, one wider than it barely changes. The analytic lobes are regularised to GGX α = 0.09,
+  // whose highlight is about atan 0.09 = 5.1° wide in θh.
+  static std::shared_ptr<const BrdfTable> regularised(const BrdfTable& table, float radiusRad);
+
   Rgb eval(const vec3& wo, const vec3& wi) const override {
     return scale_ * table_->evalPerSr(wi, wo);
   }

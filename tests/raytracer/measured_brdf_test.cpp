@@ -436,9 +436,10 @@ struct Sensors {
   }
 };
 
-EstimateResult run(const rdb::TraceRdb& rdb, const Sensors& s, uint32_t samples) {
+EstimateResult run(const rdb::TraceRdb& rdb, const Sensors& s, uint32_t samples,
+                   const IntegratorSettings& integratorSettings = {}) {
   const EmbreeScene scene(rdb);
-  const Integrator integrator(rdb, scene);
+  const Integrator integrator(rdb, scene, integratorSettings);
   EstimateSettings settings;
   settings.firstPassSamples = 64;
   settings.maxSamples = samples;
@@ -506,6 +507,73 @@ TEST(MeasuredBrdf, MeasuredGroundMatchesQuadrature) {
   const dvec3 formula = cosineWeightedAlbedo([](const vec3& o, const vec3& i) { return roughMetal(i, o); });
   std::cout << "[ table    ] rough metal ∫ρμdμ: table " << table.g << ", formula " << formula.g << "\n";
   for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(table[ch], formula[ch], 0.01 * formula[ch]);
+}
+
+// Path regularisation of a table (IntegratorSettings::caustics = false): the lacquer's 1° highlight spreads
+// over the cap of half vectors within atan 0.09 = 5.1° of its own, its peak falls 20-fold, its albedo stays
+// (measured: 0.1403 → 0.1399, 0.1710 → 0.1710, and at cos θo = 0.2, where the cap reaches below the horizon,
+// 0.451 → 0.420); a Lambertian table is unchanged.
+TEST(MeasuredBrdf, RegularisedTableSpreadsItsHighlightWithItsEnergy) {
+  const float radius = std::atan(kRegularizedGlossiness * kRegularizedGlossiness);
+  const auto flat = TabulatedLobe::regularised(*tables().lambert, radius);
+  for (int i : {0, 10, 45, 80}) {
+    ASSERT_TRUE(BrdfTable::validSamples()[BrdfTable::sampleIndex(i, 10, 60)]);
+    EXPECT_NEAR(flat->sample(i, 10, 60).g, kLambertAlbedo[1] / kPiF, 1e-6f) << i;
+  }
+  TableFiles files;
+  const auto sharp = files.write("lacquer.binary", &fly::raytracer::lacquer);
+  const auto blurred = TabulatedLobe::regularised(*sharp, radius);
+  for (float cosO : {0.9f, 0.5f, 0.2f}) {
+    const vec3 wo = outgoing(cosO);
+    const vec3 mirror(-wo.x, -wo.y, wo.z);
+    const float peak = sharp->evalPerSr(mirror, wo).b, spread = blurred->evalPerSr(mirror, wo).b;
+    const dvec3 before = quadratureAlbedo([&](const vec3& o, const vec3& i) { return sharp->evalPerSr(i, o); }, wo, 1024);
+    const dvec3 after = quadratureAlbedo([&](const vec3& o, const vec3& i) { return blurred->evalPerSr(i, o); }, wo, 512);
+    std::cout << "[ regular  ] lacquer, cos θo " << cosO << ": peak " << peak << " → " << spread << " /sr, albedo "
+              << before.b << " → " << after.b << "\n";
+    EXPECT_LT(spread, 0.2f * peak) << cosO;
+    // Kept within 1 %, but at grazing angles, where part of the spread highlight falls below the horizon (as
+    // an analytic lobe widened to α = 0.09 loses it there too).
+    for (int ch = 0; ch < 3; ++ch) {
+      EXPECT_LE(after[ch], before[ch] * 1.01) << cosO;
+      EXPECT_GE(after[ch], before[ch] * (cosO >= 0.5f ? 0.99 : 0.9)) << cosO;
+    }
+  }
+}
+
+// A sensor over a lacquer ground under a directional light: exact with caustics, and regularised without
+// them — within a few per cent of it, with a smaller standard error at the same samples (the glint is found
+// by every sample that sees the cap rather than by the few that see the 1° highlight; measured: 2748 ± 225
+// exact, 2482 ± 29 regularised, quadrature 2471 lux in blue).
+TEST(MeasuredBrdf, RegularisedTableUnderADirectionalLight) {
+  TableFiles files;
+  const auto table = files.write("lacquer.binary", &fly::raytracer::lacquer);
+  const Rgb lightLux(20000.0f);
+  const vec3 towardsLight = glm::normalize(vec3(0.5f, 1.0f, 0.2f));
+  rdb::TraceRdbBuilder b;
+  b.rdb.materials.push_back(measuredMaterial());
+  b.rdb.brdfTables.push_back({"lacquer.binary", table});
+  b.ground(kHalfM, 1, 0);
+  b.directionalLight(towardsLight, lightLux);
+  const TabulatedLobe lobe(table, 1.0f);
+  const Rgb exact = lightLux * towardsLight.y *
+                    Rgb(quadratureAlbedo([&](const vec3& o, const vec3& i) { return lobe.eval(o, i); },
+                                         outgoing(towardsLight.y), 1024));
+  Sensors s;
+  s.add(vec3(0.2f, 0.5f, -0.3f), vec3(0, -1, 0), exact);
+  IntegratorSettings exactSettings;
+  exactSettings.caustics = true;
+  const EstimateResult withCaustics = run(b.rdb, s, 4096, exactSettings);
+  const EstimateResult regularised = run(b.rdb, s, 4096);
+  const IrradianceEstimate& e = withCaustics.points[0];
+  const IrradianceEstimate& r = regularised.points[0];
+  std::cout << "[ regular  ] lacquer ground, blue: with caustics " << e.meanLux.b << " ± " << e.stdErrorLux.b
+            << ", regularised " << r.meanLux.b << " ± " << r.stdErrorLux.b << " lux (quadrature " << exact.b << ")\n";
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LE(std::abs(e.meanLux[c] - exact[c]), 4.0f * e.stdErrorLux[c] + 2e-4f * exact[c]) << c;
+    EXPECT_NEAR(r.meanLux[c], exact[c], 4.0f * r.stdErrorLux[c] + 0.03f * exact[c]) << c;
+  }
+  EXPECT_LT(r.stdErrorLux.b, e.stdErrorLux.b);
 }
 
 // The white furnace in the baker's vertex light maps: a closed box whose walls, a Lambertian table of albedo
