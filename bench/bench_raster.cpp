@@ -35,8 +35,8 @@
 //
 // Sun shadows (raster/sun_shadows.h): sunlight mode without light maps, so that the Phong's sun term is drawn
 // and shadowed, timed as above, each scene three ways: shadows off (the baseline of "× off"), shadow volumes of
-// the triangles the 2048² visibility map finds ("vismap"), and the classic method's volumes of every sun-facing
-// triangle ("classic"); with the volumes' size (kept triangles, silhouette edges, extruded sides) and fill
+// the triangles the visibility map (1024² unless --shadow-map N) keeps ("vismap"), and the classic method's
+// volumes of every sun-facing triangle ("classic"); with the volumes' size (kept triangles, silhouette edges, extruded sides) and fill
 // (fragments they rasterise over the 1080p frame with neither depth nor stencil test, GL_SAMPLES_PASSED). Scenes:
 // the 300k and 1M boxes-on-a-ground scenes above; a generated car (a closed body of subdivided boxes with
 // seats, a dashboard with 64 knobs and a steering column inside, wheels below: 280k triangles); a generated
@@ -45,7 +45,7 @@
 // i.e. what a frame costs more when the sun moves every frame (each frame with glFinish, wall clock, against
 // frames with a still sun).
 //
-// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows] [--house PATH]
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows [--shadow-map N]] [--house PATH]
 //   default 1920x1080; --quick: the 100k scene only (and the shadow scenes but the 1M one); --textured: the
 //   300k scene only, plain and textured; --shadows: the shadow section only; --house: scenes/house/house.json
 //   (relative to the working directory) by default, skipped when missing
@@ -474,7 +474,7 @@ RebuildTimes timeRebuilds(Renderer& renderer, rdb::RasterRdb& r, const View& vie
 
 // The shadow section (see the top): `r` has a sun and no light maps.
 void benchShadows(const char* name, rdb::RasterRdb& r, const View& view, uint32_t w, uint32_t h, bool gpuTimers,
-                  double baselineMs) {
+                  double baselineMs, uint32_t mapTexels) {
   Renderer renderer;
   renderer.upload(r);
   renderer.setSunShadows({SunShadowMode::kOff});
@@ -484,39 +484,55 @@ void benchShadows(const char* name, rdb::RasterRdb& r, const View& view, uint32_
   std::printf("%-14s %-8s %8s %8s %8s %9s %8.1f %9.3f %7.2f %8s %9s\n", label, "off", "-", "-", "-", "-",
               1e3 / off.pipelinedMs, off.pipelinedMs, off.pipelinedMs / baselineMs, "1.000", "-");
   for (SunShadowMode mode : {SunShadowMode::kVisibilityMap, SunShadowMode::kSunFacing}) {
-    renderer.setSunShadows({mode, 2048});
+    renderer.setSunShadows({mode, mapTexels});
     const FrameTimes t = timeFrames(renderer, view, RenderMode::kSunlight, w, h, gpuTimers);
     renderer.render(view, RenderMode::kSunlight, w, h);
     const SunShadowCounts c = renderer.sunShadowCounts();
     const double fill = double(renderer.shadowVolumeFill()) * 1e-6;
     char rebuild[16] = "-";
-    if (mode == SunShadowMode::kVisibilityMap) {
-      const RebuildTimes rt = timeRebuilds(renderer, r, view, w, h);
-      std::snprintf(rebuild, sizeof rebuild, "%.2f", rt.movingMs - rt.stillMs);
-    }
+    const RebuildTimes rt = timeRebuilds(renderer, r, view, w, h);
+    std::snprintf(rebuild, sizeof rebuild, "%.2f", rt.movingMs - rt.stillMs);
     std::printf("%-14s %-8s %8u %8u %8u %9.2f %8.1f %9.3f %7.2f %8.3f %9s\n", label,
                 mode == SunShadowMode::kVisibilityMap ? "vismap" : "classic", c.keptTriangles, c.silhouetteEdges,
                 c.sideTriangles, fill, 1e3 / t.pipelinedMs, t.pipelinedMs, t.pipelinedMs / baselineMs,
                 t.pipelinedMs / off.pipelinedMs, rebuild);
+    if (gpuTimers) {
+      // One more rebuild with time stamps around its stages (GPU ms).
+      renderer.setShadowProfiling(true);
+      const vec3 sun0 = r.sky->sunDirWorld;
+      r.sky->sunDirWorld = glm::normalize(sun0 + vec3(1e-3f, 0.0f, 0.0f));
+      renderer.render(view, RenderMode::kSunlight, w, h);
+      r.sky->sunDirWorld = sun0;
+      std::printf("%-14s   rebuild on the GPU (ms):", "");
+      double total = 0.0;
+      for (const auto& [stage, ms] : renderer.sunShadowBuildStagesMs()) {
+        std::printf(" %s %.3f,", stage.c_str(), ms);
+        total += ms;
+      }
+      std::printf(" total %.3f; kept by the depth test %u\n", total, renderer.sunShadowCounts().keptByDepthTest);
+      renderer.setShadowProfiling(false);
+    }
     std::fflush(stdout);
   }
 }
 
-int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h, bool gpuTimers, double baselineMs) {
-  std::printf("\nsun shadows: sunlight mode without light maps, visibility map 2048²; fill in millions of fragments\n");
+int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h, bool gpuTimers, double baselineMs,
+               uint32_t mapTexels) {
+  std::printf("\nsun shadows: sunlight mode without light maps, visibility map %u²; fill in millions of fragments\n",
+              mapTexels);
   std::printf("%-14s %-8s %8s %8s %8s %9s %8s %9s %8s %8s %9s\n", "scene", "shadows", "kept", "silhou.", "sides",
               "fill M", "fps", "ms/frame", "× base", "× off", "rebuild ms");
   for (uint32_t n : quick ? std::vector<uint32_t>{221} : std::vector<uint32_t>{387, 707}) {
     rdb::RasterRdb r = rdb::buildRasterRdb(makeScene(n));
-    benchShadows("boxes", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
+    benchShadows("boxes", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs, mapTexels);
   }
   {
     rdb::RasterRdb r = rdb::buildRasterRdb(makeCar());
-    benchShadows("car", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
+    benchShadows("car", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs, mapTexels);
   }
   {
     rdb::RasterRdb r = rdb::buildRasterRdb(makeOffice());
-    benchShadows("office", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs);
+    benchShadows("office", r, viewOfCamera(r.cameras.at(0)), w, h, gpuTimers, baselineMs, mapTexels);
   }
   if (!std::filesystem::exists(housePath)) {
     std::printf("(%s not found: the house is skipped; run from the repository's root or pass --house)\n",
@@ -525,13 +541,14 @@ int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h,
   }
   rdb::RasterRdb r = rdb::buildRasterRdb(sdb::loadScene(housePath));
   for (const rdb::RasterCamera& camera : r.cameras) {
-    benchShadows(("house/" + camera.name).c_str(), r, viewOfCamera(camera), w, h, gpuTimers, baselineMs);
+    benchShadows(("house/" + camera.name).c_str(), r, viewOfCamera(camera), w, h, gpuTimers, baselineMs, mapTexels);
   }
   return 0;
 }
 
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
+  uint32_t shadowMapTexels = 1024;
   bool quick = false, texturedOnly = false, shadowsOnly = false;
   std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {
@@ -541,13 +558,15 @@ int run(int argc, char** argv) {
       texturedOnly = true;
     } else if (std::strcmp(argv[i], "--shadows") == 0) {
       shadowsOnly = true;
+    } else if (std::strcmp(argv[i], "--shadow-map") == 0 && i + 1 < argc &&
+               std::sscanf(argv[++i], "%u", &shadowMapTexels) == 1 && shadowMapTexels >= 16) {
     } else if (std::strcmp(argv[i], "--house") == 0 && i + 1 < argc) {
       housePath = argv[++i];
     } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
       std::fprintf(stderr,
-                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows] [--house PATH]\n");
+                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows [--shadow-map N]] [--house PATH]\n");
       return 2;
     }
   }
@@ -575,7 +594,7 @@ int run(int argc, char** argv) {
   const View emptyView = framingView(emptyRdb.boundsM, float(w) / float(h));
   const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
   printRow("0", "empty", baseline, baseline.pipelinedMs);
-  if (shadowsOnly) return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs);
+  if (shadowsOnly) return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs, shadowMapTexels);
 
   const uint32_t texturedCells = quick ? 221 : 387;
   const std::vector<uint32_t> cells = quick || texturedOnly ? std::vector<uint32_t>{texturedCells}
@@ -629,7 +648,7 @@ int run(int argc, char** argv) {
     printRow(triangles.c_str(), mode, t, baseline.pipelinedMs, plainTimes[1].pipelinedMs);
   }
   if (texturedOnly) return 0;
-  return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs);
+  return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs, shadowMapTexels);
 }
 
 }  // namespace

@@ -42,8 +42,8 @@ struct RenderOptions {
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
-  std::string shadows = "classic";
-  uint32_t shadowMapTexels = 2048;
+  ShadowOptions shadows;
+  uint32_t ballTexels = 256;
   DaylightOptions daylight;
   std::string timeLapse;  // FROM,TO,STEP
 };
@@ -125,7 +125,8 @@ int runRender(const RenderOptions& options) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
-  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
+  const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
   const bool timeLapse = !o.timeLapse.empty();
@@ -182,6 +183,7 @@ int runRender(const RenderOptions& options) {
   raster::Renderer renderer;
   renderer.upload(rdb);
   renderer.setSunShadows(shadows);
+  renderer.setBallSettings(balls);
   // Renders the current RasterRdb into `path`; the exposure is `ev100` when given, else automatic (returned).
   auto renderImage = [&](const std::string& path, std::optional<double> ev100) {
     renderer.render(view, *mode, width, height);
@@ -217,6 +219,7 @@ int runRender(const RenderOptions& options) {
   t << "view      " << viewName << "\n";
   t << "mode      " << raster::renderModeName(*mode) << "\n";
   t << "light     " << loaded.light << "\n";
+  t << measuredBrdfLine(rdb, balls);
   if (lightMaps && *mode == raster::RenderMode::kSunlight) t << "baked     " << loaded.bakedSunlight << "\n";
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
@@ -228,7 +231,9 @@ int runRender(const RenderOptions& options) {
            std::to_string(c.casterTriangles) + " triangles, " + std::to_string(c.silhouetteEdges) +
            " silhouette edges (" +
            (shadows.mode == raster::SunShadowMode::kVisibilityMap
-                ? std::to_string(shadows.visibilityMapTexels) + "² visibility map"
+                ? std::to_string(shadows.visibilityMapTexels) + "² visibility map: " +
+                      std::to_string(c.visibleTriangles) + " seen, " + std::to_string(c.keptByDepthTest) +
+                      " kept by the depth test"
                 : std::string("every sun-facing triangle")) +
            ")\n";
   };
@@ -327,7 +332,8 @@ Command addRenderCommand(CLI::App& app) {
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
-  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
+  addShadowOptions(*sub, o->shadows);
+  addBallOption(*sub, o->ballTexels);
   o->daylight.add(*sub);
   sub->add_option("--time-lapse", o->timeLapse,
                   "FROM,TO,STEP: one image per time from FROM to TO (times as --time takes them) every STEP "

@@ -36,8 +36,8 @@ struct ViewOptions {
   std::string size = "1280x720";
   std::optional<double> exposureEv100;
   std::string op = "filmic";
-  std::string shadows = "classic";
-  uint32_t shadowMapTexels = 2048;
+  ShadowOptions shadows;
+  uint32_t ballTexels = 256;
   DaylightOptions daylight;
   uint64_t frames = 0;
   std::string keys;
@@ -117,7 +117,8 @@ int runView(const ViewOptions& o) {
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
-  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows, o.shadowMapTexels);
+  const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
+  const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> mode;
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
@@ -147,6 +148,7 @@ int runView(const ViewOptions& o) {
   v.frames = o.frames;
   v.script = script;
   v.shadows = shadows;
+  v.balls = balls;
 
   std::unique_ptr<raster::GlfwWindowContext> window;
   try {
@@ -160,8 +162,9 @@ int runView(const ViewOptions& o) {
             << "view      "
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
-            << "\nlight     " << scene.light
-            << (scene.bakedSunlight.empty() ? "" : "\nbaked     " + scene.bakedSunlight) << "\nOpenGL    "
+            << "\nlight     " << scene.light << "\n"
+            << measuredBrdfLine(rdb, balls)
+            << (scene.bakedSunlight.empty() ? "" : "baked     " + scene.bakedSunlight + "\n") << "OpenGL    "
             << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
             << " (" << window->info().platform << ")\n"
             << std::flush;
@@ -202,7 +205,8 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--size", o->size, "window size WIDTHxHEIGHT in pixels (default 1280x720)");
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
-  addShadowOptions(*sub, o->shadows, o->shadowMapTexels);
+  addShadowOptions(*sub, o->shadows);
+  addBallOption(*sub, o->ballTexels);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
   sub->add_option(

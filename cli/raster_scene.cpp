@@ -68,30 +68,67 @@ ToneOperator parseToneOperator(const std::string& name) {
   throw UsageError("--operator " + name + ": expected linear, reinhard or filmic");
 }
 
-void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityMapTexels) {
-  sub.add_option("--shadows", shadows,
+void addShadowOptions(CLI::App& sub, ShadowOptions& options) {
+  sub.add_option("--shadows", options.mode,
                  "the sun's shadows where its direct term is drawn: classic (shadow volumes of every sun-facing "
-                 "triangle; the default), vismap (of the triangles a visibility map from the sun finds: fewer, "
-                 "but a sun-lit sliver thinner than a texel can leak a streak of light) or off");
-  sub.add_option("--shadow-map", visibilityMapTexels,
-                 "texels per side of the sun's visibility map, 16 to 16384 (default 2048)");
+                 "triangle; exact, the default), vismap (of the triangles a visibility map from the sun finds, "
+                 "and those a depth test cannot prove hidden: fewer, so faster frames in interiors and cars, "
+                 "but slower rebuilds when the sun moves) or off");
+  sub.add_option("--shadow-map", options.visibilityMapTexels,
+                 "texels per side of the sun's visibility map (--shadows vismap), 16 to 16384 (default 1024)");
+  sub.add_option("--glass-map", options.transmittanceMapTexels,
+                 "texels per side of the sun's transmittance map through clear glass, 16 to 16384 (default "
+                 "1024): finer follows a pane's edge more closely");
 }
 
-raster::SunShadowSettings parseShadowOptions(const std::string& shadows, uint32_t visibilityMapTexels) {
+void addBallOption(CLI::App& sub, uint32_t& ballTexels) {
+  sub.add_option("--ball", ballTexels,
+                 "texels per side of the ball textures that show measured-BRDF materials (FLY §4), 8 to 4096 "
+                 "(default 256; a sharp clear coat needs more, docs/ball-textures.md)");
+}
+
+raster::BallSettings parseBallOption(uint32_t ballTexels) {
+  if (ballTexels < 8 || ballTexels > 4096)
+    throw UsageError("--ball " + std::to_string(ballTexels) + ": give 8 to 4096 texels per side");
+  raster::BallSettings b;
+  b.sizePx = ballTexels;
+  b.envSizePx = std::max(4u, ballTexels / 4);
+  return b;
+}
+
+std::string measuredBrdfLine(const rdb::RasterRdb& rdb, const raster::BallSettings& balls) {
+  if (rdb.measuredBrdfs.empty()) return "";
+  size_t tables = 0;
+  for (const rdb::RasterMeasuredBrdf& b : rdb.measuredBrdfs) tables += b.kind == rdb::RasterBrdfKind::kTable;
+  const size_t paints = rdb.measuredBrdfs.size() - tables;
+  std::string kinds;
+  if (paints) kinds += "car paint " + std::to_string(paints);
+  if (tables) kinds += std::string(kinds.empty() ? "" : ", ") + "MERL table " + std::to_string(tables);
+  const std::string n = std::to_string(balls.sizePx);
+  return "brdf      " + std::to_string(rdb.measuredBrdfs.size()) + " measured material" +
+         (rdb.measuredBrdfs.size() == 1 ? "" : "s") + " (" + kinds + "), shown by " + n + "×" + n +
+         " ball textures under the current lights (near lamps per pixel)\n";
+}
+
+raster::SunShadowSettings parseShadowOptions(const ShadowOptions& options) {
   raster::SunShadowSettings s;
-  if (shadows == "vismap") {
+  if (options.mode == "vismap") {
     s.mode = raster::SunShadowMode::kVisibilityMap;
-  } else if (shadows == "classic") {
+  } else if (options.mode == "classic") {
     s.mode = raster::SunShadowMode::kSunFacing;
-  } else if (shadows == "off") {
+  } else if (options.mode == "off") {
     s.mode = raster::SunShadowMode::kOff;
   } else {
-    throw UsageError("--shadows " + shadows + ": give vismap, classic or off");
+    throw UsageError("--shadows " + options.mode + ": give vismap, classic or off");
   }
-  if (visibilityMapTexels < 16 || visibilityMapTexels > 16384) {
-    throw UsageError("--shadow-map " + std::to_string(visibilityMapTexels) + ": give 16 to 16384 texels per side");
-  }
-  s.visibilityMapTexels = visibilityMapTexels;
+  auto texels = [](const char* option, uint32_t n) {
+    if (n < 16 || n > 16384) {
+      throw UsageError(std::string(option) + " " + std::to_string(n) + ": give 16 to 16384 texels per side");
+    }
+    return n;
+  };
+  s.visibilityMapTexels = texels("--shadow-map", options.visibilityMapTexels);
+  s.transmittanceMapTexels = texels("--glass-map", options.transmittanceMapTexels);
   return s;
 }
 

@@ -40,10 +40,22 @@ void parseSize(const std::string& text, uint32_t& widthPx, uint32_t& heightPx);
 raster::RenderMode parseRenderMode(const std::string& name);
 // --operator linear|reinhard|filmic; UsageError otherwise.
 ToneOperator parseToneOperator(const std::string& name);
-// --shadows vismap|classic|off and --shadow-map N (raster/sun_shadows.h): adds them to `sub`, and checks and
-// converts their values (UsageError naming the option otherwise).
-void addShadowOptions(CLI::App& sub, std::string& shadows, uint32_t& visibilityMapTexels);
-raster::SunShadowSettings parseShadowOptions(const std::string& shadows, uint32_t visibilityMapTexels);
+// --shadows vismap|classic|off, --shadow-map N and --glass-map N (raster/sun_shadows.h, raster/sun_glass.h):
+// adds them to `sub`, and checks and converts their values (UsageError naming the option otherwise).
+struct ShadowOptions {
+  std::string mode = "classic";
+  uint32_t visibilityMapTexels = 1024;
+  uint32_t transmittanceMapTexels = 1024;
+};
+void addShadowOptions(CLI::App& sub, ShadowOptions& options);
+raster::SunShadowSettings parseShadowOptions(const ShadowOptions& options);
+// --ball N (raster/ball_texture.h): the measured materials' ball textures, N × N texels (8 to 4096), the
+// environment term at N/4; adds it to `sub`, and checks and converts its value (UsageError otherwise).
+void addBallOption(CLI::App& sub, uint32_t& ballTexels);
+raster::BallSettings parseBallOption(uint32_t ballTexels);
+// What the scene's measured materials are and how they are shown: "" without any, else a line for the
+// command's summary ("brdf      2 measured materials (car paint 1, table 1), 256² ball textures …").
+std::string measuredBrdfLine(const rdb::RasterRdb& rdb, const raster::BallSettings& balls);
 
 // `requested` when the scene supports it (UsageError saying why not otherwise), else the best mode it
 // supports (raster::supportedModes).

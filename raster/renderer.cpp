@@ -11,6 +11,7 @@
 #include <string>
 
 #include "base/log.h"
+#include "raster/shaders/ball_texture_glsl.h"
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
 #include "raster/sun_glass.h"
@@ -135,6 +136,8 @@ enum VariantBit : uint32_t {
   kVariantSunDirect = 1u << 14,
   // The sun's direct term through clear glass times its T (raster/sun_glass.h): scenes with glass and a sun.
   kVariantSunGlass = 1u << 15,
+  // Measured BRDFs shown by their ball textures (raster/ball_texture.h): scenes with such materials.
+  kVariantMeasured = 1u << 16,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -262,7 +265,8 @@ struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
-        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1;
+        material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
+        nearLights = -1, nearLightCount = -1;
 };
 
 struct Renderer::Gpu {
@@ -419,7 +423,10 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   std::string name = "scene";
   std::string defines = "#define FLY_CORNER_GAIN " + std::to_string(rdb::kCornerGain) + "\n" +
                         "#define FLY_GONIO_GAMMA_STEPS " + std::to_string(rdb::kRasterGonioGammaSteps) +
-                        "\n" + "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n";
+                        "\n" + "#define FLY_GONIO_C_STEPS " + std::to_string(rdb::kRasterGonioCSteps) + "\n" +
+                        "#define FLY_MAX_NEAR_LIGHTS " + std::to_string(kMaxNearLights) + "\n" +
+                        "#define FLY_ALBEDO_STEPS " + std::to_string(rdb::kRasterAlbedoSteps) + "\n" +
+                        "#define FLY_BRDF_BINDING 4\n#define FLY_BRDF_TABLE_UNIT 10\n";
   const struct {
     uint32_t bit;
     const char* tag;
@@ -439,7 +446,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantAlphaMask, "mask", "FLY_ALPHA_MASK"},
                    {kVariantBlendPass, "blend", "FLY_BLEND_PASS"},
                    {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"},
-                   {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"}};
+                   {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"},
+                   {kVariantMeasured, "measured", "FLY_MEASURED"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -451,7 +459,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   const std::string fragment =
       std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup +
       (perFragment
-           ? std::string(shaders::kSceneCommon) + shaders::kLightTextureLookup + shaders::kSurfaceFragment
+           ? std::string(shaders::kSceneCommon) + ((variant & kVariantMeasured) ? shaders::kMeasuredBrdf : "") +
+                 shaders::kLightTextureLookup + shaders::kSurfaceFragment
            : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
   const GLuint p = compileProgram(
       name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
@@ -471,6 +480,10 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.material = loc("uMaterial");
   sp.sunGlassFromWorld = loc("uSunGlassFromWorld");
   sp.sunGlassBias = loc("uSunGlassBiasM");
+  sp.ballLayer = loc("uBallLayer");
+  sp.ballFromWorld = loc("uBallFromWorld");
+  sp.nearLights = loc("uNearLights");
+  sp.nearLightCount = loc("uNearLightCount");
   sp.program = p;
   return sp;
 }
@@ -482,6 +495,16 @@ void Renderer::upload(const rdb::RasterRdb& rdb) {
   uploadMaterials();
   uploadLights();
   uploadSky();
+}
+
+void Renderer::setBallSettings(const BallSettings& settings) {
+  if (!balls_) balls_ = std::make_unique<BallTextures>(compiler());
+  balls_->setSettings(settings);
+}
+
+std::vector<float> Renderer::ballLayer(uint32_t layer) const {
+  if (!balls_ || stats_.ballsMade == 0) throw std::logic_error("Renderer::ballLayer before a ball was made");
+  return balls_->readLayer(layer);
 }
 
 void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes) {
@@ -688,6 +711,7 @@ void Renderer::uploadMaterials() {
   shadowGeometryDirty_ |= casts != materialCasts_;
   materialCasts_ = std::move(casts);
   sunGlassDirty_ = true;
+  ballBrdfsDirty_ = true;
   ++stats_.materialTableUploads;
 }
 
@@ -934,7 +958,9 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     }
     const uint32_t variant = shared | sunGlass | (v.glass ? kVariantGlass : 0u);
     const uint32_t surfaceVariant =
-        shared | sunGlass | kVariantPerFragment | (v.textures ? kVariantTextures : 0u) |
+        shared | sunGlass | kVariantPerFragment | (v.measuredBrdf ? kVariantMeasured : 0u) |
+        (v.measuredBrdf && v.goniometric ? kVariantGonio : 0u) |
+        (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u);
     const vec3 eye(view.worldFromCamera[3]);
@@ -951,13 +977,21 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     const bool shadows =
         ((variant | surfaceVariant) & kVariantSun) && v.sun && shadowSettings_.mode != SunShadowMode::kOff;
     if (shadows) {
-      if (!shadows_) shadows_ = std::make_unique<SunShadows>(compiler());
+      if (!shadows_) {
+        shadows_ = std::make_unique<SunShadows>(compiler());
+        shadows_->setProfiling(shadowProfiling_);
+      }
       if (shadowGeometryDirty_) {
         shadows_->setGeometry(r, gpu_->positions);
         shadowGeometryDirty_ = false;
         ++stats_.shadowGeometryUploads;
       }
       if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
+    }
+    // The measured materials' balls under this frame's lights (raster/ball_texture.h).
+    if (v.measuredBrdf) {
+      makeBalls(view, mode);
+      glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
     }
     // The sun's illuminance the scene programs get (uSunNormalLux): 0 in the pass over shadowed pixels.
     vec3 sunPassLux = sunLux;
@@ -987,6 +1021,14 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     auto bindTextures = [&](const SceneProgram& p, const SurfaceDraw& d) {
       const rdb::RasterMaterial& m = r.materials[d.material];
       glUniform1ui(p.material, d.material);
+      glUniform1i(p.ballLayer, m.measured == rdb::RasterTextureRef::kNone ? -1 : GLint(2 * m.measured));
+      if (m.measured != rdb::RasterTextureRef::kNone) {
+        const mat3& ballFromWorld = balls_->ballFromWorld(m.measured);
+        glUniformMatrix3fv(p.ballFromWorld, 1, GL_FALSE, &ballFromWorld[0][0]);
+        const std::vector<int>& near = balls_->nearLights(m.measured);
+        glUniform1i(p.nearLightCount, GLint(near.size()));
+        if (!near.empty()) glUniform1iv(p.nearLights, GLsizei(near.size()), near.data());
+      }
       const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
       GLuint bits = 0;
       vec4 rows[6];
@@ -1015,6 +1057,11 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         glBindTextureUnit(2, gpu_->lightTextures);
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
+      if (v.measuredBrdf) {
+        glBindTextureUnit(9, balls_->texture());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, balls_->brdfBuffer());
+        glBindTextureUnit(10, balls_->tableTexture());
+      }
       glBindVertexArray(gpu_->vao);
       if (r.frontLux.empty()) glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
       if (r.backLux.empty()) glVertexAttrib3f(4, 0.0f, 0.0f, 0.0f);
@@ -1126,6 +1173,43 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   ++stats_.scenePasses;
 }
 
+int Renderer::makeBalls(const View& view, RenderMode mode) {
+  if (!rdb_) throw std::logic_error("Renderer::makeBalls before upload");
+  const rdb::RasterRdb& r = *rdb_;
+  const rdb::RasterVariants& v = r.variants;
+  if (!v.measuredBrdf) return 0;
+  if (!balls_) balls_ = std::make_unique<BallTextures>(compiler());
+  if (ballBrdfsDirty_) {
+    balls_->setBrdfs(r);
+    ballBrdfsDirty_ = false;
+  }
+  BallLighting lighting;
+  lighting.viewFromWorld = glm::transpose(mat3(view.worldFromCamera));
+  lighting.eyeM = vec3(view.worldFromCamera[3]);
+  lighting.orthographic = view.orthographic;
+  lighting.sun = v.sun;
+  if (v.sun) {
+    const rdb::RasterSky& s = *r.sky;
+    lighting.sunDirWorld = s.sunDirWorld;
+    lighting.sunLux = s.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(s.sunHalfAngleRad))));
+  }
+  // The sky where it is drawn (sunlight mode) or baked with (light maps); simple mode's directional ambient
+  // term as two hemispheres otherwise (none where it is 0).
+  if (v.sky && mode != RenderMode::kSimple) {
+    lighting.environment = BallLighting::Environment::kSky;
+    lighting.skyTexture = gpu_->skyTexture;
+    lighting.skyVersion = uint64_t(stats_.skyUploads);
+  } else if (maxComponent(r.ambient.upLux) > 0.0f || maxComponent(r.ambient.downLux) > 0.0f) {
+    lighting.environment = BallLighting::Environment::kHemispheres;
+    lighting.upLux = r.ambient.upLux;
+    lighting.downLux = r.ambient.downLux;
+  }
+  const int made = balls_->update(r, lighting);
+  stats_.ballsMade += made;
+  stats_.ballsReused += int(r.measuredBrdfs.size()) - made;
+  return made;
+}
+
 void Renderer::toneMap(const ToneMapSettings& settings) {
   if (!gpu_->floatFbo) throw std::logic_error("Renderer::toneMap before render");
   ToneMapProgram& tone = gpu_->toneMap;
@@ -1167,6 +1251,15 @@ void Renderer::setSunShadows(const SunShadowSettings& settings) {
 
 SunShadowCounts Renderer::sunShadowCounts() const {
   return shadows_ ? shadows_->counts() : SunShadowCounts{};
+}
+
+void Renderer::setShadowProfiling(bool on) {
+  shadowProfiling_ = on;
+  if (shadows_) shadows_->setProfiling(on);
+}
+
+std::vector<std::pair<std::string, double>> Renderer::sunShadowBuildStagesMs() const {
+  return shadows_ ? shadows_->buildStagesMs() : std::vector<std::pair<std::string, double>>{};
 }
 
 SunGlassCounts Renderer::sunGlassCounts() const {

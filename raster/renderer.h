@@ -34,6 +34,11 @@
 // are drawn last, back to front by their mesh's centre, without depth writes, into an RGBA32F "over" target
 // composited over the image. They are drawn one material per draw (its textures bound), after the one draw of
 // the per-vertex meshes; a scene without them draws exactly as before.
+// Materials with a measured BRDF (rdb::RasterMeasuredBrdf) are drawn per fragment from their ball textures
+// (raster/ball_texture.h; FLY §4), made before the scene pass where the view's rotation or their light changed,
+// in every mode: the ball's lights and environment, the lamps near the material's objects evaluated per pixel
+// by the same BRDF (BallSettings::nearLightRadii), plus the ball's sun (0 in the shadow pass, times the glass's
+// T); in the light-map modes scaled to the baked irradiance (shaders/scene_glsl.h, flyMeasuredLightMap).
 // Only the shader variants a scene's features call for are compiled, on first use. Needs a current context
 // (raster/gl_context.h) for its whole life.
 // A frame's GPU work, kept lean for GPUs whose graphics pipeline is a small part of the chip (the H100: see
@@ -55,6 +60,7 @@
 
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "raster/ball_texture.h"
 #include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
@@ -101,6 +107,8 @@ struct RendererStats {
   int textureUploads = 0;             // material textures (rdb::RasterRdb::textures)
   int samplerObjects = 0;             // GL sampler objects: one per distinct glTF sampler drawn with
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
+  int ballsMade = 0;    // measured materials' ball textures made (raster/ball_texture.h)
+  int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
 
@@ -142,15 +150,29 @@ class Renderer {
   void setMaxAnisotropy(float samples);
 
   // How the sun's direct term is shadowed (raster/sun_shadows.h); std::invalid_argument for a visibility map
-  // size outside [16, 16384]. Default: shadow volumes pruned by a 2048² visibility map.
+  // size outside [16, 16384]. Default: the classic volumes (SunShadowSettings).
   void setSunShadows(const SunShadowSettings& settings);
   // What the last shadow build made (read back from the GPU; zeros before the first).
   SunShadowCounts sunShadowCounts() const;
+  // For benchmarks: GPU time stamps around the stages of each shadow build (off by default), and the last
+  // build's stages in GPU milliseconds (empty when none was profiled).
+  void setShadowProfiling(bool on);
+  std::vector<std::pair<std::string, double>> sunShadowBuildStagesMs() const;
   // What the last transmittance map through clear glass drew (raster/sun_glass.h; zeros before the first).
   SunGlassCounts sunGlassCounts() const;
   // The fragments the last frame's shadow volumes rasterise with neither depth nor stencil test (their fill,
   // GL_SAMPLES_PASSED); 0 when it drew none. For benchmarks: it draws the volumes again.
   uint64_t shadowVolumeFill();
+
+  // The measured materials' ball textures' size and environment quadrature (raster/ball_texture.h);
+  // std::invalid_argument out of range. Default: BallSettings{}.
+  void setBallSettings(const BallSettings& settings);
+  // Makes the measured materials' ball textures for `view` in `mode` where what they depend on changed (the
+  // view's rotation, the lights, the environment, the BRDFs); render() does this itself. Returns how many it
+  // made. For benchmarks, which time this pass alone.
+  int makeBalls(const View& view, RenderMode mode);
+  // A layer of the ball textures, as last made (BallTextures::readLayer); for tests.
+  std::vector<float> ballLayer(uint32_t layer) const;
 
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
@@ -178,9 +200,12 @@ class Renderer {
   std::unique_ptr<Gpu> gpu_;
   std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
   SunShadowSettings shadowSettings_;
+  bool shadowProfiling_ = false;
   bool shadowGeometryDirty_ = true;
   std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass
   bool sunGlassDirty_ = true;
+  std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
+  bool ballBrdfsDirty_ = true;
   std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;

@@ -36,8 +36,9 @@ struct Commands {
   // counts of the method not taken set to 0 (shadow_glsl.h, kShadowSelectCompute).
   uint32_t nearInVolume = 0;
   uint32_t selected[18] = {};
+  uint32_t keptByDepth = 0;  // triangles the visibility maps do not show, kept by the depth test
 };
-static_assert(sizeof(Commands) == 35 * sizeof(uint32_t));
+static_assert(sizeof(Commands) == 36 * sizeof(uint32_t));
 // Visibility map levels: the whole map, then twice the square around what the previous level left undecided.
 constexpr int kMapLevels = 3;
 
@@ -94,33 +95,56 @@ struct SunShadows::Gpu {
          levels = 0;
   GLuint capVao = 0;     // the caps: the scene's positions, the caps' indices
   GLuint pulledVao = 0;  // draws that pull their vertices from buffers (no attributes)
+  GLuint casterVao = 0;  // the visibility map: the scene's positions, the casters' vertex indices in order
+  GLuint casterIndices = 0;
   GLuint visibility = 0, visibilityDepth = 0, visibilityFbo = 0;
+  GLuint depthTestFbo = 0;  // no attachments, the map's size: the depth test's fragments
+
   uint32_t visibilityTexels = 0;
-  GLuint visibilityProgram = 0, markProgram = 0, classifyProgram = 0, shellsProgram = 0, keepProgram = 0,
+  GLuint resetProgram = 0, visibilityProgram = 0, markProgram = 0, classifyProgram = 0, depthTestProgram = 0,
+         shellsProgram = 0, keepProgram = 0,
          edgesProgram = 0, capProgram = 0, sideProgram = 0, nearProgram = 0, selectProgram = 0;
   uint32_t casterCount = 0, edgeCount = 0, shellCount = 0;
   // Cut-out (alpha MASK) casters: seen through their holes, their caps matter to z-pass too, so a scene with
   // them always takes z-fail.
   bool maskCasters = false;
   GLuint shellKept = 0;  // per shell: 1 when one of its triangles is kept
+  GLuint depthTests = 0;  // the depth test's indirect draw and casters (shadow_glsl.h, binding 10)
   GLint capClipFromWorld = -1, sideClipFromWorld = -1, sideSunDir = -1;  // drawVolumes' uniforms
   Bounds3 boundsM;                                                       // of the casters
   bool built = false;
+  bool profiling = false;
+  std::vector<std::pair<std::string, GLuint>> stamps;  // GL_TIMESTAMP queries of the last build, in order
+  void stamp(std::string name) {
+    if (!profiling) return;
+    GLuint q = 0;
+    glCreateQueries(GL_TIMESTAMP, 1, &q);
+    glQueryCounter(q, GL_TIMESTAMP);
+    stamps.emplace_back(std::move(name), q);
+  }
+  void clearStamps() {
+    for (auto& [name, q] : stamps) glDeleteQueries(1, &q);
+    stamps.clear();
+  }
   vec3 builtSunDir{0.0f};
   SunShadowSettings builtSettings;
   float texelSizeM = 0.0f;
 
   ~Gpu() {
+    clearStamps();
     const GLuint buffers[] = {casters,  state, edgeCounts, caps,     edgeVertices,
-                              commands, sides, levels,     shellKept};
+                              commands, sides, levels,     shellKept, depthTests};
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteVertexArrays(1, &capVao);
     glDeleteVertexArrays(1, &pulledVao);
+    glDeleteVertexArrays(1, &casterVao);
+    glDeleteBuffers(1, &casterIndices);
     glDeleteTextures(1, &visibility);
     glDeleteTextures(1, &visibilityDepth);
     glDeleteFramebuffers(1, &visibilityFbo);
-    for (GLuint p : {visibilityProgram, markProgram, classifyProgram, shellsProgram, keepProgram,
-                     edgesProgram, capProgram, sideProgram, nearProgram, selectProgram}) {
+    glDeleteFramebuffers(1, &depthTestFbo);
+    for (GLuint p : {resetProgram, visibilityProgram, markProgram, classifyProgram, depthTestProgram, shellsProgram,
+                     keepProgram, edgesProgram, capProgram, sideProgram, nearProgram, selectProgram}) {
       glDeleteProgram(p);
     }
   }
@@ -129,6 +153,7 @@ struct SunShadows::Gpu {
 SunShadows::SunShadows(Compile compile) : gpu_(std::make_unique<Gpu>()), compile_(std::move(compile)) {
   glCreateVertexArrays(1, &gpu_->capVao);
   glCreateVertexArrays(1, &gpu_->pulledVao);
+  glCreateVertexArrays(1, &gpu_->casterVao);
 }
 
 SunShadows::~SunShadows() = default;
@@ -225,6 +250,7 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
   }
   g.shellCount = shells;
   storeEmpty(g.shellKept, size_t(shells) * sizeof(uint32_t));
+  storeEmpty(g.depthTests, (4 + casters.size()) * sizeof(uint32_t), GL_DYNAMIC_STORAGE_BIT);
   g.casterCount = uint32_t(casters.size());
   g.edgeCount = uint32_t(edgeVertices.size());
   store(g.casters, casters);
@@ -241,6 +267,15 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
   glVertexArrayAttribBinding(g.capVao, 0, 0);
   glEnableVertexArrayAttrib(g.capVao, 0);
   glVertexArrayElementBuffer(g.capVao, g.caps);
+  std::vector<uint32_t> casterIndices;
+  casterIndices.reserve(3 * casters.size());
+  for (const Caster& c : casters) casterIndices.insert(casterIndices.end(), {c.vertices.x, c.vertices.y, c.vertices.z});
+  store(g.casterIndices, casterIndices);
+  glVertexArrayVertexBuffer(g.casterVao, 0, positions, 0, sizeof(vec3));
+  glVertexArrayAttribFormat(g.casterVao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(g.casterVao, 0, 0);
+  glEnableVertexArrayAttrib(g.casterVao, 0);
+  glVertexArrayElementBuffer(g.casterVao, g.casterIndices);
 }
 
 bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& settings) {
@@ -248,6 +283,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   if (g.built && g.builtSunDir == sunDirWorld && g.builtSettings == settings) return false;
   if (!g.keepProgram) {
     const std::string common = shaders::kShadowCommon;
+    g.resetProgram = compile_("shadow-reset", "", {{GL_COMPUTE_SHADER, shaders::kShadowResetCompute}});
     g.keepProgram = compile_("shadow-keep", common, {{GL_COMPUTE_SHADER, shaders::kShadowKeepCompute}});
     g.edgesProgram = compile_("shadow-edges", common, {{GL_COMPUTE_SHADER, shaders::kShadowEdgesCompute}});
     g.capProgram = compile_("shadow-caps", "",
@@ -262,6 +298,8 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     g.sideClipFromWorld = glGetUniformLocation(g.sideProgram, "uClipFromWorld");
     g.sideSunDir = glGetUniformLocation(g.sideProgram, "uSunDirWorld");
   }
+  g.clearStamps();
+  g.stamp("start");
   g.built = true;
   g.builtSunDir = sunDirWorld;
   g.builtSettings = settings;
@@ -292,11 +330,15 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   const float extentM = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.001f;
   g.texelSizeM = extentM / float(texels);
 
-  const GLint zeroInt = 0;
-  glClearNamedBufferData(g.edgeCounts, GL_R32I, GL_RED_INTEGER, GL_INT, &zeroInt);
-  const GLuint ssbos[] = {g.positions, g.casters,      g.state,    g.edgeCounts,
-                          g.caps,      g.edgeVertices, g.commands, g.sides};
+  const GLuint ssbos[] = {g.positions,    g.casters,  g.state, g.edgeCounts, g.caps,
+                          g.edgeVertices, g.commands, g.sides, g.levels,     g.shellKept};
   glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, GLsizei(std::size(ssbos)), ssbos);
+  glUseProgram(g.resetProgram);
+  glUniform1ui(glGetUniformLocation(g.resetProgram, "uCasterCount"), g.casterCount);
+  glUniform1ui(glGetUniformLocation(g.resetProgram, "uEdgeCount"), g.edgeCount);
+  glUniform1ui(glGetUniformLocation(g.resetProgram, "uShellCount"), g.shellCount);
+  glDispatchCompute((std::max({g.casterCount, g.edgeCount, g.shellCount}) + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
   if (prune) {
     if (!g.visibilityProgram) {
@@ -307,6 +349,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       g.markProgram = compile_("shadow-mark", common, {{GL_COMPUTE_SHADER, shaders::kShadowMarkCompute}});
       g.classifyProgram =
           compile_("shadow-classify", common, {{GL_COMPUTE_SHADER, shaders::kShadowClassifyCompute}});
+      g.depthTestProgram = compile_("shadow-depth-test", common,
+                                    {{GL_VERTEX_SHADER, shaders::kShadowDepthTestVertex},
+                                     {GL_FRAGMENT_SHADER, shaders::kShadowDepthTestFragment}});
       g.shellsProgram =
           compile_("shadow-shells", common, {{GL_COMPUTE_SHADER, shaders::kShadowShellsCompute}});
     }
@@ -314,6 +359,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
       glDeleteTextures(1, &g.visibility);
       glDeleteTextures(1, &g.visibilityDepth);
       glDeleteFramebuffers(1, &g.visibilityFbo);
+      glDeleteFramebuffers(1, &g.depthTestFbo);
       glCreateTextures(GL_TEXTURE_2D, 1, &g.visibility);
       glTextureStorage2D(g.visibility, 1, GL_R32UI, GLsizei(texels), GLsizei(texels));
       glCreateTextures(GL_TEXTURE_2D, 1, &g.visibilityDepth);
@@ -329,6 +375,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
         throw std::runtime_error("the OpenGL driver cannot render a " + std::to_string(texels) +
                                  "² R32UI visibility map");
       }
+      glCreateFramebuffers(1, &g.depthTestFbo);
+      glNamedFramebufferParameteri(g.depthTestFbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(texels));
+      glNamedFramebufferParameteri(g.depthTestFbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, GLint(texels));
       g.visibilityTexels = texels;
     }
     const float half = 0.5f * extentM, cx = 0.5f * (lo.x + hi.x), cy = 0.5f * (lo.y + hi.y);
@@ -342,9 +391,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
                             std::numeric_limits<int>::min(), std::numeric_limits<int>::min()));
     regions[0] = glm::ivec4(0, 0, int(texels) * 256, int(texels) * 256);
     glNamedBufferSubData(g.levels, 0, sizeof regions, regions.data());
-    glClearNamedBufferData(g.state, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, g.levels);
-    for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram}) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, g.depthTests);
+    g.stamp("setup");
+    for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
       glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "uSunClipFromWorld"), 1, GL_FALSE,
                                 &sunClipFromWorld[0][0]);
       glProgramUniform1i(program, glGetUniformLocation(program, "uMapTexels"), GLint(texels));
@@ -355,7 +404,6 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glProgramUniform3fv(g.classifyProgram, classifyLoc("uSunXWorld"), 1, &x[0]);
     glProgramUniform3fv(g.classifyProgram, classifyLoc("uSunYWorld"), 1, &y[0]);
     glProgramUniform1f(g.classifyProgram, classifyLoc("uBaseTexelM"), g.texelSizeM);
-    glProgramUniform1i(g.classifyProgram, classifyLoc("uLevels"), kMapLevels);
     GLint previousFbo = 0, viewport[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previousFbo);
     glGetIntegerv(GL_VIEWPORT, viewport);
@@ -363,38 +411,85 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
-    glBindVertexArray(g.pulledVao);
-    const uint32_t none = 0xffffffffu;
     const float farDepth = 1.0f;
-    for (GLint level = 0; level < kMapLevels; ++level) {
-      for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram}) {
-        glProgramUniform1i(program, glGetUniformLocation(program, "uLevel"), level);
-      }
-      glClearNamedFramebufferuiv(g.visibilityFbo, GL_COLOR, 0, &none);
-      glClearNamedFramebufferfv(g.visibilityFbo, GL_DEPTH, 0, &farDepth);
-      glBindFramebuffer(GL_FRAMEBUFFER, g.visibilityFbo);
-      glViewport(0, 0, GLsizei(texels), GLsizei(texels));
-      glUseProgram(g.visibilityProgram);
-      glDrawArrays(GL_TRIANGLES, 0, GLsizei(3 * g.casterCount));
-      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-      glUseProgram(g.markProgram);
-      glBindImageTexture(0, g.visibility, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
-      glDispatchCompute((texels + 7) / 8, (texels + 7) / 8, 1);
-      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // Classifies what the level leaves undecided, then depth-tests what it sends there (depth writes off).
+    auto classifyAndTest = [&](const std::string& at, bool last) {
+      const uint32_t noDraw[4] = {0, 1, 0, 0};
+      glNamedBufferSubData(g.depthTests, 0, sizeof noDraw, noDraw);
       glUseProgram(g.classifyProgram);
+      glUniform1i(classifyLoc("uLastLevel"), last ? 1 : 0);
       glBindTextureUnit(0, g.visibility);
       glBindTextureUnit(1, g.visibilityDepth);
       glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+      g.stamp("classify" + at);
+      glDisable(GL_DEPTH_TEST);
+      glBindFramebuffer(GL_FRAMEBUFFER, g.depthTestFbo);
+      glBindVertexArray(g.pulledVao);
+      glUseProgram(g.depthTestProgram);
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.depthTests);
+      glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
+      glEnable(GL_DEPTH_TEST);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      g.stamp("depth test" + at);
+    };
+    float side = float(texels);  // the level's square, in level 0's texels
+    uint32_t levelTexels = texels;  // the level's texels per side: its square in the map's corner
+    glEnable(GL_SCISSOR_TEST);
+    for (GLint level = 0; level < kMapLevels; ++level) {
+      for (GLuint program : {g.visibilityProgram, g.markProgram, g.classifyProgram, g.depthTestProgram}) {
+        glProgramUniform1i(program, glGetUniformLocation(program, "uLevel"), level);
+        glProgramUniform1i(program, glGetUniformLocation(program, "uLevelTexels"), GLint(levelTexels));
+      }
+      glViewport(0, 0, GLsizei(levelTexels), GLsizei(levelTexels));
+      glScissor(0, 0, GLsizei(levelTexels), GLsizei(levelTexels));
+      const std::string at = " " + std::to_string(level);
+      // The map's textures must not stay bound for sampling while they are drawn into.
+      glBindTextureUnit(0, 0);
+      glBindTextureUnit(1, 0);
+      glClearNamedFramebufferfv(g.visibilityFbo, GL_DEPTH, 0, &farDepth);  // the indices need no clear
+      g.stamp("clear" + at);
+      glBindFramebuffer(GL_FRAMEBUFFER, g.visibilityFbo);
+      glUseProgram(g.visibilityProgram);
+      glBindVertexArray(g.casterVao);
+      glDrawElements(GL_TRIANGLES, GLsizei(3 * g.casterCount), GL_UNSIGNED_INT, nullptr);
+      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previousFbo));
+      g.stamp("map" + at);
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+      glUseProgram(g.markProgram);
+      glBindTextureUnit(0, g.visibility);
+      glBindTextureUnit(1, g.visibilityDepth);
+      glDispatchCompute((levelTexels + 7) / 8, (levelTexels + 7) / 8, 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      g.stamp("mark" + at);
+      const bool last = level + 1 == kMapLevels;
+      classifyAndTest(at, last);
+      if (last) break;
+      // The next level's square (waiting for the GPU: once per rebuild and level), drawn with texels half as
+      // large as this level's, so in fewer texels per side where the square is smaller. A level pays only where
+      // it refines: when its square is not at most half this one's side (it would need more texels than
+      // level 0), what is undecided takes the depth test on this level's map instead.
+      glm::ivec4 next;
+      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+      glGetNamedBufferSubData(g.levels, GLintptr((level + 1) * sizeof next), sizeof next, &next);
+      if (next.x > next.z || next.y > next.w) break;  // nothing undecided
+      const float nextSide = float(std::max(next.z - next.x, next.w - next.y)) / 256.0f *
+                                 (1.0f + 8.0f / float(texels)) + 1.0f / 64.0f;
+      if (nextSide > 0.5f * side) {
+        classifyAndTest(at + " (final)", true);
+        break;
+      }
+      levelTexels = std::clamp(uint32_t(std::ceil(2.0f * float(levelTexels) * nextSide / side)), 16u, texels);
+      side = nextSide;
     }
+    glDisable(GL_SCISSOR_TEST);
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    glClearNamedBufferData(g.shellKept, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zeroInt);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, g.shellKept);
     glUseProgram(g.shellsProgram);
     glUniform1ui(glGetUniformLocation(g.shellsProgram, "uCasterCount"), g.casterCount);
     glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    g.stamp("shells");
   }
 
   const GLuint capCapacity = 3 * g.casterCount;
@@ -406,13 +501,29 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   glUniform1i(loc("uPrune"), prune ? 1 : 0);
   glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  g.stamp("keep");
   glUseProgram(g.edgesProgram);
   glUniform1ui(glGetUniformLocation(g.edgesProgram, "uEdgeCount"), g.edgeCount);
   glUniform1ui(glGetUniformLocation(g.edgesProgram, "uCapCapacity"), capCapacity);
   glDispatchCompute(std::max(1u, (g.edgeCount + 63) / 64), 1, 1);
   glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT |
                   GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  g.stamp("edges");
   return true;
+}
+
+void SunShadows::setProfiling(bool on) { gpu_->profiling = on; }
+
+std::vector<std::pair<std::string, double>> SunShadows::buildStagesMs() const {
+  std::vector<std::pair<std::string, double>> stages;
+  GLuint64 previous = 0;
+  for (const auto& [name, q] : gpu_->stamps) {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(q, GL_QUERY_RESULT, &ns);
+    if (!stages.empty() || previous != 0) stages.emplace_back(name, 1e-6 * double(ns - previous));
+    previous = ns;
+  }
+  return stages;
 }
 
 void SunShadows::drawStencil(const mat4& clipFromWorld) {
@@ -542,6 +653,7 @@ SunShadowCounts SunShadows::counts() const {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glGetNamedBufferSubData(g.commands, 0, sizeof cmd, &cmd);
   c.visibleTriangles = cmd.visible;
+  c.keptByDepthTest = cmd.keptByDepth;
   c.keptTriangles = (cmd.facingCount + cmd.turnedCount) / 3;
   c.silhouetteEdges = cmd.silhouetteEdges;
   c.sideTriangles = cmd.sideCount / 3;

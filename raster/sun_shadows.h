@@ -26,18 +26,20 @@
 //    faces away from the sun (or the shell faces in and the triangle faces the sun): the sun's rays reach
 //    it only after crossing the shell, taking the shell not to cross itself. (Such a triangle is dropped even
 //    where the map shows it: it can only win a texel on its rim or on a coplanar face, by a tie of depths.)
-//  - or its projected inradius (2 · area / perimeter in the sun's image plane) reaches t/√2: its whole
-//    projection, so its visible part too if it had one, would contain such a disc and it would have been
-//    found — it is not significant;
 //  - or it lies wholly behind what the map shows over its footprint: where four neighbouring texel centres
 //    show one triangle, that triangle covers the square between them (it is convex) at depths no farther than
 //    the largest of the four (it is planar); a triangle whose footprint such squares cover and whose nearest
-//    vertex is farther from the sun is hidden.
-// The rest (sub-texel triangles that may be seen: fence bars, small parts) are undecided, and the map is
-// drawn again over the square around them at the same N (a finer t), twice (kMapLevels in the source); what
-// is still undecided after that is kept. So every significant triangle is kept, at each level's t. What can
-// be lost: the visible part of a larger triangle that contains no disc of radius t/√2 anywhere, a sliver
-// narrower than √2 · t along the shadow of what hides the rest of it; its shadow is that thin.
+//    vertex is farther from the sun is hidden;
+//  - or it passes the depth test (raster/shaders/shadow_glsl.h): at every texel centre c within √2 texels of
+//    its footprint, the map shows a surface nearer the sun than the triangle can be within √2 texels of c.
+// A triangle whose projected inradius (2 · area / perimeter in the sun's image plane) reaches t/√2 would
+// contain such a disc in its visible part, had it one, so it goes straight to the depth test. Sub-texel
+// triangles that may be seen (fence bars, small parts) are undecided, and the map is drawn again over the
+// square around them at the same N (a finer t), up to twice (kMapLevels in the source) while the square's
+// side is at most half the last one's; what is still undecided then takes the depth test. So every
+// significant triangle is kept, at each level's t, and so is a larger one whose sun-lit sliver borders what
+// the sun sees beyond it (a floor past a wall's edge: the centres there show something farther). What can
+// be lost: a triangle the sun sees only through a gap narrower than about a texel between nearer surfaces.
 // A closed shell with any kept triangle keeps every triangle that faces the way the sun can see it, so that
 // its volume's silhouette is the shell's terminator rather than the rim of what the map happened to show (a
 // superset: the shadow is the same). Open shells keep only their own kept triangles: where a large open
@@ -73,6 +75,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "base/math.h"
 #include "rdb/raster_rdb.h"
@@ -81,8 +84,8 @@ namespace fly::raster {
 
 enum class SunShadowMode {
   kOff,            // the sun's direct term unshadowed
-  // Shadow volumes of the triangles the sun sees (FLY §3's pruning): fewer, but a sliver of a triangle that the
-  // sun sees, thinner than √2 texels, can be missed and leak a streak of light (the house's interior floor).
+  // Shadow volumes of the triangles the sun sees (FLY §3's pruning) and those the depth test keeps: fewer,
+  // but rebuilt more slowly, and a triangle seen only through a sub-texel gap can be missed.
   kVisibilityMap,
   // Shadow volumes of every triangle facing the sun (the classic method): exact, the default.
   kSunFacing,
@@ -94,7 +97,7 @@ bool castsSunShadows(const rdb::RasterMaterial& m);
 struct SunShadowSettings {
   SunShadowMode mode = SunShadowMode::kSunFacing;
   // Texels per side of the visibility map, [16, 16384] (capped at the driver's largest texture).
-  uint32_t visibilityMapTexels = 2048;
+  uint32_t visibilityMapTexels = 1024;
   // Texels per side of the sun's transmittance map through clear glass (raster/sun_glass.h), [16, 16384]
   // (capped at the driver's largest texture).
   uint32_t transmittanceMapTexels = 1024;
@@ -106,6 +109,7 @@ struct SunShadowSettings {
 struct SunShadowCounts {
   uint32_t casterTriangles = 0;   // triangles that can cast (not glass, not blended)
   uint32_t visibleTriangles = 0;  // of them, shown by the visibility map
+  uint32_t keptByDepthTest = 0;   // of them, not shown by the map but kept by the depth test
   uint32_t keptTriangles = 0;     // front caps: the triangles whose prisms make the volumes
   uint32_t silhouetteEdges = 0;   // edges with a non-zero count
   uint32_t sideTriangles = 0;     // extruded sides (each silhouette edge |count| times)
@@ -137,6 +141,10 @@ class SunShadows {
   // counted with a GL_SAMPLES_PASSED query; for benchmarks, not per frame.
   uint64_t measureFill(const mat4& clipFromWorld);
   SunShadowCounts counts() const;
+  // GPU time stamps around each stage of build() (GL_TIMESTAMP queries), for benchmarks: off by default.
+  // buildStagesMs() waits for the last build's and returns each stage's name and GPU milliseconds.
+  void setProfiling(bool on);
+  std::vector<std::pair<std::string, double>> buildStagesMs() const;
 
  private:
   struct Gpu;

@@ -244,6 +244,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   Renderer renderer;
   renderer.upload(rdb);
   renderer.setSunShadows(options.shadows);
+  renderer.setBallSettings(options.balls);
   Overlay overlay;
   KeyQueue keys;
   GLFWwindow* w = window.window();

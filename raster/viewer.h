@@ -71,6 +71,7 @@ struct ViewerOptions {
   std::vector<ViewerAction> script;  // applied one per frame, before the frame is drawn, from the first
   CameraControllerSettings controller;
   SunShadowSettings shadows;  // the sun's shadows (raster/sun_shadows.h)
+  BallSettings balls;         // measured materials' ball textures (raster/ball_texture.h)
 };
 
 struct ViewerResult {

@@ -30,14 +30,15 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
          backLux == o.backLux && frontSunDirectLux == o.frontSunDirectLux &&
          backSunDirectLux == o.backSunDirectLux && lightMapUv == o.lightMapUv &&
          lightTextures == o.lightTextures && uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors &&
-         tangents == o.tangents && textures == o.textures && lights == o.lights &&
+         tangents == o.tangents && textures == o.textures && measuredBrdfs == o.measuredBrdfs && lights == o.lights &&
          goniometricCd == o.goniometricCd && ambient == o.ambient && daylightAmbient == o.daylightAmbient &&
          cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants;
 }
 
 bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
   const RasterMaterial& m = materials[mesh.material];
-  return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || mesh.hasColors;
+  return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || m.measured != RasterTextureRef::kNone ||
+         mesh.hasColors;
 }
 
 namespace {
@@ -571,6 +572,35 @@ std::vector<TextureKey> buildMaterials(RasterRdb& rdb, const sdb::Scene& scene) 
   return table.keys;
 }
 
+// The measured BRDFs of the materials that have one (after buildMaterials), each with the bounding box of the
+// meshes that use it. Such a material's block keeps only its emission and coverage, and as its diffuse albedo
+// the BRDF's albedo at (nearly) normal incidence.
+void buildMeasuredBrdfs(RasterRdb& rdb, const sdb::Scene& scene) {
+  rdb.measuredBrdfs.clear();
+  for (uint32_t i = 0; i < rdb.materials.size(); ++i) {
+    RasterMaterial& block = rdb.materials[i];
+    const sdb::Material& m = scene.material(sdb::MaterialId{block.sdbMaterialId});
+    if (!m.isMeasured() || block.transmission != Rgb(0.0f)) continue;
+    RasterMeasuredBrdf brdf = lowerMeasuredBrdf(m, block.sdbMaterialId);
+    Bounds3 b;
+    for (const RasterMesh& mesh : rdb.meshes) {
+      if (mesh.material != i) continue;
+      for (uint32_t v = mesh.firstVertex; v < mesh.firstVertex + mesh.vertexCount; ++v) b.extend(rdb.positionsM[v]);
+    }
+    if (!b.empty()) {
+      brdf.centreM = 0.5f * (b.min + b.max);
+      brdf.radiusM = 0.5f * glm::length(b.size());
+    }
+    block.measured = uint32_t(rdb.measuredBrdfs.size());
+    block.diffuse = glm::clamp(brdf.albedo.back(), Rgb(0.0f), Rgb(1.0f));
+    block.specular = Rgb(0.0f);
+    block.reflection = Rgb(0.0f);
+    rdb.measuredBrdfs.push_back(std::move(brdf));
+  }
+}
+
+bool anyMeasured(const RasterRdb& rdb) { return !rdb.measuredBrdfs.empty(); }
+
 void buildTextures(RasterRdb& rdb, const sdb::Scene& scene, const std::vector<TextureKey>& keys) {
   rdb.textures.clear();
   for (const TextureKey& k : keys) rdb.textures.push_back(lowerTexture(scene, k));
@@ -797,6 +827,7 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;
     v.alphaBlend |= m.alphaMode == RasterAlphaMode::kBlend;
   }
+  v.measuredBrdf = !rdb.measuredBrdfs.empty();
 }
 
 void checkOptions(const RasterBuildOptions& o) {
@@ -814,6 +845,7 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
   buildGeometry(rdb, scene, lightMaps);
   buildCornerFactors(rdb);
   buildTextures(rdb, scene, buildMaterials(rdb, scene));
+  buildMeasuredBrdfs(rdb, scene);
   buildLights(rdb, scene);
   buildSky(rdb, scene, options);
   buildAmbient(rdb);
@@ -869,15 +901,19 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
   if (r.materials) {
     // An assignment may change the textures, attributes and draws the scene needs: rebuilt wherever
     // textures or coverage are involved before or after.
-    const bool before = anyAlphaOrTexture(rdb);
+    const bool before = anyAlphaOrTexture(rdb) || anyMeasured(rdb);
     const std::vector<TextureKey> keys = buildMaterials(rdb, scene);
-    if (before || !keys.empty() || anyAlphaOrTexture(rdb)) return rebuild();
+    buildMeasuredBrdfs(rdb, scene);
+    if (before || !keys.empty() || anyAlphaOrTexture(rdb) || anyMeasured(rdb)) return rebuild();
   } else {
     // The texture table in order, for the edited blocks to find their textures in (lookup only).
     TextureTable table{textureKeys(rdb), false, false};
     for (uint32_t id : editedMaterials) {
       for (uint32_t i = 0; i < rdb.materials.size(); ++i) {
         if (rdb.materials[i].sdbMaterialId != id) continue;
+        // A measured BRDF's table, ball and draws: rebuilt when one is involved before or after.
+        if (rdb.materials[i].measured != RasterTextureRef::kNone || scene.material(sdb::MaterialId{id}).isMeasured())
+          return rebuild();
         const RasterMaterial block = lowerRasterMaterial(scene.material(sdb::MaterialId{id}), id, table);
         // Other textures, UV sets or alpha mode: other tables, attributes and draws.
         if (table.missing || !sameTextureLayout(block, rdb.materials[i])) return rebuild();

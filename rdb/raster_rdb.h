@@ -15,6 +15,7 @@
 #include "base/color.h"
 #include "base/math.h"
 #include "rdb/light_map_store.h"
+#include "rdb/raster_measured_brdf.h"
 #include "rdb/raster_sky.h"
 
 namespace fly::sdb {
@@ -109,6 +110,11 @@ struct RasterMaterial {
   RasterAlphaMode alphaMode = RasterAlphaMode::kOpaque;
   float alphaCutoff = 0.5f;  // [0, 1]
   float opacity = 1.0f;      // [0, 1]
+  // A measured or fitted BRDF (sdb::Material::isMeasured): index into RasterRdb::measuredBrdfs, shown per
+  // fragment from its ball texture (raster/ball_texture.h) in place of the analytic terms; kNone for others.
+  // `diffuse` then holds its albedo at normal incidence (what the directional ambient's mean albedo and the
+  // light-map modes' fallback use).
+  uint32_t measured = RasterTextureRef::kNone;
   uint32_t sdbMaterialId = 0;
 
   bool hasTexture() const { return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture); }
@@ -210,6 +216,7 @@ struct RasterVariants {
   bool vertexColors = false;  // some mesh has COLOR_0: RasterRdb::colors
   bool alphaMask = false;     // some material is a cut-out (kMask)
   bool alphaBlend = false;    // some material is blended (kBlend): drawn after the rest, back to front
+  bool measuredBrdf = false;  // some mesh has a measured BRDF: ball textures (raster/ball_texture.h)
 
   bool operator==(const RasterVariants&) const = default;
 };
@@ -284,6 +291,8 @@ struct RasterRdb {
   std::vector<vec4> tangents;
   // The materials' textures, in the materials' first-use order (base colour, emission, normal map).
   std::vector<RasterTexture> textures;
+  // The measured BRDFs of the materials that have one (RasterMaterial::measured), in the materials' order.
+  std::vector<RasterMeasuredBrdf> measuredBrdfs;
 
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;
@@ -297,8 +306,8 @@ struct RasterRdb {
   RasterVariants variants;
 
   size_t triangleCount() const { return indices.size() / 3; }
-  // Whether the engine shades `mesh` per fragment: its material has a texture or alpha coverage, or the mesh
-  // has COLOR_0; clear glass stays in its own pass, shaded per vertex without textures.
+  // Whether the engine shades `mesh` per fragment: its material has a texture, alpha coverage or a measured
+  // BRDF, or the mesh has COLOR_0; clear glass stays in its own pass, shaded per vertex without textures.
   bool shadedPerFragment(const RasterMesh& mesh) const;
   bool operator==(const RasterRdb&) const;
 };

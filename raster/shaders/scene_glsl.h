@@ -25,6 +25,8 @@
 //   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
 //   FLY_BLEND_PASS    a blended surface: writes (coverage · L, coverage) into the blend target, composited
 //                     over the image by kBlendComposite
+//   FLY_MEASURED      measured BRDFs (rdb::RasterMeasuredBrdf): a material with one shows its ball texture
+//                     (raster/ball_texture.h) by reflection mapping (kMeasuredLookup)
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
@@ -99,6 +101,40 @@ vec3 flyLightMapReflectance(vec3 albedo, Material m) {
 }
 #endif
 
+#if defined(FLY_PHONG) || defined(FLY_MEASURED)
+// The illuminance (lux) light l gives a surface at p facing it, and the unit direction towards it:
+// directional lights as given, the others I(direction) · window / d² with KHR_lights_punctual's range window
+// and spot falloff, or the goniometric table; 0 at the light's own position.
+vec3 flyLightLux(Light l, vec3 p, out vec3 toLight) {
+  int type = int(l.positionType.w);
+  if (type == 2) {
+    toLight = -l.directionRange.xyz;
+    return l.intensity.rgb;
+  }
+  vec3 d = l.positionType.xyz - p;
+  float dist2 = dot(d, d);
+  toLight = vec3(0.0, 0.0, 1.0);
+  if (dist2 <= 1e-12) return vec3(0.0);
+  toLight = d * inversesqrt(dist2);
+  float window = 1.0;
+  if (l.directionRange.w > 0.0) {
+    float r = sqrt(dist2) / l.directionRange.w;
+    window = max(0.0, 1.0 - r * r * r * r);
+    window *= window;
+  }
+  float cd = 1.0;
+  if (type == 1) {
+    float scale = 1.0 / max(0.001, l.cone.x - l.cone.y);
+    float t = clamp((dot(-toLight, l.directionRange.xyz) - l.cone.y) * scale, 0.0, 1.0);
+    cd = t * t;
+  }
+#ifdef FLY_GONIO
+  if (type == 3) cd = flyGonioCd(int(l.cAxisOffset.w), l.directionRange.xyz, l.cAxisOffset.xyz, -toLight);
+#endif
+  return l.intensity.rgb * (cd * window / dist2);
+}
+#endif
+
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
 // Direct illuminance on the surface (lux) and the Blinn–Phong lobe towards `toEye`.
 void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponent, inout vec3 diffuseLux,
@@ -142,33 +178,9 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   vec3 diffuseLux = vec3(0.0);
   vec3 specularLux = vec3(0.0);
   for (int i = 0; i < uLightCount; ++i) {
-    Light l = lights[i];
-    int type = int(l.positionType.w);
-    if (type == 2) {
-      addLight(p, n, toEye, -l.directionRange.xyz, l.intensity.rgb, m.specular.w, diffuseLux, specularLux);
-      continue;
-    }
-    vec3 d = l.positionType.xyz - p;
-    float dist2 = dot(d, d);
-    if (dist2 <= 1e-12) continue;
-    vec3 toLight = d * inversesqrt(dist2);
-    float window = 1.0;
-    if (l.directionRange.w > 0.0) {
-      float r = sqrt(dist2) / l.directionRange.w;
-      window = max(0.0, 1.0 - r * r * r * r);
-      window *= window;
-    }
-    float cd = 1.0;
-    if (type == 1) {
-      float scale = 1.0 / max(0.001, l.cone.x - l.cone.y);
-      float t = clamp((dot(-toLight, l.directionRange.xyz) - l.cone.y) * scale, 0.0, 1.0);
-      cd = t * t;
-    }
-#ifdef FLY_GONIO
-    if (type == 3) cd = flyGonioCd(int(l.cAxisOffset.w), l.directionRange.xyz, l.cAxisOffset.xyz, -toLight);
-#endif
-    addLight(p, n, toEye, toLight, l.intensity.rgb * (cd * window / dist2), m.specular.w, diffuseLux,
-             specularLux);
+    vec3 toLight;
+    vec3 eLux = flyLightLux(lights[i], p, toLight);
+    if (eLux != vec3(0.0)) addLight(p, n, toEye, toLight, eLux, m.specular.w, diffuseLux, specularLux);
   }
 #if defined(FLY_SUN) && (!defined(FLY_SUN_GLASS) || defined(FLY_PER_FRAGMENT))
   addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, specularLux);
@@ -463,7 +475,7 @@ layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(nor
 out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -485,7 +497,7 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -532,7 +544,7 @@ void main() {
 // the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -589,6 +601,95 @@ layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", bac
 layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
 #endif
 
+#ifdef FLY_MEASURED
+// The draw's material's ball (raster/ball_texture.h): layer uBallLayer the lights and the environment,
+// uBallLayer + 1 the sun; −1 for a material without a measured BRDF. uBallFromWorld: the ball's frame, whose
+// +Z points from the material's objects to the eye (raster/ball_texture.h).
+layout(binding = 9) uniform sampler2DArray uBalls;
+uniform int uBallLayer;
+uniform mat3 uBallFromWorld;
+// The lamps near the draw's material's objects (raster/ball_texture.h, BallSettings::nearLightRadii): indices
+// into lights[], evaluated per pixel with the pixel's own direction and distance; the ball holds the rest.
+uniform int uNearLights[FLY_MAX_NEAR_LIGHTS];
+uniform int uNearLightCount;
+
+// The near lamps' luminance (cd/m²) at p with normal n seen from toEye (world), by the BRDF itself
+// (shaders/ball_texture_glsl.h, kMeasuredBrdf); adds the luminance of their irradiance to eLux.
+vec3 flyNearLights(vec3 p, vec3 n, vec3 toEye, inout float eLux) {
+  vec3 l = vec3(0.0);
+  if (uNearLightCount == 0) return l;
+  vec3 t = normalize(cross(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), n));
+  mat3 localFromWorld = transpose(mat3(t, cross(n, t), n));
+  vec3 wo = localFromWorld * toEye;
+  for (int k = 0; k < uNearLightCount; ++k) {
+    vec3 toLight;
+    vec3 e = flyLightLux(lights[uNearLights[k]], p, toLight);
+    vec3 wi = localFromWorld * toLight;
+    if (wi.z <= 0.0) continue;
+    l += flyMeasuredBrdf(uBallLayer / 2, wi, wo) * wi.z * e;
+    eLux += dot(e, vec3(0.2126, 0.7152, 0.0722)) * wi.z;
+  }
+  return l;
+}
+
+// Sphere mapping with the view direction per pixel: the reflection r of the direction to the eye about the
+// normal (ball frame) is what the ball shows at the normal halfway between r and the ball's +Z.
+vec2 flyBallUv(vec3 n, vec3 toEye) {
+  vec3 nView = uBallFromWorld * n;
+  vec3 vView = uBallFromWorld * toEye;
+  vec3 r = 2.0 * dot(nView, vView) * nView - vView;
+  vec3 h = r + vec3(0.0, 0.0, 1.0);
+  float len = length(h);
+  vec2 xy = len > 1e-6 ? h.xy / len : vec2(1.0, 0.0);
+  return xy * 0.5 + 0.5;
+}
+
+// The ball's sun at ball coordinates uv where the sun reaches the pixel (uSunNormalLux is 0 in the shadow
+// pass), times the glass's T on the way (FLY_SUN_GLASS).
+vec3 flyBallSun(vec2 uv) {
+  vec3 sunFactor = vec3(max(uSunNormalLux.r, max(uSunNormalLux.g, uSunNormalLux.b)) > 0.0 ? 1.0 : 0.0);
+#if defined(FLY_SUN) && defined(FLY_SUN_GLASS)
+  sunFactor *= flySunGlass(vPositionM);
+#endif
+  return sunFactor * texture(uBalls, vec3(uv, float(uBallLayer + 1))).rgb;
+}
+
+// Luminance (cd/m²) under the current lights: the ball's lights and environment, the near lamps per pixel,
+// and the ball's sun.
+vec3 flyMeasuredLit(vec3 n, vec3 toEye) {
+  vec2 uv = flyBallUv(n, toEye);
+  float unused = 0.0;
+  return texture(uBalls, vec3(uv, float(uBallLayer))).rgb + flyNearLights(vPositionM, n, toEye, unused) +
+         flyBallSun(uv);
+}
+
+#ifdef FLY_LIGHT_MAP
+// Luminance under baked light of irradiance eLux (lux): an irradiance light map does not say where its light
+// came from, which a measured BRDF needs, so the ball's directional distribution is kept and scaled to the
+// baked level: L = Y(E_baked) · (ball + ε · albedo/π) / (Y(E_ball) + ε), with E_ball the irradiance the ball's
+// own light gives the pixel's normal (the balls' a, read at the normal's own texel, plus the near lamps').
+// Shadows and interreflections scale the highlight; where the ball's light gives nothing (E_ball ≪ ε) it is a
+// diffuse albedo · E / π. ε = 10⁻³ · Y(E_baked) + 10⁻⁶ lux. Over light maps that keep the sun apart (FLY_SUN_DIRECT)
+// the ratio is of the other light, and the ball's sun is added as in flyMeasuredLit.
+vec3 flyMeasuredLightMap(vec3 eLux, vec3 albedo, vec3 n, vec3 toEye) {
+  vec2 uv = flyBallUv(n, toEye);
+  vec3 nView = uBallFromWorld * n;
+  vec2 nUv = (nView.z > 0.0 ? nView.xy : normalize(nView.xy + vec2(1e-12, 0.0))) * 0.5 + 0.5;
+  float eBaked = dot(eLux, vec3(0.2126, 0.7152, 0.0722));
+  float eps = 1e-3 * eBaked + 1e-6;
+  float eBall = texture(uBalls, vec3(nUv, float(uBallLayer))).a;
+  vec3 lights = texture(uBalls, vec3(uv, float(uBallLayer))).rgb + flyNearLights(vPositionM, n, toEye, eBall);
+#if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
+  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps) + flyBallSun(uv);
+#else
+  lights += texture(uBalls, vec3(uv, float(uBallLayer + 1))).rgb;
+  eBall += texture(uBalls, vec3(nUv, float(uBallLayer + 1))).a;
+  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps);
+#endif
+}
+#endif
+#endif
+
 #ifdef FLY_TEXTURES
 vec2 flyTextureUv(vec4 row0, vec4 row1) {
 #ifdef FLY_UV1
@@ -625,7 +726,7 @@ void main() {
 #endif
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
   // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 n = normalize(vNormal);
@@ -674,10 +775,23 @@ void main() {
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
 #endif
+#ifdef FLY_MEASURED
+    if (uBallLayer >= 0) l = flyMeasuredLightMap(eLux, base.rgb, n, toEye);
+#endif
   }
 #endif
 #ifdef FLY_PHONG
-  if (!useLightMap) l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+  if (!useLightMap) {
+#ifdef FLY_MEASURED
+    if (uBallLayer >= 0) {
+      l = flyMeasuredLit(n, toEye);
+    } else {
+      l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+    }
+#else
+    l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+#endif
+  }
 #endif
   l += emission;
   // The back of a one-sided surface shows black (kSceneFragment).

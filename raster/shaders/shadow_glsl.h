@@ -8,10 +8,11 @@
 //                    vertex k to vertex k + 1, runs from the edge's first to its second vertex; bits 3–4 its
 //                    shell's closure: 0 open, 1 closed facing out, 2 closed facing in), then its edges'
 //                    indices (xyz) and its shell (w: the triangles connected through shared edges)
-//   2 state          per caster: 0 undecided, 1 seen in a visibility map level (kept), 2 dropped
+//   2 state          per caster: 0 undecided, 1 seen in a visibility map level (kept), 2 dropped, 4 kept by
+//                    the depth test (kShadowDepthTestFragment), 16 + L to be depth-tested against level L's map
+//                    (dropped unless that test keeps it)
 //   3 edge counts    per undirected edge: the signed number of kept triangles, turned to face the sun, that
-//   run
-//                    along it from its first to its second vertex (+1) or back (−1)
+//                    run along it from its first to its second vertex (+1) or back (−1)
 //   4 caps           the kept triangles' vertex indices: those facing the sun from the start, those turned
 //                    round (drawn with the other winding) from the end
 //   5 edge vertices  per edge: its first and second vertex (indices of positions)
@@ -20,6 +21,8 @@
 //                    infinity (−sunDir, w = 0)
 //   8 map levels     the visibility map levels' regions (kShadowCommon)
 //   9 shells kept    per shell: 1 when one of its triangles is kept
+//  10 depth tests    a DrawArraysIndirectCommand (6 vertices per caster) and the casters that a level's
+//                    classification sends to the depth test
 #pragma once
 
 namespace fly::raster::shaders {
@@ -33,16 +36,18 @@ struct Caster {
 };
 layout(std430, binding = 1) readonly buffer Casters { Caster casters[]; };
 // SunShadows::Commands: facing caps (DrawElementsIndirect) 0–4, turned caps 5–9, sides (DrawArraysIndirect)
-// 10–13, then the counters: triangles seen in the visibility maps, silhouette edges.
+// 10–13, the counters (14: triangles seen in the visibility maps, 15: silhouette edges), the near-plane flag
+// and the selected draws (16–34), and 35: triangles kept by the depth test.
 layout(std430, binding = 6) coherent buffer Commands { uint commands[]; };
 
 // The visibility map's levels: level 0 covers the casters' bounds (uSunClipFromWorld); level k + 1 the square
-// around the triangles level k left undecided, at the same number of texels. Per level its region of level 0's
-// image plane, in level 0's texels × 256 (integers, for atomicMin and atomicMax): min x, min y, max x, max y;
-// empty (min > max) when level k left nothing undecided.
+// around the triangles level k left undecided, with texels half as large as level k's. Per level its region
+// of level 0's image plane, in level 0's texels × 256 (integers, for atomicMin and atomicMax): min x, min y,
+// max x, max y; empty (min > max) when level k left nothing undecided.
 layout(std430, binding = 8) coherent buffer MapLevels { ivec4 levelRegions[]; };
 uniform mat4 uSunClipFromWorld;  // level 0: world → the orthographic view from the sun
-uniform int uMapTexels;          // texels per side of every level
+uniform int uMapTexels;          // texels per side of level 0
+uniform int uLevelTexels;        // texels per side of level uLevel (its texel: half the last level's)
 uniform int uLevel;
 
 // Level uLevel's square: xy its corner and z its side, in level 0's texels; false when the level is empty.
@@ -54,6 +59,60 @@ bool flyLevelRegion(out vec3 region) {
   region = vec3(0.5 * (lo + hi) - 0.5 * side, side);
   return true;
 }
+// Caster states (buffer 2).
+const uint kUndecided = 0u, kSeen = 1u, kDropped = 2u, kKeptByDepth = 4u, kDepthTestAtLevel0 = 16u;
+bool flyKept(uint s) { return s == kUndecided || s == kSeen || s == kKeptByDepth; }
+// The depth test's reach around a footprint, in texels of the level (kShadowDepthTestFragment).
+const float kDepthTestReachTexels = 1.4143;
+// Footprints of at most this many texel centres are depth-tested in the classification's own loop (no draw).
+const int kDepthTestInlineTexels = 64;
+layout(std430, binding = 10) coherent buffer DepthTests {
+  uint depthTestDraw[4];  // count (6 per caster), instances, first, base instance
+  uint depthTestCasters[];
+};
+// The level's map: caster indices and their depth from the sun in [0, 1]; the indices are not cleared, so a
+// texel shows a caster only where its depth is below 1 (drawn this level).
+layout(binding = 0) uniform usampler2D uVisibilityIds;
+layout(binding = 1) uniform sampler2D uVisibilityDepth;
+uint flyMapCaster(ivec2 p) {
+  return texelFetch(uVisibilityDepth, p, 0).x < 1.0 ? texelFetch(uVisibilityIds, p, 0).x : 0xffffffffu;
+}
+// The depth test at the texel centre c of the level (kShadowDepthTestVertex says what and why) of the caster
+// with vertices w0, w1, w2 in the level (xy texels, z depth): whether it keeps the caster.
+vec2 flyNearestOnSegment(vec2 p, vec2 a, vec2 b) {
+  vec2 ab = b - a;
+  float len2 = dot(ab, ab);
+  return a + ab * (len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0);
+}
+float flyCross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+bool flyDepthTestKeeps(vec2 c, vec3 w0, vec3 w1, vec3 w2) {
+  vec2 a = w0.xy, b = w1.xy, d = w2.xy;
+  float det = flyCross2(b - a, d - a);
+  // The caster's point q nearest c in the image plane.
+  vec2 q = c;
+  bool inside = det != 0.0;
+  if (inside) {
+    float s = flyCross2(d - b, c - b) / det, t = flyCross2(a - d, c - d) / det;
+    inside = s >= 0.0 && t >= 0.0 && s + t <= 1.0;
+  }
+  if (!inside) {
+    vec2 q0 = flyNearestOnSegment(c, a, b), q1 = flyNearestOnSegment(c, b, d), q2 = flyNearestOnSegment(c, d, a);
+    float d0 = distance(c, q0), d1 = distance(c, q1), d2 = distance(c, q2);
+    q = d0 <= d1 && d0 <= d2 ? q0 : (d1 <= d2 ? q1 : q2);
+  }
+  if (distance(c, q) > kDepthTestReachTexels) return false;
+  float nearestVertex = min(w0.z, min(w1.z, w2.z));
+  float nearest = nearestVertex;
+  if (abs(det) > 1e-6) {
+    // The plane's depth z(q) and its gradient in the image plane (texels).
+    vec2 gradient = vec2((w1.z - w0.z) * (d.y - a.y) - (w2.z - w0.z) * (b.y - a.y),
+                         (w2.z - w0.z) * (b.x - a.x) - (w1.z - w0.z) * (d.x - a.x)) / det;
+    float zq = w0.z + dot(gradient, q - a);
+    nearest = max(nearestVertex, zq - 2.0 * kDepthTestReachTexels * length(gradient));
+  }
+  float shown = texelFetch(uVisibilityDepth, ivec2(c), 0).x;  // 1 where the map shows nothing
+  return !(shown < nearest - 1e-6);
+}
 // p in level 0: xy in texels, z the depth from the sun in [0, 1].
 vec3 flyBaseWindow(vec3 p) {
   vec3 c = (uSunClipFromWorld * vec4(p, 1.0)).xyz;  // orthographic: w = 1
@@ -61,62 +120,76 @@ vec3 flyBaseWindow(vec3 p) {
 }
 // The same point in the level of `region`: xy in its texels.
 vec3 flyLevelWindow(vec3 base, vec3 region) {
-  return vec3((base.xy - region.xy) / region.z * float(uMapTexels), base.z);
+  return vec3((base.xy - region.xy) / region.z * float(uLevelTexels), base.z);
+}
+)GLSL";
+
+// Zeroes the per-build buffers, one invocation per index: the casters' states (binding 2), the edges' counts
+// (3) and the shells' flags (9). (A compute pass: on NVIDIA's driver glClearBufferData is several times
+// slower.)
+inline constexpr const char* kShadowResetCompute = R"GLSL(
+layout(local_size_x = 64) in;
+uniform uint uCasterCount, uEdgeCount, uShellCount;
+layout(std430, binding = 2) writeonly buffer State { uint state[]; };
+layout(std430, binding = 3) writeonly buffer EdgeCounts { int edgeCount[]; };
+layout(std430, binding = 9) writeonly buffer ShellKept { uint shellKept[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i < uCasterCount) state[i] = 0u;
+  if (i < uEdgeCount) edgeCount[i] = 0;
+  if (i < uShellCount) shellKept[i] = 0u;
 }
 )GLSL";
 
 // A visibility map level: every caster triangle drawn orthographically from the sun with its index as its
-// value (R32UI; 0xffffffff where none). Vertices are pulled by gl_VertexID: 3 per caster.
+// value (R32UI; where the depth stays 1, none): one indexed draw of the casters' vertex indices in caster order, so a
+// caster's index is its gl_PrimitiveID, over the scene's positions (shared vertices transformed once).
 inline constexpr const char* kShadowVisibilityVertex = R"GLSL(
-flat out uint vCaster;
+layout(location = 0) in vec3 aPositionM;
 void main() {
-  vCaster = uint(gl_VertexID) / 3u;
   vec3 region;
   if (!flyLevelRegion(region)) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the view: an empty level draws nothing
     return;
   }
-  vec3 w = flyLevelWindow(flyBaseWindow(flyPosition(casters[vCaster].vertices[uint(gl_VertexID) % 3u])), region);
-  gl_Position = vec4(w.xy / float(uMapTexels) * 2.0 - 1.0, w.z * 2.0 - 1.0, 1.0);
+  vec3 w = flyLevelWindow(flyBaseWindow(aPositionM), region);
+  gl_Position = vec4(w.xy / float(uLevelTexels) * 2.0 - 1.0, w.z * 2.0 - 1.0, 1.0);
 }
 )GLSL";
 
 inline constexpr const char* kShadowVisibilityFragment = R"GLSL(
-flat in uint vCaster;
 layout(location = 0) out uint oCaster;
-void main() { oCaster = vCaster; }
+void main() { oCaster = uint(gl_PrimitiveID); }
 )GLSL";
 
 // Marks the casters a level shows as seen (kept), one invocation per texel. State per caster: 0 undecided,
 // 1 seen (kept), 2 dropped (it cannot be seen, or is certain to be hidden, or is significant and unseen).
 inline constexpr const char* kShadowMarkCompute = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, r32ui) uniform readonly uimage2D uVisibility;
 layout(std430, binding = 2) buffer State { uint state[]; };
 void main() {
   vec3 region;
   if (!flyLevelRegion(region)) return;
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (p.x >= uMapTexels || p.y >= uMapTexels) return;
-  uint id = imageLoad(uVisibility, p).x;
+  if (p.x >= uLevelTexels || p.y >= uLevelTexels) return;
+  uint id = flyMapCaster(p);
   if (id != 0xffffffffu) state[id] = 1u;
 }
 )GLSL";
 
 // One invocation per undecided caster after a level's map (raster/sun_shadows.h): one facing the way a closed
-// mesh hides is dropped; one whose projected inradius reaches t/√2 (t this level's texel) is significant and
-// would have been seen, so it is dropped; one wholly behind what the map shows over its footprint is dropped;
-// the rest stay undecided and widen the next level's region (after the last level they are kept).
+// mesh hides is dropped; one wholly behind what the map shows over its footprint is dropped; one whose projected
+// inradius reaches t/√2 (t this level's texel) would have been seen were it significant, so it goes to the
+// depth test against this level's map; the rest stay undecided and widen the next level's region (after the
+// last level they go to the depth test too).
 inline constexpr const char* kShadowClassifyCompute = R"GLSL(
 layout(local_size_x = 64) in;
-layout(binding = 0) uniform usampler2D uVisibilityIds;  // the level: caster index, 0xffffffff for none
-layout(binding = 1) uniform sampler2D uVisibilityDepth;  // its depth, [0, 1] from the sun
 uniform uint uCasterCount;
 uniform vec3 uSunDirWorld;  // unit, towards the sun
 uniform vec3 uSunXWorld;    // the sun's image plane: unit, perpendicular to uSunDirWorld and each other
 uniform vec3 uSunYWorld;
 uniform float uBaseTexelM;  // level 0's texel side t₀, metres
-uniform int uLevels;
+uniform bool uLastLevel;  // what stays undecided goes to the depth test
 layout(std430, binding = 2) buffer State { uint state[]; };
 
 // Whether the triangle lies wholly behind surfaces the level shows over all of its footprint: between four
@@ -128,16 +201,16 @@ bool flyHiddenBehindMap(vec3 w0, vec3 w1, vec3 w2) {
   vec2 lo = min(w0.xy, min(w1.xy, w2.xy)), hi = max(w0.xy, max(w1.xy, w2.xy));
   float nearest = min(w0.z, min(w1.z, w2.z));
   ivec2 a = ivec2(floor(lo - 0.5)), b = ivec2(floor(hi - 0.5));  // squares from centre a to centre b + 1
-  if (a.x < 0 || a.y < 0 || b.x + 1 >= uMapTexels || b.y + 1 >= uMapTexels) return false;
+  if (a.x < 0 || a.y < 0 || b.x + 1 >= uLevelTexels || b.y + 1 >= uLevelTexels) return false;
   if (b.x - a.x > 3 || b.y - a.y > 3) return false;
   for (int y = a.y; y <= b.y; ++y) {
     for (int x = a.x; x <= b.x; ++x) {
-      uint id = texelFetch(uVisibilityIds, ivec2(x, y), 0).x;
+      uint id = flyMapCaster(ivec2(x, y));
       if (id == 0xffffffffu) return false;
       float farthest = 0.0;
       for (int k = 0; k < 4; ++k) {
         ivec2 c = ivec2(x + (k & 1), y + (k >> 1));
-        if (texelFetch(uVisibilityIds, c, 0).x != id) return false;
+        if (flyMapCaster(c) != id) return false;
         farthest = max(farthest, texelFetch(uVisibilityDepth, c, 0).x);
       }
       if (!(nearest > farthest + 1e-6)) return false;
@@ -163,30 +236,88 @@ void main() {
   vec2 a = vec2(dot(e1, uSunXWorld), dot(e1, uSunYWorld));
   vec2 b = vec2(dot(e2, uSunXWorld), dot(e2, uSunYWorld));
   float perimeter = length(a) + length(b) + length(b - a);
-  float texelM = uBaseTexelM * region.z / float(uMapTexels);
+  float texelM = uBaseTexelM * region.z / float(uLevelTexels);
   // inradius = 2 · area / perimeter, against t/√2 widened by 0.1 % (rounding must not drop a triangle on the
   // boundary: keeping more is always safe)
-  if (!(abs(area2) < texelM * 0.70710678 * 1.001 * perimeter)) {
-    state[i] = 2u;
-    return;
-  }
   vec3 b0 = flyBaseWindow(p0), b1 = flyBaseWindow(p1), b2 = flyBaseWindow(p2);
-  if (flyHiddenBehindMap(flyLevelWindow(b0, region), flyLevelWindow(b1, region), flyLevelWindow(b2, region))) {
-    state[i] = 2u;
+  vec3 w0 = flyLevelWindow(b0, region), w1 = flyLevelWindow(b1, region), w2 = flyLevelWindow(b2, region);
+  if (flyHiddenBehindMap(w0, w1, w2)) {
+    state[i] = kDropped;
     return;
   }
-  if (uLevel + 1 < uLevels) {
-    vec2 lo = min(b0.xy, min(b1.xy, b2.xy)) * 256.0, hi = max(b0.xy, max(b1.xy, b2.xy)) * 256.0;
-    atomicMin(levelRegions[uLevel + 1].x, int(floor(lo.x)));
-    atomicMin(levelRegions[uLevel + 1].y, int(floor(lo.y)));
-    atomicMax(levelRegions[uLevel + 1].z, int(ceil(hi.x)));
-    atomicMax(levelRegions[uLevel + 1].w, int(ceil(hi.y)));
+  bool significantIfSeen = !(abs(area2) < texelM * 0.70710678 * 1.001 * perimeter);
+  if (significantIfSeen || uLastLevel) {
+    // To the depth test against this level's map, unless part of the footprint's reach lies outside the
+    // level, where the map says nothing: then it is kept.
+    vec2 lo = min(w0.xy, min(w1.xy, w2.xy)) - kDepthTestReachTexels;
+    vec2 hi = max(w0.xy, max(w1.xy, w2.xy)) + kDepthTestReachTexels;
+    if (!(all(greaterThanEqual(lo, vec2(0.0))) && all(lessThanEqual(hi, vec2(float(uLevelTexels)))))) {
+      state[i] = kKeptByDepth;
+      return;
+    }
+    // The texel centres (x + ½, y + ½) in [lo, hi]: a few are tested here, many by the rasteriser.
+    ivec2 first = ivec2(ceil(lo - 0.5)), last = ivec2(floor(hi - 0.5));
+    if ((last.x - first.x + 1) * (last.y - first.y + 1) <= kDepthTestInlineTexels) {
+      bool keep = false;
+      for (int y = first.y; y <= last.y && !keep; ++y) {
+        for (int x = first.x; x <= last.x && !keep; ++x) keep = flyDepthTestKeeps(vec2(x, y) + 0.5, w0, w1, w2);
+      }
+      state[i] = keep ? kKeptByDepth : kDropped;
+    } else {
+      state[i] = kDepthTestAtLevel0 + uint(uLevel);
+      depthTestCasters[atomicAdd(depthTestDraw[0], 6u) / 6u] = i;
+    }
+    return;
   }
+  vec2 lo = min(b0.xy, min(b1.xy, b2.xy)) * 256.0, hi = max(b0.xy, max(b1.xy, b2.xy)) * 256.0;
+  atomicMin(levelRegions[uLevel + 1].x, int(floor(lo.x)));
+  atomicMin(levelRegions[uLevel + 1].y, int(floor(lo.y)));
+  atomicMax(levelRegions[uLevel + 1].z, int(ceil(hi.x)));
+  atomicMax(levelRegions[uLevel + 1].w, int(ceil(hi.y)));
 }
 )GLSL";
 
-// One invocation per caster: marks the shells that have a kept triangle (seen, or undecided after the last
-// level).
+// The depth test of the casters a level's classification sent to it (state 16 + level), drawn over that
+// level's map (an indirect draw of 6 vertices per caster the classification listed): the square around its
+// footprint widened by kDepthTestReachTexels (two triangles), and per texel centre c within that reach of the footprint the
+// fragment stage keeps the caster (state 4) unless the surface the map shows at c is nearer the sun than the
+// caster can be anywhere within the reach of c: its plane's depth at its point q nearest c, less the plane's
+// slope times twice the reach (every point of it within the reach of c lies within twice the reach of q), and
+// no nearer than its nearest vertex. A caster the map does not show, hidden at every texel centre around it,
+// is dropped; one that shows through a gap at least a texel wide, or whose sun-lit sliver borders what lies
+// beyond it (a floor the sun reaches past a wall's edge), is kept. What this cannot see: a caster visible only
+// through a gap narrower than the texels between two nearer surfaces.
+inline constexpr const char* kShadowDepthTestVertex = R"GLSL(
+flat out uint vCaster;
+flat out vec3 vW0, vW1, vW2;  // the caster's vertices in the level: xy in texels, z the depth from the sun
+void main() {
+  uint i = depthTestCasters[uint(gl_VertexID) / 6u], k = uint(gl_VertexID) % 6u;
+  vCaster = i;
+  vec3 region;
+  flyLevelRegion(region);  // not empty: its classification listed this caster
+  Caster c = casters[i];
+  vW0 = flyLevelWindow(flyBaseWindow(flyPosition(c.vertices.x)), region);
+  vW1 = flyLevelWindow(flyBaseWindow(flyPosition(c.vertices.y)), region);
+  vW2 = flyLevelWindow(flyBaseWindow(flyPosition(c.vertices.z)), region);
+  vec2 lo = min(vW0.xy, min(vW1.xy, vW2.xy)) - kDepthTestReachTexels;
+  vec2 hi = max(vW0.xy, max(vW1.xy, vW2.xy)) + kDepthTestReachTexels;
+  uint corner = k < 3u ? k : k - 2u;  // (0, 1, 2) and (1, 2, 3) of the square's corners
+  vec2 p = vec2((corner & 1u) != 0u ? hi.x : lo.x, (corner & 2u) != 0u ? hi.y : lo.y);
+  gl_Position = vec4(p / float(uLevelTexels) * 2.0 - 1.0, 0.0, 1.0);
+}
+)GLSL";
+
+inline constexpr const char* kShadowDepthTestFragment = R"GLSL(
+layout(std430, binding = 2) coherent buffer State { uint state[]; };
+flat in uint vCaster;
+flat in vec3 vW0, vW1, vW2;
+void main() {
+  if (state[vCaster] == kKeptByDepth) return;
+  if (flyDepthTestKeeps(gl_FragCoord.xy, vW0, vW1, vW2)) state[vCaster] = kKeptByDepth;
+}
+)GLSL";
+
+// One invocation per caster: marks the shells that have a kept triangle (seen, or kept by the depth test).
 inline constexpr const char* kShadowShellsCompute = R"GLSL(
 layout(local_size_x = 64) in;
 uniform uint uCasterCount;
@@ -194,11 +325,11 @@ layout(std430, binding = 2) readonly buffer State { uint state[]; };
 layout(std430, binding = 9) writeonly buffer ShellKept { uint shellKept[]; };
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  if (i < uCasterCount && state[i] != 2u) shellKept[casters[i].edges.w] = 1u;
+  if (i < uCasterCount && flyKept(state[i])) shellKept[casters[i].edges.w] = 1u;
 }
 )GLSL";
 
-// One invocation per caster: the kept ones (seen, or undecided after the last level, or of a closed shell
+// One invocation per caster: the kept ones (seen, or kept by the depth test, or of a closed shell
 // with a kept triangle and facing the way the sun can see it; or, without pruning, facing the sun) are turned
 // to face the sun, add their edges' signed uses and are appended to the caps.
 inline constexpr const char* kShadowKeepCompute = R"GLSL(
@@ -211,40 +342,67 @@ layout(std430, binding = 2) readonly buffer State { uint state[]; };
 layout(std430, binding = 3) buffer EdgeCounts { int edgeCount[]; };
 layout(std430, binding = 4) writeonly buffer Caps { uint capIndices[]; };
 layout(std430, binding = 9) readonly buffer ShellKept { uint shellKept[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= uCasterCount) return;
+// Whether caster i is kept, and whether it faces the sun.
+bool flyKeep(uint i, out bool facing) {
+  facing = false;
+  if (i >= uCasterCount) return false;
   Caster c = casters[i];
   vec3 p0 = flyPosition(c.vertices.x);
   float area2 = dot(cross(flyPosition(c.vertices.y) - p0, flyPosition(c.vertices.z) - p0), uSunDirWorld);
-  if (area2 == 0.0) return;  // edge-on: its shadow prism has no volume
-  bool facing = area2 > 0.0;
-  if (uPrune != 0) {
-    uint s = state[i];
-    // A closed shell that casts at all casts with every triangle that faces the way the sun can see it: its
-    // silhouette is then the shell's terminator, not the edge of what the map happened to show.
-    uint closure = (c.vertices.w >> 3u) & 3u;
-    bool seeable = closure == 0u || (closure == 1u) == facing;
-    // One facing the way its closed shell hides it shows in the map only where it meets a seeable one at the
-    // shell's rim or on a coplanar face (a tie of depths): the sun never sees more of it than that edge.
-    if (!seeable) return;
-    bool wholeShell = closure != 0u && shellKept[c.edges.w] != 0u;
-    if (s == 2u && !wholeShell) return;
-    if (s == 1u) atomicAdd(commands[14], 1u);
-  } else if (!facing) {
-    return;
+  if (area2 == 0.0) return false;  // edge-on: its shadow prism has no volume
+  facing = area2 > 0.0;
+  if (uPrune == 0) return facing;
+  // A closed shell that casts at all casts with every triangle that faces the way the sun can see it: its
+  // silhouette is then the shell's terminator, not the edge of what the map happened to show.
+  uint closure = (c.vertices.w >> 3u) & 3u;
+  bool seeable = closure == 0u || (closure == 1u) == facing;
+  // One facing the way its closed shell hides it shows in the map only where it meets a seeable one at the
+  // shell's rim or on a coplanar face (a tie of depths): the sun never sees more of it than that edge.
+  if (!seeable) return false;
+  bool wholeShell = closure != 0u && shellKept[c.edges.w] != 0u;
+  return flyKept(state[i]) || wholeShell;
+}
+
+// The workgroup's appends, summed in shared memory so that each workgroup adds to the global counters once.
+shared uint sFacing, sTurned, sSeen, sKeptByDepth, sFacingBase, sTurnedBase;
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (gl_LocalInvocationIndex == 0u) {
+    sFacing = 0u;
+    sTurned = 0u;
+    sSeen = 0u;
+    sKeptByDepth = 0u;
   }
-  int turn = facing ? 1 : -1;
-  for (uint k = 0u; k < 3u; ++k) {
-    int along = ((c.vertices.w >> k) & 1u) != 0u ? 1 : -1;
-    atomicAdd(edgeCount[c.edges[k]], along * turn);
+  barrier();
+  bool facing;
+  bool keep = flyKeep(i, facing);
+  uint local = 0u;
+  if (keep) {
+    Caster c = casters[i];
+    int turn = facing ? 1 : -1;
+    for (uint k = 0u; k < 3u; ++k) {
+      int along = ((c.vertices.w >> k) & 1u) != 0u ? 1 : -1;
+      atomicAdd(edgeCount[c.edges[k]], along * turn);
+    }
+    local = facing ? atomicAdd(sFacing, 3u) : atomicAdd(sTurned, 3u);
+    if (uPrune != 0) {
+      uint s = state[i];
+      if (s == kSeen) atomicAdd(sSeen, 1u);
+      if (s == kKeptByDepth) atomicAdd(sKeptByDepth, 1u);
+    }
   }
-  uint at;
-  if (facing) {
-    at = atomicAdd(commands[0], 3u);
-  } else {
-    at = uCapCapacity - 3u - atomicAdd(commands[5], 3u);
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    sFacingBase = sFacing > 0u ? atomicAdd(commands[0], sFacing) : 0u;
+    sTurnedBase = sTurned > 0u ? atomicAdd(commands[5], sTurned) : 0u;
+    if (sSeen > 0u) atomicAdd(commands[14], sSeen);
+    if (sKeptByDepth > 0u) atomicAdd(commands[35], sKeptByDepth);
   }
+  barrier();
+  if (!keep) return;
+  Caster c = casters[i];
+  uint at = facing ? sFacingBase + local : uCapCapacity - 3u - (sTurnedBase + local);
   capIndices[at] = c.vertices.x;
   capIndices[at + 1u] = c.vertices.y;
   capIndices[at + 2u] = c.vertices.z;

@@ -21,6 +21,7 @@
 #include "raster_test_scenes.h"
 #include "rdb/raster_rdb.h"
 #include "sdb/material_layers.h"
+#include "sdb/material_presets.h"
 #include "sdb/scene.h"
 
 namespace fly::raster {
@@ -375,6 +376,48 @@ TEST(RasterGolden, ClearCoatedSimpleMode) {
              .parentFromLocal = sdb::lookAtTransform(vec3(0, 0.2f, 2.0f), vec3(0, 0, 0), vec3(0, 1, 0)),
              .camera = s.addCamera(cam).id});
   checkGolden(RenderMode::kSimple, rdb::buildRasterRdb(s), 5.0, "clearcoat");
+}
+
+// Two spheres of the measured car paints (the metallic-car-paint and pearl-car-paint presets' BRDFs, shown by
+// ball textures: raster/ball_texture.h) under 5 point lights, FLY §4's test case, in simple mode; and the same
+// under Helsinki's clear sky at 18:00 in sunlight mode (sky and sun in the balls).
+sdb::Scene carPaintSpheres() {
+  sdb::Scene s;
+  for (const char* preset : {"metallic-car-paint", "pearl-car-paint"}) {
+    const sdb::MaterialPreset* p = sdb::findMaterialPreset(preset);
+    EXPECT_TRUE(p && p->material.isMeasured()) << preset;
+    const sdb::MaterialId id = s.addMaterial(p->material).id;
+    const float x = std::string(preset) == "pearl-car-paint" ? 0.6f : -0.6f;
+    s.addNode({.name = preset, .meshes = {s.addMesh(test::uvSphere(vec3(x, 0.0f, 0.0f), 0.5f, 32, 64, id)).id}});
+  }
+  const vec3 lamps[5] = {{-2.0f, 2.0f, 2.5f}, {2.5f, 1.0f, 2.0f}, {0.0f, -1.5f, 2.5f}, {-3.0f, -0.5f, 0.5f},
+                         {1.0f, 3.0f, -1.0f}};
+  const float candela[5] = {800.0f, 500.0f, 300.0f, 400.0f, 600.0f};
+  for (int k = 0; k < 5; ++k) {
+    sdb::Light l;
+    l.intensity = candela[k];
+    s.addNode({.name = "lamp",
+               .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), lamps[k]),
+               .light = s.addLight(l).id});
+  }
+  sdb::Camera cam;
+  cam.name = "front";
+  s.addNode({.name = "eye",
+             .parentFromLocal = sdb::lookAtTransform(vec3(0, 0.3f, 3.2f), vec3(0, 0, 0), vec3(0, 1, 0)),
+             .camera = s.addCamera(cam).id});
+  return s;
+}
+
+TEST(RasterGolden, CarPaintSpheresSimpleMode) {
+  context();
+  checkGolden(RenderMode::kSimple, rdb::buildRasterRdb(carPaintSpheres()), 5.5, "car-paint");
+}
+
+TEST(RasterGolden, CarPaintSpheresSunlightMode) {
+  context();
+  sdb::Scene s = carPaintSpheres();
+  fly::test::setHelsinkiClearSky(s, "2026-06-21T18:00");
+  checkGolden(RenderMode::kSunlight, rdb::buildRasterRdb(s), 13.0, "car-paint");
 }
 
 // An orthographic view sees one direction in every pixel: the sky image's value there (at a texel centre, so

@@ -2,6 +2,7 @@
 // process, and small scenes built in code.
 #pragma once
 
+#include <cmath>
 #include <memory>
 
 #include "raster/gl_context.h"
@@ -69,6 +70,32 @@ inline sdb::Mesh box(const vec3& lo, const vec3& hi, sdb::MaterialId material, b
       } else {
         m.indices.insert(m.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
       }
+    }
+  }
+  m.material = material;
+  return m;
+}
+
+// A UV sphere of radius `radiusM` about `centreM`: `rings` × `segments` quads (the poles' as triangles),
+// unit normals from the centre, counter-clockwise seen from outside.
+inline sdb::Mesh uvSphere(const vec3& centreM, float radiusM, int rings, int segments, sdb::MaterialId material) {
+  sdb::Mesh m;
+  m.name = "sphere";
+  for (int i = 0; i <= rings; ++i) {
+    const float theta = kPiF * float(i) / float(rings);
+    for (int j = 0; j <= segments; ++j) {
+      const float phi = 2.0f * kPiF * float(j) / float(segments);
+      const vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
+      m.positions.push_back(centreM + radiusM * n);
+      m.normals.push_back(n);
+    }
+  }
+  const uint32_t row = uint32_t(segments + 1);
+  for (uint32_t i = 0; i < uint32_t(rings); ++i) {
+    for (uint32_t j = 0; j < uint32_t(segments); ++j) {
+      const uint32_t a = i * row + j, b = a + row;
+      if (i > 0) m.indices.insert(m.indices.end(), {a, b, a + 1});
+      if (i + 1 < uint32_t(rings)) m.indices.insert(m.indices.end(), {a + 1, b, b + 1});
     }
   }
   m.material = material;

@@ -250,6 +250,53 @@ TEST(SunShadows, SubTexelTrianglesThatCanBeSeenAreKept) {
   EXPECT_EQ(c.sideTriangles, c.silhouetteEdges);
 }
 
+// An open quad through four corners (two triangles, wound p0 p1 p2 and p0 p2 p3).
+sdb::Mesh quad(const vec3& p0, const vec3& p1, const vec3& p2, const vec3& p3, sdb::MaterialId material) {
+  sdb::Mesh m;
+  m.name = "quad";
+  m.positions = {p0, p1, p2, p3};
+  const vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  m.normals = {n, n, n, n};
+  m.indices = {0, 1, 2, 0, 2, 3};
+  m.material = material;
+  return m;
+}
+
+// The sun-lit sliver (the house's living room): a 2 × H m wall, an open quad facing the sun (at 45°, from
+// +z), under a slab at its top's height that starts 4 cm in front of it, so the sun sees only a strip of the
+// wall 4 cm high along its top, 2.8 cm across in the sun's view — far thinner than a texel (64² over the 8 m
+// ground: about 15 cm), beside the slab on one side and the floor behind the wall, which the sun sees past
+// the wall's top, on the other. The wall is large (its projected inradius is some 2 texels), so without the
+// depth test it was dropped whenever no texel centre fell in the strip, and its shadow — a streak 4 cm wide
+// on the floor behind it — went missing. Five heights move the strip across the texel rows.
+TEST(SunShadows, SunLitSliverOfALargeWallKeepsItsShadow) {
+  context();
+  for (int k = 0; k < 5; ++k) {
+    const float heightM = 1.0f + 0.03f * float(k);
+    sdb::Scene s;
+    sdb::Material m;
+    m.diffuseColor = Rgb(0.6f);
+    const sdb::MaterialId mat = s.addMaterial(m).id;
+    s.addNode({.name = "ground", .meshes = {s.addMesh(ground(4.0f, mat)).id}});
+    s.addNode({.name = "wall",
+               .meshes = {s.addMesh(quad(vec3(-1.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f),
+                                         vec3(1.0f, heightM, 0.0f), vec3(-1.0f, heightM, 0.0f), mat))
+                              .id}});
+    s.addNode({.name = "slab",
+               .meshes = {s.addMesh(quad(vec3(-1.5f, heightM, 0.04f), vec3(-1.5f, heightM, 2.0f),
+                                         vec3(1.5f, heightM, 2.0f), vec3(1.5f, heightM, 0.04f), mat))
+                              .id}});
+    fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
+    const rdb::RasterRdb r = withSun(s, vec3(0.0f, 1.0f, 1.0f));
+    const View view = lookAt(vec3(0.0f, 1.5f, -2.6f), vec3(0.0f, 0.0f, -1.0f));
+    const MaskCheck c =
+        checkShadowMask(r, view, RenderMode::kSimple, 320, 180, {SunShadowMode::kVisibilityMap, 64});
+    EXPECT_EQ(c.mismatches, 0u) << "wall " << heightM << " m high";
+    EXPECT_GT(c.shadowed, 1000u);
+    EXPECT_GT(c.lit, 1000u);
+  }
+}
+
 // A closed car-like body (a box with a cabin on top) with seats, a dashboard and a steering column inside it,
 // and wheels under it, on the ground. The interior is out of the sun's sight: the map prunes it, where the
 // classic method keeps every sun-facing triangle, interior ones included.
@@ -316,12 +363,14 @@ TEST(SunShadows, ClosedCarWithInteriorMatchesShadowRaysAndPrunesTheInterior) {
   // 2 + 12 · (2 body parts + 4 seats + dashboard + column + 4 wheels).
   EXPECT_EQ(counts[0].casterTriangles, 2u + 12u * 12u);
   // Classic: every sun-facing triangle, 6 of each box, the interior's too; its silhouette the ground's 4 open
-  // edges and 6 per box. Pruned: the ground, the body's two boxes and the two wheels on the sun's side (the
-  // others lie under the body), each box's whole sun-facing side (closed shells).
+  // edges and 6 per box. Pruned: the ground, the body's two boxes and all four wheels, each box's whole
+  // sun-facing side (closed shells): the two wheels on the sun's side are seen, the other two, hidden under
+  // the body's far side, poke out 5 cm beyond it within √2 texels of the ground the sun sees past the body,
+  // and the depth test keeps them (it cannot tell them from a sun-lit sliver). The interior is dropped.
   EXPECT_EQ(counts[1].keptTriangles, 2u + 6u * 12u);
   EXPECT_EQ(counts[1].silhouetteEdges, 4u + 6u * 12u);
-  EXPECT_EQ(counts[0].keptTriangles, 2u + 6u * 4u);
-  EXPECT_EQ(counts[0].silhouetteEdges, 4u + 6u * 4u);
+  EXPECT_EQ(counts[0].keptTriangles, 2u + 6u * 6u);
+  EXPECT_EQ(counts[0].silhouetteEdges, 4u + 6u * 6u);
   EXPECT_LT(fill[0], fill[1]);
   EXPECT_GT(fill[0], 0u);
 }
