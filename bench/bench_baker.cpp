@@ -11,9 +11,12 @@
 //   4. Memory: peak resident set size after the largest bake.
 //   5. Textures: the baker's rays/s on the scene of part 1 with textured ground and boxes (base colour
 //      textures, one box an alpha cut-out) against the same scene untextured.
+//   6. Measured BRDFs: nanoseconds per eval + pdf and per sample of a tabulated table's lobe and of the car-
+//      paint lobe against the analytic glossy Bsdf (diffuse + GGX), one thread; and the baker's rays/s on the
+//      scene of part 1 with a measured ground and car-paint boxes against the same scene with analytic ones.
 //
-// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|textures]...   (--quick: 10k triangles
-// only, a smaller QMC reference; --part: only the parts named)
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|textures|measured]...   (--quick: 10k
+// triangles only, a smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -24,18 +27,23 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "base/color.h"
 #include "base/math.h"
 #include "raytracer/baker.h"
+#include "raytracer/bsdf.h"
+#include "raytracer/car_paint_lobe.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
 #include "raytracer/sampler.h"
+#include "raytracer/tabulated_lobe.h"
 #include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
 #include "rdb/trace_rdb_builder.h"
@@ -314,6 +322,123 @@ void benchTextures(uint32_t maxThreads) {
   }
 }
 
+// A table of a rough metal with a little diffuse (GGX α 0.25, F0 (0.9, 0.7, 0.5), separable Smith masking, plus
+// 0.1/π), tabulated at the table's own samples.
+std::shared_ptr<const BrdfTable> roughMetalTable() {
+  std::vector<Rgb> samples(BrdfTable::kSamples, Rgb(0.0f));
+  const std::vector<uint8_t>& valid = BrdfTable::validSamples();
+  CarPaintBrdf metal;  // the car-paint model without coat or base: one GGX lobe
+  metal.coatIor = 1.0f;
+  metal.lobes[0] = {Rgb(0.9f, 0.7f, 0.5f), 0.25f};
+  for (int i = 0; i < BrdfTable::kThetaHalfRes; ++i) {
+    for (int j = 0; j < BrdfTable::kThetaDiffRes; ++j) {
+      for (int k = 0; k < BrdfTable::kPhiDiffRes; ++k) {
+        const size_t index = BrdfTable::sampleIndex(i, j, k);
+        if (!valid[index]) continue;
+        vec3 wi, wo;
+        directionsOf(BrdfTable::sampleAngles(i, j, k), wi, wo);
+        samples[index] = metal.evalPerSr(wi, wo) + Rgb(0.1f / kPiF);
+      }
+    }
+  }
+  return std::make_shared<const BrdfTable>(std::move(samples));
+}
+
+// Part 6: per-call cost of the measured lobes against the analytic Bsdf, and the baker's rays/s with them.
+void benchMeasured(uint32_t maxThreads) {
+  const std::shared_ptr<const BrdfTable> table = roughMetalTable();
+  Clock::time_point start = Clock::now();
+  const TabulatedLobe tabulated(table, 1.0f);
+  const double tabulatedBuildS = secondsSince(start);
+  CarPaintBrdf paint;
+  paint.baseAlbedo = Rgb(0.1f);
+  paint.lobes[0] = {Rgb(0.45f, 0.46f, 0.48f), 0.2f};
+  paint.lobes[1] = {Rgb(0.1f), 0.5f};
+  paint.coatIor = 1.5f;
+  paint.coatAlpha = 0.01f;
+  start = Clock::now();
+  const CarPaintBsdfLobe carPaint(paint);
+  const double carPaintBuildS = secondsSince(start);
+  start = Clock::now();
+  const auto regularisedTable = TabulatedLobe::regularised(*table, std::atan(kRegularizedGlossiness * kRegularizedGlossiness));
+  const double regulariseS = secondsSince(start);
+  rdb::TraceMaterial glossy;
+  glossy.diffuse = glossy.diffuseColor = Rgb(0.5f);
+  glossy.reflection = Rgb(1.0f);
+  glossy.reflectionGlossiness = 0.5f;
+  rdb::TraceMaterial measured = glossy;
+  measured.brdfTable = 0;
+  rdb::TraceMaterial painted = glossy;
+  painted.carPaint = paint;
+  const Bsdf analytic(glossy, true);
+  const Bsdf tabulatedBsdf(measured, true, 1.0f, &tabulated);
+  const Bsdf carPaintBsdf(painted, true, 1.0f, &carPaint);
+
+  constexpr uint32_t kCalls = 1u << 20;
+  std::vector<vec3> wo(kCalls), wi(kCalls);
+  std::vector<vec3> u(kCalls);
+  RandomSampler sampler(5);
+  for (uint32_t i = 0; i < kCalls; ++i) {
+    sampler.startSample(i);
+    wo[i] = sampleCosineHemisphere(sampler.next2D());
+    wi[i] = sampleCosineHemisphere(sampler.next2D());
+    u[i] = vec3(sampler.next1D(), sampler.next2D());
+  }
+  std::printf(
+      "\n6. Measured BRDFs: build %.0f ms (table lobe), %.0f ms (regularised table), %.1f ms (car-paint lobe); ns per "
+      "call, one thread, best of 3\n",
+      1e3 * tabulatedBuildS, 1e3 * regulariseS, 1e3 * carPaintBuildS);
+  double analyticEval = 0.0, analyticSample = 0.0;
+  for (const auto& [name, bsdf] : {std::pair{"analytic (diffuse + GGX)", &analytic},
+                                   std::pair{"measured table", &tabulatedBsdf},
+                                   std::pair{"car paint", &carPaintBsdf}}) {
+    double evalNs = std::numeric_limits<double>::infinity(), sampleNs = evalNs;
+    float sink = 0.0f;
+    for (int r = 0; r < 3; ++r) {
+      start = Clock::now();
+      for (uint32_t i = 0; i < kCalls; ++i) sink += bsdf->eval(wo[i], wi[i]).g + bsdf->pdf(wo[i], wi[i]);
+      evalNs = std::min(evalNs, 1e9 * secondsSince(start) / kCalls);
+      start = Clock::now();
+      Bsdf::Sample s;
+      for (uint32_t i = 0; i < kCalls; ++i) {
+        if (bsdf->sample(wo[i], u[i].x, vec2(u[i].y, u[i].z), s)) sink += s.weight.g;
+      }
+      sampleNs = std::min(sampleNs, 1e9 * secondsSince(start) / kCalls);
+    }
+    if (bsdf == &analytic) {
+      analyticEval = evalNs;
+      analyticSample = sampleNs;
+    }
+    std::printf("   %-24s eval + pdf %6.1f ns (%.1f× analytic), sample %6.1f ns (%.1f× analytic)%s\n", name, evalNs,
+                evalNs / analyticEval, sampleNs, sampleNs / analyticSample, sink == 0.0f ? " (no work?)" : "");
+  }
+
+  // The baker: ground a measured table, boxes car paint, against the same scene analytic.
+  constexpr uint32_t kSamples = 64;
+  constexpr int kRepetitions = 3;
+  const rdb::TraceRdb plain = makeScene(cellsFor(10000));
+  rdb::TraceRdb withMeasured = plain;
+  withMeasured.brdfTables.push_back({"rough metal", table});
+  withMeasured.materials[0].brdfTable = 0;
+  withMeasured.materials[1].carPaint = paint;
+  withMeasured.materials[2].carPaint = paint;
+  const EmbreeScene plainScene(plain);
+  const EmbreeScene measuredScene(withMeasured);
+  std::printf("   baker, %zu triangles, %u samples per vertex, best of %d:\n", plain.triangleCount(), kSamples,
+              kRepetitions);
+  for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
+    double plainRate = 0.0, measuredRate = 0.0;
+    for (int r = 0; r < kRepetitions; ++r) {
+      const VertexLightMaps a = bake(plain, plainScene, kSamples, threads);
+      const VertexLightMaps m = bake(withMeasured, measuredScene, kSamples, threads);
+      plainRate = std::max(plainRate, static_cast<double>(a.rays) / a.seconds);
+      measuredRate = std::max(measuredRate, static_cast<double>(m.rays) / m.seconds);
+    }
+    std::printf("   threads %u: analytic %.3g rays/s, measured %.3g rays/s: ratio %.2f\n", threads, plainRate,
+                measuredRate, measuredRate / plainRate);
+  }
+}
+
 void benchThroughput(uint32_t maxThreads, const char* name, const rdb::TraceRdb& rdb) {
   constexpr uint32_t kSamples = 64;
   // Baker and baseline alternate, and each keeps its best run: the one least slowed by the machine's other
@@ -459,6 +584,7 @@ int main(int argc, char** argv) {
   bool qmc = false;
   bool scaling = false;
   bool textures = false;
+  bool measured = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -472,20 +598,24 @@ int main(int argc, char** argv) {
         scaling = true;
       } else if (part == "textures") {
         textures = true;
+      } else if (part == "measured") {
+        measured = true;
       } else {
-        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling or textures\n",
+        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, textures or measured\n",
                      part.c_str());
         return 2;
       }
     } else {
       std::fprintf(stderr,
                    "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick] "
-                   "[--part throughput|qmc|scaling|textures]...\n",
+                   "[--part throughput|qmc|scaling|textures|measured]...\n",
                    argv[i]);
       return 2;
     }
   }
-  if (!throughput && !qmc && !scaling && !textures) throughput = qmc = scaling = textures = true;
+  if (!throughput && !qmc && !scaling && !textures && !measured) {
+    throughput = qmc = scaling = textures = measured = true;
+  }
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
   if (throughput) {
     fly::raytracer::benchThroughput(threads, "open ground with boxes",
@@ -500,5 +630,6 @@ int main(int argc, char** argv) {
   }
   if (scaling) fly::raytracer::benchScaling(threads, quick);
   if (textures) fly::raytracer::benchTextures(threads);
+  if (measured) fly::raytracer::benchMeasured(threads);
   return 0;
 }

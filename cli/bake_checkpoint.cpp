@@ -105,6 +105,27 @@ uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb) {
     h.value(m.reflectionGlossiness);
     h.value(m.transmissionGlossiness);
     h.value(m.doubleSided);
+    h.value(m.brdfTable);
+    h.value(m.carPaint.has_value());
+    if (m.carPaint) {
+      h.rgb(m.carPaint->baseAlbedo);
+      for (const CarPaintLobe& l : m.carPaint->lobes) {
+        h.rgb(l.f0);
+        h.value(l.alpha);
+      }
+      h.value(m.carPaint->coatIor);
+      h.value(m.carPaint->coatAlpha);
+    }
+  }
+  // Measured tables by content: a file measured again under the same name is another bake.
+  h.value(static_cast<uint64_t>(rdb.brdfTables.size()));
+  for (const rdb::TraceBrdfTable& t : rdb.brdfTables) {
+    h.value(t.scale);
+    for (int i = 0; i < BrdfTable::kThetaHalfRes; ++i) {
+      for (int j = 0; j < BrdfTable::kThetaDiffRes; ++j) {
+        for (int k = 0; k < BrdfTable::kPhiDiffRes; ++k) h.rgb(t.table->sample(i, j, k));
+      }
+    }
   }
   h.value(static_cast<uint64_t>(rdb.meshes.size()));
   for (const rdb::TraceMesh& m : rdb.meshes) {

@@ -7,8 +7,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
+#include "base/brdf_table.h"
 #include "cli/baked_manifest.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
@@ -47,6 +51,30 @@ std::string countsText(const std::map<std::string, size_t>& counts) {
   for (const auto& [name, n] : counts) s += (s.empty() ? "" : ", ") + name + " " + std::to_string(n);
   return s.empty() ? "" : " (" + s + ")";
 }
+
+// The scene's measured BRDFs: each table once (by file), with the SDB's albedo check, and the car paints.
+struct MeasuredBrdfs {
+  struct Table {
+    std::string file;
+    BrdfTable::AlbedoPeak peak;
+  };
+  std::vector<Table> tables;
+  size_t carPaints = 0;
+};
+
+MeasuredBrdfs measuredBrdfs(const sdb::Scene& scene) {
+  MeasuredBrdfs m;
+  std::set<std::string> files;
+  for (const auto& [id, material] : scene.materials()) {
+    if (material.carPaint) ++m.carPaints;
+    if (material.measuredBrdf && files.insert(material.measuredBrdfPath).second) {
+      m.tables.push_back({material.measuredBrdfPath, material.measuredBrdf->maxAlbedo()});
+    }
+  }
+  return m;
+}
+
+constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 
 nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f,
                         const LitScene& lit) {
@@ -90,6 +118,17 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   if (scene.sky().model == sdb::SkyModel::kClear || scene.sky().sun) j["sky"]["turbidity"] = scene.sky().turbidity;
   j["light"] = {{"default_daylight", lit.defaultDaylight}, {"description", lit.light}};
   j["features"] = f.names();
+  if (f.measuredBrdfs) {
+    const MeasuredBrdfs m = measuredBrdfs(scene);
+    nlohmann::json tables = nlohmann::json::array();
+    for (const MeasuredBrdfs::Table& t : m.tables) {
+      tables.push_back({{"file", t.file},
+                        {"max_albedo", t.peak.albedo},
+                        {"max_albedo_theta_in_deg", t.peak.thetaInDeg},
+                        {"max_albedo_channel", kChannelNames[t.peak.channel]}});
+    }
+    j["measured_brdfs"] = {{"tables", tables}, {"car_paints", m.carPaints}};
+  }
   return j;
 }
 
@@ -138,6 +177,17 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   std::string feats;
   for (const std::string& n : f.names()) feats += (feats.empty() ? "" : " ") + n;
   o << "features   " << (feats.empty() ? "none" : feats) << "\n";
+  if (f.measuredBrdfs) {
+    // Each table's largest directional albedo: above 1 the baker scales the table down (docs/measured-brdf.md).
+    const MeasuredBrdfs m = measuredBrdfs(scene);
+    o << "brdfs      " << m.tables.size() << " measured table" << (m.tables.size() == 1 ? "" : "s") << ", "
+      << m.carPaints << " car paint" << (m.carPaints == 1 ? "" : "s") << "\n";
+    for (const MeasuredBrdfs::Table& t : m.tables) {
+      o << "           " << t.file << ": albedo up to " << fixed(t.peak.albedo, 3) << " (" << kChannelNames[t.peak.channel]
+        << ", at " << fixed(t.peak.thetaInDeg, 0) << "°)"
+        << (t.peak.albedo > 1.0f ? ", above 1: the baker scales it down to 1" : "") << "\n";
+    }
+  }
   std::cout << o.str();
 }
 

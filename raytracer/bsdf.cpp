@@ -2,23 +2,11 @@
 
 #include <cmath>
 
+#include "base/ggx.h"
 #include "raytracer/warp.h"
 
 namespace fly::raytracer {
 namespace {
-
-// GGX normal distribution (Walter et al. 2007, eq. 33) at cos θh > 0, with a2 = α².
-float ggxD(float cosH, float a2) {
-  const float den = cosH * cosH * (a2 - 1.0f) + 1.0f;
-  return a2 / (kPiF * den * den);
-}
-
-// Smith's Λ for GGX (Heitz 2014, eq. 72) at cos θ > 0.
-float ggxLambda(float cosTheta, float a2) {
-  const float c2 = cosTheta * cosTheta;
-  if (c2 >= 1.0f) return 0.0f;
-  return 0.5f * (std::sqrt(1.0f + a2 * (1.0f - c2) / c2) - 1.0f);
-}
 
 // The reflection lobe's D G2 / (4 cos θo cos θi) for wo, wi above the surface, and the density per steradian
 // of sampling wi by visible normals: G1(wo) D(h) / (4 cos θo) (Heitz 2018, eq. 17 with the reflection
@@ -28,23 +16,8 @@ float ggxReflection(const vec3& wo, const vec3& wi, float alpha, vec3& h, float&
   const float a2 = alpha * alpha;
   const float d = ggxD(h.z, a2);
   const float lambdaO = ggxLambda(wo.z, a2);
-  pdf = d / ((1.0f + lambdaO) * 4.0f * wo.z);
+  pdf = ggxVisibleReflectionPdf(wo, h, a2);
   return d / ((1.0f + lambdaO + ggxLambda(wi.z, a2)) * 4.0f * wo.z * wi.z);
-}
-
-// A microfacet normal of the GGX distribution of visible normals from wo (wo.z > 0): Heitz 2018, listing 1.
-vec3 sampleGgxVisibleNormal(const vec3& wo, float alpha, const vec2& u) {
-  const vec3 vh = glm::normalize(vec3(alpha * wo.x, alpha * wo.y, wo.z));
-  const float lensq = vh.x * vh.x + vh.y * vh.y;
-  const vec3 t1 = lensq > 0.0f ? vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : vec3(1.0f, 0.0f, 0.0f);
-  const vec3 t2 = glm::cross(vh, t1);
-  const float r = std::sqrt(u.x);
-  const float phi = 2.0f * kPiF * u.y;
-  const float p1 = r * std::cos(phi);
-  const float s = 0.5f * (1.0f + vh.z);
-  const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
-  const vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
-  return glm::normalize(vec3(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z)));
 }
 
 float mean(const Rgb& c) {
@@ -66,8 +39,12 @@ Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m) {
   return glm::max(Rgb(1.0f) - r - t, Rgb(0.0f)) * glm::clamp(m.diffuseColor, 0.0f, 1.0f);
 }
 
-Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage) {
+Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const MeasuredLobe* measured) {
   coverage_ = std::isfinite(coverage) ? std::clamp(coverage, 0.0f, 1.0f) : 1.0f;
+  if (m.isMeasured() && measured != nullptr) {
+    if (frontFace) measured_ = measured;
+    return;
+  }
   reflection_ = glm::clamp(m.reflection, 0.0f, 1.0f);
   transmission_ = glm::clamp(m.transmission, 0.0f, 1.0f);
   fresnel_ = m.fresnel;
@@ -96,6 +73,7 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage) {
 }
 
 Rgb Bsdf::albedo(float cosO) const {
+  if (measured_) return coverage_ * measured_->albedo(cosO) + Rgb(1.0f - coverage_);
   const Rgb reflected = reflection_ * fresnel(cosO);
   Rgb a(0.0f);
   if (hasDiffuse_) a += diffuseKd_ * (Rgb(1.0f) - reflected);
@@ -105,6 +83,12 @@ Rgb Bsdf::albedo(float cosO) const {
 }
 
 vec4 Bsdf::lobeProbabilities(float cosO) const {
+  if (measured_) {
+    // A floor keeps the lobe chosen where its albedo estimate is 0 but f is not.
+    const vec2 w(coverage_ * std::max(mean(measured_->albedo(cosO)), 1e-4f), 1.0f - coverage_);
+    const float sum = w.x + w.y;
+    return sum > 0.0f ? vec4(w.x, 0.0f, 0.0f, w.y) / sum : vec4(0.0f);
+  }
   const Rgb reflected = reflection_ * fresnel(cosO);
   const vec4 w(hasDiffuse_ ? coverage_ * mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
                hasReflection_ ? coverage_ * mean(reflected) : 0.0f,
@@ -115,6 +99,7 @@ vec4 Bsdf::lobeProbabilities(float cosO) const {
 }
 
 Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
+  if (measured_) return wi.z > 0.0f ? coverage_ * measured_->eval(wo, wi) : Rgb(0.0f);
   Rgb f(0.0f);
   if (wi.z > 0.0f) {
     if (hasDiffuse_) {
@@ -139,6 +124,7 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
 
 float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
   const vec4 p = lobeProbabilities(wo.z);
+  if (measured_) return wi.z > 0.0f ? p.x * measured_->pdf(wo, wi) : 0.0f;
   vec3 h;
   float lobePdf = 0.0f;
   float sum = 0.0f;
@@ -171,7 +157,10 @@ bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const
     out.lobe = Lobe::kStraight;
     return true;
   }
-  if (lobe == 0) {
+  if (lobe == 0 && measured_) {
+    // The rest of uLobe within the lobe's interval chooses among the measured lobe's strategies.
+    if (!measured_->sample(wo, std::min(uLobe / p.x, 0x1.fffffep-1f), u, out.wi)) return false;
+  } else if (lobe == 0) {
     out.wi = sampleCosineHemisphere(u);
   } else if (lobe == 1) {
     if (alphaR_ == 0.0f) {

@@ -45,6 +45,14 @@
 // scaled by c, and a fraction 1 − c passes straight through, unbent and without Fresnel, as the light between
 // the fibres of a curtain: the straight-through transmittance is (1 − c) + c T_clear(θ), one delta lobe.
 //
+// Measured BRDFs (a tabulated table or the car-paint model, TraceMaterial::isMeasured()) replace the analytic
+// lobes: the front face (or either face of a double-sided material) scatters by the MeasuredLobe alone, which
+// eval(), pdf() and sample() then forward to, and the back face of a one-sided measured material is black (a
+// measured paint is opaque). The energy rule does not apply to them: a measured table carries its own balance
+// of diffuse and glossy reflection (the baker scales a table that reflects more than it receives down to an
+// albedo of 1: rdb::TraceBrdfTable::scale), and the car-paint model conserves energy by construction. Coverage
+// applies as above.
+//
 // A Bsdf holds one point's colours: the integrator builds one per material, or per ray hit for materials that
 // vary over their surface (raytracer/surface_point.h). Anisotropy is not modelled.
 #pragma once
@@ -54,6 +62,7 @@
 
 #include "base/color.h"
 #include "base/math.h"
+#include "raytracer/measured_lobe.h"
 #include "rdb/trace_rdb.h"
 
 namespace fly::raytracer {
@@ -87,7 +96,9 @@ class Bsdf {
   };
 
   // frontFace: false for the back face of a one-sided material (transmission only). coverage in [0, 1].
-  Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage = 1.0f);
+  // measured: the lobe of m's measured BRDF, which must outlive the Bsdf; when m has one but `measured` is
+  // null, the analytic parameters stand in for it (as in engines without measured BRDFs).
+  Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage = 1.0f, const MeasuredLobe* measured = nullptr);
 
   // f(ωo, ωi) of the non-delta lobes in 1/sr, local directions with wo.z > 0; ωi on either side.
   Rgb eval(const vec3& wo, const vec3& wi) const;
@@ -108,7 +119,9 @@ class Bsdf {
   // estimate for glossy ones): the lobe weights and Russian roulette's survival guide.
   Rgb albedo(float cosO) const;
 
-  bool isBlack() const { return covered() && !hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  bool isBlack() const {
+    return covered() && measured_ == nullptr && !hasDiffuse_ && !hasReflection_ && !hasTransmission_;
+  }
   // Diffuse only (no reflection, no transmission, full coverage): then f = lambertAlbedo() / π, sample()
   // draws cos θ / π, its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the
   // common case.
@@ -116,7 +129,8 @@ class Bsdf {
   const Rgb& lambertAlbedo() const { return diffuseKd_; }
   // Whether eval() can be non-zero: light sampling is pointless otherwise.
   bool hasNonDelta() const {
-    return coverage_ > 0.0f && (hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission());
+    return coverage_ > 0.0f && (measured_ != nullptr || hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) ||
+                                frostedTransmission());
   }
   // Whether non-delta light arrives from below the surface (frosted transmission).
   bool hasNonDeltaTransmission() const { return coverage_ > 0.0f && frostedTransmission(); }
@@ -129,8 +143,8 @@ class Bsdf {
   float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
   bool covered() const { return coverage_ >= 1.0f; }
-  // Lobe choice probabilities at cos θo: diffuse, reflection, transmission, passing uncovered (sum 1 unless
-  // black).
+  // Lobe choice probabilities at cos θo: diffuse (or the measured lobe), reflection, transmission, passing
+  // uncovered (sum 1 unless black).
   vec4 lobeProbabilities(float cosO) const;
 
   Rgb diffuseKd_{0.0f};     // (1 − t)·d: the diffuse colour before the rule's (1 − R) factor
@@ -146,6 +160,7 @@ class Bsdf {
   bool hasTransmission_ = false;
   bool clearTransmission_ = false;
   float coverage_ = 1.0f;
+  const MeasuredLobe* measured_ = nullptr;  // replaces the lobes above where set
 };
 
 // The diffuse albedo D(0) of the energy rule at normal incidence (sdb::applyEnergyRule, with Fresnel

@@ -97,6 +97,13 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
                                   std::to_string(rdb.materials.size()) + " materials");
     }
   }
+  for (const rdb::TraceMaterial& m : rdb.materials) {
+    if (m.brdfTable != rdb::TraceMaterial::kNoBrdfTable &&
+        (m.brdfTable >= rdb.brdfTables.size() || !rdb.brdfTables[m.brdfTable].table)) {
+      throw std::invalid_argument("Integrator: measured BRDF table " + std::to_string(m.brdfTable) +
+                                  " does not exist");
+    }
+  }
   for (const rdb::TracePunctualLight& light : rdb.punctualLights) {
     if (light.type != rdb::PunctualType::kGoniometric) continue;
     if (light.goniometricTable >= rdb.goniometricTables.size()) {
@@ -191,13 +198,50 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
+  // GGX α of regularised lobes (kRegularizedGlossiness²), and the θh radius over which a measured table's
+  // highlights are spread to match it (TabulatedLobe::regularised).
+  constexpr float kMinAlpha = kRegularizedGlossiness * kRegularizedGlossiness;
+  const float regularisedRadiusRad = std::atan(kMinAlpha);
+  const size_t tables = rdb.brdfTables.size();
+  for (const rdb::TraceBrdfTable& table : rdb.brdfTables) {
+    measuredLobes_.push_back(std::make_unique<TabulatedLobe>(table.table, table.scale));
+  }
+  if (!settings_.caustics) {
+    for (const rdb::TraceBrdfTable& table : rdb.brdfTables) {
+      measuredLobes_.push_back(std::make_unique<TabulatedLobe>(
+          TabulatedLobe::regularised(*table.table, regularisedRadiusRad), table.scale));
+    }
+  }
+  for (const rdb::TraceMaterial& m : rdb.materials) {
+    const MeasuredLobe* lobe = nullptr;
+    const MeasuredLobe* deltaLightLobe = nullptr;
+    if (m.brdfTable != rdb::TraceMaterial::kNoBrdfTable) {
+      lobe = measuredLobes_[m.brdfTable].get();
+      deltaLightLobe = settings_.caustics ? lobe : measuredLobes_[tables + m.brdfTable].get();
+    } else if (m.carPaint) {
+      measuredLobes_.push_back(std::make_unique<CarPaintBsdfLobe>(*m.carPaint));
+      lobe = deltaLightLobe = measuredLobes_.back().get();
+      if (!settings_.caustics) {
+        // The coat's and flakes' highlights regularised as the analytic lobes are (kRegularizedGlossiness).
+        CarPaintBrdf regularised = *m.carPaint;
+        regularised.coatAlpha = std::max(regularised.coatAlpha, kMinAlpha);
+        for (CarPaintLobe& flakes : regularised.lobes) flakes.alpha = std::max(flakes.alpha, kMinAlpha);
+        measuredLobes_.push_back(std::make_unique<CarPaintBsdfLobe>(regularised));
+        deltaLightLobe = measuredLobes_.back().get();
+      }
+    }
+    materialLobe_.push_back(lobe);
+    deltaLightMaterialLobe_.push_back(deltaLightLobe);
+  }
+
   frontBsdfs_.reserve(rdb.materials.size());
   backBsdfs_.reserve(rdb.materials.size());
-  for (const rdb::TraceMaterial& m : rdb.materials) {
+  for (uint32_t mi = 0; mi < rdb.materials.size(); ++mi) {
+    const rdb::TraceMaterial& m = rdb.materials[mi];
     // Partial coverage of a constant material is its opacity; cut-outs are opaque where rays hit them.
     const float coverage = m.alpha == rdb::TraceAlpha::kBlend ? m.opacity : 1.0f;
-    frontBsdfs_.emplace_back(m, true, coverage);
-    backBsdfs_.emplace_back(m, m.doubleSided, coverage);
+    frontBsdfs_.emplace_back(m, true, coverage, materialLobe_[mi]);
+    backBsdfs_.emplace_back(m, m.doubleSided, coverage, materialLobe_[mi]);
     varies_.push_back(m.hasTextures() || !rdb.colors.empty() ? 1 : 0);
     hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().hasClearTransmission();
     passesStraight_ =
@@ -206,8 +250,8 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     if (!settings_.caustics) {
       regularised.reflectionGlossiness = std::max(m.reflectionGlossiness, kRegularizedGlossiness);
     }
-    deltaLightFrontBsdfs_.emplace_back(regularised, true, coverage);
-    deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided, coverage);
+    deltaLightFrontBsdfs_.emplace_back(regularised, true, coverage, deltaLightMaterialLobe_[mi]);
+    deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided, coverage, deltaLightMaterialLobe_[mi]);
   }
 
   if (settings_.skyPortals && skyDistribution_ && hasClearGlass_) buildPortals();
@@ -515,11 +559,11 @@ Integrator::PointBsdfs Integrator::bsdfsAt(uint32_t mi, bool front, const Triang
   }
   PointMaterial pm = materialAt(rdb_, m, at);
   const float coverage = m.alpha == rdb::TraceAlpha::kBlend ? pm.coverage : 1.0f;
-  point.emplace(pm.material, frontFace, coverage);
+  point.emplace(pm.material, frontFace, coverage, materialLobe_[mi]);
   if (!settings_.caustics) {
     pm.material.reflectionGlossiness = std::max(pm.material.reflectionGlossiness, kRegularizedGlossiness);
   }
-  pointDeltaLight.emplace(pm.material, frontFace, coverage);
+  pointDeltaLight.emplace(pm.material, frontFace, coverage, deltaLightMaterialLobe_[mi]);
   return {&*point, &*pointDeltaLight};
 }
 

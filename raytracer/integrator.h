@@ -4,7 +4,9 @@
 // E(p, n) = ∫_{H(n)} L_i(p, ω) cos θ dω (lux) at the sensor, by path tracing (Kajiya, "The rendering
 // equation", SIGGRAPH 1986) with next-event estimation (light sampling) at every vertex whose BSDF has a
 // non-delta lobe. Surfaces scatter by their material's Bsdf (raytracer/bsdf.h: diffuse, mirror or GGX
-// reflection, thin-walled clear or frosted transmission, the SDB's energy rule at the actual angle).
+// reflection, thin-walled clear or frosted transmission, the SDB's energy rule at the actual angle; or a
+// measured BRDF, tabulated or the car-paint model, evaluated and importance-sampled by its MeasuredLobe and
+// combined with light sampling by the same multiple importance sampling).
 //
 // The sun: a disc of uniform radiance E_n / (π sin² θ_s), so that a surface facing it receives E_n, sampled
 // uniformly in its cone at every non-delta vertex, without MIS; the sky table holds no sun, so a path adds
@@ -92,6 +94,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -99,11 +102,13 @@
 #include "base/color.h"
 #include "base/math.h"
 #include "raytracer/bsdf.h"
+#include "raytracer/car_paint_lobe.h"
 #include "raytracer/distribution.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/progressive.h"
 #include "raytracer/sampler.h"
 #include "raytracer/surface_point.h"
+#include "raytracer/tabulated_lobe.h"
 #include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
 
@@ -149,8 +154,10 @@ struct IntegratorSettings {
   //   and light sampling of the sun and of punctual lights at surface vertices evaluates reflection lobes
   //   sharper than kRegularizedGlossiness as if they had that glossiness (path regularisation, Kaplanyan &
   //   Dachsbacher, "Path Space Regularization for Holistic and Robust Light Transport", EG 2013): glints are
-  //   blurred over a lobe of GGX α = 0.09 instead of lost, with nearly the same energy. The sky and emitters
-  //   seen in mirrors and glossy surfaces count exactly.
+  //   blurred over a lobe of GGX α = 0.09 instead of lost, with nearly the same energy. Measured BRDFs
+  //   likewise: a car paint's coat and flakes as GGX α ≥ 0.09, a table's highlights spread over half vectors
+  //   within atan 0.09 of their own (TabulatedLobe::regularised). The sky and emitters seen in mirrors and
+  //   glossy surfaces count exactly.
   //   true: all of it exactly (unbiased), for studies of glare, with many samples.
   bool caustics = false;
   // Sky portals at clear-glass triangles (above). Off gives the estimator of bakes before they existed
@@ -255,6 +262,13 @@ class Integrator {
   Rgb sunRadianceCdM2_{0.0f};
   Onb sunFrame_{};  // around the sun's direction
   float sunOneMinusCos_ = 0.0f;
+  // Measured BRDFs: one lobe per measured table (rdb.brdfTables) and, without caustics, one per regularised
+  // table (TabulatedLobe::regularised), then per car-paint material one and, without caustics, its
+  // regularised twin; per material the lobe for its Bsdfs and for those of delta-light sampling (null for
+  // analytic materials). Built before the Bsdfs, which point at them.
+  std::vector<std::unique_ptr<const MeasuredLobe>> measuredLobes_;
+  std::vector<const MeasuredLobe*> materialLobe_;
+  std::vector<const MeasuredLobe*> deltaLightMaterialLobe_;
   std::vector<Bsdf> frontBsdfs_;  // per material: front face (either face when double-sided)
   std::vector<Bsdf> backBsdfs_;   // per material: back face (transmission only when one-sided)
   // The same for light sampling of the sun and punctual lights: regularised without caustics.

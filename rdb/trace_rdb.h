@@ -6,8 +6,13 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "base/brdf_table.h"
+#include "base/car_paint.h"
 #include "base/color.h"
 #include "base/math.h"
 
@@ -83,6 +88,13 @@ struct TraceMaterial {
   float opacity = 1.0f;      // [0,1]
   float alphaCutoff = 0.5f;  // kMask: covered where coverage ≥ alphaCutoff, [0,1]
 
+  // A measured BRDF that replaces the analytic lobes (diffuse, reflection, transmission) above, which the
+  // baker then ignores: an index into TraceRdb::brdfTables, or the compact car-paint model; at most one.
+  static constexpr uint32_t kNoBrdfTable = std::numeric_limits<uint32_t>::max();
+  uint32_t brdfTable = kNoBrdfTable;
+  std::optional<CarPaintBrdf> carPaint;
+
+  bool isMeasured() const { return brdfTable != kNoBrdfTable || carPaint.has_value(); }
   bool hasTextures() const {
     return bool(diffuseTexture) || bool(reflectionTexture) || bool(glossinessTexture) ||
            bool(transmissionTexture) || bool(emissionTexture) || bool(normalTexture);
@@ -115,6 +127,17 @@ struct TraceLightTexture {
   // Light-map UV per triangle corner: 3 per triangle of the mesh, in TraceMesh triangle order. Corners of one
   // vertex differ where charts meet (seams).
   std::vector<vec2> cornerUv;
+};
+
+// A measured BRDF table that materials share, one per distinct file.
+struct TraceBrdfTable {
+  std::string file;                        // where the SDB read it, for messages
+  std::shared_ptr<const BrdfTable> table;  // never null
+  // 1, or 1 / the table's largest directional albedo where that exceeds 1 (BrdfTable::maxAlbedo, the SDB's
+  // report: a measurement that reflects more light than it receives, which would let light grow from bounce
+  // to bounce): the baker evaluates the table times this factor.
+  float scale = 1.0f;
+  float maxAlbedo = 0.0f;  // BrdfTable::maxAlbedo's peak, before scaling
 };
 
 enum class PunctualType : uint8_t { kPoint, kSpot, kDirectional, kGoniometric };
@@ -177,6 +200,7 @@ struct TraceRdb {
   std::vector<uint32_t> indices;
   std::vector<uint32_t> triangleMaterial;  // index into materials, one per triangle
   std::vector<TraceMaterial> materials;
+  std::vector<TraceBrdfTable> brdfTables;  // the measured tables that materials use, each once
   std::vector<TraceMesh> meshes;
   std::vector<TraceLightTexture> lightTextures;  // meshes with a light texture, in mesh order
 

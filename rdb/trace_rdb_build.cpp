@@ -1,6 +1,7 @@
 #include "rdb/trace_rdb_build.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -43,6 +44,24 @@ TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   }
   t.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
   t.alphaCutoff = m.alphaCutoff;
+  t.carPaint = m.carPaint;
+  return t;
+}
+
+TraceBrdfTable lowerBrdfTable(const std::string& file, std::shared_ptr<const BrdfTable> table) {
+  TraceBrdfTable t;
+  t.file = file;
+  const BrdfTable::AlbedoPeak peak = table->maxAlbedo();
+  t.table = std::move(table);
+  t.maxAlbedo = peak.albedo;
+  if (peak.albedo > 1.0f) {
+    t.scale = 1.0f / peak.albedo;
+    constexpr const char* kChannels[3] = {"red", "green", "blue"};
+    char text[160];
+    std::snprintf(text, sizeof text, "reflects %.3g of the %s light arriving at %.0f° from the normal (more than it receives); the baker scales it by %.3g",
+                  double(peak.albedo), kChannels[peak.channel], double(peak.thetaInDeg), double(t.scale));
+    log::warn("measured BRDF " + file + ": " + text);
+  }
   return t;
 }
 
@@ -234,6 +253,15 @@ class Builder {
     t.transmissionTexture = slot(m.transmissionTexture);
     t.emissionTexture = slot(m.emissionTexture);
     t.normalTexture = slot(m.bumpTexture);
+    if (m.measuredBrdf) {
+      // One table per file (materials that name it read it each), or per table where the SDB has no file.
+      const std::string key = m.measuredBrdfPath.empty()
+                                  ? "table@" + std::to_string(reinterpret_cast<uintptr_t>(m.measuredBrdf.get()))
+                                  : "file:" + m.measuredBrdfPath;
+      const auto [it, added] = brdfTableIndex_.try_emplace(key, uint32_t(rdb_.brdfTables.size()));
+      if (added) rdb_.brdfTables.push_back(lowerBrdfTable(m.measuredBrdfPath, m.measuredBrdf));
+      t.brdfTable = it->second;
+    }
     return t;
   }
 
@@ -450,6 +478,7 @@ class Builder {
   TraceRdb rdb_;
   std::map<uint32_t, uint32_t> materialIndex_;  // SDB material id → index into rdb_.materials
   std::map<uint32_t, uint32_t> textureIndex_;   // SDB texture id → index into rdb_.textures
+  std::map<std::string, uint32_t> brdfTableIndex_;  // measured BRDF file (or table) → index into rdb_.brdfTables
   bool needUv_[2] = {false, false};             // some texture slot reads TEXCOORD_0 / TEXCOORD_1
   bool anyColors_ = false;                      // some placed mesh has COLOR_0
 };

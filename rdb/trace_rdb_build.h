@@ -1,7 +1,8 @@
 // Lowering an SDB scene into the TraceRdb (rdb/trace_rdb.h): geometry flattened into world space, materials with
-// the energy rule applied, punctual and goniometric lights in world space, and the sun and tabulated sky of the
-// scene's site and time (rdb/site_lowering.h). Only what the scene needs is built: no sky table without a sky,
-// no goniometric tables without goniometric lights.
+// the energy rule applied (measured BRDFs as shared tables or car-paint parameters), punctual and goniometric
+// lights in world space, and the sun and tabulated sky of the scene's site and time (rdb/site_lowering.h).
+// Only what the scene needs is built: no sky table without a sky, no goniometric tables without goniometric
+// lights, no measured tables without measured materials.
 #pragma once
 
 #include <cstdint>
@@ -60,6 +61,11 @@ TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options
 // The TraceMaterial of an SDB material (its energy rule evaluated at normal incidence), without its texture
 // slots (buildTraceRdb fills them).
 TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId);
+
+// The baker's record of a measured table read from `file`: the table shared, and its largest directional
+// albedo (BrdfTable::maxAlbedo); above 1 a warning names the file, the channel and the angle, and `scale`
+// brings the peak down to 1.
+TraceBrdfTable lowerBrdfTable(const std::string& file, std::shared_ptr<const BrdfTable> table);
 
 // A texture slot for texture index textureIndex: the UV set, wrap modes and KHR_texture_transform of ref.
 TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureIndex);

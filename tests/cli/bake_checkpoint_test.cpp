@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -126,6 +127,35 @@ TEST_F(BakeCheckpointTest, CountsOutOfRangeAreRejectedWithTheirName) {
   EXPECT_NE(loadError().find("samples must be an integer"), std::string::npos) << loadError();
   editJson([](nlohmann::json& j) { j["history"] = {{1.0, 8}}; });
   EXPECT_NE(loadError().find("a history row is not"), std::string::npos) << loadError();
+}
+
+// A resumed bake must be of the same scene: the fingerprint follows the measured BRDFs, a car paint's
+// parameters and a table's content and scale.
+TEST(TraceRdbFingerprint, FollowsMeasuredBrdfs) {
+  rdb::TraceRdbBuilder b;
+  const uint32_t mat = b.material(Rgb(0.5f));
+  b.ground(1.0f, 1, mat);
+  const uint64_t analytic = traceRdbFingerprint(b.rdb);
+  CarPaintBrdf paint;
+  paint.baseAlbedo = Rgb(0.2f);
+  b.rdb.materials[mat].carPaint = paint;
+  const uint64_t painted = traceRdbFingerprint(b.rdb);
+  EXPECT_NE(painted, analytic);
+  b.rdb.materials[mat].carPaint->coatAlpha = 0.05f;
+  EXPECT_NE(traceRdbFingerprint(b.rdb), painted);
+
+  b.rdb.materials[mat].carPaint.reset();
+  std::vector<Rgb> samples(BrdfTable::kSamples, Rgb(0.1f));
+  b.rdb.brdfTables.push_back({"a.binary", std::make_shared<const BrdfTable>(samples)});
+  b.rdb.materials[mat].brdfTable = 0;
+  const uint64_t measured = traceRdbFingerprint(b.rdb);
+  EXPECT_NE(measured, analytic);
+  samples[12345] = Rgb(0.2f);
+  b.rdb.brdfTables[0].table = std::make_shared<const BrdfTable>(samples);
+  const uint64_t remeasured = traceRdbFingerprint(b.rdb);
+  EXPECT_NE(remeasured, measured);
+  b.rdb.brdfTables[0].scale = 0.9f;
+  EXPECT_NE(traceRdbFingerprint(b.rdb), remeasured);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "base/color.h"
@@ -17,6 +18,7 @@
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
 #include "rdb/trace_rdb_build.h"
+#include "sdb/measured_brdf.h"
 #include "sdb/scene.h"
 
 namespace fly::cli {
@@ -28,13 +30,19 @@ constexpr uint32_t kRings = 48;     // latitude bands
 constexpr uint32_t kSegments = 96;  // longitude steps
 
 // A UV sphere of radius kRadiusM around the origin whose front faces (counter-clockwise) look inwards, with a
-// single-sided material of albedo rho, and a point light at the centre.
-sdb::Scene closedSphere(float rho) {
+// single-sided material of albedo rho, and a point light at the centre. `measured`: the albedo is a measured
+// table of the constant ρ/π instead (base/brdf_table.h), over analytic parameters of another albedo (0.2)
+// that it must replace.
+sdb::Scene closedSphere(float rho, bool measured = false) {
   sdb::Scene scene;
   sdb::Material m;
   m.name = "wall";
-  m.diffuseColor = Rgb(rho);
+  m.diffuseColor = Rgb(measured ? 0.2f : rho);
   m.reflectionColor = Rgb(0.0f);
+  if (measured) {
+    m.measuredBrdf = std::make_shared<const sdb::MeasuredBrdf>(
+        std::vector<Rgb>(sdb::MeasuredBrdf::kSamples, Rgb(rho / float(M_PI))));
+  }
   const sdb::MaterialId material = scene.addMaterial(m).id;
 
   // The facets are flat (each triangle its own vertices with the facet's normal), so the surface that shades
@@ -119,8 +127,8 @@ double meanWallLux(const rdb::TraceRdb& rdb, float rho) {
   return 4.0 * M_PI * kIntensityCd / ((1.0 - rho) * areaM2);
 }
 
-void expectUnbiasedAndHonestByDefault(float rho) {
-  const sdb::Scene scene = closedSphere(rho);
+void expectUnbiasedAndHonestByDefault(float rho, bool measured = false) {
+  const sdb::Scene scene = closedSphere(rho, measured);
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
   const SamplingOptions noFlags;
@@ -157,6 +165,10 @@ void expectUnbiasedAndHonestByDefault(float rho) {
 TEST(ClosedSphere, AlbedoHalfIsExactWithDefaultSettings) { expectUnbiasedAndHonestByDefault(0.5f); }
 TEST(ClosedSphere, AlbedoNinetyPercentIsExactWithDefaultSettings) { expectUnbiasedAndHonestByDefault(0.9f); }
 TEST(ClosedSphere, AlbedoNinetyNinePercentIsExactWithDefaultSettings) { expectUnbiasedAndHonestByDefault(0.99f); }
+// The same through a measured table: lowered from the SDB, sampled by its tabulated lobe.
+TEST(ClosedSphere, MeasuredTableOfAlbedoEightyPercentIsExactWithDefaultSettings) {
+  expectUnbiasedAndHonestByDefault(0.8f, true);
+}
 
 // A cap of K reflections keeps Σ_{k=0..K} ρ^k of the light on a sphere's wall and removes the fraction
 // ρ^(K+1) (39 % at ρ = 0.9, K = 8): the bias estimate must find it.

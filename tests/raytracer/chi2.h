@@ -24,9 +24,9 @@
 
 namespace fly::raytracer::test {
 
-// The chi-square tests of correct samplers in this binary (sampler_test 4, warp_test 8, distribution_test 3),
-// for a Bonferroni-corrected significance: the probability that any of them fails by chance is at most 1 %.
-inline constexpr int kChi2TestCount = 17;
+// The chi-square tests of correct samplers in this binary (sampler_test 4, warp_test 8, distribution_test 3,
+// measured_brdf_test 4), for a Bonferroni-corrected significance: the probability that any of them fails by chance is at most 1 %.
+inline constexpr int kChi2TestCount = 21;
 inline constexpr double kChi2Significance = 0.01 / kChi2TestCount;
 
 // The regularised upper incomplete gamma function Q(a, x) = Γ(a, x) / Γ(a) for a > 0, x ≥ 0: by the series of
@@ -134,6 +134,10 @@ inline Chi2Result chi2Test(std::span<const double> observed, std::span<const dou
   result.dof = static_cast<int>(cells.size()) - 1;
   if (result.dof < 1) {
     result.failure = "fewer than two cells after pooling";
+    return result;
+  }
+  if (!std::isfinite(result.statistic)) {
+    result.failure = "the statistic is not finite (a density of NaN or ∞)";
     return result;
   }
   result.pValue = chi2Survival(result.statistic, result.dof);

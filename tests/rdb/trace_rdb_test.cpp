@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 
 #include "base/error.h"
 #include "rdb/site_lowering.h"
@@ -152,6 +153,49 @@ TEST(TraceRdbMaterials, FollowTheEnergyRuleAndListEmitters) {
   expectVec(r.materials[2].emissionCdM2, Rgb(100.0f, 50.0f, 25.0f));
   EXPECT_EQ(r.triangleMaterial, (std::vector<uint32_t>{1, 1, 2, 2, 0, 0}));
   EXPECT_EQ(r.emissiveTriangles, (std::vector<uint32_t>{2, 3}));
+}
+
+// Measured BRDFs: materials that name one file share one table (its albedo checked once: a Lambertian table
+// of 0.5 reflects 0.5 and is not scaled), a table without a file is its own, a car paint keeps its
+// parameters, and a scene without measured materials lowers no table.
+TEST(TraceRdbMaterials, MeasuredBrdfTablesAreSharedPerFile) {
+  const auto half = std::make_shared<const sdb::MeasuredBrdf>(
+      std::vector<Rgb>(sdb::MeasuredBrdf::kSamples, Rgb(0.5f / float(M_PI))));
+  const auto sameFileReadAgain = std::make_shared<const sdb::MeasuredBrdf>(*half);
+  Scene s;
+  auto measured = [&](const char* name, std::shared_ptr<const sdb::MeasuredBrdf> table, const char* path) {
+    sdb::Material m;
+    m.name = name;
+    m.measuredBrdf = std::move(table);
+    m.measuredBrdfPath = path;
+    return s.addMaterial(m).id;
+  };
+  const sdb::MaterialId a = measured("a", half, "paint.binary");
+  const sdb::MaterialId b = measured("b", sameFileReadAgain, "paint.binary");
+  const sdb::MaterialId c = measured("c", half, "");
+  const sdb::MaterialId paint = s.addMaterial(sdb::findMaterialPreset("metallic-car-paint")->material).id;
+  s.addNode({.meshes = {s.addMesh(quadXZ(a)).id, s.addMesh(quadXZ(b)).id, s.addMesh(quadXZ(c)).id,
+                        s.addMesh(quadXZ(paint)).id}});
+  const TraceRdb r = buildTraceRdb(s);
+  ASSERT_EQ(r.materials.size(), 5u);
+  ASSERT_EQ(r.brdfTables.size(), 2u);
+  EXPECT_EQ(r.materials[1].brdfTable, 0u);
+  EXPECT_EQ(r.materials[2].brdfTable, 0u);
+  EXPECT_EQ(r.materials[3].brdfTable, 1u);
+  EXPECT_EQ(r.brdfTables[0].file, "paint.binary");
+  EXPECT_EQ(r.brdfTables[0].table, half);
+  EXPECT_NEAR(r.brdfTables[0].maxAlbedo, 0.5f, 1e-3f);
+  EXPECT_EQ(r.brdfTables[0].scale, 1.0f);
+  EXPECT_FALSE(r.materials[3].carPaint);
+  EXPECT_EQ(r.materials[4].brdfTable, TraceMaterial::kNoBrdfTable);
+  ASSERT_TRUE(r.materials[4].carPaint);
+  EXPECT_EQ(*r.materials[4].carPaint, *sdb::findMaterialPreset("metallic-car-paint")->material.carPaint);
+  EXPECT_TRUE(r.materials[4].isMeasured());
+  EXPECT_FALSE(r.materials[0].isMeasured());
+
+  Scene plain;
+  plain.addNode({.meshes = {plain.addMesh(quadXZ({})).id}});
+  EXPECT_TRUE(buildTraceRdb(plain).brdfTables.empty());
 }
 
 // Textures are lowered once each to 8 bits (16-bit values rounded), slots keep their UV set, wrap modes and

@@ -104,7 +104,9 @@ TEST(HalfDiffAngles, RoundTripAndKnownConfigurations) {
     const HalfDiffAngles b = halfDiffAngles(wi, wo);
     EXPECT_NEAR(b.thetaHalfRad, a.thetaHalfRad, 1e-4f);
     EXPECT_NEAR(b.thetaDiffRad, a.thetaDiffRad, 1e-4f);
-    if (a.thetaDiffRad > 1e-2f) EXPECT_NEAR(std::remainder(b.phiDiffRad - a.phiDiffRad, 2.0f * kPi), 0.0f, 1e-3f);
+    if (a.thetaDiffRad > 1e-2f) {
+      EXPECT_NEAR(std::remainder(b.phiDiffRad - a.phiDiffRad, 2.0f * kPi), 0.0f, 1e-3f);
+    }
   }
 }
 
@@ -195,7 +197,7 @@ TEST_F(MeasuredBrdfTest, NearestSampleIsMerlsLookup) {
   for (const auto& [i, j, k] : {std::tuple{0, 0, 0}, {1, 30, 45}, {45, 60, 170}, {89, 89, 179}, {10, 5, 90}}) {
     HalfDiffAngles a = MeasuredBrdf::sampleAngles(i, j, k);
     // Just above the sample (MERL's index is the floor of the table coordinate).
-    const float h = float(i + 0.25f) / 90.0f;
+    const float h = (float(i) + 0.25f) / 90.0f;
     a.thetaHalfRad = h * h * kPi / 2.0f;
     a.thetaDiffRad = (float(j) + 0.25f) / 90.0f * kPi / 2.0f;
     a.phiDiffRad = (float(k) + 0.25f) / 180.0f * kPi;
@@ -248,6 +250,13 @@ TEST_F(MeasuredBrdfTest, BadFilesAreInputErrorsNamingTheProblem) {
   std::memcpy(negative.data() + 12 + MeasuredBrdf::sampleIndex(89, 0, 0) * 8, &minusOne, 8);
   EXPECT_TRUE(contains(errorOf(negative), "red sample at θh = 88"));
   EXPECT_TRUE(contains(errorOf(negative), "is -1; a BRDF is finite and ≥ 0"));
+  // Below the surface (θh 88°, θd 89°: both directions under the horizon) no sample was measured: a negative
+  // marker there reads as 0.
+  ASSERT_FALSE(MeasuredBrdf::validSamples()[MeasuredBrdf::sampleIndex(89, 89, 0)]);
+  std::string unmeasured = bytes;
+  std::memcpy(unmeasured.data() + 12 + MeasuredBrdf::sampleIndex(89, 89, 0) * 8, &minusOne, 8);
+  EXPECT_EQ(errorOf(unmeasured), "no error");
+  EXPECT_EQ(readMerlBrdf(dir_ / "bad.binary").sample(89, 89, 0).r, 0.0f);
   EXPECT_THROW(readMerlBrdf(dir_ / "missing.binary"), InputError);
 }
 

@@ -1,0 +1,53 @@
+// The GGX (Trowbridge–Reitz) microfacet distribution that fly's glossy lobes share: its normal distribution,
+// Smith's masking function and sampling of visible normals, in a local frame whose +z is the macro normal.
+// Walter, Marschner, Li & Torrance, "Microfacet models for refraction through rough surfaces", EGSR 2007;
+// Heitz, "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2), 2014; Heitz,
+// "Sampling the GGX distribution of visible normals", JCGT 7(4), 2018.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "base/math.h"
+
+namespace fly {
+
+// The normal distribution D(h) at cos θh > 0, with a2 = α² (Walter et al. 2007, eq. 33), 1/sr.
+inline float ggxD(float cosH, float a2) {
+  const float den = cosH * cosH * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPiF * den * den);
+}
+
+// Smith's Λ at cos θ > 0, with a2 = α² (Heitz 2014, eq. 72).
+inline float ggxLambda(float cosTheta, float a2) {
+  const float c2 = cosTheta * cosTheta;
+  if (c2 >= 1.0f) return 0.0f;
+  return 0.5f * (std::sqrt(1.0f + a2 * (1.0f - c2) / std::max(c2, 1e-12f)) - 1.0f);
+}
+
+// Smith's masking G1 = 1 / (1 + Λ) (Heitz 2014, eq. 43; Walter et al. 2007, eq. 34 in closed form).
+inline float ggxSmithG1(float cosTheta, float a2) { return 1.0f / (1.0f + ggxLambda(cosTheta, a2)); }
+
+// A microfacet normal of the distribution of normals visible from w (w.z > 0), u ∈ [0, 1)²: Heitz 2018,
+// listing 1. Its density is G1(w) max(0, w·h) D(h) / w.z per steradian of h.
+inline vec3 sampleGgxVisibleNormal(const vec3& w, float alpha, const vec2& u) {
+  const vec3 vh = glm::normalize(vec3(alpha * w.x, alpha * w.y, w.z));
+  const float lensq = vh.x * vh.x + vh.y * vh.y;
+  const vec3 t1 = lensq > 0.0f ? vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lensq) : vec3(1.0f, 0.0f, 0.0f);
+  const vec3 t2 = glm::cross(vh, t1);
+  const float r = std::sqrt(u.x);
+  const float phi = 2.0f * kPiF * u.y;
+  const float p1 = r * std::cos(phi);
+  const float s = 0.5f * (1.0f + vh.z);
+  const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+  const vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  return glm::normalize(vec3(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z)));
+}
+
+// The density per steradian of ωi = reflect(ωo, h) when h is drawn by sampleGgxVisibleNormal from ωo:
+// G1(ωo) D(h) / (4 cos θo) (Heitz 2018, eq. 17 with the reflection Jacobian 1 / (4 ωo·h)); wo.z > 0, h.z > 0.
+inline float ggxVisibleReflectionPdf(const vec3& wo, const vec3& h, float a2) {
+  return ggxD(h.z, a2) * ggxSmithG1(wo.z, a2) / (4.0f * wo.z);
+}
+
+}  // namespace fly
