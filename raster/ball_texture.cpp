@@ -23,25 +23,6 @@ struct GpuBallLight {
   vec4 toLightView, lux;
 };
 
-// The goniometric table's intensity towards `toSurface` (unit, world), bilinear in γ and C: the shader's
-// flyGonioCd (shaders/scene_glsl.h).
-float gonioCd(const rdb::RasterRdb& rdb, const rdb::RasterLight& l, const vec3& toSurface) {
-  constexpr uint32_t G = rdb::kRasterGonioGammaSteps, C = rdb::kRasterGonioCSteps;
-  const float gamma = std::acos(std::clamp(glm::dot(toSurface, l.directionWorld), -1.0f, 1.0f)) / kPiF * float(G - 1);
-  float c = std::atan2(glm::dot(toSurface, glm::cross(l.directionWorld, l.cAxisWorld)),
-                       glm::dot(toSurface, l.cAxisWorld)) /
-            (2.0f * kPiF);
-  if (c < 0.0f) c += 1.0f;
-  c *= float(C);
-  const uint32_t g0 = std::min(uint32_t(gamma), G - 2);
-  const float fg = std::clamp(gamma - float(g0), 0.0f, 1.0f);
-  const uint32_t c0 = std::min(uint32_t(c), C - 1), c1 = (c0 + 1) % C;
-  const float fc = std::clamp(c - float(c0), 0.0f, 1.0f);
-  const float* t = rdb.goniometricCd.data() + l.goniometricOffset;
-  auto at = [&](uint32_t ci, uint32_t gi) { return t[ci * G + gi]; };
-  return (1 - fc) * ((1 - fg) * at(c0, g0) + fg * at(c0, g0 + 1)) + fc * ((1 - fg) * at(c1, g0) + fg * at(c1, g0 + 1));
-}
-
 }  // namespace
 
 mat3 ballFrame(const mat3& viewFromWorld, const vec3& eyeM, bool orthographic, const vec3& centreM) {
@@ -65,31 +46,7 @@ std::vector<DistantLight> distantLights(const rdb::RasterRdb& rdb, const vec3& c
     const rdb::RasterLight& l = rdb.lights[index];
     DistantLight d;
     d.light = index;
-    if (l.type == rdb::RasterLightType::kDirectional) {
-      d.toLightWorld = -l.directionWorld;
-      d.illuminanceLux = l.intensity;
-    } else {
-      const vec3 offset = l.positionM - centreM;
-      const float dist2 = glm::dot(offset, offset);
-      if (!(dist2 > 1e-12f)) continue;
-      const float dist = std::sqrt(dist2);
-      d.toLightWorld = offset / dist;
-      float window = 1.0f;
-      if (std::isfinite(l.rangeM)) {
-        const float r = dist / l.rangeM;
-        window = std::max(0.0f, 1.0f - r * r * r * r);
-        window *= window;
-      }
-      float cd = 1.0f;
-      if (l.type == rdb::RasterLightType::kSpot) {
-        const float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
-        const float t = std::clamp((glm::dot(-d.toLightWorld, l.directionWorld) - l.cosOuter) * scale, 0.0f, 1.0f);
-        cd = t * t;
-      } else if (l.type == rdb::RasterLightType::kGoniometric) {
-        cd = gonioCd(rdb, l, -d.toLightWorld);
-      }
-      d.illuminanceLux = l.intensity * (cd * window / dist2);
-    }
+    d.illuminanceLux = rdb::punctualIlluminanceLux(rdb, l, centreM, d.toLightWorld);
     if (maxComponent(d.illuminanceLux) > 0.0f) out.push_back(d);
   }
   return out;

@@ -678,33 +678,11 @@ float gonioCd(const RasterRdb& rdb, const RasterLight& l, const vec3& toSurface)
          fc * ((1 - fg) * at(c1, g0) + fg * at(c1, g0 + 1));
 }
 
-// Unshadowed direct illuminance (lux) from one light at a point with unit normal n (KHR_lights_punctual's
-// falloffs; the renderer's GLSL computes the same).
+// Unshadowed direct illuminance (lux) from one light at a point with unit normal n.
 Rgb directIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3& p, const vec3& n) {
-  if (l.type == RasterLightType::kDirectional)
-    return l.intensity * std::max(0.0f, -glm::dot(n, l.directionWorld));
-  const vec3 d = l.positionM - p;
-  const float dist2 = glm::dot(d, d);
-  if (!(dist2 > 1e-12f)) return Rgb(0.0f);
-  const float dist = std::sqrt(dist2);
-  const vec3 toLight = d / dist;
-  const float cosSurface = std::max(0.0f, glm::dot(n, toLight));
-  float window = 1.0f;
-  if (std::isfinite(l.rangeM)) {
-    const float r = dist / l.rangeM;
-    window = std::max(0.0f, 1.0f - r * r * r * r);
-    window *= window;
-  }
-  float cd = 1.0f;
-  if (l.type == RasterLightType::kSpot) {
-    const float cosAngle = glm::dot(-toLight, l.directionWorld);
-    const float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
-    const float t = std::clamp((cosAngle - l.cosOuter) * scale, 0.0f, 1.0f);
-    cd = t * t;
-  } else if (l.type == RasterLightType::kGoniometric) {
-    cd = gonioCd(rdb, l, -toLight);
-  }
-  return l.intensity * (cd * cosSurface * window / dist2);
+  vec3 toLight;
+  const Rgb e = punctualIlluminanceLux(rdb, l, p, toLight);
+  return e * std::max(0.0f, glm::dot(n, toLight));
 }
 
 // The simple mode's ambient term (raster_rdb.h): the daylight's (buildSky first) plus progressive radiosity's
@@ -931,6 +909,34 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
   if (r.cameras) buildCameras(rdb, scene);
   if (r.lights || r.sky || r.materials || !r.materialBlocks.empty()) buildVariants(rdb, scene);
   return r;
+}
+
+Rgb punctualIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3& p, vec3& toLightWorld) {
+  if (l.type == RasterLightType::kDirectional) {
+    toLightWorld = -l.directionWorld;
+    return l.intensity;
+  }
+  toLightWorld = vec3(0.0f, 0.0f, 1.0f);
+  const vec3 d = l.positionM - p;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 1e-12f)) return Rgb(0.0f);
+  const float dist = std::sqrt(dist2);
+  toLightWorld = d / dist;
+  float window = 1.0f;
+  if (std::isfinite(l.rangeM)) {
+    const float r = dist / l.rangeM;
+    window = std::max(0.0f, 1.0f - r * r * r * r);
+    window *= window;
+  }
+  float cd = 1.0f;
+  if (l.type == RasterLightType::kSpot) {
+    const float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
+    const float t = std::clamp((glm::dot(-toLightWorld, l.directionWorld) - l.cosOuter) * scale, 0.0f, 1.0f);
+    cd = t * t;
+  } else if (l.type == RasterLightType::kGoniometric) {
+    cd = gonioCd(rdb, l, -toLightWorld);
+  }
+  return l.intensity * (cd * window / dist2);
 }
 
 }  // namespace fly::rdb

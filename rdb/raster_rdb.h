@@ -334,6 +334,12 @@ struct RasterBuildOptions {
   uint32_t skyHeight = 128;
 };
 
+// The illuminance (lux) that light `l` of `rdb` gives a surface at p facing it, unshadowed, and the unit
+// direction towards it (toLightWorld): a directional light's as given, the others I(direction) · window / d²
+// with KHR_lights_punctual's range window and spot falloff, or the goniometric table (bilinear, as the
+// shader's flyGonioCd); 0 at the light's own position. The GL engine's shaders compute the same.
+Rgb punctualIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3& p, vec3& toLightWorld);
+
 // Builds the RasterRdb of `scene`, with the vertex light maps and light textures of `lightMaps` where it has
 // them (matched by (SDB node id, SDB mesh id); a light map whose vertex count differs from the mesh's, or a
 // light texture whose corner UVs do not match the mesh's triangles with area, is an InputError).
