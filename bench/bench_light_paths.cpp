@@ -37,7 +37,8 @@ struct Row {
 // positive mean (front sides and the backs of two-sided meshes).
 double relativeErrorP95(const raytracer::VertexLightMaps& m) {
   std::vector<double> rel;
-  for (const auto& [mean, error] : {std::pair{&m.frontLux, &m.frontStdErrorLux}, {&m.backLux, &m.backStdErrorLux}}) {
+  for (const auto& [mean, error] :
+       {std::pair{&m.frontLux, &m.frontStdErrorLux}, {&m.backLux, &m.backStdErrorLux}}) {
     for (size_t v = 0; v < mean->size(); ++v) {
       const double l = luminance((*mean)[v]);
       if (l > 0.0) rel.push_back(luminance((*error)[v]) / l);
@@ -95,8 +96,9 @@ int run(int argc, char** argv) {
     } else if (a.rfind("--", 0) != 0) {
       scenePath = a;
     } else {
-      std::fprintf(stderr, "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
-                           "[--paths-per-sample X]\n");
+      std::fprintf(stderr,
+                   "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
+                   "[--paths-per-sample X]\n");
       return 2;
     }
   }
@@ -130,8 +132,9 @@ int run(int argc, char** argv) {
   const raytracer::VertexLightMaps reference = bake(referenceSamples, false, 1000, refRow);
   std::printf("reference: gathering, %u samples, seed 1000: %.1f s, p95 %.2f %%\n", referenceSamples,
               refRow.seconds, 100.0 * refRow.p95);
-  std::printf("| samples | gathering: time, p95, honesty | combined: time, p95, honesty | p95 ratio | "
-              "efficiency (err² × time) |\n|---|---|---|---|---|\n");
+  std::printf(
+      "| samples | gathering: time, p95, honesty | combined: time, p95, honesty | p95 ratio | "
+      "efficiency (err² × time) |\n|---|---|---|---|---|\n");
   for (const uint32_t n : samples) {
     Row g, c;
     g.honesty = honesty(bake(n, false, 1, g), reference);

@@ -264,6 +264,14 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       "%.3g Mrays/s -> %s\n",
       rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, sunText, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
+  if (maps.lightPaths > 0) {
+    std::fprintf(stderr,
+                 "light paths: %llu from the sun (pilot included), %.3g Mrays, %.1f s before the passes\n",
+                 static_cast<unsigned long long>(maps.lightPaths), double(maps.lightPathRays) * 1e-6,
+                 maps.lightPathSeconds);
+  } else if (settings.lightPaths.enabled) {
+    std::fprintf(stderr, "light paths: none (the scene has no sun that lights it)\n");
+  }
   for (const raytracer::LightTexture& tex : maps.lightTextures) {
     const rdb::TraceLightTexture& lt = rdb.lightTextures[size_t(&tex - maps.lightTextures.data())];
     const std::string& name = d.meshNames[tex.mesh].empty() ? d.nodeNames[tex.mesh] : d.meshNames[tex.mesh];

@@ -295,8 +295,8 @@ std::vector<float> combinationWeights(const OneRingSource& source, const SunLigh
   paths += pilot.paths;
   rays += pilot.rays;
   // The light paths' variance of the mean at the bake's budget: the pilot's, scaled by the paths' ratio.
-  const double pathRatio = double(pilot.paths) /
-                           (double(lp.paths.pathsPerBatch) * double(std::max(lp.paths.batches, 1u)));
+  const double pathRatio =
+      double(pilot.paths) / (double(lp.paths.pathsPerBatch) * double(std::max(lp.paths.batches, 1u)));
   const double n = lp.plannedSamples > 0 ? lp.plannedSamples : settings.estimate.maxSamples;
   const size_t points = source.pointCount();
   std::vector<float> weights(points, 0.0f);

@@ -28,9 +28,9 @@ namespace fly::raytracer {
 struct LightPathBakeSettings {
   bool enabled = false;
   LightPathSettings paths{1u << 18, 8, 0, 0};  // the light paths of the bake (seed and threads: the bake's)
-  uint32_t pilotSamples = 32;                   // per vertex side, gathering
-  uint32_t pilotPathsPerBatch = 1u << 15;       // light paths, in 4 batches
-  uint32_t plannedSamples = 0;                  // n above; 0: EstimateSettings::maxSamples
+  uint32_t pilotSamples = 32;                  // per vertex side, gathering
+  uint32_t pilotPathsPerBatch = 1u << 15;      // light paths, in 4 batches
+  uint32_t plannedSamples = 0;                 // n above; 0: EstimateSettings::maxSamples
 };
 
 struct BakeSettings {

@@ -969,10 +969,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   return sum;
 }
 
-template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float,
-                                          Rgb*, Rgb*) const;
-template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float,
-                                          Rgb*, Rgb*) const;
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float, Rgb*,
+                                          Rgb*) const;
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float, Rgb*,
+                                          Rgb*) const;
 
 namespace {
 

@@ -85,8 +85,8 @@ void SunLightPaths::deposit(uint32_t t, const vec2& barycentric, const vec3& dir
   }
 }
 
-void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerPathM2, std::vector<Deposit>& out,
-                              uint64_t& rays) const {
+void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerPathM2,
+                              std::vector<Deposit>& out, uint64_t& rays) const {
   const rdb::TraceSun& sun = rdb_.sun;
   const Onb sunFrame = onb(sun.directionWorld);
   SobolSampler sampler(batchSeed);
@@ -97,7 +97,8 @@ void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerP
   const vec2 cone = std::sin(sun.halfAngleRad) * sampleConcentricDisk(sampler.next2D());
   const vec3 towardsSun = glm::normalize(
       sunFrame.toWorld(vec3(cone.x, cone.y, std::sqrt(std::max(0.0f, 1.0f - glm::dot(cone, cone))))));
-  vec3 origin = centreM_ + launchDistanceM_ * sun.directionWorld + sunFrame.toWorld(vec3(disc.x, disc.y, 0.0f));
+  vec3 origin =
+      centreM_ + launchDistanceM_ * sun.directionWorld + sunFrame.toWorld(vec3(disc.x, disc.y, 0.0f));
   vec3 dir = -towardsSun;
   Rgb flux = sun.normalIlluminanceLux * areaPerPathM2;
   bool reflected = false;
@@ -113,7 +114,11 @@ void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerP
     const uint32_t mi = rdb_.triangleMaterial[t];
     const rdb::TraceMaterial& m = rdb_.materials[mi];
     const TrianglePoint at{t, hit->barycentric};
-    const Bsdf& bsdf = *integrator_.bsdfsAt(mi, front, at, pointBsdf, pointDeltaLightBsdf).bsdf;
+    // The first scattering of the sun's light by the Bsdf that the gathering estimator's sun samples use
+    // (regularised without caustics: Vertex::deltaLightBsdf), every later one by the surface's own, as a
+    // gathering path scatters at the vertices before the one that samples the sun.
+    const Integrator::PointBsdfs bsdfs = integrator_.bsdfsAt(mi, front, at, pointBsdf, pointDeltaLightBsdf);
+    const Bsdf& bsdf = reflected ? *bsdfs.bsdf : *bsdfs.deltaLight;
     if (bsdf.isBlack()) break;
     const vec3 side = front ? hit->geometricNormal : -hit->geometricNormal;
     const float cosGeometric = -glm::dot(side, dir);
@@ -122,7 +127,8 @@ void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerP
     vec3 ns = shadingNormalAt(rdb_, m, at, hit->geometricNormal);
     if (!front) ns = -ns;
     const float cosShading = -glm::dot(ns, dir);
-    if (cosShading < kMinShadingCos) ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
+    if (cosShading < kMinShadingCos)
+      ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
     const Onb frame = onb(ns);
     // ωo points back towards where the light came from; the sampled ωi is where it goes.
     const vec3 wo = frame.toLocal(-dir);
@@ -150,7 +156,6 @@ void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerP
       Bsdf::Sample s;
       if (!bsdf.sample(wo, uLobe, uContinue, s)) break;
       d = glm::normalize(frame.toWorld(s.wi));
-      if (s.lobe == Bsdf::Lobe::kMirror && !integrator_.settings_.caustics) break;
       if (s.lobe != Bsdf::Lobe::kStraight) {
         if ((glm::dot(d, side) > 0.0f) != (s.wi.z > 0.0f)) break;
         reflected = true;
@@ -202,7 +207,8 @@ LightPathMaps SunLightPaths::trace(const LightPathSettings& settings) const {
           chunkRays[c] = 0;
           const uint32_t begin = (first + c) * kPathsPerChunk;
           const uint32_t end = std::min(settings.pathsPerBatch, begin + kPathsPerChunk);
-          for (uint32_t i = begin; i < end; ++i) tracePath(batchSeed, i, areaPerPathM2, deposits[c], chunkRays[c]);
+          for (uint32_t i = begin; i < end; ++i)
+            tracePath(batchSeed, i, areaPerPathM2, deposits[c], chunkRays[c]);
         }
       };
       std::vector<std::thread> pool;

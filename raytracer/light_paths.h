@@ -1,24 +1,26 @@
 // Light paths (particle tracing) from the sun for the vertex light maps: an unbiased estimate of every
-// vertex side's hat-weighted one-ring irradiance from the sun's light, direct and reflected (docs/light-paths.md).
+// vertex side's hat-weighted one-ring irradiance from the sun's light, direct and reflected
+// (docs/light-paths.md).
 //
 // Paths start on a disc perpendicular to the sun's direction that covers the scene's bounding sphere, with a
 // direction drawn in the sun's cone with density cos γ / (π sin² θ_s) (γ from the cone's axis: the projected
 // disc of the cone, so that the flux through the disc per unit area is exactly the sun's normal illuminance
-// E_n of TraceSun). Each of N paths carries Φ = E_n · A_disc / N (lm). At a surface hit at p on triangle t the
-// path deposits its flux on t's three vertices: vertex v's side (the side of v's normal the light arrives on)
-// gets Φ · b_v(p) · c / ∫b_v dA, b_v the hat (barycentric) function, ∫b_v dA = (1/3) Σ of the areas of v's
-// one-ring triangles, and c = cos θ_s / cos θ_g the ratio of the cosines of the arrival direction with the
-// interpolated vertex normal (the sensor's normal in the baker) and with the geometric normal. Its
+// E_n of TraceSun). Each of N paths carries Φ = E_n · A_disc / N (lm). At a surface hit at p on triangle t
+// the path deposits its flux on t's three vertices: vertex v's side (the side of v's normal the light arrives
+// on) gets Φ · b_v(p) · c / ∫b_v dA, b_v the hat (barycentric) function, ∫b_v dA = (1/3) Σ of the areas of
+// v's one-ring triangles, and c = cos θ_s / cos θ_g the ratio of the cosines of the arrival direction with
+// the interpolated vertex normal (the sensor's normal in the baker) and with the geometric normal. Its
 // expectation is ∫ b_v E dA / ∫ b_v dA with E the irradiance about the interpolated normal: the quantity the
 // gathering estimator (raytracer/baker.h) estimates, exactly (c = 1) on flat faces.
 // The path then scatters by the hit's Bsdf (raytracer/bsdf.h; clear glass and partial coverage pass it
 // straight with their transmittance) in the frame of the integrator's shading normal with the adjoint
 // correction |ωo·N_s||ωi·N_g| / (|ωo·N_g||ωi·N_s|) of importance transport (Veach, PhD thesis, 1997, §5.3),
 // and ends by Russian roulette from its third surface vertex on (survival min(1, max component of the
-// throughput × albedo)), as the integrator's paths do. Without IntegratorSettings::caustics a path ends at a
-// mirror reflection, as the gathering estimator leaves out the sun seen in mirrors; the regularisation of
-// sharp glossy lobes for the sun's light sampling is not mirrored (the two agree where no surface is
-// glossier than kRegularizedGlossiness).
+// throughput × albedo)), as the integrator's paths do. The first scattering (after straight passages) is by
+// the Bsdf with which the gathering estimator samples the sun (Integrator::Vertex::deltaLightBsdf: without
+// IntegratorSettings::caustics, mirrors and sharp glossy lobes blurred to kRegularizedGlossiness), every
+// later one by the surface's own: the adjoint of a gathering path, which scatters by the true Bsdfs up to the
+// vertex whose light sample finds the sun. So the sun seen in a mirror is left out (blurred) alike.
 //
 // Deposits until the first non-straight scattering are the sun's direct part (what the baker keeps apart as
 // E_sunDirect), later ones its reflected part.
@@ -46,8 +48,8 @@ struct LightPathSettings {
   uint32_t threads = 0;  // 0 = std::thread::hardware_concurrency()
 };
 
-// Per TraceRdb vertex, lux per channel: the sun's light on the front (the side of the vertex normal) and on the
-// back (two-sided meshes only; 0 otherwise), split into the direct part and the reflected rest, each with
+// Per TraceRdb vertex, lux per channel: the sun's light on the front (the side of the vertex normal) and on
+// the back (two-sided meshes only; 0 otherwise), split into the direct part and the reflected rest, each with
 // its standard error (the spread of the batch estimates / √batches).
 struct LightPathMaps {
   std::vector<Rgb> frontDirectLux, frontDirectStdErrorLux, backDirectLux, backDirectStdErrorLux;
@@ -82,7 +84,7 @@ class SunLightPaths {
   const rdb::TraceRdb& rdb_;
   const EmbreeScene& scene_;
   const Integrator& integrator_;
-  std::vector<float> hatAreaM2_;  // per vertex: ∫ b_v dA over its one-ring (0: no ring)
+  std::vector<float> hatAreaM2_;   // per vertex: ∫ b_v dA over its one-ring (0: no ring)
   std::vector<uint8_t> twoSided_;  // per vertex
   vec3 centreM_{0.0f};
   float discRadiusM_ = 0.0f;

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <utility>
 #include <vector>
 
 #include "raytracer/baker.h"
@@ -37,10 +38,20 @@ LightPathMaps trace(const rdb::TraceRdb& rdb, uint32_t pathsPerBatch, uint32_t b
 
 // A closed box [−1, 1]³ of inward-facing walls of albedo `albedo`, 4 × 4 quads a face, with a 1 m × 1 m
 // hole in the middle of its roof; the sun shines through it onto the floor, whose sunlit patch lights the
-// walls and the ceiling. No sky.
-MeshBuilder roofWindowBox(float albedo) {
+// walls and the ceiling. No sky. floorGlossiness ≥ 0: the floor also reflects 30 % (uniform, no Fresnel) by
+// a GGX lobe of that glossiness (0: a mirror).
+MeshBuilder roofWindowBox(float albedo, float floorGlossiness = -1.0f) {
   MeshBuilder b;
   const uint32_t mat = b.material(Rgb(albedo));
+  uint32_t floor = mat;
+  if (floorGlossiness >= 0.0f) {
+    floor = b.material(Rgb(albedo));
+    rdb::TraceMaterial& m = b.rdb.materials[floor];
+    m.reflection = Rgb(0.3f);
+    m.fresnel = false;
+    m.reflectionGlossiness = floorGlossiness;
+    m.diffuse = (1.0f - 0.3f) * m.diffuseColor;  // the energy rule's D(0)
+  }
   const vec3 lo(-1.0f);
   const vec3 x(2, 0, 0);
   const vec3 y(0, 2, 0);
@@ -49,7 +60,7 @@ MeshBuilder roofWindowBox(float albedo) {
   b.grid(lo + z, y, x, 4, mat);
   b.grid(lo, y, z, 4, mat);
   b.grid(lo + x, z, y, 4, mat);
-  b.grid(lo, z, x, 4, mat);
+  b.grid(lo, z, x, 4, floor);
   // The roof (y = 1, facing down) in four pieces around the hole |x|, |z| < 0.5.
   b.grid(vec3(-1, 1, -1), vec3(2, 0, 0), vec3(0, 0, 0.5f), 4, mat);
   b.grid(vec3(-1, 1, 0.5f), vec3(2, 0, 0), vec3(0, 0, 0.5f), 4, mat);
@@ -89,7 +100,8 @@ TEST(LightPaths, FloorUnderTheSunIsNormalIlluminanceTimesCosine) {
       for (int c = 0; c < 3; ++c) {
         const float mean = maps.frontDirectLux[v][c];
         const float se = maps.frontDirectStdErrorLux[v][c];
-        EXPECT_LE(std::abs(mean - exact[c]), 4.0f * se + 1e-4f * exact[c]) << "vertex " << v << " channel " << c;
+        EXPECT_LE(std::abs(mean - exact[c]), 4.0f * se + 1e-4f * exact[c])
+            << "vertex " << v << " channel " << c;
         EXPECT_LE(se, 0.02f * exact[c]) << "vertex " << v;
         EXPECT_GT(se, 0.0f) << "vertex " << v;  // the batches differ: the error is measured
         worst = std::max(worst, double(std::abs(mean - exact[c]) / se));
@@ -106,10 +118,13 @@ TEST(LightPaths, FloorUnderTheSunIsNormalIlluminanceTimesCosine) {
 // Light paths against the gathering estimator (which the baker tests check against exact answers) in the
 // box lit through its roof window: per vertex, the sun's direct and reflected light of the light paths
 // against the gathering bake, within 4.5 combined standard errors.
-// With white walls (albedo 0.9, many bounces: a furnace-like cavity that the window's sun feeds) too.
+// With white walls (albedo 0.9, many bounces: a furnace-like cavity that the window's sun feeds) too, and
+// with a glossy and a mirror floor, whose sun reflection both estimators regularise alike (light_paths.h).
 TEST(LightPaths, RoofWindowBoxAgreesWithGathering) {
-  for (const float albedo : {0.5f, 0.9f}) {
-    const MeshBuilder b = roofWindowBox(albedo);
+  for (const auto& [albedo, floorGlossiness] :
+       {std::pair{0.5f, -1.0f}, {0.9f, -1.0f}, {0.5f, 0.1f}, {0.5f, 0.0f}}) {
+    SCOPED_TRACE(floorGlossiness);
+    const MeshBuilder b = roofWindowBox(albedo, floorGlossiness);
     const LightPathMaps paths = trace(b.rdb, 1u << 16, 16, 5);
     const VertexLightMaps gathered = bake(b.rdb, 2048, false, 11);
     double worst = 0.0;
@@ -123,9 +138,9 @@ TEST(LightPaths, RoofWindowBoxAgreesWithGathering) {
       for (int c = 0; c < 3; ++c) {
         const float se = std::hypot(lpSe[c], gathered.frontStdErrorLux[v][c]);
         const float diff = lp[c] - gathered.frontLux[v][c];
-        EXPECT_LE(std::abs(diff), 4.5f * se + 1e-3f) << "albedo " << albedo << " vertex " << v << " channel " << c
-                                                     << ": light paths " << lp[c] << ", gathering "
-                                                     << gathered.frontLux[v][c];
+        EXPECT_LE(std::abs(diff), 4.5f * se + 1e-3f)
+            << "albedo " << albedo << " vertex " << v << " channel " << c << ": light paths " << lp[c]
+            << ", gathering " << gathered.frontLux[v][c];
         if (se > 0.0f) {
           worst = std::max(worst, double(std::abs(diff) / se));
           sumSquares += double(diff / se) * double(diff / se);
@@ -133,12 +148,13 @@ TEST(LightPaths, RoofWindowBoxAgreesWithGathering) {
         }
       }
       // The walls x = ±1 take reflected light.
-      if (std::abs(std::abs(b.rdb.positionsM[v].x) - 1.0f) < 1e-6f) reflectedOnWalls += paths.frontReflectedLux[v].g;
+      if (std::abs(std::abs(b.rdb.positionsM[v].x) - 1.0f) < 1e-6f)
+        reflectedOnWalls += paths.frontReflectedLux[v].g;
     }
     EXPECT_GT(reflectedOnWalls, 0.0);
     const double rms = std::sqrt(sumSquares / double(count));
-    std::cout << "[ lightpath] roof window, albedo " << albedo << ": worst " << worst << " σ, RMS " << rms
-              << " σ over " << count << " vertex channels\n";
+    std::cout << "[ lightpath] roof window, albedo " << albedo << ", floor glossiness " << floorGlossiness
+              << ": worst " << worst << " σ, RMS " << rms << " σ over " << count << " vertex channels\n";
     // The errors are honest on the whole: the RMS of the normalised differences is about 1.
     EXPECT_GT(rms, 1.0 / 1.5);
     EXPECT_LT(rms, 1.5);
@@ -173,8 +189,8 @@ TEST(LightPaths, CombinedBakeIsUnbiasedAndItsErrorIsHonest) {
     }
   }
   const double rms = std::sqrt(sumSquares / double(count));
-  std::cout << "[ lightpath] combined vs reference: RMS " << rms << " σ; reported variance combined / gathering "
-            << combinedVariance / gatheredVariance << "\n";
+  std::cout << "[ lightpath] combined vs reference: RMS " << rms
+            << " σ; reported variance combined / gathering " << combinedVariance / gatheredVariance << "\n";
   EXPECT_GT(rms, 1.0 / 1.5);
   EXPECT_LT(rms, 1.5);
   EXPECT_LT(combinedVariance, gatheredVariance);
