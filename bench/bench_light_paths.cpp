@@ -6,7 +6,7 @@
 // reaches a given error. The reported errors are checked against a reference bake of another seed: the RMS
 // over vertex sides of (value − reference) / √(σ² + σ_ref²) should be near 1 for both.
 //
-// Usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference 1024] [--paths-per-sample 0.5]
+// Usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference 1024] [--paths-per-sample 8]
 // (run from the repository's root for the default scene; --paths-per-sample: light paths per vertex side
 // per gathering sample).
 #include <algorithm>
@@ -84,7 +84,7 @@ int run(int argc, char** argv) {
   std::string scenePath = "scenes/house/house.json";
   std::vector<uint32_t> samples = {64, 256, 1024};
   uint32_t referenceSamples = 1024;
-  double pathsPerSample = 0.5;
+  double pathsPerSample = 8.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--samples" && i + 1 < argc) {
@@ -119,7 +119,7 @@ int run(int argc, char** argv) {
     s.lightPaths.paths.batches = 8;
     s.lightPaths.paths.pathsPerBatch =
         std::max<uint32_t>(1024, static_cast<uint32_t>(pathsPerSample * double(n) * double(sides) / 8.0));
-    s.lightPaths.pilotPathsPerBatch = std::max<uint32_t>(1024, s.lightPaths.paths.pathsPerBatch / 16);
+    s.lightPaths.pilotPathsPerBatch = std::max<uint32_t>(1024, s.lightPaths.paths.pathsPerBatch / 8);
     s.lightPaths.pilotSamples = 16;
     const auto start = std::chrono::steady_clock::now();
     raytracer::VertexLightMaps m = raytracer::bakeVertexLightMaps(rdb, scene, s);

@@ -275,6 +275,11 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   std::vector<float> sunReflectedWeights_;  // per point (setSunReflectedWeights)
 };
 
+// The pilot's relative standard error of the light paths' estimate at a point above which their variance
+// there is taken as unknown and the point keeps the gathering estimate alone (weight 0). With 8 batches, a
+// point reached by a handful of paths has a relative error near 1 and a spread that says little.
+constexpr double kMaxPilotRelativeError = 0.25;
+
 // The seed of the light paths of a bake of seed `seed`, and of the two pilots: scrambles of their own (the
 // gathering samplers are seeded with seed + point).
 uint64_t lightPathSeed(uint64_t seed, uint64_t stream) {
@@ -288,7 +293,7 @@ std::vector<float> combinationWeights(const OneRingSource& source, const SunLigh
   const LightPathBakeSettings& lp = settings.lightPaths;
   LightPathSettings pilotPaths;
   pilotPaths.pathsPerBatch = lp.pilotPathsPerBatch;
-  pilotPaths.batches = 4;
+  pilotPaths.batches = 8;
   pilotPaths.seed = lightPathSeed(settings.estimate.seed, 1);
   pilotPaths.threads = settings.estimate.threads;
   const LightPathMaps pilot = lightPaths.trace(pilotPaths);
@@ -324,9 +329,13 @@ std::vector<float> combinationWeights(const OneRingSource& source, const SunLigh
       const double covGS = (sumGS - sumG * sumS / m) / (m - 1.0);
       const double varS = (sumSS - sumS * sumS / m) / (m - 1.0);
       const uint32_t v = source.pointVertex(i);
-      const float se = luminance(source.isBack(i) ? pilot.backReflectedStdErrorLux[v]
-                                                  : pilot.frontReflectedStdErrorLux[v]);
-      const double varL = double(se) * double(se) * pathRatio;
+      const bool back = source.isBack(i);
+      const double meanL = luminance((back ? pilot.backReflectedLux : pilot.frontReflectedLux)[v]);
+      const double se = luminance((back ? pilot.backReflectedStdErrorLux : pilot.frontReflectedStdErrorLux)[v]);
+      // Where the pilot's paths reached the point too rarely for their spread to mean anything (a point that
+      // no path reached has a spread of 0), the light paths' error is unknown: the gathering estimate alone.
+      if (!(meanL > 0.0) || !(se < kMaxPilotRelativeError * meanL)) continue;
+      const double varL = se * se * pathRatio;
       const double denominator = varS + n * varL;
       if (denominator > 0.0 && std::isfinite(covGS)) {
         weights[i] = static_cast<float>(std::clamp(covGS / denominator, 0.0, 1.0));

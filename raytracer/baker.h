@@ -23,13 +23,14 @@ namespace fly::raytracer {
 // reflected light, S_L the light paths'. For any w fixed before either is drawn, E[S_G] = E[S_L] makes E
 // unbiased. w minimises the variance, Var(G − w S_G) + w² Var(S_L), for the planned sample counts:
 // w = Cov(G, S_G) / (Var(S_G) + n Var(S_L)) per sample (n gathering samples), clamped to [0, 1], with the
-// variances of an independent pilot (its own seeds). Weights from the samples of the bake itself would
+// variances of an independent pilot (its own seeds); w = 0 where the pilot's light paths reached the vertex
+// side too rarely to measure their variance. Weights from the samples of the bake itself would
 // correlate with them and bias the estimate.
 struct LightPathBakeSettings {
   bool enabled = false;
   LightPathSettings paths{1u << 18, 8, 0, 0};  // the light paths of the bake (seed and threads: the bake's)
   uint32_t pilotSamples = 32;                  // per vertex side, gathering
-  uint32_t pilotPathsPerBatch = 1u << 15;      // light paths, in 4 batches
+  uint32_t pilotPathsPerBatch = 1u << 15;      // light paths, in 8 batches
   uint32_t plannedSamples = 0;                 // n above; 0: EstimateSettings::maxSamples
 };
 
