@@ -22,6 +22,14 @@ constexpr uint32_t kFirstRouletteHit = 3;
 // the shading normal is bent towards the geometric one until the arrival direction is this far above it.
 constexpr float kMinShadingCos = 0.01f;
 
+// The share of paths launched through window panes when the scene has any (SunLightPaths::panes_), and the
+// most pane triangles for which that is done (each launch density tests them all).
+constexpr float kPaneLaunchFraction = 0.5f;
+constexpr size_t kMaxLaunchPanes = 256;
+
+// The sampler group of a path's launch choice (window pane or disc), far above the scattering groups.
+constexpr uint32_t kLaunchGroup = 1u << 21;
+
 // Paths traced by one task: its deposits stay in memory until they are added in path order.
 constexpr uint32_t kPathsPerChunk = 2048;
 
@@ -56,6 +64,59 @@ SunLightPaths::SunLightPaths(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
   launchDistanceM_ = 2.0f * radiusM;
   const float tanSun = std::tan(std::min(rdb.sun.halfAngleRad, 0.5f));
   discRadiusM_ = radiusM * (1.0f + 3.0f * tanSun) * 1.001f;
+
+  if (!integrator.hasSun()) return;
+  double total = 0.0;
+  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
+    const uint32_t mi = rdb.triangleMaterial[t];
+    if (!integrator.frontBsdfs_[mi].hasClearTransmission()) continue;
+    const float seen =
+        scene.triangleAreaM2(t) * std::abs(glm::dot(scene.triangleNormal(t), rdb.sun.directionWorld));
+    if (!(seen > 0.0f) || !std::isfinite(seen)) continue;
+    panes_.push_back(t);
+    total += seen;
+    paneCdf_.push_back(static_cast<float>(total));
+  }
+  if (panes_.size() > kMaxLaunchPanes || !(total > 0.0)) {
+    panes_.clear();
+    paneCdf_.clear();
+    return;
+  }
+  float below = 0.0f;
+  for (float& c : paneCdf_) {
+    c = static_cast<float>(c / total);
+    paneProbability_.push_back(c - below);
+    below = c;
+  }
+  paneCdf_.back() = 1.0f;
+}
+
+float SunLightPaths::launchDensity(const vec3& x, const vec3& towardsSun) const {
+  const float disc = 1.0f / (kPiF * discRadiusM_ * discRadiusM_);
+  if (panes_.empty()) return disc;
+  // A pane point q maps to the disc point x = q + u·towardsSun: dA_disc = dA_pane |n·ω| / |s·ω| (s the disc's
+  // normal, the sun's axis).
+  const float cosAxis = std::abs(glm::dot(rdb_.sun.directionWorld, towardsSun));
+  float pane = 0.0f;
+  for (size_t i = 0; i < panes_.size(); ++i) {
+    const uint32_t t = panes_[i];
+    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
+    const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
+    const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+    // The line x + u·towardsSun against the triangle (Möller–Trumbore, any u).
+    const vec3 h = glm::cross(towardsSun, e2);
+    const float a = glm::dot(e1, h);
+    if (!(std::abs(a) > 0.0f)) continue;
+    const vec3 sv = x - p0;
+    const float b1 = glm::dot(sv, h) / a;
+    if (b1 < 0.0f || b1 > 1.0f) continue;
+    const vec3 qv = glm::cross(sv, e1);
+    const float b2 = glm::dot(towardsSun, qv) / a;
+    if (b2 < 0.0f || b1 + b2 > 1.0f) continue;
+    const float cosPane = std::abs(glm::dot(scene_.triangleNormal(t), towardsSun));
+    if (cosPane > 0.0f) pane += paneProbability_[i] * cosAxis / (scene_.triangleAreaM2(t) * cosPane);
+  }
+  return (1.0f - kPaneLaunchFraction) * disc + kPaneLaunchFraction * pane;
 }
 
 void SunLightPaths::deposit(uint32_t t, const vec2& barycentric, const vec3& dir, const Rgb& fluxLm,
@@ -97,10 +158,31 @@ void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerP
   const vec2 cone = std::sin(sun.halfAngleRad) * sampleConcentricDisk(sampler.next2D());
   const vec3 towardsSun = glm::normalize(
       sunFrame.toWorld(vec3(cone.x, cone.y, std::sqrt(std::max(0.0f, 1.0f - glm::dot(cone, cone))))));
-  vec3 origin =
-      centreM_ + launchDistanceM_ * sun.directionWorld + sunFrame.toWorld(vec3(disc.x, disc.y, 0.0f));
+  const vec3 discCentre = centreM_ + launchDistanceM_ * sun.directionWorld;
+  vec3 origin = discCentre + sunFrame.toWorld(vec3(disc.x, disc.y, 0.0f));
+  if (!panes_.empty()) {
+    sampler.startGroup(kLaunchGroup);
+    const float uChoice = sampler.next1D();
+    const float uPane = sampler.next1D();
+    const vec2 uPoint = sampler.next2D();
+    if (uChoice < kPaneLaunchFraction) {
+      const size_t i = std::min<size_t>(
+          static_cast<size_t>(std::upper_bound(paneCdf_.begin(), paneCdf_.end(), uPane) - paneCdf_.begin()),
+          panes_.size() - 1);
+      const uint32_t t = panes_[i];
+      const vec3 b = sampleUniformTriangle(uPoint);
+      const vec3 q = b.x * rdb_.positionsM[rdb_.indices[3 * size_t{t}]] +
+                     b.y * rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] +
+                     b.z * rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]];
+      // Back along the path's direction to the disc's plane.
+      const float u = glm::dot(discCentre - q, sun.directionWorld) / glm::dot(towardsSun, sun.directionWorld);
+      origin = q + u * towardsSun;
+    }
+  }
   vec3 dir = -towardsSun;
-  Rgb flux = sun.normalIlluminanceLux * areaPerPathM2;
+  // areaPerPathM2 = A_disc / N, so E_n / (N p(x)) = E_n · areaPerPathM2 / (A_disc p(x)).
+  const float density = launchDensity(origin, towardsSun);
+  Rgb flux = sun.normalIlluminanceLux * areaPerPathM2 / (kPiF * discRadiusM_ * discRadiusM_ * density);
   bool reflected = false;
   std::optional<Bsdf> pointBsdf, pointDeltaLightBsdf;
   for (uint32_t hitIndex = 1; hitIndex <= kPathLengthGuard; ++hitIndex) {

@@ -81,11 +81,22 @@ class SunLightPaths {
   void deposit(uint32_t t, const vec2& barycentric, const vec3& dir, const Rgb& fluxLm, bool reflected,
                std::vector<Deposit>& out) const;
 
+  // The density per unit launch-disc area with which a path of direction −towardsSun starts at x on the
+  // disc: the disc's uniform share and the window panes' (below).
+  float launchDensity(const vec3& x, const vec3& towardsSun) const;
+
   const rdb::TraceRdb& rdb_;
   const EmbreeScene& scene_;
   const Integrator& integrator_;
-  std::vector<float> hatAreaM2_;   // per vertex: ∫ b_v dA over its one-ring (0: no ring)
-  std::vector<uint8_t> twoSided_;  // per vertex
+  // Window panes (clear-glass triangles facing the sun, at most kMaxLaunchPanes): a share kPaneLaunchFraction
+  // of the paths starts where its line through a point uniform on a pane (chosen by its area seen from the
+  // sun) meets the disc, so that the sun's light into rooms is traced by many paths; the rest uniformly on
+  // the disc. Each path carries E_n / (N p(x)), p the mixture's density on the disc: unbiased.
+  std::vector<uint32_t> panes_;
+  std::vector<float> paneCdf_;          // over panes_, by area × |cos| to the sun's axis, normalised
+  std::vector<float> paneProbability_;  // per entry of panes_
+  std::vector<float> hatAreaM2_;        // per vertex: ∫ b_v dA over its one-ring (0: no ring)
+  std::vector<uint8_t> twoSided_;       // per vertex
   vec3 centreM_{0.0f};
   float discRadiusM_ = 0.0f;
   float launchDistanceM_ = 0.0f;

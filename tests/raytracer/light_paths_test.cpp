@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -40,7 +41,8 @@ LightPathMaps trace(const rdb::TraceRdb& rdb, uint32_t pathsPerBatch, uint32_t b
 // hole in the middle of its roof; the sun shines through it onto the floor, whose sunlit patch lights the
 // walls and the ceiling. No sky. floorGlossiness ≥ 0: the floor also reflects 30 % (uniform, no Fresnel) by
 // a GGX lobe of that glossiness (0: a mirror).
-MeshBuilder roofWindowBox(float albedo, float floorGlossiness = -1.0f) {
+// glass: the hole holds a pane of clear glass (the light paths then start through it too).
+MeshBuilder roofWindowBox(float albedo, float floorGlossiness = -1.0f, bool glass = false) {
   MeshBuilder b;
   const uint32_t mat = b.material(Rgb(albedo));
   uint32_t floor = mat;
@@ -66,6 +68,14 @@ MeshBuilder roofWindowBox(float albedo, float floorGlossiness = -1.0f) {
   b.grid(vec3(-1, 1, 0.5f), vec3(2, 0, 0), vec3(0, 0, 0.5f), 4, mat);
   b.grid(vec3(-1, 1, -0.5f), vec3(0.5f, 0, 0), vec3(0, 0, 1), 2, mat);
   b.grid(vec3(0.5f, 1, -0.5f), vec3(0.5f, 0, 0), vec3(0, 0, 1), 2, mat);
+  if (glass) {
+    const uint32_t pane = b.material(Rgb(0.0f));
+    rdb::TraceMaterial& m = b.rdb.materials[pane];
+    m.reflection = Rgb(1.0f);  // Fresnel reflection of F0 = 0.04, as a preset glass
+    m.transmission = Rgb(0.9f);
+    m.transmissionGlossiness = 0.0f;
+    b.grid(vec3(-0.5f, 1, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), 2, pane);
+  }
   b.sun(kTowardsSun, kNormalLux);
   return b;
 }
@@ -121,10 +131,14 @@ TEST(LightPaths, FloorUnderTheSunIsNormalIlluminanceTimesCosine) {
 // With white walls (albedo 0.9, many bounces: a furnace-like cavity that the window's sun feeds) too, and
 // with a glossy and a mirror floor, whose sun reflection both estimators regularise alike (light_paths.h).
 TEST(LightPaths, RoofWindowBoxAgreesWithGathering) {
-  for (const auto& [albedo, floorGlossiness] :
-       {std::pair{0.5f, -1.0f}, {0.9f, -1.0f}, {0.5f, 0.1f}, {0.5f, 0.0f}}) {
+  for (const auto& [albedo, floorGlossiness, glass] : {std::tuple{0.5f, -1.0f, false},
+                                                       {0.9f, -1.0f, false},
+                                                       {0.5f, 0.1f, false},
+                                                       {0.5f, 0.0f, false},
+                                                       {0.5f, -1.0f, true}}) {
     SCOPED_TRACE(floorGlossiness);
-    const MeshBuilder b = roofWindowBox(albedo, floorGlossiness);
+    SCOPED_TRACE(glass ? "glass" : "open");
+    const MeshBuilder b = roofWindowBox(albedo, floorGlossiness, glass);
     const LightPathMaps paths = trace(b.rdb, 1u << 16, 16, 5);
     const VertexLightMaps gathered = bake(b.rdb, 2048, false, 11);
     double worst = 0.0;
@@ -154,7 +168,8 @@ TEST(LightPaths, RoofWindowBoxAgreesWithGathering) {
     EXPECT_GT(reflectedOnWalls, 0.0);
     const double rms = std::sqrt(sumSquares / double(count));
     std::cout << "[ lightpath] roof window, albedo " << albedo << ", floor glossiness " << floorGlossiness
-              << ": worst " << worst << " σ, RMS " << rms << " σ over " << count << " vertex channels\n";
+              << (glass ? ", glass" : "") << ": worst " << worst << " σ, RMS " << rms << " σ over " << count
+              << " vertex channels\n";
     // The errors are honest on the whole: the RMS of the normalised differences is about 1.
     EXPECT_GT(rms, 1.0 / 1.5);
     EXPECT_LT(rms, 1.5);
