@@ -7,8 +7,9 @@
 // over vertex sides of (value − reference) / √(σ² + σ_ref²) should be near 1 for both.
 //
 // Usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference 1024] [--paths-per-sample 8]
-// (run from the repository's root for the default scene; --paths-per-sample: light paths per vertex side
-// per gathering sample).
+// [--pilot-fraction 0.125] (run from the repository's root for the default scene; --paths-per-sample: light
+// paths per vertex side per gathering sample; --pilot-fraction: the pilot's light paths as a fraction of the
+// bake's).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -85,6 +86,7 @@ int run(int argc, char** argv) {
   std::vector<uint32_t> samples = {64, 256, 1024};
   uint32_t referenceSamples = 1024;
   double pathsPerSample = 8.0;
+  double pilotFraction = 0.125;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--samples" && i + 1 < argc) {
@@ -93,12 +95,14 @@ int run(int argc, char** argv) {
       referenceSamples = static_cast<uint32_t>(std::strtoul(argv[++i], nullptr, 10));
     } else if (a == "--paths-per-sample" && i + 1 < argc) {
       pathsPerSample = std::strtod(argv[++i], nullptr);
+    } else if (a == "--pilot-fraction" && i + 1 < argc) {
+      pilotFraction = std::strtod(argv[++i], nullptr);
     } else if (a.rfind("--", 0) != 0) {
       scenePath = a;
     } else {
       std::fprintf(stderr,
                    "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
-                   "[--paths-per-sample X]\n");
+                   "[--paths-per-sample X] [--pilot-fraction F]\n");
       return 2;
     }
   }
@@ -119,13 +123,18 @@ int run(int argc, char** argv) {
     s.lightPaths.paths.batches = 8;
     s.lightPaths.paths.pathsPerBatch =
         std::max<uint32_t>(1024, static_cast<uint32_t>(pathsPerSample * double(n) * double(sides) / 8.0));
-    s.lightPaths.pilotPathsPerBatch = std::max<uint32_t>(1024, s.lightPaths.paths.pathsPerBatch / 8);
+    s.lightPaths.pilotPathsPerBatch = std::max<uint32_t>(
+        1024, static_cast<uint32_t>(pilotFraction * double(s.lightPaths.paths.pathsPerBatch)));
     s.lightPaths.pilotSamples = 16;
     const auto start = std::chrono::steady_clock::now();
     raytracer::VertexLightMaps m = raytracer::bakeVertexLightMaps(rdb, scene, s);
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     row.p95 = relativeErrorP95(m);
     row.rays = m.rays + m.lightPathRays;
+    if (lightPaths) {
+      std::printf("  (%u samples: light paths combined at %zu of %zu vertex sides, mean weight %.2f)\n", n,
+                  m.lightPathCombinedSides, sides, m.lightPathMeanWeight);
+    }
     return m;
   };
   Row refRow;

@@ -266,9 +266,10 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
   if (maps.lightPaths > 0) {
     std::fprintf(stderr,
-                 "light paths: %llu from the sun (pilot included), %.3g Mrays, %.1f s before the passes\n",
+                 "light paths: %llu from the sun (pilot included), %.3g Mrays, %.1f s before the passes; "
+                 "combined at %zu vertex sides, mean weight %.2f\n",
                  static_cast<unsigned long long>(maps.lightPaths), double(maps.lightPathRays) * 1e-6,
-                 maps.lightPathSeconds);
+                 maps.lightPathSeconds, maps.lightPathCombinedSides, maps.lightPathMeanWeight);
   } else if (settings.lightPaths.enabled) {
     std::fprintf(stderr, "light paths: none (the scene has no sun that lights it)\n");
   }

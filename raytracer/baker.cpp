@@ -464,6 +464,13 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     lightPathMaps = lightPaths.trace(pathSettings);
     maps.lightPaths += lightPathMaps->paths;
     maps.lightPathRays += lightPathMaps->rays;
+    for (float w : weights) {
+      if (w > 0.0f) {
+        ++maps.lightPathCombinedSides;
+        maps.lightPathMeanWeight += w;
+      }
+    }
+    if (maps.lightPathCombinedSides > 0) maps.lightPathMeanWeight /= double(maps.lightPathCombinedSides);
     vertexSource.setSunReflectedWeights(weights);
     maps.lightPathSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

@@ -90,6 +90,9 @@ struct VertexLightMaps {
   uint64_t lightPaths = 0;
   uint64_t lightPathRays = 0;
   double lightPathSeconds = 0.0;
+  // The vertex sides whose estimate combines the light paths' (weight > 0), and their mean weight.
+  size_t lightPathCombinedSides = 0;
+  double lightPathMeanWeight = 0.0;
 };
 
 // A bake's checkpoint: the driver's state and the convergence history so far (raytracer/progressive.h).
