@@ -197,6 +197,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"max_bounces", job.settings.integrator.maxBounces},
         {"caustics", job.settings.integrator.caustics},
         {"sky_portals", job.settings.integrator.skyPortals},
+        {"light_paths", job.settings.lightPaths.enabled},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
       {"daylight", job.daylight},
@@ -260,6 +261,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.settings.integrator.caustics = s.value("caustics", false);
     // ... and without sky portals.
     c.job.settings.integrator.skyPortals = s.value("sky_portals", false);
+    // ... and without light paths.
+    c.job.settings.lightPaths.enabled = s.value("light_paths", false);
     c.job.exportGltf = s.at("export_gltf").get<bool>();
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);

@@ -34,6 +34,7 @@ struct BakeOptions {
   bool exportGltf = false;
   std::string checkpoint;  // a duration; "" = no checkpoints
   std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
+  std::string lightPaths = "off";  // on or off: raytracer::LightPathBakeSettings::enabled
   DaylightOptions daylight;
 };
 
@@ -44,6 +45,9 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     if (o.scene.empty() || o.out.empty()) {
       throw UsageError("bake: give SCENE and --out DIR (or --resume DIR to continue an interrupted bake)");
     }
+    if (o.lightPaths != "on" && o.lightPaths != "off") {
+      throw UsageError("--light-paths " + o.lightPaths + ": expected on or off");
+    }
     BakeJob job;
     job.scenePath = o.scene;
     job.outDir = o.out;
@@ -53,7 +57,7 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     return job;
   }
   for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
-                           "--max-bounces", "--export-gltf"}) {
+                           "--max-bounces", "--export-gltf", "--light-paths"}) {
     if (sub.count(name) > 0) {
       throw UsageError(
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
@@ -145,6 +149,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
     job.daylight = daylightJson(scene, lit.defaultDaylight);
     job.settings.estimate = estimateSettings(o.sampling, scene.bakeSettings());
     job.settings.integrator = integratorSettings(o.sampling, scene.bakeSettings());
+    job.settings.lightPaths.enabled = o.lightPaths == "on";
   }
   const raytracer::BakeSettings& settings = job.settings;
   checkBakeOutput(o.out);  // before the bake, so that an hour's work is not refused at the end
@@ -217,7 +222,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"threads", e.threads},
       {"max_bounces", settings.integrator.maxBounces},
       {"caustics", settings.integrator.caustics},
-      {"sky_portals", settings.integrator.skyPortals}};
+      {"sky_portals", settings.integrator.skyPortals},
+      {"light_paths", settings.lightPaths.enabled}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
     d.meshNames.push_back(scene.mesh(sdb::MeshId{m.sdbMeshId}).name);
@@ -258,6 +264,15 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       "%.3g Mrays/s -> %s\n",
       rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, sunText, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
+  if (maps.lightPaths > 0) {
+    std::fprintf(stderr,
+                 "light paths: %llu from the sun (pilot included), %.3g Mrays, %.1f s before the passes; "
+                 "combined at %zu vertex sides, mean weight %.2f\n",
+                 static_cast<unsigned long long>(maps.lightPaths), double(maps.lightPathRays) * 1e-6,
+                 maps.lightPathSeconds, maps.lightPathCombinedSides, maps.lightPathMeanWeight);
+  } else if (settings.lightPaths.enabled) {
+    std::fprintf(stderr, "light paths: none (the scene has no sun that lights it)\n");
+  }
   for (const raytracer::LightTexture& tex : maps.lightTextures) {
     const rdb::TraceLightTexture& lt = rdb.lightTextures[size_t(&tex - maps.lightTextures.data())];
     const std::string& name = d.meshNames[tex.mesh].empty() ? d.nodeNames[tex.mesh] : d.meshNames[tex.mesh];
@@ -304,6 +319,9 @@ Command addBakeCommand(CLI::App& app) {
       "--checkpoint", o->checkpoint,
       "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
       "can continue with --resume DIR; deleted when the bake completes");
+  sub->add_option("--light-paths", o->lightPaths,
+                  "on: light paths from the sun combined with the gathering estimate of every vertex "
+                  "(docs/light-paths.md); off (the default): gathering alone");
   o->daylight.add(*sub, &o->sampling.time);
   sub->add_option("--resume", o->resume,
                   "continue the interrupted bake into DIR from DIR.checkpoint/ with its saved settings; the "

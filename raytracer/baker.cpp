@@ -1,8 +1,12 @@
 #include "raytracer/baker.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <optional>
 #include <span>
+#include <thread>
 #include <utility>
 
 #include "raytracer/sampler.h"
@@ -116,6 +120,20 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     return 2 * meshOfVertex_[pointVertex_[point]] + (isBack(point) ? 1 : 0);
   }
 
+  // Per point, the weight w of the light paths' estimate of the sun's reflected light
+  // (LightPathBakeSettings): the samples become G − w S_G. Empty (or 0) for the gathering estimate alone.
+  void setSunReflectedWeights(std::vector<float> weights) { sunReflectedWeights_ = std::move(weights); }
+
+  // One gathering sample of point `point` with the sun's reflected part S_G apart (sunReflectedLux), for the
+  // pilot of the combination.
+  template <class S>
+  Rgb sampleSplit(size_t point, S& sampler, uint64_t& rays, Rgb& sunReflectedLux) const {
+    Rgb sunLux(0.0f);
+    const PointSample sample = sampleWith(point, sampler, rays, &sunLux);
+    sunReflectedLux = sunLux - sample.sunDirectLux;
+    return sample.lux;
+  }
+
   bool hasRing(uint32_t v) const { return ringOffsets_[v + 1] > ringOffsets_[v]; }
   bool isTwoSided(uint32_t v) const { return twoSided_[v]; }
   uint32_t pointVertex(size_t point) const { return pointVertex_[point]; }
@@ -185,6 +203,17 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   // hat-weighted average ∫ b_v E dA / ∫ b_v dA.
   template <class S>
   PointSample sampleAt(size_t point, S& sampler, uint64_t& rays) const {
+    const float w = sunReflectedWeights_.empty() ? 0.0f : sunReflectedWeights_[point];
+    if (!(w > 0.0f)) return sampleWith(point, sampler, rays, nullptr);
+    Rgb sunLux(0.0f);
+    PointSample sample = sampleWith(point, sampler, rays, &sunLux);
+    sample.lux -= w * (sunLux - sample.sunDirectLux);
+    return sample;
+  }
+
+  // sunLux, when given, receives the sample's light from the sun (Integrator::sampleIrradiance).
+  template <class S>
+  PointSample sampleWith(size_t point, S& sampler, uint64_t& rays, Rgb* sunLux) const {
     const uint32_t v = pointVertex_[point];
     sampler.startGroup(kOneRingGroup);
     const vec2 u = sampler.next2D();
@@ -226,8 +255,8 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     if (!(glm::dot(n, ngFront) > 0.0f)) n = ngFront;
     if (isBack(point)) n = -n;
     PointSample sample;
-    sample.lux =
-        integrator_.sampleIrradiance(p, n, sampler, rays, scene_.triangleMagnitudeM(t), &sample.sunDirectLux);
+    sample.lux = integrator_.sampleIrradiance(p, n, sampler, rays, scene_.triangleMagnitudeM(t),
+                                              &sample.sunDirectLux, sunLux);
     return sample;
   }
 
@@ -243,7 +272,83 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   std::vector<uint32_t> meshOfVertex_;  // per vertex: its TraceMesh (0 for none)
   std::vector<uint32_t> pointVertex_;   // per point: the fronts, then the backs
   size_t frontCount_ = 0;
+  std::vector<float> sunReflectedWeights_;  // per point (setSunReflectedWeights)
 };
+
+// The pilot's relative standard error of the light paths' estimate at a point above which their variance
+// there is taken as unknown and the point keeps the gathering estimate alone (weight 0). With 8 batches, a
+// point reached by a handful of paths has a relative error near 1 and a spread that says little.
+constexpr double kMaxPilotRelativeError = 0.25;
+
+// The seed of the light paths of a bake of seed `seed`, and of the two pilots: scrambles of their own (the
+// gathering samplers are seeded with seed + point).
+uint64_t lightPathSeed(uint64_t seed, uint64_t stream) {
+  return detail::mix64(seed ^ (0x6c69676874706174ull + stream));
+}
+
+// The combination's weight per vertex point (LightPathBakeSettings) from the pilots: `pilot.pilotSamples`
+// gathering samples per point and light paths of their own seeds, in luminance.
+std::vector<float> combinationWeights(const OneRingSource& source, const SunLightPaths& lightPaths,
+                                      const BakeSettings& settings, uint64_t& paths, uint64_t& rays) {
+  const LightPathBakeSettings& lp = settings.lightPaths;
+  LightPathSettings pilotPaths;
+  pilotPaths.pathsPerBatch = lp.pilotPathsPerBatch;
+  pilotPaths.batches = 8;
+  pilotPaths.seed = lightPathSeed(settings.estimate.seed, 1);
+  pilotPaths.threads = settings.estimate.threads;
+  const LightPathMaps pilot = lightPaths.trace(pilotPaths);
+  paths += pilot.paths;
+  rays += pilot.rays;
+  // The light paths' variance of the mean at the bake's budget: the pilot's, scaled by the paths' ratio.
+  const double pathRatio =
+      double(pilot.paths) / (double(lp.paths.pathsPerBatch) * double(std::max(lp.paths.batches, 1u)));
+  const double n = lp.plannedSamples > 0 ? lp.plannedSamples : settings.estimate.maxSamples;
+  const size_t points = source.pointCount();
+  std::vector<float> weights(points, 0.0f);
+  const uint32_t threads = settings.estimate.threads > 0 ? settings.estimate.threads
+                                                         : std::max(1u, std::thread::hardware_concurrency());
+  std::atomic<size_t> next{0};
+  std::vector<uint64_t> threadRays(threads, 0);
+  const uint64_t pilotSeed = lightPathSeed(settings.estimate.seed, 2);
+  auto work = [&](uint32_t k) {
+    for (size_t i; (i = next.fetch_add(1)) < points;) {
+      SobolSampler sampler(pilotSeed + i);
+      double sumG = 0.0, sumS = 0.0, sumGS = 0.0, sumSS = 0.0;
+      for (uint32_t j = 0; j < lp.pilotSamples; ++j) {
+        sampler.startSample(j);
+        Rgb sunReflected;
+        const double g = luminance(source.sampleSplit(i, sampler, threadRays[k], sunReflected));
+        const double sr = luminance(sunReflected);
+        sumG += g;
+        sumS += sr;
+        sumGS += g * sr;
+        sumSS += sr * sr;
+      }
+      const double m = lp.pilotSamples;
+      if (m < 2.0) continue;
+      const double covGS = (sumGS - sumG * sumS / m) / (m - 1.0);
+      const double varS = (sumSS - sumS * sumS / m) / (m - 1.0);
+      const uint32_t v = source.pointVertex(i);
+      const bool back = source.isBack(i);
+      const double meanL = luminance((back ? pilot.backReflectedLux : pilot.frontReflectedLux)[v]);
+      const double se = luminance((back ? pilot.backReflectedStdErrorLux : pilot.frontReflectedStdErrorLux)[v]);
+      // Where the pilot's paths reached the point too rarely for their spread to mean anything (a point that
+      // no path reached has a spread of 0), the light paths' error is unknown: the gathering estimate alone.
+      if (!(meanL > 0.0) || !(se < kMaxPilotRelativeError * meanL)) continue;
+      const double varL = se * se * pathRatio;
+      const double denominator = varS + n * varL;
+      if (denominator > 0.0 && std::isfinite(covGS)) {
+        weights[i] = static_cast<float>(std::clamp(covGS / denominator, 0.0, 1.0));
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (uint32_t k = 1; k < threads; ++k) pool.emplace_back(work, k);
+  work(0);
+  for (std::thread& t : pool) t.join();
+  for (uint64_t r : threadRays) rays += r;
+  return weights;
+}
 
 // Vertices without a ring take the mean of their already known neighbours along the mesh's edges (all
 // triangles, degenerate ones included; the back only on two-sided meshes), repeated until nothing changes;
@@ -343,10 +448,34 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
                                     const BakeSettings& settings, const BakeProgress& progress,
                                     const BakeCheckpointing& checkpointing) {
   const Integrator integrator(rdb, scene, settings.integrator);
-  const OneRingSource vertexSource(rdb, scene, integrator);
+  OneRingSource vertexSource(rdb, scene, integrator);
+  VertexLightMaps maps;
+  // The light paths and the combination's weights: deterministic functions of the settings, so a resumed
+  // bake computes them again alike.
+  std::optional<LightPathMaps> lightPathMaps;
+  std::vector<float> weights;
+  if (settings.lightPaths.enabled && integrator.hasSun()) {
+    const auto start = std::chrono::steady_clock::now();
+    const SunLightPaths lightPaths(rdb, scene, integrator);
+    weights = combinationWeights(vertexSource, lightPaths, settings, maps.lightPaths, maps.lightPathRays);
+    LightPathSettings pathSettings = settings.lightPaths.paths;
+    pathSettings.seed = lightPathSeed(settings.estimate.seed, 0);
+    pathSettings.threads = settings.estimate.threads;
+    lightPathMaps = lightPaths.trace(pathSettings);
+    maps.lightPaths += lightPathMaps->paths;
+    maps.lightPathRays += lightPathMaps->rays;
+    for (float w : weights) {
+      if (w > 0.0f) {
+        ++maps.lightPathCombinedSides;
+        maps.lightPathMeanWeight += w;
+      }
+    }
+    if (maps.lightPathCombinedSides > 0) maps.lightPathMeanWeight /= double(maps.lightPathCombinedSides);
+    vertexSource.setSunReflectedWeights(weights);
+    maps.lightPathSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   const TexelSource texelSource(rdb, scene, integrator);
   const JoinedSource source(vertexSource, texelSource);
-  VertexLightMaps maps;
   BakeCheckpoint localState;
   BakeCheckpoint& state = checkpointing.state ? *checkpointing.state : localState;
   if (state.progress.started()) maps.history = state.history;
@@ -387,8 +516,20 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     const uint32_t v = vertexSource.pointVertex(i);
     const IrradianceEstimate& e = result.points[i];
     const bool back = vertexSource.isBack(i);
-    (back ? maps.backLux : maps.frontLux)[v] = e.meanLux;
-    (back ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = e.stdErrorLux;
+    Rgb meanLux = e.meanLux;
+    Rgb stdErrorLux = e.stdErrorLux;
+    if (lightPathMaps && weights[i] > 0.0f) {
+      // G − w S_G + w S_L; the two estimates are independent, so their variances add. Noise can take the
+      // sum below 0 where the light is faint; it is clamped there.
+      const float w = weights[i];
+      const Rgb& sL = (back ? lightPathMaps->backReflectedLux : lightPathMaps->frontReflectedLux)[v];
+      const Rgb& sLError =
+          (back ? lightPathMaps->backReflectedStdErrorLux : lightPathMaps->frontReflectedStdErrorLux)[v];
+      meanLux = glm::max(meanLux + w * sL, Rgb(0.0f));
+      stdErrorLux = glm::sqrt(stdErrorLux * stdErrorLux + (w * w) * sLError * sLError);
+    }
+    (back ? maps.backLux : maps.frontLux)[v] = meanLux;
+    (back ? maps.backStdErrorLux : maps.frontStdErrorLux)[v] = stdErrorLux;
     if (sun) {
       (back ? maps.backSunDirectLux : maps.frontSunDirectLux)[v] = e.sunDirectMeanLux;
       (back ? maps.backSunDirectStdErrorLux : maps.frontSunDirectStdErrorLux)[v] = e.sunDirectStdErrorLux;

@@ -10,14 +10,34 @@
 
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
+#include "raytracer/light_paths.h"
 #include "raytracer/texel_baker.h"
 #include "rdb/trace_rdb.h"
 
 namespace fly::raytracer {
 
+// Light paths from the sun (raytracer/light_paths.h) combined with the gathering estimator per vertex side
+// (docs/light-paths.md). The sun's reflected light at a vertex side is estimated twice, independently: by the
+// gathering samples (Integrator::sampleIrradiance's sunLux less its sunDirectLux) and by the light paths. The
+// bake reports E = G − w S_G + w S_L: G the gathering estimate of everything, S_G its estimate of the sun's
+// reflected light, S_L the light paths'. For any w fixed before either is drawn, E[S_G] = E[S_L] makes E
+// unbiased. w minimises the variance, Var(G − w S_G) + w² Var(S_L), for the planned sample counts:
+// w = Cov(G, S_G) / (Var(S_G) + n Var(S_L)) per sample (n gathering samples), clamped to [0, 1], with the
+// variances of an independent pilot (its own seeds); w = 0 where the pilot's light paths reached the vertex
+// side too rarely to measure their variance. Weights from the samples of the bake itself would
+// correlate with them and bias the estimate.
+struct LightPathBakeSettings {
+  bool enabled = false;
+  LightPathSettings paths{1u << 18, 8, 0, 0};  // the light paths of the bake (seed and threads: the bake's)
+  uint32_t pilotSamples = 32;                  // per vertex side, gathering
+  uint32_t pilotPathsPerBatch = 1u << 15;      // light paths, in 8 batches
+  uint32_t plannedSamples = 0;                 // n above; 0: EstimateSettings::maxSamples
+};
+
 struct BakeSettings {
   EstimateSettings estimate;      // passes, stopping rules (samples, time, target error), sampler, threads
   IntegratorSettings integrator;  // bounces
+  LightPathBakeSettings lightPaths;
 };
 
 // One row of convergence.csv: the state after a pass.
@@ -65,6 +85,14 @@ struct VertexLightMaps {
   size_t unfilledVertices = 0;
   // One per TraceRdb::lightTextures entry, baked in the same passes (raytracer/texel_baker.h).
   std::vector<LightTexture> lightTextures;
+  // With light paths (LightPathBakeSettings::enabled and a sun): the paths traced, pilot included, their rays
+  // and seconds (pilots included; `seconds` above is the gathering passes' alone).
+  uint64_t lightPaths = 0;
+  uint64_t lightPathRays = 0;
+  double lightPathSeconds = 0.0;
+  // The vertex sides whose estimate combines the light paths' (weight > 0), and their mean weight.
+  size_t lightPathCombinedSides = 0;
+  double lightPathMeanWeight = 0.0;
 };
 
 // A bake's checkpoint: the driver's state and the convergence history so far (raytracer/progressive.h).

@@ -792,9 +792,10 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
 
 template <class S>
 Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
-                                 float surfaceMagnitudeM, Rgb* sunDirectLux) const {
+                                 float surfaceMagnitudeM, Rgb* sunDirectLux, Rgb* sunLux) const {
   Rgb sum(0.0f);
   if (sunDirectLux) *sunDirectLux = Rgb(0.0f);
+  if (sunLux) *sunLux = Rgb(0.0f);
   // Path throughput: Π f |cos θ| / pdf over the vertices passed (π at the sensor, whose integrand is L cos
   // θ), over the Russian-roulette survival probabilities.
   Rgb beta(1.0f);
@@ -849,8 +850,12 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
 
     if (deltaLightSampling) {
       // At the sensor (depth 0, β = 1) the sun's sample is the sun-direct part.
+      Rgb sunPart(0.0f);
+      const bool wantsSun = sunLux != nullptr || (depth == 0 && sunDirectLux != nullptr);
       sum += beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler,
-                                rays, depth == 0 ? sunDirectLux : nullptr);
+                                rays, wantsSun ? &sunPart : nullptr);
+      if (depth == 0 && sunDirectLux) *sunDirectLux = sunPart;
+      if (sunLux) *sunLux += beta * sunPart;
     }
 
     // The continuation.
@@ -910,7 +915,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
       if (specular && settings_.caustics && sunOneMinusCos_ > 0.0f) {
         const vec3 offAxis = d - rdb_.sun.directionWorld;
-        if (0.5f * glm::dot(offAxis, offAxis) <= sunOneMinusCos_) sum += beta * sunRadianceCdM2_;
+        if (0.5f * glm::dot(offAxis, offAxis) <= sunOneMinusCos_) {
+          sum += beta * sunRadianceCdM2_;
+          if (sunLux) *sunLux += beta * sunRadianceCdM2_;
+        }
       }
       break;
     }
@@ -961,9 +969,9 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   return sum;
 }
 
-template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float,
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, SobolSampler&, uint64_t&, float, Rgb*,
                                           Rgb*) const;
-template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float,
+template Rgb Integrator::sampleIrradiance(const vec3&, const vec3&, RandomSampler&, uint64_t&, float, Rgb*,
                                           Rgb*) const;
 
 namespace {

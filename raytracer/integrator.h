@@ -184,14 +184,20 @@ class Integrator {
   // and the sky table holds no sun). The sample minus it is the same path's estimate of everything else:
   // the sky, lights, emitters and all reflected light, the sun's included (FLY §3's sunlight mode bakes that
   // and draws the sun's direct term in real time). 0 without a sun.
+  // sunLux, when given, receives the part of the returned sample that came from the sun at all: its light
+  // sampled at every vertex (and, with caustics, found after a mirror), direct and reflected; what the light
+  // paths from the sun (raytracer/light_paths.h) also estimate.
   template <class S>
   Rgb sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
-                       float surfaceMagnitudeM = 0.0f, Rgb* sunDirectLux = nullptr) const;
+                       float surfaceMagnitudeM = 0.0f, Rgb* sunDirectLux = nullptr,
+                       Rgb* sunLux = nullptr) const;
 
   // Whether the scene has a sun that lights it (sunLights): only then has sampleIrradiance a sun-direct part.
   bool hasSun() const { return sunOneMinusCos_ > 0.0f; }
 
  private:
+  friend class SunLightPaths;  // the light paths (raytracer/light_paths.h) scatter by the same Bsdfs
+
   struct Vertex {
     vec3 p;            // on the surface (not offset)
     vec3 n;            // unit shading normal on the side being lit (the side of the path's previous vertex)

@@ -386,63 +386,71 @@ TEST(ProgressStateTest, AStateOfAnotherEstimateIsRefused) {
 // saved checkpoint: the same light maps and the same convergence history (samples per pass) as a bake that
 // ran through.
 TEST(BakeCheckpointTest, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
-  rdb::TraceRdbBuilder b;
-  const uint32_t grey = b.material(Rgb(0.5f));
-  b.ground(5.0f, 24, grey);
-  b.grid(vec3(-1, 0, -1), vec3(0, 2, 0), vec3(0, 0, 2), 4, grey, true);  // a two-sided wall
-  b.uniformSky(Rgb(1000.0f));
-  b.pointLight(vec3(2, 3, 1), Rgb(5000.0f));
-  b.sun(vec3(0.4f, 0.7f, -0.5f), Rgb(60000.0f));  // its direct part is kept apart and resumed alike
-  const EmbreeScene scene(b.rdb);
-  BakeSettings settings;
-  settings.estimate.maxSamples = 64;
-  settings.estimate.threads = 2;
-  const VertexLightMaps whole = bakeVertexLightMaps(b.rdb, scene, settings);
+  for (const bool lightPaths : {false, true}) {
+    SCOPED_TRACE(lightPaths ? "light paths" : "gathering");
+    rdb::TraceRdbBuilder b;
+    const uint32_t grey = b.material(Rgb(0.5f));
+    b.ground(5.0f, 24, grey);
+    b.grid(vec3(-1, 0, -1), vec3(0, 2, 0), vec3(0, 0, 2), 4, grey, true);  // a two-sided wall
+    b.uniformSky(Rgb(1000.0f));
+    b.pointLight(vec3(2, 3, 1), Rgb(5000.0f));
+    b.sun(vec3(0.4f, 0.7f, -0.5f), Rgb(60000.0f));  // its direct part is kept apart and resumed alike
+    const EmbreeScene scene(b.rdb);
+    BakeSettings settings;
+    settings.estimate.maxSamples = 64;
+    settings.estimate.threads = 2;
+    // With light paths from the sun too: their pilot and paths are traced again alike on resuming.
+    settings.lightPaths.enabled = lightPaths;
+    settings.lightPaths.paths.pathsPerBatch = 4096;
+    settings.lightPaths.pilotPathsPerBatch = 1024;
+    const VertexLightMaps whole = bakeVertexLightMaps(b.rdb, scene, settings);
 
-  struct Killed {};
-  BakeCheckpoint state;
-  std::vector<std::string> saved;
-  std::vector<size_t> historyAtSave;
-  BakeCheckpointing checkpointing;
-  checkpointing.state = &state;
-  checkpointing.intervalS = 0.0;
-  checkpointing.save = [&](const BakeCheckpoint& s) {
-    saved.push_back(serializeProgressState(s.progress));
-    historyAtSave.push_back(s.history.size());
-    if (saved.size() == 3) throw Killed{};
-  };
-  EXPECT_THROW(bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing), Killed);
-  ASSERT_EQ(saved.size(), 3u);
+    struct Killed {};
+    BakeCheckpoint state;
+    std::vector<std::string> saved;
+    std::vector<size_t> historyAtSave;
+    BakeCheckpointing checkpointing;
+    checkpointing.state = &state;
+    checkpointing.intervalS = 0.0;
+    checkpointing.save = [&](const BakeCheckpoint& s) {
+      saved.push_back(serializeProgressState(s.progress));
+      historyAtSave.push_back(s.history.size());
+      if (saved.size() == 3) throw Killed{};
+    };
+    EXPECT_THROW(bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing), Killed);
+    ASSERT_EQ(saved.size(), 3u);
 
-  BakeCheckpoint resumed;
-  resumed.progress = deserializeProgressState(saved.back(), "state.bin");
-  resumed.history = std::vector<ConvergencePoint>(
-      state.history.begin(), state.history.begin() + static_cast<long>(historyAtSave.back()));
-  checkpointing.state = &resumed;
-  checkpointing.save = {};
-  const VertexLightMaps continued = bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing);
-  ASSERT_EQ(continued.frontLux.size(), whole.frontLux.size());
-  EXPECT_EQ(
-      std::memcmp(continued.frontLux.data(), whole.frontLux.data(), whole.frontLux.size() * sizeof(Rgb)), 0);
-  EXPECT_EQ(std::memcmp(continued.backLux.data(), whole.backLux.data(), whole.backLux.size() * sizeof(Rgb)),
-            0);
-  EXPECT_EQ(std::memcmp(continued.frontStdErrorLux.data(), whole.frontStdErrorLux.data(),
-                        whole.frontStdErrorLux.size() * sizeof(Rgb)),
-            0);
-  ASSERT_TRUE(whole.hasSunDirect());
-  for (auto part : {&VertexLightMaps::frontSunDirectLux, &VertexLightMaps::frontSunDirectStdErrorLux,
-                    &VertexLightMaps::backSunDirectLux, &VertexLightMaps::backSunDirectStdErrorLux}) {
-    ASSERT_EQ((continued.*part).size(), (whole.*part).size());
-    EXPECT_EQ(std::memcmp((continued.*part).data(), (whole.*part).data(), (whole.*part).size() * sizeof(Rgb)),
+    BakeCheckpoint resumed;
+    resumed.progress = deserializeProgressState(saved.back(), "state.bin");
+    resumed.history = std::vector<ConvergencePoint>(
+        state.history.begin(), state.history.begin() + static_cast<long>(historyAtSave.back()));
+    checkpointing.state = &resumed;
+    checkpointing.save = {};
+    const VertexLightMaps continued = bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing);
+    ASSERT_EQ(continued.frontLux.size(), whole.frontLux.size());
+    EXPECT_EQ(
+        std::memcmp(continued.frontLux.data(), whole.frontLux.data(), whole.frontLux.size() * sizeof(Rgb)),
+        0);
+    EXPECT_EQ(std::memcmp(continued.backLux.data(), whole.backLux.data(), whole.backLux.size() * sizeof(Rgb)),
               0);
-  }
-  EXPECT_EQ(continued.samplesPerVertex, whole.samplesPerVertex);
-  EXPECT_EQ(continued.rays, whole.rays);
-  ASSERT_EQ(continued.history.size(), whole.history.size());
-  for (size_t i = 0; i < whole.history.size(); ++i) {
-    EXPECT_EQ(continued.history[i].samples, whole.history[i].samples);
-    EXPECT_EQ(continued.history[i].relativeErrorP95, whole.history[i].relativeErrorP95);
-    EXPECT_EQ(continued.history[i].sunDirectRelativeErrorP95, whole.history[i].sunDirectRelativeErrorP95);
+    EXPECT_EQ(std::memcmp(continued.frontStdErrorLux.data(), whole.frontStdErrorLux.data(),
+                          whole.frontStdErrorLux.size() * sizeof(Rgb)),
+              0);
+    ASSERT_TRUE(whole.hasSunDirect());
+    for (auto part : {&VertexLightMaps::frontSunDirectLux, &VertexLightMaps::frontSunDirectStdErrorLux,
+                      &VertexLightMaps::backSunDirectLux, &VertexLightMaps::backSunDirectStdErrorLux}) {
+      ASSERT_EQ((continued.*part).size(), (whole.*part).size());
+      EXPECT_EQ(
+          std::memcmp((continued.*part).data(), (whole.*part).data(), (whole.*part).size() * sizeof(Rgb)), 0);
+    }
+    EXPECT_EQ(continued.samplesPerVertex, whole.samplesPerVertex);
+    EXPECT_EQ(continued.rays, whole.rays);
+    ASSERT_EQ(continued.history.size(), whole.history.size());
+    for (size_t i = 0; i < whole.history.size(); ++i) {
+      EXPECT_EQ(continued.history[i].samples, whole.history[i].samples);
+      EXPECT_EQ(continued.history[i].relativeErrorP95, whole.history[i].relativeErrorP95);
+      EXPECT_EQ(continued.history[i].sunDirectRelativeErrorP95, whole.history[i].sunDirectRelativeErrorP95);
+    }
   }
 }
 
