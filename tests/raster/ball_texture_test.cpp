@@ -285,6 +285,31 @@ TEST(BallTexture, RenderedSphereInPerspective) {
 // below the horizon; no lights) against fine quadrature of ∫ f cos θi L dωi on the CPU (1024 × 1024 half
 // vectors, the same warp) at 49 texels spread over the ball, in a view tilted 30° down so the horizon crosses
 // the ball.
+// The steps² midpoint grid of half vectors (θh = u² · π/2, φh) for the ball texel of view-frame normal nView,
+// ωo = the view's +Z: visit(ωi local, ωo local, ωi world, dω) for every ωi above the surface.
+template <class Visit>
+void forEachHalfVectorCell(const mat3& worldFromView, const vec3& nView, int steps, const Visit& visit) {
+  const vec3 n = worldFromView * nView;
+  const vec3 wo = worldFromView * vec3(0.0f, 0.0f, 1.0f);
+  const vec3 t = glm::normalize(glm::cross(std::abs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), n));
+  const vec3 bt = glm::cross(n, t);
+  const vec3 woLocal(glm::dot(wo, t), glm::dot(wo, bt), glm::dot(wo, n));
+  for (int p = 0; p < steps; ++p) {
+    const double u = (p + 0.5) / steps, thetaH = u * u * kPi / 2;
+    for (int q = 0; q < steps; ++q) {
+      const double phi = 2.0 * kPi * (q + 0.5) / steps;
+      const vec3 h(float(std::sin(thetaH) * std::cos(phi)), float(std::sin(thetaH) * std::sin(phi)),
+                   float(std::cos(thetaH)));
+      const float woDotH = glm::dot(woLocal, h);
+      if (woDotH <= 0.0f) continue;
+      const vec3 wi = 2.0f * woDotH * h - woLocal;
+      if (wi.z <= 0.0f) continue;
+      const double dOmega = 4.0 * woDotH * std::sin(thetaH) * kPi * u / steps * 2.0 * kPi / steps;
+      visit(wi, woLocal, wi.x * t + wi.y * bt + wi.z * n, dOmega);
+    }
+  }
+}
+
 TEST(BallTexture, EnvironmentTermAgainstFineQuadrature) {
   context();
   const Brdf brdf{nullptr, testPaint()};
@@ -306,31 +331,14 @@ TEST(BallTexture, EnvironmentTermAgainstFineQuadrature) {
       const uint32_t i = uint32_t(4 + a * 9), j = uint32_t(4 + b * 9);
       const float x = (float(i) + 0.5f) / kBall * 2.0f - 1.0f, y = (float(j) + 0.5f) / kBall * 2.0f - 1.0f;
       if (x * x + y * y >= 0.97f) continue;
-      const vec3 n = worldFromView * vec3(x, y, std::sqrt(1.0f - x * x - y * y));
-      const vec3 wo = worldFromView * vec3(0.0f, 0.0f, 1.0f);
-      const vec3 t = glm::normalize(glm::cross(std::abs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), n));
-      const vec3 bt = glm::cross(n, t);
-      const vec3 woLocal(glm::dot(wo, t), glm::dot(wo, bt), glm::dot(wo, n));
-      constexpr int kSteps = 1024;
       dvec3 sum(0.0);
       double irradiance = 0.0;
-      for (int p = 0; p < kSteps; ++p) {
-        const double u = (p + 0.5) / kSteps, thetaH = u * u * kPi / 2;
-        for (int q = 0; q < kSteps; ++q) {
-          const double phi = 2.0 * kPi * (q + 0.5) / kSteps;
-          const vec3 h(float(std::sin(thetaH) * std::cos(phi)), float(std::sin(thetaH) * std::sin(phi)),
-                       float(std::cos(thetaH)));
-          const float woDotH = glm::dot(woLocal, h);
-          if (woDotH <= 0.0f) continue;
-          const vec3 wi = 2.0f * woDotH * h - woLocal;
-          if (wi.z <= 0.0f) continue;
-          const double dOmega = 4.0 * woDotH * std::sin(thetaH) * kPi * u / kSteps * 2.0 * kPi / kSteps;
-          const vec3 wiWorld = wi.x * t + wi.y * bt + wi.z * n;
-          const double radiance = (wiWorld.y > 0.0f ? 12000.0 : 2000.0) / kPi;
-          sum += dvec3(brdf(wi, woLocal)) * (double(wi.z) * radiance * dOmega);
-          irradiance += wi.z * radiance * dOmega;
-        }
-      }
+      forEachHalfVectorCell(worldFromView, vec3(x, y, std::sqrt(1.0f - x * x - y * y)), 1024,
+                            [&](const vec3& wi, const vec3& woLocal, const vec3& wiWorld, double dOmega) {
+                              const double radiance = (wiWorld.y > 0.0f ? 12000.0 : 2000.0) / kPi;
+                              sum += dvec3(brdf(wi, woLocal)) * (double(wi.z) * radiance * dOmega);
+                              irradiance += wi.z * radiance * dOmega;
+                            });
       const float* got = &ball[4 * (size_t(j) * kBall + i)];
       rms.add(Rgb(got[0], got[1], got[2]), Rgb(sum));
       worstIrradiance = std::max(worstIrradiance, std::abs(double(got[3]) - irradiance) / irradiance);
@@ -403,31 +411,15 @@ TEST(BallTexture, DistantLightApproximationBreaksDownNearALargeObject) {
   for (double e : byDefault) EXPECT_LT(e, 0.01);
 }
 
-// Fine quadrature (kSteps² half vectors) of ∫ f cos θi L dωi on the CPU for the ball texel of view-frame
+// Fine quadrature (512² half vectors) of ∫ f cos θi L dωi on the CPU for the ball texel of view-frame
 // normal nView, with ωo = the view's +Z and `radiance` a function of the world direction.
 template <class Radiance>
 Rgb environmentReference(const Brdf& brdf, const mat3& worldFromView, const vec3& nView, const Radiance& radiance) {
-  const vec3 n = worldFromView * nView;
-  const vec3 wo = worldFromView * vec3(0.0f, 0.0f, 1.0f);
-  const vec3 t = glm::normalize(glm::cross(std::abs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), n));
-  const vec3 bt = glm::cross(n, t);
-  const vec3 woLocal(glm::dot(wo, t), glm::dot(wo, bt), glm::dot(wo, n));
-  constexpr int kSteps = 512;
   dvec3 sum(0.0);
-  for (int p = 0; p < kSteps; ++p) {
-    const double u = (p + 0.5) / kSteps, thetaH = u * u * kPi / 2;
-    for (int q = 0; q < kSteps; ++q) {
-      const double phi = 2.0 * kPi * (q + 0.5) / kSteps;
-      const vec3 h(float(std::sin(thetaH) * std::cos(phi)), float(std::sin(thetaH) * std::sin(phi)),
-                   float(std::cos(thetaH)));
-      const float woDotH = glm::dot(woLocal, h);
-      if (woDotH <= 0.0f) continue;
-      const vec3 wi = 2.0f * woDotH * h - woLocal;
-      if (wi.z <= 0.0f) continue;
-      const double dOmega = 4.0 * woDotH * std::sin(thetaH) * kPi * u / kSteps * 2.0 * kPi / kSteps;
-      sum += dvec3(brdf(wi, woLocal) * radiance(wi.x * t + wi.y * bt + wi.z * n)) * (double(wi.z) * dOmega);
-    }
-  }
+  forEachHalfVectorCell(worldFromView, nView, 512,
+                        [&](const vec3& wi, const vec3& woLocal, const vec3& wiWorld, double dOmega) {
+                          sum += dvec3(brdf(wi, woLocal) * radiance(wiWorld)) * (double(wi.z) * dOmega);
+                        });
   return Rgb(sum);
 }
 

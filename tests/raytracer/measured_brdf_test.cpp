@@ -41,35 +41,34 @@ vec3 outgoing(float cosTheta) { return vec3(std::sqrt(1.0f - cosTheta * cosTheta
 constexpr float kLambertAlbedo[3] = {0.8f, 0.6f, 0.4f};
 Rgb lambert(const vec3&, const vec3&) { return Rgb(kLambertAlbedo[0], kLambertAlbedo[1], kLambertAlbedo[2]) / kPiF; }
 
-// A rough metal with a little diffuse: Schlick F(ωi·h; F0) D G2 / (4 cos θi cos θo) + 0.1 / π, GGX α = 0.25,
-// the height-correlated Smith G2 (Heitz 2014, eq. 99), evaluated in double.
-Rgb roughMetal(const vec3& wi, const vec3& wo) {
-  const double alpha = 0.25, a2 = alpha * alpha;
+// GGX D(h) G2 / (4 cos θi cos θo) with the height-correlated Smith G2 (Heitz 2014, eq. 99), and Schlick's
+// (1 − ωi·h)⁵, in double.
+struct GgxTerms {
+  double specular, schlick5;
+};
+GgxTerms ggxTerms(const vec3& wi, const vec3& wo, double alpha) {
+  const double a2 = alpha * alpha;
   const dvec3 i(wi), o(wo);
   const dvec3 h = glm::normalize(i + o);
   const double c2 = h.z * h.z;
   const double d = a2 / (kPi * (c2 * (a2 - 1.0) + 1.0) * (c2 * (a2 - 1.0) + 1.0));
   auto lambda = [&](double c) { return 0.5 * (std::sqrt(1.0 + a2 * (1.0 - c * c) / (c * c)) - 1.0); };
   const double g2 = 1.0 / (1.0 + lambda(i.z) + lambda(o.z));
-  const double s = std::pow(1.0 - std::clamp(glm::dot(i, h), 0.0, 1.0), 5.0);
-  const dvec3 f0(0.9, 0.7, 0.5);
-  const dvec3 f = (f0 + (1.0 - f0) * s) * (d * g2 / (4.0 * i.z * o.z)) + 0.1 / kPi;
-  return Rgb(f);
+  return {d * g2 / (4.0 * i.z * o.z), std::pow(1.0 - std::clamp(glm::dot(i, h), 0.0, 1.0), 5.0)};
 }
 
-// A lacquer: a sharp clear coat (Schlick F0 0.04, GGX α = 0.02, about 1° wide; height-correlated Smith) over a
-// coloured diffuse base (0.5, 0.2, 0.1) / π.
+// A rough metal with a little diffuse: Schlick F(ωi·h; F0) D G2 / (4 cos θi cos θo) + 0.1 / π, GGX α = 0.25.
+Rgb roughMetal(const vec3& wi, const vec3& wo) {
+  const GgxTerms g = ggxTerms(wi, wo, 0.25);
+  const dvec3 f0(0.9, 0.7, 0.5);
+  return Rgb((f0 + (1.0 - f0) * g.schlick5) * g.specular + 0.1 / kPi);
+}
+
+// A lacquer: a sharp clear coat (Schlick F0 0.04, GGX α = 0.02, about 1° wide) over a coloured diffuse base
+// (0.5, 0.2, 0.1) / π.
 Rgb lacquer(const vec3& wi, const vec3& wo) {
-  const double alpha = 0.02, a2 = alpha * alpha;
-  const dvec3 i(wi), o(wo);
-  const dvec3 h = glm::normalize(i + o);
-  const double c2 = h.z * h.z;
-  const double d = a2 / (kPi * (c2 * (a2 - 1.0) + 1.0) * (c2 * (a2 - 1.0) + 1.0));
-  auto lambda = [&](double c) { return 0.5 * (std::sqrt(1.0 + a2 * (1.0 - c * c) / (c * c)) - 1.0); };
-  const double g2 = 1.0 / (1.0 + lambda(i.z) + lambda(o.z));
-  const double s = std::pow(1.0 - std::clamp(glm::dot(i, h), 0.0, 1.0), 5.0);
-  const double coat = (0.04 + 0.96 * s) * d * g2 / (4.0 * i.z * o.z);
-  return Rgb(dvec3(coat) + dvec3(0.5, 0.2, 0.1) / kPi);
+  const GgxTerms g = ggxTerms(wi, wo, 0.02);
+  return Rgb(dvec3((0.04 + 0.96 * g.schlick5) * g.specular) + dvec3(0.5, 0.2, 0.1) / kPi);
 }
 
 // The table of f written to a MERL file by the SDB's writer and read back by its reader, in a directory
