@@ -138,6 +138,9 @@ enum VariantBit : uint32_t {
   kVariantSunGlass = 1u << 15,
   // Measured BRDFs shown by their ball textures (raster/ball_texture.h): scenes with such materials.
   kVariantMeasured = 1u << 16,
+  // The opaque draws record their near lamps' pixels for kNearLampsCompute (scenes whose measured materials
+  // have lamps within BallSettings::nearLightRadii).
+  kVariantNearDeferred = 1u << 17,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -269,6 +272,11 @@ struct Renderer::SceneProgram {
         nearLights = -1, nearLightCount = -1;
 };
 
+struct NearProgram {
+  GLuint program = 0;
+  GLint worldFromClip = -1, eye = -1, viewDir = -1, orthographic = -1;
+};
+
 struct Renderer::Gpu {
   GLuint vao = 0;
   GLuint positions = 0, normals = 0, corners = 0, surfaces = 0, frontLux = 0, backLux = 0, indices = 0;
@@ -300,6 +308,11 @@ struct Renderer::Gpu {
   std::map<uint32_t, SceneProgram> scene;  // by variant (VariantBit)
   BackgroundProgram background, sky;
   ToneMapProgram toneMap;
+  // The measured materials' near lamps (kNearLampsCompute): the opaque draws' records (two RGBA32UI images,
+  // framebuffer attachments 1 and 2, made at the first such render of a size, all 0 between frames), the
+  // lamps per BRDF, and the pass's program without and with goniometric lights.
+  GLuint nearData = 0, nearLight = 0, nearLists = 0;
+  std::map<bool, NearProgram> nearPrograms;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
   bool everyMeshLightMapped = false;
@@ -329,6 +342,10 @@ struct Renderer::Gpu {
     glDeleteProgram(background.program);
     glDeleteProgram(sky.program);
     glDeleteProgram(toneMap.program);
+    const GLuint nearTextures[] = {nearData, nearLight};
+    glDeleteTextures(2, nearTextures);
+    glDeleteBuffers(1, &nearLists);
+    for (const auto& [withGonio, p] : nearPrograms) glDeleteProgram(p.program);
   }
 };
 
@@ -447,7 +464,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantBlendPass, "blend", "FLY_BLEND_PASS"},
                    {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"},
                    {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"},
-                   {kVariantMeasured, "measured", "FLY_MEASURED"}};
+                   {kVariantMeasured, "measured", "FLY_MEASURED"},
+                   {kVariantNearDeferred, "neardeferred", "FLY_NEAR_DEFERRED"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -459,7 +477,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   const std::string fragment =
       std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup +
       (perFragment
-           ? std::string(shaders::kSceneCommon) + ((variant & kVariantMeasured) ? shaders::kMeasuredBrdf : "") +
+           ? std::string(shaders::kSceneCommon) +
+                 ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
                  shaders::kLightTextureLookup + shaders::kSurfaceFragment
            : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
   const GLuint p = compileProgram(
@@ -845,6 +864,9 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   glDeleteTextures(1, &gpu_->srgbColor);
   glDeleteTextures(1, &gpu_->behindColor);
   gpu_->behindColor = 0;
+  const GLuint nearTextures[] = {gpu_->nearData, gpu_->nearLight};
+  glDeleteTextures(2, nearTextures);
+  gpu_->nearData = gpu_->nearLight = 0;
   glDeleteTextures(1, &gpu_->blendColor);
   glDeleteFramebuffers(1, &gpu_->blendFbo);
   gpu_->blendColor = gpu_->blendFbo = 0;
@@ -989,10 +1011,16 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       if (shadows_->build(r.sky->sunDirWorld, shadowSettings_)) ++stats_.shadowBuilds;
     }
     // The measured materials' balls under this frame's lights (raster/ball_texture.h).
+    bool nearDeferred = false;
     if (v.measuredBrdf) {
       makeBalls(view, mode);
       glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
+      nearDeferred = prepareNearLamps(widthPx, heightPx);
     }
+    // The opaque per-fragment draws' variant: with near lamps, they record them for kNearLampsCompute.
+    const uint32_t opaqueSurfaceVariant = surfaceVariant | (nearDeferred ? kVariantNearDeferred : 0u);
+    const GLenum kColorOnly[] = {GL_COLOR_ATTACHMENT0};
+    const GLenum kWithNearRecords[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     // The sun's illuminance the scene programs get (uSunNormalLux): 0 in the pass over shadowed pixels.
     vec3 sunPassLux = sunLux;
     // Binds a scene program and sets its uniforms.
@@ -1076,13 +1104,15 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       }
       uint32_t current = ~0u;
       const SceneProgram* program = nullptr;
+      if (nearDeferred) glNamedFramebufferDrawBuffers(gpu_->floatFbo, 3, kWithNearRecords);
       for (const SurfaceDraw& d : gpu_->surfaceDraws) {
         if (d.blend) continue;
-        const uint32_t want = surfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
+        const uint32_t want = opaqueSurfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
         if (want != current) program = &use(current = want);
         bindTextures(*program, d);
         draw(d.firstIndex, d.indexCount);
       }
+      if (nearDeferred) glNamedFramebufferDrawBuffers(gpu_->floatFbo, 1, kColorOnly);
     };
     bindScene();
     drawOpaque();
@@ -1104,6 +1134,10 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       glDepthMask(GL_TRUE);
       lastShadowClipFromWorld_ = clipFromWorld;
       ++stats_.shadowPasses;
+    }
+    if (nearDeferred) {
+      drawNearLamps(clipFromWorld, eye, viewDir, view.orthographic, v.goniometric, widthPx, heightPx);
+      bindScene();
     }
     if ((variant & kVariantGlass) && gpu_->perVertexIndexCount > 0) {
       // The glass over a copy of that image, which it shows through itself times T(θ) (kSceneFragment). The
@@ -1171,6 +1205,86 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   }
 
   ++stats_.scenePasses;
+}
+
+bool Renderer::prepareNearLamps(uint32_t widthPx, uint32_t heightPx) {
+  const uint32_t brdfs = uint32_t(rdb_->measuredBrdfs.size());
+  constexpr uint32_t kStride = kMaxNearLights + 1;  // shaders::kNearLampsCompute's nearLists
+  std::vector<int32_t> lists(size_t(brdfs) * kStride, 0);
+  bool any = false;
+  for (uint32_t k = 0; k < brdfs; ++k) {
+    const std::vector<int>& near = balls_->nearLights(k);
+    lists[k * kStride] = int32_t(near.size());
+    std::copy(near.begin(), near.end(), lists.begin() + k * kStride + 1);
+    any = any || !near.empty();
+  }
+  if (!any) return false;
+  if (!gpu_->nearLists) {
+    glCreateBuffers(1, &gpu_->nearLists);
+    glNamedBufferStorage(gpu_->nearLists, GLsizeiptr(lists.size() * sizeof(int32_t)), lists.data(),
+                         GL_DYNAMIC_STORAGE_BIT);
+  } else {
+    GLint64 bytes = 0;
+    glGetNamedBufferParameteri64v(gpu_->nearLists, GL_BUFFER_SIZE, &bytes);
+    if (size_t(bytes) != lists.size() * sizeof(int32_t)) {
+      glDeleteBuffers(1, &gpu_->nearLists);
+      gpu_->nearLists = 0;
+      return prepareNearLamps(widthPx, heightPx);
+    }
+    glNamedBufferSubData(gpu_->nearLists, 0, GLsizeiptr(lists.size() * sizeof(int32_t)), lists.data());
+  }
+  if (!gpu_->nearData) {
+    const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
+    const uint32_t zero[4] = {0, 0, 0, 0};
+    for (GLuint* t : {&gpu_->nearData, &gpu_->nearLight}) {
+      glCreateTextures(GL_TEXTURE_2D, 1, t);
+      glTextureStorage2D(*t, 1, GL_RGBA32UI, w, h);
+      glClearTexImage(*t, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zero);
+    }
+    glNamedFramebufferTexture(gpu_->floatFbo, GL_COLOR_ATTACHMENT1, gpu_->nearData, 0);
+    glNamedFramebufferTexture(gpu_->floatFbo, GL_COLOR_ATTACHMENT2, gpu_->nearLight, 0);
+    if (glCheckNamedFramebufferStatus(gpu_->floatFbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("the OpenGL driver cannot render into RGBA32UI attachments beside RG32UI");
+  }
+  return true;
+}
+
+void Renderer::drawNearLamps(const mat4& clipFromWorld, const vec3& eyeM, const vec3& viewDirWorld,
+                             bool orthographic, bool goniometric, uint32_t widthPx, uint32_t heightPx) {
+  NearProgram& p = gpu_->nearPrograms[goniometric];
+  if (!p.program) {
+    const std::string defines =
+        std::string("#define FLY_MEASURED\n") + (goniometric ? "#define FLY_GONIO\n" : "") +
+        "#define FLY_CORNER_GAIN " + std::to_string(rdb::kCornerGain) + "\n" + "#define FLY_GONIO_GAMMA_STEPS " +
+        std::to_string(rdb::kRasterGonioGammaSteps) + "\n" + "#define FLY_GONIO_C_STEPS " +
+        std::to_string(rdb::kRasterGonioCSteps) + "\n" + "#define FLY_MAX_NEAR_LIGHTS " +
+        std::to_string(kMaxNearLights) + "\n" + "#define FLY_ALBEDO_STEPS " +
+        std::to_string(rdb::kRasterAlbedoSteps) + "\n" + "#define FLY_BRDF_BINDING 4\n#define FLY_BRDF_TABLE_UNIT 10\n";
+    const std::string source = std::string(shaders::kLuminanceEncoding) + shaders::kSceneCommon +
+                               shaders::kMeasuredBrdf + shaders::kNearLamp + shaders::kNearLampsCompute;
+    p.program = compileProgram(goniometric ? "nearlamps-gonio" : "nearlamps", defines,
+                               {{GL_COMPUTE_SHADER, source.c_str()}});
+    p.worldFromClip = glGetUniformLocation(p.program, "uWorldFromClip");
+    p.eye = glGetUniformLocation(p.program, "uEyeM");
+    p.viewDir = glGetUniformLocation(p.program, "uViewDirWorld");
+    p.orthographic = glGetUniformLocation(p.program, "uOrthographic");
+  }
+  glUseProgram(p.program);
+  const mat4 worldFromClip = glm::inverse(clipFromWorld);
+  glUniformMatrix4fv(p.worldFromClip, 1, GL_FALSE, &worldFromClip[0][0]);
+  glUniform3fv(p.eye, 1, &eyeM[0]);
+  glUniform3fv(p.viewDir, 1, &viewDirWorld[0]);
+  glUniform1i(p.orthographic, orthographic ? 1 : 0);
+  const GLuint ssbos[2] = {gpu_->lights, gpu_->gonio};
+  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 1, 2, ssbos);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, balls_->brdfBuffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, gpu_->nearLists);
+  glBindTextureUnit(10, balls_->tableTexture());
+  glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
+  glBindImageTexture(1, gpu_->nearData, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+  glBindImageTexture(2, gpu_->nearLight, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
+  dispatchPerPixel(widthPx, heightPx);
+  ++stats_.nearLampPasses;
 }
 
 int Renderer::makeBalls(const View& view, RenderMode mode) {

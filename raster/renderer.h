@@ -109,6 +109,7 @@ struct RendererStats {
   float maxAnisotropy = 1.0f;         // the anisotropic filtering the textures get (1: none)
   int ballsMade = 0;    // measured materials' ball textures made (raster/ball_texture.h)
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
+  int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
 
@@ -196,6 +197,13 @@ class Renderer {
   void uploadLights();
   void uploadSky();
   void resize(uint32_t widthPx, uint32_t heightPx);
+  // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::
+  // kNearLampsCompute): prepareNearLamps, after the balls are made, uploads every BRDF's lamps and readies
+  // the opaque draws' record images; false when no measured material has a near lamp. drawNearLamps adds
+  // the lamps to the image.
+  bool prepareNearLamps(uint32_t widthPx, uint32_t heightPx);
+  void drawNearLamps(const mat4& clipFromWorld, const vec3& eyeM, const vec3& viewDirWorld, bool orthographic,
+                     bool goniometric, uint32_t widthPx, uint32_t heightPx);
 
   std::unique_ptr<Gpu> gpu_;
   std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows

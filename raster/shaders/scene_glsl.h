@@ -383,6 +383,39 @@ vec3 flyLightTexel(uint slots, bool back, vec2 uv) {
 #endif
 )GLSL";
 
+// A lamp near a measured material's objects evaluated at a point by the BRDF itself (raster/ball_texture.h,
+// BallSettings::nearLightRadii), for the surface pass (flyNearLights) and kNearLampsCompute; after
+// kSceneCommon and shaders::kMeasuredBrdf, with FLY_MEASURED.
+inline constexpr const char* kNearLamp = R"GLSL(
+// A surface frame with z = n (any tangent: the BRDFs are isotropic), as rows: local = localFromWorld · world.
+mat3 flyLocalFromWorld(vec3 n) {
+  vec3 t = normalize(cross(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), n));
+  return transpose(mat3(t, cross(n, t), n));
+}
+// Luminance (cd/m²) towards wo (local) of lamp lights[light] at p through brdfs[brdf]; adds the luminance of
+// its irradiance on the surface (lux) to eLux.
+vec3 flyNearLamp(int light, int brdf, vec3 p, mat3 localFromWorld, vec3 wo, inout float eLux) {
+  vec3 toLight;
+  vec3 e = flyLightLux(lights[light], p, toLight);
+  vec3 wi = localFromWorld * toLight;
+  if (wi.z <= 0.0) return vec3(0.0);
+  eLux += dot(e, vec3(0.2126, 0.7152, 0.0722)) * wi.z;
+  return flyMeasuredBrdf(brdf, wi, wo) * wi.z * e;
+}
+// A unit vector as two 16-bit signed normalised numbers on the octahedron (Meyer et al. 2010; error < 10⁻⁴ rad).
+uint flyOctEncode(vec3 n) {
+  vec2 o = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+  if (n.z < 0.0) o = (1.0 - abs(o.yx)) * vec2(o.x >= 0.0 ? 1.0 : -1.0, o.y >= 0.0 ? 1.0 : -1.0);
+  return packSnorm2x16(o);
+}
+vec3 flyOctDecode(uint word) {
+  vec2 o = unpackSnorm2x16(word);
+  vec3 n = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}
+)GLSL";
+
 // The back of a one-sided surface has no light value: it shows black (it still hides what is behind it, unless
 // it is clear glass, whose both faces pass light).
 inline constexpr const char* kSceneFragment = R"GLSL(
@@ -613,22 +646,32 @@ uniform mat3 uBallFromWorld;
 uniform int uNearLights[FLY_MAX_NEAR_LIGHTS];
 uniform int uNearLightCount;
 
+#ifdef FLY_NEAR_DEFERRED
+// The opaque draws leave the near lamps to kNearLampsCompute, which evaluates them once per pixel on every
+// processor of the GPU (a fragment shader's quads evaluate pixels up to 4 times over on small triangles, and
+// on the H100 the fragment stage runs on a few of its processors): per pixel what that pass needs
+// (flyNearRecord), 0 in .y where there is nothing to add.
+layout(location = 1) out uvec4 oNear;       // oct normal, BRDF index + 1 | light-map bit << 8, depth, B
+layout(location = 2) out uvec4 oNearLight;  // C, the additive part outside the light-map ratio, 0
+uvec4 gNear = uvec4(0u);
+vec3 gNearOutside = vec3(0.0);  // the light-map mode's additive part (the ball's sun), emission added in main
+float gNearBakedLux = 0.0;
+#endif
+
 // The near lamps' luminance (cd/m²) at p with normal n seen from toEye (world), by the BRDF itself
-// (shaders/ball_texture_glsl.h, kMeasuredBrdf); adds the luminance of their irradiance to eLux.
+// (shaders/ball_texture_glsl.h, kMeasuredBrdf); adds the luminance of their irradiance to eLux. With
+// FLY_NEAR_DEFERRED, 0: the pixel's data is recorded for kNearLampsCompute instead (light-map mode: the
+// denominator eBall + ε, the baked luminance, the additive part; flyMeasuredLightMap).
 vec3 flyNearLights(vec3 p, vec3 n, vec3 toEye, inout float eLux) {
   vec3 l = vec3(0.0);
   if (uNearLightCount == 0) return l;
-  vec3 t = normalize(cross(abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), n));
-  mat3 localFromWorld = transpose(mat3(t, cross(n, t), n));
+#ifdef FLY_NEAR_DEFERRED
+  gNear = uvec4(flyOctEncode(n), uint(uBallLayer / 2 + 1), floatBitsToUint(gl_FragCoord.z), 0u);
+#else
+  mat3 localFromWorld = flyLocalFromWorld(n);
   vec3 wo = localFromWorld * toEye;
-  for (int k = 0; k < uNearLightCount; ++k) {
-    vec3 toLight;
-    vec3 e = flyLightLux(lights[uNearLights[k]], p, toLight);
-    vec3 wi = localFromWorld * toLight;
-    if (wi.z <= 0.0) continue;
-    l += flyMeasuredBrdf(uBallLayer / 2, wi, wo) * wi.z * e;
-    eLux += dot(e, vec3(0.2126, 0.7152, 0.0722)) * wi.z;
-  }
+  for (int k = 0; k < uNearLightCount; ++k) l += flyNearLamp(uNearLights[k], uBallLayer / 2, p, localFromWorld, wo, eLux);
+#endif
   return l;
 }
 
@@ -680,12 +723,21 @@ vec3 flyMeasuredLightMap(vec3 eLux, vec3 albedo, vec3 n, vec3 toEye) {
   float eBall = texture(uBalls, vec3(nUv, float(uBallLayer))).a;
   vec3 lights = texture(uBalls, vec3(uv, float(uBallLayer))).rgb + flyNearLights(vPositionM, n, toEye, eBall);
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
-  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps) + flyBallSun(uv);
+  vec3 outside = flyBallSun(uv);
 #else
   lights += texture(uBalls, vec3(uv, float(uBallLayer + 1))).rgb;
   eBall += texture(uBalls, vec3(nUv, float(uBallLayer + 1))).a;
-  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps);
+  vec3 outside = vec3(0.0);
 #endif
+#ifdef FLY_NEAR_DEFERRED
+  if (gNear.y != 0u) {
+    gNear.y |= 0x100u;
+    gNear.w = floatBitsToUint(eBall + eps);
+    gNearBakedLux = eBaked;
+    gNearOutside = outside;
+  }
+#endif
+  return eBaked * (lights + eps * albedo / kPi) / (eBall + eps) + outside;
 }
 #endif
 #endif
@@ -802,6 +854,57 @@ void main() {
 #else
   oLuminance = flyEncodeLuminance(l);
 #endif
+#ifdef FLY_NEAR_DEFERRED
+  oNear = (!back || twoSided) ? gNear : uvec4(0u);
+  oNearLight = uvec4(floatBitsToUint(gNearBakedLux), flyEncodeLuminance(gNearOutside + emission), 0u);
+#endif
+}
+)GLSL";
+
+// The near lamps of the measured materials' opaque pixels (FLY_NEAR_DEFERRED; raster/ball_texture.h,
+// BallSettings::nearLightRadii), once per pixel after the opaque draws: the point from the pixel's depth, the
+// lamps by the BRDF itself (kNearLamp), added to the image — L + N in the modes without light maps; in the
+// light-map modes flyMeasuredLightMap's ratio with the lamps' part added, (M · B + C · N) / (B + E_N) + S,
+// where M = L − S is the ratio's value without them, B its denominator, C the baked luminance, S the additive
+// part (the ball's sun, emission) and E_N the lamps' irradiance (luminance, lux). Each pixel's record is reset
+// to 0 once read, so the next frame starts from an empty one.
+inline constexpr const char* kNearLampsCompute = R"GLSL(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rg32ui) uniform uimage2D uLuminance;  // kLuminanceEncoding
+layout(binding = 1, rgba32ui) uniform uimage2D uNear;
+layout(binding = 2, rgba32ui) uniform readonly uimage2D uNearLight;
+// Per measured BRDF k: nearLists[k · (FLY_MAX_NEAR_LIGHTS + 1)] lamps, then their indices into lights[].
+layout(std430, binding = 5) readonly buffer NearLists { int nearLists[]; };
+uniform mat4 uWorldFromClip;
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = imageSize(uLuminance);
+  if (px.x >= size.x || px.y >= size.y) return;
+  uvec4 g = imageLoad(uNear, px);
+  if (g.y == 0u) return;
+  imageStore(uNear, px, uvec4(0u));
+  int brdf = int(g.y & 0xffu) - 1;
+  vec4 clip = vec4((vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0, uintBitsToFloat(g.z) * 2.0 - 1.0, 1.0);
+  vec4 world = uWorldFromClip * clip;
+  vec3 p = world.xyz / world.w;
+  vec3 n = flyOctDecode(g.x);
+  vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - p);
+  mat3 localFromWorld = flyLocalFromWorld(n);
+  vec3 wo = localFromWorld * toEye;
+  int first = brdf * (FLY_MAX_NEAR_LIGHTS + 1);
+  vec3 lamps = vec3(0.0);
+  float eLamps = 0.0;
+  for (int k = 0; k < nearLists[first]; ++k) lamps += flyNearLamp(nearLists[first + 1 + k], brdf, p, localFromWorld, wo, eLamps);
+  vec3 l = flyDecodeLuminance(imageLoad(uLuminance, px).xy);
+  if ((g.y & 0x100u) == 0u) {
+    l += lamps;
+  } else {
+    uvec4 h = imageLoad(uNearLight, px);
+    vec3 outside = flyDecodeLuminance(h.yz);
+    float b = uintBitsToFloat(g.w);
+    l = (max(l - outside, vec3(0.0)) * b + uintBitsToFloat(h.x) * lamps) / (b + eLamps) + outside;
+  }
+  imageStore(uLuminance, px, uvec4(flyEncodeLuminance(l), 0u, 0u));
 }
 )GLSL";
 

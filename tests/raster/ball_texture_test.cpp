@@ -561,6 +561,62 @@ TEST(BallTexture, LightMapModeScalesTheBallToTheBakedIrradiance) {
   EXPECT_NEAR(darkSide / darkWant, 1.0, 0.01);
 }
 
+// The near lamps are added after the opaque draws, once per pixel, to the pixels where a measured material
+// shows, and to no other: a cut-out quad (a per-fragment draw, like the sphere) in front of the sphere's left
+// half keeps exactly the image it has with every lamp in the ball, while the sphere's right half changes.
+TEST(BallTexture, NearLampsReachOnlyThePixelsWhereTheMeasuredMaterialShows) {
+  context();
+  const Brdf brdf{nullptr, testPaint()};
+  SphereScene s = sphereScene(brdf, {});
+  sdb::Light lamp;
+  lamp.intensity = 20000.0f;
+  s.scene.addNode({.name = "lamp", .parentFromLocal = glm::translate(mat4(1.0f), 3.0f * glm::normalize(vec3(0.3f, 0.5f, 1.0f))),
+                   .light = s.scene.addLight(lamp).id});
+  sdb::Material cut;
+  cut.name = "cut-out";
+  cut.diffuseColor = Rgb(0.5f);
+  cut.alphaMode = sdb::AlphaMode::kMask;
+  const sdb::MaterialId cutId = s.scene.addMaterial(cut).id;
+  // x from −2 to 0, y from −2 to 2, at z = 1.5 facing the camera.
+  s.scene.addNode({.name = "quad",
+                   .parentFromLocal = glm::scale(glm::translate(mat4(1.0f), vec3(-1.0f, 0.0f, 1.5f)), vec3(1.0f, 4.0f, 1.0f)),
+                   .meshes = {s.scene.addMesh(test::quadXY(cutId)).id}});
+  s.rdb = rdb::buildRasterRdb(s.scene);
+  s.rdb.ambient = {};
+  constexpr uint32_t kPx = 96;
+  auto render = [&](float nearLightRadii, int wantPasses) {
+    Renderer renderer;
+    BallSettings settings{128, 32, 4};
+    settings.nearLightRadii = nearLightRadii;
+    renderer.setBallSettings(settings);
+    renderer.upload(s.rdb);
+    renderer.render(frontView(), RenderMode::kSimple, kPx, kPx);
+    renderer.render(frontView(), RenderMode::kSimple, kPx, kPx);  // records left by a frame would show here
+    EXPECT_EQ(renderer.stats().nearLampPasses, wantPasses);
+    return renderer.luminanceRgb();
+  };
+  const std::vector<float> perPixel = render(BallSettings{}.nearLightRadii, 2), inBall = render(0.0f, 0);
+  size_t quadPixels = 0, quadDiffering = 0;
+  RelativeRms sphereChange;
+  for (uint32_t y = 0; y < kPx; ++y) {
+    for (uint32_t x = 0; x < kPx; ++x) {
+      const float px = ((float(x) + 0.5f) / kPx * 2.0f - 1.0f) * 1.1f, py = (1.0f - (float(y) + 0.5f) / kPx * 2.0f) * 1.1f;
+      const size_t i = 3 * (size_t(y) * kPx + x);
+      if (px < -0.05f) {
+        ++quadPixels;
+        quadDiffering += perPixel[i] != inBall[i] || perPixel[i + 1] != inBall[i + 1] || perPixel[i + 2] != inBall[i + 2];
+      } else if (px > 0.05f && px * px + py * py < 0.91f) {
+        sphereChange.add(Rgb(perPixel[i], perPixel[i + 1], perPixel[i + 2]), Rgb(inBall[i], inBall[i + 1], inBall[i + 2]));
+      }
+    }
+  }
+  std::printf("near lamps: %zu of %zu pixels of the quad differ; the sphere's visible half changes by %.3f (RMS, relative)\n",
+              quadDiffering, quadPixels, sphereChange.value());
+  EXPECT_GT(quadPixels, 3000u);
+  EXPECT_EQ(quadDiffering, 0u);
+  EXPECT_GT(sphereChange.value(), 0.1);
+}
+
 // A ball is remade only when what it depends on changes; a scene without measured materials compiles no
 // ball program and makes no ball.
 TEST(BallTexture, ReusedWhileNothingChangesAndLeftOutWithoutMeasuredMaterials) {
