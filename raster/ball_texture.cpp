@@ -265,7 +265,7 @@ int BallTextures::update(const rdb::RasterRdb& rdb, const BallLighting& lighting
       glUniformMatrix3fv(p.worldFromView, 1, GL_FALSE, &worldFromView[0][0]);
       glUniform1i(p.brdf, GLint(k));
       glUniform1i(p.firstLayer, GLint(k));
-      glDispatchCompute((m + 7) / 8, (m + 7) / 8, 1);
+      glDispatchCompute(m, (m + 3) / 4, 1);  // shaders::kBallCompute's FLY_BALL_ENV work groups
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
   }

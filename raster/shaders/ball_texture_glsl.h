@@ -151,7 +151,12 @@ vec3 flyAlbedo(int index, float cosThetaOut) {
 //                 (x, y)); layer z = 1 the sun alone. a = the luminance of the irradiance (lux) of the layer's
 //                 light on the texel's normal.
 inline constexpr const char* kBallCompute = R"GLSL(
+#ifdef FLY_BALL_ENV
+// A work group: 4 texels (y), each summed by 16 invocations (x) over every 16th half vector, then reduced.
+layout(local_size_x = 16, local_size_y = 4) in;
+#else
 layout(local_size_x = 8, local_size_y = 8) in;
+#endif
 layout(binding = 0, rgba32f) uniform writeonly image2DArray uOut;
 uniform int uBrdf;        // index into brdfs
 uniform int uSize;        // the output image's N (or M)
@@ -192,33 +197,52 @@ vec3 flyEnvironment(vec3 dView) {
   return textureLod(uSky, vec2(phi / (2.0 * kPi), theta / kPi), 0.0).rgb;
 }
 
+// The 16 partial sums of each of the group's 4 texels: Σ w f L, Σ w f (rgb), Σ w L, Σ w (a).
+shared vec3 sSumFL[4][16];
+shared vec3 sSumF[4][16];
+shared vec2 sSumLW[4][16];
+
+// One texel per (work group x, work group y · 4 + local y): the texel count along a side is small (64² by
+// default), so each texel's 16² grid cells are spread over 16 invocations, which keeps the GPU's processors
+// busy where one invocation per texel would leave most of them idle.
 void main() {
-  ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
-  if (texel.x >= uSize || texel.y >= uSize) return;
-  mat3 viewFromLocal = flyBallFrame(texel, uSize);
+  ivec2 texel = ivec2(gl_WorkGroupID.x, gl_WorkGroupID.y * 4u + gl_LocalInvocationID.y);
+  uint slot = gl_LocalInvocationID.y, part = gl_LocalInvocationID.x;
+  bool inside = texel.x < uSize && texel.y < uSize;
+  mat3 viewFromLocal = flyBallFrame(min(texel, ivec2(uSize - 1)), uSize);
   vec3 n = viewFromLocal[2];
   vec3 wo = vec3(viewFromLocal[0].z, viewFromLocal[1].z, n.z);  // +Z in the surface frame
   vec3 sumFL = vec3(0.0), sumF = vec3(0.0);
   float sumL = 0.0, sumW = 0.0;
-  for (int a = 0; a < uEnvSteps; ++a) {
+  for (int cell = int(part); inside && cell < uEnvSteps * uEnvSteps; cell += 16) {
+    int a = cell / uEnvSteps, c = cell - a * uEnvSteps;
     float u = (float(a) + 0.5) / float(uEnvSteps);
     float thetaH = u * u * 0.5 * kPi;
     float sinH = sin(thetaH), cosH = cos(thetaH);
-    for (int c = 0; c < uEnvSteps; ++c) {
-      float phi = 2.0 * kPi * (float(c) + 0.5) / float(uEnvSteps);
-      vec3 h = vec3(sinH * cos(phi), sinH * sin(phi), cosH);
-      float woDotH = dot(wo, h);
-      if (woDotH <= 0.0) continue;
-      vec3 wi = 2.0 * woDotH * h - wo;
-      if (wi.z <= 0.0) continue;
-      float w = wi.z * 4.0 * woDotH * sinH * u;
-      vec3 radiance = flyEnvironment(viewFromLocal * wi);
-      vec3 f = flyMeasuredBrdf(uBrdf, wi, wo);
-      sumFL += w * f * radiance;
-      sumF += w * f;
-      sumL += w * flyLuminance(radiance);
-      sumW += w;
-    }
+    float phi = 2.0 * kPi * (float(c) + 0.5) / float(uEnvSteps);
+    vec3 h = vec3(sinH * cos(phi), sinH * sin(phi), cosH);
+    float woDotH = dot(wo, h);
+    if (woDotH <= 0.0) continue;
+    vec3 wi = 2.0 * woDotH * h - wo;
+    if (wi.z <= 0.0) continue;
+    float w = wi.z * 4.0 * woDotH * sinH * u;
+    vec3 radiance = flyEnvironment(viewFromLocal * wi);
+    vec3 f = flyMeasuredBrdf(uBrdf, wi, wo);
+    sumFL += w * f * radiance;
+    sumF += w * f;
+    sumL += w * flyLuminance(radiance);
+    sumW += w;
+  }
+  sSumFL[slot][part] = sumFL;
+  sSumF[slot][part] = sumF;
+  sSumLW[slot][part] = vec2(sumL, sumW);
+  barrier();
+  if (part != 0u || !inside) return;
+  for (uint k = 1u; k < 16u; ++k) {
+    sumFL += sSumFL[slot][k];
+    sumF += sSumF[slot][k];
+    sumL += sSumLW[slot][k].x;
+    sumW += sSumLW[slot][k].y;
   }
   vec3 albedo = flyAlbedo(uBrdf, wo.z);
   vec3 l = vec3(sumF.r > 0.0 ? albedo.r * sumFL.r / sumF.r : 0.0, sumF.g > 0.0 ? albedo.g * sumFL.g / sumF.g : 0.0,
