@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "base/log.h"
+#include "raster/gl_program.h"
 #include "raster/shaders/ball_texture_glsl.h"
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
@@ -86,24 +86,6 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),
           vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode)))};
-}
-
-unsigned compileStage(GLenum type, const std::string& source, const std::string& name) {
-  const GLuint s = glCreateShader(type);
-  const char* text = source.c_str();
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &length);
-    std::string info(size_t(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(s, length, nullptr, info.data());
-    glDeleteShader(s);
-    throw std::runtime_error("internal error: shader " + name + " does not compile: " + info);
-  }
-  return s;
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -406,30 +388,8 @@ SunShadows::Compile Renderer::compiler() {
 
 unsigned Renderer::compileProgram(const std::string& name, const std::string& defines,
                                   std::initializer_list<std::pair<unsigned, const char*>> stages) {
-  const std::string head = "#version 450 core\n" + defines;
-  std::vector<GLuint> shaders;
-  try {
-    for (const auto& [type, source] : stages) shaders.push_back(compileStage(type, head + source, name));
-  } catch (...) {
-    for (GLuint sh : shaders) glDeleteShader(sh);
-    throw;
-  }
-  const GLuint p = glCreateProgram();
-  for (GLuint sh : shaders) glAttachShader(p, sh);
-  glLinkProgram(p);
-  for (GLuint sh : shaders) glDeleteShader(sh);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(p, GL_INFO_LOG_LENGTH, &length);
-    std::string info(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(p, length, nullptr, info.data());
-    glDeleteProgram(p);
-    throw std::runtime_error("internal error: program " + name + " does not link: " + info);
-  }
+  const unsigned p = linkGlProgram(name, defines, stages);
   stats_.programs.push_back(name);
-  log::debug("compiled GL program " + name);
   return p;
 }
 
