@@ -97,6 +97,18 @@ mat4 projection(const View& v, float aspect) {
   return glm::perspective(v.yfovRad, aspect, v.znearM, v.zfarM);
 }
 
+// `clipFromCamera` with its near plane replaced by `planeCamera` (camera space; points p with
+// dot(planeCamera, (p, 1)) ≥ 0 are kept): Lengyel, "Oblique View Frustum Depth Projection and Clipping",
+// Journal of Game Development 1(2), 2005. The far plane tilts with it; depth stays monotonic in front of it.
+mat4 obliqueNearPlane(mat4 clipFromCamera, const vec4& planeCamera) {
+  const auto sign = [](float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : 0.0f); };
+  const vec4 q = glm::inverse(clipFromCamera) * vec4(sign(planeCamera.x), sign(planeCamera.y), 1.0f, 1.0f);
+  const vec4 c = planeCamera * (2.0f / glm::dot(planeCamera, q));
+  // The third row becomes c − the fourth row.
+  for (int col = 0; col < 4; ++col) clipFromCamera[col][2] = c[col] - clipFromCamera[col][3];
+  return clipFromCamera;
+}
+
 // The scene program's shader variant, one bit per #define (Renderer::sceneProgram).
 enum VariantBit : uint32_t {
   kVariantLightMap = 1u << 0,
@@ -123,6 +135,8 @@ enum VariantBit : uint32_t {
   // The opaque draws record their near lamps' pixels for kNearLampsCompute (scenes whose measured materials
   // have lamps within BallSettings::nearLightRadii).
   kVariantNearDeferred = 1u << 17,
+  // Flat mirrors show the image of a mirrored pass (RasterRdb::planarReflectors).
+  kVariantPlanarReflection = 1u << 18,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -190,6 +204,7 @@ struct SurfaceDraw {
   uint32_t material = 0;
   bool mask = false;
   bool blend = false;
+  uint32_t reflector = rdb::RasterTextureRef::kNone;  // RasterRdb::planarReflectors' index of its meshes
   vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
   GLuint samplers[3] = {0, 0, 0};  // the material's texture slots' sampler objects (Renderer::samplerFor)
 };
@@ -251,7 +266,8 @@ struct Renderer::SceneProgram {
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
-        nearLights = -1, nearLightCount = -1;
+        nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
+        mirrorF0 = -1;
 };
 
 struct NearProgram {
@@ -294,6 +310,9 @@ struct Renderer::Gpu {
   // framebuffer attachments 1 and 2, made at the first such render of a size, all 0 between frames), the
   // lamps per BRDF, and the pass's program without and with goniometric lights.
   GLuint nearData = 0, nearLight = 0, nearLists = 0;
+  // The planar reflectors' images (RG32UI, kLuminanceEncoding, the target's size) and which this frame made.
+  std::vector<GLuint> reflectionColor;
+  std::vector<char> reflectionShown;
   std::map<bool, NearProgram> nearPrograms;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
@@ -328,6 +347,7 @@ struct Renderer::Gpu {
     glDeleteTextures(2, nearTextures);
     glDeleteBuffers(1, &nearLists);
     for (const auto& [withGonio, p] : nearPrograms) glDeleteProgram(p.program);
+    glDeleteTextures(GLsizei(reflectionColor.size()), reflectionColor.data());
   }
 };
 
@@ -425,7 +445,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantSunDirect, "sundirect", "FLY_SUN_DIRECT"},
                    {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"},
                    {kVariantMeasured, "measured", "FLY_MEASURED"},
-                   {kVariantNearDeferred, "neardeferred", "FLY_NEAR_DEFERRED"}};
+                   {kVariantNearDeferred, "neardeferred", "FLY_NEAR_DEFERRED"},
+                   {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -463,6 +484,10 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.ballFromWorld = loc("uBallFromWorld");
   sp.nearLights = loc("uNearLights");
   sp.nearLightCount = loc("uNearLightCount");
+  sp.reflector = loc("uReflector");
+  sp.sunInReflection = loc("uSunInReflection");
+  sp.mirrorReflection = loc("uMirrorReflection");
+  sp.mirrorF0 = loc("uMirrorF0");
   sp.program = p;
   return sp;
 }
@@ -723,15 +748,21 @@ void Renderer::uploadDraws() {
   for (const rdb::RasterAlphaMode mode : {rdb::RasterAlphaMode::kOpaque, rdb::RasterAlphaMode::kMask}) {
     for (uint32_t material = 0; material < r.materials.size(); ++material) {
       if (r.materials[material].alphaMode != mode) continue;
-      SurfaceDraw d;
-      d.firstIndex = ordered.size();
-      d.material = material;
-      d.mask = mode == rdb::RasterAlphaMode::kMask;
-      for (const rdb::RasterMesh& m : r.meshes) {
-        if (m.material == material && r.shadedPerFragment(m)) append(m);
+      // The material's meshes that are no planar reflector in one draw, then one draw per reflector: kNone
+      // first, then 0 … n − 1 (kNone + 1 wraps to 0).
+      for (uint32_t reflector = rdb::RasterTextureRef::kNone;; ++reflector) {
+        SurfaceDraw d;
+        d.firstIndex = ordered.size();
+        d.material = material;
+        d.mask = mode == rdb::RasterAlphaMode::kMask;
+        d.reflector = reflector;
+        for (const rdb::RasterMesh& m : r.meshes) {
+          if (m.material == material && m.planarReflector == reflector && r.shadedPerFragment(m)) append(m);
+        }
+        d.indexCount = GLsizei(ordered.size() - d.firstIndex);
+        if (d.indexCount > 0) gpu_->surfaceDraws.push_back(d);
+        if (reflector + 1 == r.planarReflectors.size()) break;
       }
-      d.indexCount = GLsizei(ordered.size() - d.firstIndex);
-      if (d.indexCount > 0) gpu_->surfaceDraws.push_back(d);
     }
   }
   for (const rdb::RasterMesh& m : r.meshes) {
@@ -827,6 +858,8 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   const GLuint nearTextures[] = {gpu_->nearData, gpu_->nearLight};
   glDeleteTextures(2, nearTextures);
   gpu_->nearData = gpu_->nearLight = 0;
+  glDeleteTextures(GLsizei(gpu_->reflectionColor.size()), gpu_->reflectionColor.data());
+  gpu_->reflectionColor.clear();
   glDeleteTextures(1, &gpu_->blendColor);
   glDeleteFramebuffers(1, &gpu_->blendFbo);
   gpu_->blendColor = gpu_->blendFbo = 0;
@@ -870,8 +903,57 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
                                 ")");
   }
   resize(widthPx, heightPx);
+  if (v.planarReflectors) drawReflections(view, mode, widthPx, heightPx);
+  renderPass(view, mode, widthPx, heightPx, nullptr);
+}
+
+// Each planar reflector seen from its front: the scene mirrored in its plane, drawn from the mirrored camera
+// (a view whose worldFromCamera has determinant −1, so front faces wind clockwise) with the near plane moved
+// onto the mirror (Lengyel's oblique frustum), and kept as that reflector's image. Pixel (x, y) of the image is
+// what the real camera sees in the mirror at (x, y): the mirrored camera sees the point p where the real one
+// sees its mirror image.
+void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx) {
+  const rdb::RasterRdb& r = *rdb_;
+  const vec3 eye(view.worldFromCamera[3]);
+  const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
+  gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
+  gpu_->reflectionColor.resize(r.planarReflectors.size(), 0);
+  for (uint32_t k = 0; k < r.planarReflectors.size(); ++k) {
+    const rdb::RasterPlanarReflector& pr = r.planarReflectors[k];
+    const bool front = view.orthographic ? glm::dot(viewDir, pr.normal) < 0.0f : glm::dot(pr.normal, eye) > pr.offsetM;
+    if (!front) continue;
+    mat4 mirror(1.0f);  // p' = p − 2 (n·p − d) n
+    for (int c = 0; c < 3; ++c)
+      for (int row = 0; row < 3; ++row) mirror[c][row] = (c == row ? 1.0f : 0.0f) - 2.0f * pr.normal[c] * pr.normal[row];
+    mirror[3] = vec4(2.0f * pr.offsetM * pr.normal, 1.0f);
+    View mirrored = view;
+    mirrored.worldFromCamera = mirror * view.worldFromCamera;
+    const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k};
+    renderPass(mirrored, mode, widthPx, heightPx, &pass);
+    GLuint& image = gpu_->reflectionColor[k];
+    if (!image) {
+      glCreateTextures(GL_TEXTURE_2D, 1, &image);
+      glTextureStorage2D(image, 1, GL_RG32UI, GLsizei(widthPx), GLsizei(heightPx));
+      glTextureParameteri(image, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
+      glTextureParameteri(image, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, image, GL_TEXTURE_2D, 0, 0, 0, 0,
+                       GLsizei(widthPx), GLsizei(heightPx), 1);
+    gpu_->reflectionShown[k] = 1;
+    ++stats_.reflectionPasses;
+  }
+}
+
+void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx,
+                          const MirrorPass* mirrorPass) {
+  const rdb::RasterRdb& r = *rdb_;
+  const rdb::RasterVariants& v = r.variants;
   const float aspect = float(widthPx) / float(heightPx);
-  const mat4 clipFromWorld = projection(view, aspect) * glm::inverse(view.worldFromCamera);
+  mat4 clipFromCamera = projection(view, aspect);
+  // A plane transforms as a row vector: C_camera = C_world · worldFromCamera.
+  if (mirrorPass) clipFromCamera = obliqueNearPlane(clipFromCamera, glm::transpose(view.worldFromCamera) * mirrorPass->planeWorld);
+  const mat4 clipFromWorld = clipFromCamera * glm::inverse(view.worldFromCamera);
+  glFrontFace(mirrorPass ? GL_CW : GL_CCW);
 
   // The background in every pixel (black, or in sunlight mode the sky and the sun), in place of a colour
   // clear; the scene is drawn over it.
@@ -944,7 +1026,8 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
         (v.measuredBrdf && v.goniometric ? kVariantGonio : 0u) |
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
-        (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u);
+        (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
+        (v.planarReflectors ? kVariantPlanarReflection : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
@@ -1030,6 +1113,18 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       }
       glUniform1ui(p.textureSlots, bits);
       glUniform4fv(p.uvRows, 6, &rows[0][0]);
+      if (v.planarReflectors) {
+        // A reflector shows its image in the real view; in a mirrored pass none does (one reflection deep).
+        const bool shows = !mirrorPass && d.reflector != rdb::RasterTextureRef::kNone && !d.blend &&
+                           gpu_->reflectionShown.size() > d.reflector && gpu_->reflectionShown[d.reflector];
+        glUniform1i(p.reflector, shows ? GLint(d.reflector) : -1);
+        if (shows) {
+          glBindTextureUnit(11, gpu_->reflectionColor[d.reflector]);
+          glUniform3fv(p.mirrorReflection, 1, &m.mirrorReflection[0]);
+          glUniform1f(p.mirrorF0, m.mirrorF0);
+          glUniform1i(p.sunInReflection, sky && v.sun ? 1 : 0);
+        }
+      }
     };
     auto draw = [](size_t firstIndex, GLsizei count) {
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
@@ -1067,6 +1162,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
       if (nearDeferred) glNamedFramebufferDrawBuffers(gpu_->floatFbo, 3, kWithNearRecords);
       for (const SurfaceDraw& d : gpu_->surfaceDraws) {
         if (d.blend) continue;
+        if (mirrorPass && d.reflector == mirrorPass->reflector) continue;  // the mirror itself, on the near plane
         const uint32_t want = opaqueSurfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
         if (want != current) program = &use(current = want);
         bindTextures(*program, d);
@@ -1163,7 +1259,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     }
     glBindVertexArray(0);
   }
-
+  glFrontFace(GL_CCW);
   ++stats_.scenePasses;
 }
 

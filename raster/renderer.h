@@ -110,6 +110,7 @@ struct RendererStats {
   int ballsMade = 0;    // measured materials' ball textures made (raster/ball_texture.h)
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
+  int reflectionPasses = 0;  // mirrored passes drawn for planar reflectors (RasterRdb::planarReflectors)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
 
@@ -197,6 +198,14 @@ class Renderer {
   void uploadLights();
   void uploadSky();
   void resize(uint32_t widthPx, uint32_t heightPx);
+  // One pass of the scene into the float target; a mirrored pass (drawReflections) clips at the mirror's plane
+  // (world, (n, −d): points with n·p ≥ d are kept) and leaves out the mirror itself.
+  struct MirrorPass {
+    vec4 planeWorld;
+    uint32_t reflector;
+  };
+  void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass);
+  void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::
   // kNearLampsCompute): prepareNearLamps, after the balls are made, uploads every BRDF's lamps and readies
   // the opaque draws' record images; false when no measured material has a near lamp. drawNearLamps adds

@@ -32,13 +32,14 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
          lightTextures == o.lightTextures && uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors &&
          tangents == o.tangents && textures == o.textures && measuredBrdfs == o.measuredBrdfs && lights == o.lights &&
          goniometricCd == o.goniometricCd && ambient == o.ambient && daylightAmbient == o.daylightAmbient &&
-         cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants;
+         cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants &&
+         planarReflectors == o.planarReflectors;
 }
 
 bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
   const RasterMaterial& m = materials[mesh.material];
   return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || m.measured != RasterTextureRef::kNone ||
-         mesh.hasColors;
+         mesh.hasColors || mesh.planarReflector != RasterTextureRef::kNone;
 }
 
 namespace {
@@ -155,6 +156,11 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.alphaCutoff = std::clamp(m.alphaCutoff, 0.0f, 1.0f);
     r.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
   }
+  if (m.isMirrorLike() && !m.hasClearTransmission() && !m.isMeasured()) {
+    r.mirrorLike = true;
+    r.mirrorReflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
+    r.mirrorF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
+  }
   r.sdbMaterialId = sdbMaterialId;
   return r;
 }
@@ -166,7 +172,7 @@ bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
     return x.texture == y.texture && x.texCoord == y.texCoord;
   };
   return same(a.baseColorTexture, b.baseColorTexture) && same(a.emissionTexture, b.emissionTexture) &&
-         same(a.normalTexture, b.normalTexture) && a.alphaMode == b.alphaMode;
+         same(a.normalTexture, b.normalTexture) && a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike;
 }
 
 // An SDB texture as RGBA8 (RasterTexture). InputError when its pixels do not match its size.
@@ -780,6 +786,53 @@ void buildCameras(RasterRdb& rdb, const sdb::Scene& scene) {
   for (auto& [id, c] : byId) rdb.cameras.push_back(std::move(c));
 }
 
+// The flat meshes of mirror materials, grouped by material and plane (RasterPlanarReflector), the
+// kMaxPlanarReflectors largest kept; each mesh's planarReflector set (none for the rest).
+void buildPlanarReflectors(RasterRdb& rdb) {
+  std::vector<RasterPlanarReflector> all;
+  for (uint32_t i = 0; i < rdb.meshes.size(); ++i) {
+    RasterMesh& mesh = rdb.meshes[i];
+    mesh.planarReflector = RasterTextureRef::kNone;
+    if (!rdb.materials[mesh.material].mirrorLike || mesh.indexCount == 0) continue;
+    // The area-weighted normal, the area and the extent; flat when every vertex lies on its plane.
+    vec3 weighted(0.0f);
+    double area = 0.0;
+    Bounds3 b;
+    for (uint32_t k = mesh.firstIndex; k + 2 < mesh.firstIndex + mesh.indexCount; k += 3) {
+      const vec3& p0 = rdb.positionsM[rdb.indices[k]];
+      const vec3 c = glm::cross(rdb.positionsM[rdb.indices[k + 1]] - p0, rdb.positionsM[rdb.indices[k + 2]] - p0);
+      weighted += c;
+      area += 0.5 * glm::length(c);
+    }
+    if (!(glm::length(weighted) > 0.0f)) continue;
+    const vec3 normal = glm::normalize(weighted);
+    double centre = 0.0;
+    for (uint32_t v = mesh.firstVertex; v < mesh.firstVertex + mesh.vertexCount; ++v) {
+      b.extend(rdb.positionsM[v]);
+      centre += glm::dot(normal, rdb.positionsM[v]);
+    }
+    const float offset = float(centre / mesh.vertexCount);
+    const float tolerance = std::max(1e-3f, 1e-4f * glm::length(b.size()));
+    bool flat = true;
+    for (uint32_t v = mesh.firstVertex; v < mesh.firstVertex + mesh.vertexCount && flat; ++v)
+      flat = std::abs(glm::dot(normal, rdb.positionsM[v]) - offset) <= tolerance;
+    if (!flat) continue;
+    auto same = [&](const RasterPlanarReflector& r) {
+      return r.material == mesh.material && glm::dot(r.normal, normal) > 0.9999995f &&
+             std::abs(r.offsetM - offset) <= 1e-3f;
+    };
+    auto it = std::find_if(all.begin(), all.end(), same);
+    if (it == all.end()) it = all.insert(all.end(), RasterPlanarReflector{normal, offset, mesh.material, {}, 0.0f});
+    it->meshes.push_back(i);
+    it->areaM2 += float(area);
+  }
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.areaM2 > b.areaM2; });
+  if (all.size() > kMaxPlanarReflectors) all.resize(kMaxPlanarReflectors);
+  for (uint32_t k = 0; k < all.size(); ++k)
+    for (uint32_t i : all[k].meshes) rdb.meshes[i].planarReflector = k;
+  rdb.planarReflectors = std::move(all);
+}
+
 void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   const sdb::SceneFeatures f = sdb::computeFeatures(scene);
   rdb.variants.lightMap = !rdb.frontLux.empty();
@@ -806,6 +859,7 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     v.alphaBlend |= m.alphaMode == RasterAlphaMode::kBlend;
   }
   v.measuredBrdf = !rdb.measuredBrdfs.empty();
+  v.planarReflectors = !rdb.planarReflectors.empty();
 }
 
 void checkOptions(const RasterBuildOptions& o) {
@@ -828,6 +882,7 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
   buildSky(rdb, scene, options);
   buildAmbient(rdb);
   buildCameras(rdb, scene);
+  buildPlanarReflectors(rdb);
   buildVariants(rdb, scene);
   return rdb;
 }

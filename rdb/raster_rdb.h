@@ -115,12 +115,35 @@ struct RasterMaterial {
   // `diffuse` then holds its albedo at normal incidence (what the directional ambient's mean albedo and the
   // light-map modes' fallback use).
   uint32_t measured = RasterTextureRef::kNone;
+  // An opaque mirror (sdb::Material::isMirrorLike, neither glass nor measured): on a flat mesh the engine
+  // shows what it reflects (RasterRdb::planarReflectors). Its reflection R(θ) = mirrorReflection times
+  // Schlick's Fresnel of mirrorF0, or times 1 for uniform reflection (mirrorF0 < 0).
+  bool mirrorLike = false;
+  Rgb mirrorReflection{0.0f};
+  float mirrorF0 = -1.0f;
   uint32_t sdbMaterialId = 0;
 
   bool hasTexture() const { return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture); }
 
   bool operator==(const RasterMaterial&) const = default;
 };
+
+// A plane of mirror meshes of one material (RasterMaterial::mirrorLike), which the engine shows by rendering
+// the scene mirrored in it (FLY §5's planar reflections): world points p with dot(normal, p) = offsetM, the
+// normal on the side the mirrors face (their triangles' front). Meshes whose vertices all lie within 10⁻⁴ of
+// their extent (and 1 mm) of one plane are flat; meshes of a material on one plane (normals within 0.06°,
+// offsets within 1 mm) share it.
+struct RasterPlanarReflector {
+  vec3 normal{0, 1, 0};
+  float offsetM = 0.0f;
+  uint32_t material = 0;           // index into RasterRdb::materials
+  std::vector<uint32_t> meshes;    // indices into RasterRdb::meshes
+  float areaM2 = 0.0f;
+
+  bool operator==(const RasterPlanarReflector&) const = default;
+};
+// The most planar reflectors a scene renders (one mirrored pass each); further mirrors show no reflection.
+inline constexpr uint32_t kMaxPlanarReflectors = 4;
 
 // A placed mesh: contiguous vertex and index ranges in the flat arrays. Its vertices are the SDB mesh's in
 // order; a light-textured mesh's are followed by seam copies (see RasterRdb::lightMapUv).
@@ -137,6 +160,7 @@ struct RasterMesh {
   static constexpr uint32_t kNoLightTexture = std::numeric_limits<uint32_t>::max();
   uint32_t lightTexture = kNoLightTexture;  // index into RasterRdb::lightTextures, or none
   bool hasColors = false;  // RasterRdb::colors holds this mesh's COLOR_0 (else it reads (1, 1, 1, 1) there)
+  uint32_t planarReflector = RasterTextureRef::kNone;  // index into RasterRdb::planarReflectors, or none
 
   bool operator==(const RasterMesh&) const = default;
 };
@@ -217,6 +241,7 @@ struct RasterVariants {
   bool alphaMask = false;     // some material is a cut-out (kMask)
   bool alphaBlend = false;    // some material is blended (kBlend): drawn after the rest, back to front
   bool measuredBrdf = false;  // some mesh has a measured BRDF: ball textures (raster/ball_texture.h)
+  bool planarReflectors = false;  // RasterRdb::planarReflectors is not empty: mirrored passes
 
   bool operator==(const RasterVariants&) const = default;
 };
@@ -293,6 +318,8 @@ struct RasterRdb {
   std::vector<RasterTexture> textures;
   // The measured BRDFs of the materials that have one (RasterMaterial::measured), in the materials' order.
   std::vector<RasterMeasuredBrdf> measuredBrdfs;
+  // Flat mirrors (RasterPlanarReflector), the kMaxPlanarReflectors largest by area.
+  std::vector<RasterPlanarReflector> planarReflectors;
 
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;

@@ -147,6 +147,22 @@ void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponen
 }
 #endif
 
+#ifdef FLY_PLANAR_REFLECTION
+// The draw's planar reflector (RasterRdb::planarReflectors), −1 for none or in a mirrored pass, and whether its
+// reflection image holds the sun's disc (sunlight mode draws the sky): then the image is the sun's mirror
+// reflection, and the Phong lobe's sun highlight is left out so that it is not counted twice.
+uniform int uReflector;
+uniform int uSunInReflection;
+#endif
+// 1, or 0 where the draw's reflection image shows the sun (uSunInReflection).
+float flySunHighlight() {
+#ifdef FLY_PLANAR_REFLECTION
+  return uReflector >= 0 && uSunInReflection != 0 ? 0.0 : 1.0;
+#else
+  return 1.0;
+#endif
+}
+
 #ifdef FLY_SUN
 // The sun's illuminance on a surface at p facing it (lux): per fragment with FLY_SUN_GLASS, times the T of the
 // clear glass between p and the sun; per vertex the fragment stage applies that T to the sun's term, which the
@@ -167,7 +183,7 @@ vec3 flySunTerm(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye) {
   vec3 diffuseLux = vec3(0.0);
   vec3 specularLux = vec3(0.0);
   addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, specularLux);
-  return albedo / kPi * diffuseLux + m.specular.rgb * specularLux;
+  return albedo / kPi * diffuseLux + m.specular.rgb * specularLux * flySunHighlight();
 }
 #endif
 
@@ -183,7 +199,9 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
     if (eLux != vec3(0.0)) addLight(p, n, toEye, toLight, eLux, m.specular.w, diffuseLux, specularLux);
   }
 #if defined(FLY_SUN) && (!defined(FLY_SUN_GLASS) || defined(FLY_PER_FRAGMENT))
-  addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, specularLux);
+  vec3 sunSpecularLux = vec3(0.0);
+  addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, sunSpecularLux);
+  specularLux += sunSpecularLux * flySunHighlight();
 #endif
   // The directional ambient term (rdb/raster_rdb.h, DirectionalAmbient).
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
@@ -508,7 +526,7 @@ layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(nor
 out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -530,7 +548,7 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -577,7 +595,7 @@ void main() {
 // the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -627,6 +645,13 @@ in vec4 vColor;
 #endif
 #ifdef FLY_NORMAL_MAP
 in vec4 vTangent;
+#endif
+#ifdef FLY_PLANAR_REFLECTION
+// The draw's reflector's image (kLuminanceEncoding, the size of the target) and R(θ)'s colour and F0
+// (RasterMaterial::mirrorReflection, mirrorF0; F0 < 0: uniform).
+layout(binding = 11) uniform usampler2D uReflection;
+uniform vec3 uMirrorReflection;
+uniform float uMirrorF0;
 #endif
 #ifdef FLY_BLEND_PASS
 layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", back to front
@@ -778,7 +803,7 @@ void main() {
 #endif
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
   // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 n = normalize(vNormal);
@@ -823,7 +848,11 @@ void main() {
 #ifdef FLY_LIGHT_TEXTURE
     if (vLightSlot != 0xffffffffu) eLux = flyLightTexel(vLightSlot, back, vLightMapUv);
 #endif
-    l = flyLightMapReflectance(base.rgb, m) * eLux / kPi;
+    vec3 reflectance = flyLightMapReflectance(base.rgb, m);
+#ifdef FLY_PLANAR_REFLECTION
+    if (uReflector >= 0) reflectance = base.rgb;  // the reflection image shows what the mirror reflects
+#endif
+    l = reflectance * eLux / kPi;
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
 #endif
@@ -843,6 +872,14 @@ void main() {
 #else
     l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
 #endif
+  }
+#endif
+#ifdef FLY_PLANAR_REFLECTION
+  // What the mirror reflects: the mirrored pass's image at this pixel (renderer.cpp, render) times R(θ).
+  if (uReflector >= 0 && !back) {
+    float x = 1.0 - clamp(dot(n, toEye), 0.0, 1.0);
+    float fresnel = uMirrorF0 < 0.0 ? 1.0 : uMirrorF0 + (1.0 - uMirrorF0) * x * x * x * x * x;
+    l += uMirrorReflection * fresnel * flyDecodeLuminance(texelFetch(uReflection, ivec2(gl_FragCoord.xy), 0).xy);
   }
 #endif
   l += emission;
