@@ -199,6 +199,31 @@ sdb::Scene makeScene(uint32_t cells, bool textured = false) {
   return s;
 }
 
+// Two flat reflectors in makeScene's scene: a 40 × 8 m wall at z = −20.5 facing the camera and an 8 × 6 m pool
+// on the ground; mirrors (uniform reflection 0.9, glossiness 0: planar reflectors) or, for the baseline, the
+// same quads of a plain grey.
+void addReflectors(sdb::Scene& s, bool mirrors) {
+  sdb::Material m;
+  m.name = mirrors ? "mirror" : "grey";
+  m.diffuseColor = Rgb(mirrors ? 0.05f : 0.5f);
+  if (mirrors) {
+    m.reflectionColor = Rgb(0.9f);
+    m.reflectionModel = sdb::ReflectionModel::kUniform;
+    m.reflectionGlossiness = 0.0f;
+  }
+  const sdb::MaterialId id = s.addMaterial(m).id;
+  auto quad = [&](const vec3& corner, const vec3& u, const vec3& v) {
+    sdb::Mesh q;
+    q.positions = {corner, corner + u, corner + u + v, corner + v};
+    q.normals.assign(4, glm::normalize(glm::cross(u, v)));
+    q.indices = {0, 1, 2, 0, 2, 3};
+    q.material = id;
+    return s.addMesh(q).id;
+  };
+  s.addNode({.name = "wall", .meshes = {quad(vec3(-20, 0, -20.5f), vec3(40, 0, 0), vec3(0, 8, 0))}});
+  s.addNode({.name = "pool", .meshes = {quad(vec3(-4, 0.01f, 4), vec3(8, 0, 0), vec3(0, 0, -6))}});
+}
+
 // A box from `lo` to `hi` with every face split into k × k quads (vertices shared within a face; the faces'
 // edge vertices coincide, so the shadow edges weld them into a closed mesh), faces pointing out.
 sdb::Mesh subdividedBox(const vec3& lo, const vec3& hi, uint32_t k, sdb::MaterialId material) {
@@ -549,7 +574,7 @@ int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h,
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
   uint32_t shadowMapTexels = 1024;
-  bool quick = false, texturedOnly = false, shadowsOnly = false;
+  bool quick = false, texturedOnly = false, shadowsOnly = false, reflectorsOnly = false;
   std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
@@ -558,6 +583,8 @@ int run(int argc, char** argv) {
       texturedOnly = true;
     } else if (std::strcmp(argv[i], "--shadows") == 0) {
       shadowsOnly = true;
+    } else if (std::strcmp(argv[i], "--reflectors") == 0) {
+      reflectorsOnly = true;
     } else if (std::strcmp(argv[i], "--shadow-map") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%u", &shadowMapTexels) == 1 && shadowMapTexels >= 16) {
     } else if (std::strcmp(argv[i], "--house") == 0 && i + 1 < argc) {
@@ -566,7 +593,7 @@ int run(int argc, char** argv) {
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
       std::fprintf(stderr,
-                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows [--shadow-map N]] [--house PATH]\n");
+                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --shadows [--shadow-map N]] [--house PATH]\n");
       return 2;
     }
   }
@@ -595,6 +622,31 @@ int run(int argc, char** argv) {
   const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
   printRow("0", "empty", baseline, baseline.pipelinedMs);
   if (shadowsOnly) return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs, shadowMapTexels);
+  if (reflectorsOnly) {
+    // The 300k-triangle scene with two mirrors against the same quads in grey, mode by mode.
+    constexpr RenderMode kAll[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
+    FrameTimes grey[3];
+    for (const bool mirrors : {false, true}) {
+      sdb::Scene scene = makeScene(quick ? 221 : 387);
+      addReflectors(scene, mirrors);
+      const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
+      const rdb::LightMapStore maps = syntheticLightMaps(plain);
+      const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &maps);
+      Renderer renderer;
+      renderer.upload(r);
+      const View view = viewOfCamera(r.cameras.at(0));
+      const std::string name = std::to_string(r.triangleCount()) + (mirrors ? "m" : "g");
+      for (int m = 0; m < 3; ++m) {
+        const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
+        if (!mirrors) grey[m] = t;
+        printRow(name.c_str(), renderModeName(kAll[m]), t, baseline.pipelinedMs);
+        if (mirrors) std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, × grey %.2f\n", "", "",
+                                 r.planarReflectors.size(), double(renderer.stats().reflectionPasses) / double(renderer.stats().scenePasses - renderer.stats().reflectionPasses),
+                                 t.pipelinedMs / grey[m].pipelinedMs);
+      }
+    }
+    return 0;
+  }
 
   const uint32_t texturedCells = quick ? 221 : 387;
   const std::vector<uint32_t> cells = quick || texturedOnly ? std::vector<uint32_t>{texturedCells}

@@ -97,6 +97,46 @@ mat4 projection(const View& v, float aspect) {
   return glm::perspective(v.yfovRad, aspect, v.znearM, v.zfarM);
 }
 
+// A rectangle of pixels (x, y from the bottom left).
+struct ScreenRect {
+  GLint x = 0, y = 0;
+  GLsizei width = 0, height = 0;
+  bool empty() const { return width <= 0 || height <= 0; }
+};
+
+// The pixels the box [lo, hi] covers on a widthPx × heightPx image (one pixel of margin); the whole image
+// where a corner lies behind the eye, nothing where the box lies outside the view.
+ScreenRect boxOnScreen(const mat4& clipFromWorld, const vec3& lo, const vec3& hi, uint32_t widthPx, uint32_t heightPx) {
+  vec4 corners[8];
+  uint32_t outsideAll = 0x1f;  // per frustum plane x ≥ −w, x ≤ w, y ≥ −w, y ≤ w, w > 0: every corner beyond it
+  bool behindEye = false;
+  for (int c = 0; c < 8; ++c) {
+    const vec4 p = clipFromWorld * vec4(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z, 1.0f);
+    corners[c] = p;
+    const uint32_t outside = (p.x < -p.w ? 1u : 0u) | (p.x > p.w ? 2u : 0u) | (p.y < -p.w ? 4u : 0u) |
+                             (p.y > p.w ? 8u : 0u) | (p.w <= 1e-6f ? 16u : 0u);
+    outsideAll &= outside;
+    behindEye |= p.w <= 1e-6f;
+  }
+  if (outsideAll != 0) return {};
+  if (behindEye) return {0, 0, GLsizei(widthPx), GLsizei(heightPx)};
+  vec2 ndcLo(1e30f), ndcHi(-1e30f);
+  for (const vec4& p : corners) {
+    ndcLo = glm::min(ndcLo, vec2(p) / p.w);
+    ndcHi = glm::max(ndcHi, vec2(p) / p.w);
+  }
+  const float x0 = std::floor((ndcLo.x * 0.5f + 0.5f) * float(widthPx)) - 1.0f;
+  const float y0 = std::floor((ndcLo.y * 0.5f + 0.5f) * float(heightPx)) - 1.0f;
+  const float x1 = std::ceil((ndcHi.x * 0.5f + 0.5f) * float(widthPx)) + 1.0f;
+  const float y1 = std::ceil((ndcHi.y * 0.5f + 0.5f) * float(heightPx)) + 1.0f;
+  ScreenRect r;
+  r.x = GLint(std::clamp(x0, 0.0f, float(widthPx)));
+  r.y = GLint(std::clamp(y0, 0.0f, float(heightPx)));
+  r.width = GLsizei(std::clamp(x1, 0.0f, float(widthPx))) - r.x;
+  r.height = GLsizei(std::clamp(y1, 0.0f, float(heightPx))) - r.y;
+  return r;
+}
+
 // `clipFromCamera` with its near plane replaced by `planeCamera` (camera space; points p with
 // dot(planeCamera, (p, 1)) ≥ 0 are kept): Lengyel, "Oblique View Frustum Depth Projection and Clipping",
 // Journal of Game Development 1(2), 2005. The far plane tilts with it; depth stays monotonic in front of it.
@@ -918,10 +958,15 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
   gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
   gpu_->reflectionColor.resize(r.planarReflectors.size(), 0);
+  const mat4 clipFromWorld = projection(view, float(widthPx) / float(heightPx)) * glm::inverse(view.worldFromCamera);
   for (uint32_t k = 0; k < r.planarReflectors.size(); ++k) {
     const rdb::RasterPlanarReflector& pr = r.planarReflectors[k];
     const bool front = view.orthographic ? glm::dot(viewDir, pr.normal) < 0.0f : glm::dot(pr.normal, eye) > pr.offsetM;
     if (!front) continue;
+    // The mirror's pixels: the screen rectangle of its bounding box (the whole image where a corner lies
+    // behind the eye); none when the box lies outside the view.
+    ScreenRect rect = boxOnScreen(clipFromWorld, pr.loM, pr.hiM, widthPx, heightPx);
+    if (rect.empty()) continue;
     mat4 mirror(1.0f);  // p' = p − 2 (n·p − d) n
     for (int c = 0; c < 3; ++c)
       for (int row = 0; row < 3; ++row) mirror[c][row] = (c == row ? 1.0f : 0.0f) - 2.0f * pr.normal[c] * pr.normal[row];
@@ -929,7 +974,10 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     View mirrored = view;
     mirrored.worldFromCamera = mirror * view.worldFromCamera;
     const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k};
+    glScissor(rect.x, rect.y, rect.width, rect.height);
+    glEnable(GL_SCISSOR_TEST);
     renderPass(mirrored, mode, widthPx, heightPx, &pass);
+    glDisable(GL_SCISSOR_TEST);
     GLuint& image = gpu_->reflectionColor[k];
     if (!image) {
       glCreateTextures(GL_TEXTURE_2D, 1, &image);
@@ -937,8 +985,8 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
       glTextureParameteri(image, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
       glTextureParameteri(image, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
-    glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, image, GL_TEXTURE_2D, 0, 0, 0, 0,
-                       GLsizei(widthPx), GLsizei(heightPx), 1);
+    glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x, rect.y,
+                       0, rect.width, rect.height, 1);
     gpu_->reflectionShown[k] = 1;
     ++stats_.reflectionPasses;
   }

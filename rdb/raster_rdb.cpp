@@ -822,9 +822,11 @@ void buildPlanarReflectors(RasterRdb& rdb) {
              std::abs(r.offsetM - offset) <= 1e-3f;
     };
     auto it = std::find_if(all.begin(), all.end(), same);
-    if (it == all.end()) it = all.insert(all.end(), RasterPlanarReflector{normal, offset, mesh.material, {}, 0.0f});
+    if (it == all.end()) it = all.insert(all.end(), RasterPlanarReflector{normal, offset, mesh.material, {}, 0.0f, b.min, b.max});
     it->meshes.push_back(i);
     it->areaM2 += float(area);
+    it->loM = glm::min(it->loM, b.min);
+    it->hiM = glm::max(it->hiM, b.max);
   }
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.areaM2 > b.areaM2; });
   if (all.size() > kMaxPlanarReflectors) all.resize(kMaxPlanarReflectors);

@@ -139,6 +139,7 @@ struct RasterPlanarReflector {
   uint32_t material = 0;           // index into RasterRdb::materials
   std::vector<uint32_t> meshes;    // indices into RasterRdb::meshes
   float areaM2 = 0.0f;
+  vec3 loM{0.0f}, hiM{0.0f};       // the meshes' bounding box (world)
 
   bool operator==(const RasterPlanarReflector&) const = default;
 };

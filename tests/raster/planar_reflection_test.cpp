@@ -149,15 +149,19 @@ TEST(PlanarReflection, MirrorShowsTheReflectedEmitterWhereTheRayCastDoes) {
   }
 }
 
-// Seen from below (its back), the mirror reflects nothing and no mirrored pass is drawn.
-TEST(PlanarReflection, NoPassForAMirrorSeenFromBehind) {
+// Seen from below (its back), or out of the view, the mirror reflects nothing and no mirrored pass is drawn.
+TEST(PlanarReflection, NoPassForAMirrorSeenFromBehindOrOutOfView) {
   context();
   MirrorScene s = mirrorScene(sdb::ReflectionModel::kUniform);
   Renderer renderer;
   renderer.upload(s.rdb);
   renderer.render(test::lookAtView(vec3(0.3f, -2.0f, 4.0f), vec3(0.0f, 0.0f, 0.0f), 50.0f), RenderMode::kSimple, 64, 64);
   EXPECT_EQ(renderer.stats().reflectionPasses, 0);
-  EXPECT_GT(renderer.stats().scenePasses, 0);
+  renderer.render(test::lookAtView(vec3(0.3f, 2.0f, 4.0f), vec3(0.0f, 3.0f, 10.0f), 50.0f), RenderMode::kSimple, 64, 64);
+  EXPECT_EQ(renderer.stats().reflectionPasses, 0);
+  EXPECT_EQ(renderer.stats().scenePasses, 2);
+  renderer.render(test::lookAtView(vec3(0.3f, 2.0f, 4.0f), vec3(0.0f, 0.0f, 0.0f), 50.0f), RenderMode::kSimple, 64, 64);
+  EXPECT_EQ(renderer.stats().reflectionPasses, 1);
 }
 
 }  // namespace
