@@ -351,6 +351,12 @@ struct FrameTimes {
   double meanLuminanceCdM2 = 0.0;
 };
 
+// The scene's RasterRdb with syntheticLightMaps, so that every mode runs.
+rdb::RasterRdb lightMapped(const sdb::Scene& scene) {
+  const rdb::LightMapStore maps = syntheticLightMaps(rdb::buildRasterRdb(scene));
+  return rdb::buildRasterRdb(scene, &maps);
+}
+
 double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -629,9 +635,7 @@ int run(int argc, char** argv) {
     for (const bool mirrors : {false, true}) {
       sdb::Scene scene = makeScene(quick ? 221 : 387);
       addReflectors(scene, mirrors);
-      const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
-      const rdb::LightMapStore maps = syntheticLightMaps(plain);
-      const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &maps);
+      const rdb::RasterRdb r = lightMapped(scene);
       Renderer renderer;
       renderer.upload(r);
       const View view = viewOfCamera(r.cameras.at(0));
@@ -655,9 +659,7 @@ int run(int argc, char** argv) {
   FrameTimes plainTimes[3];  // the untextured texturedCells scene, per mode
   for (uint32_t n : cells) {
     const sdb::Scene scene = makeScene(n);
-    const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
-    const rdb::LightMapStore maps = syntheticLightMaps(plain);
-    const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &maps);
+    const rdb::RasterRdb r = lightMapped(scene);
     Renderer renderer;
     renderer.upload(r);
     const View view = viewOfCamera(r.cameras.at(0));
@@ -671,9 +673,7 @@ int run(int argc, char** argv) {
 
   // The textured scene against the untextured one of the same size, mode by mode.
   const sdb::Scene scene = makeScene(texturedCells, true);
-  const rdb::RasterRdb plain = rdb::buildRasterRdb(scene);
-  const rdb::LightMapStore maps = syntheticLightMaps(plain);
-  const rdb::RasterRdb r = rdb::buildRasterRdb(scene, &maps);
+  const rdb::RasterRdb r = lightMapped(scene);
   Renderer renderer;
   renderer.upload(r);
   const View view = viewOfCamera(r.cameras.at(0));

@@ -83,6 +83,20 @@ TEST(EnvironmentLight, IrradianceOfTwoHemispheres) {
   EXPECT_LT(worst, 0.005);
 }
 
+// Calls f(ω, dω) over a midpoint grid of the hemisphere around +z: θ = u² π/2 (dense near the pole, where a
+// narrow GGX lobe lives; dθ = u π du) × φ, dω = sin θ dθ dφ.
+template <class F>
+void overWarpedHemisphere(int thetaSteps, int phiSteps, const F& f) {
+  for (int i = 0; i < thetaSteps; ++i) {
+    const double u = (i + 0.5) / thetaSteps, theta = u * u * kPi / 2.0, dTheta = u * kPi / thetaSteps;
+    const double sinT = std::sin(theta), cosT = std::cos(theta);
+    for (int j = 0; j < phiSteps; ++j) {
+      const double phi = (j + 0.5) / phiSteps * 2.0 * kPi;
+      f(vec3(float(sinT * std::cos(phi)), float(sinT * std::sin(phi)), float(cosT)), sinT * dTheta * 2.0 * kPi / phiSteps);
+    }
+  }
+}
+
 // The split sum's table against a fine quadrature over half vectors of fly's GGX (base/ggx.h, the
 // height-correlated G2 of raytracer/bsdf.cpp): ∫ f₁ cos θi dωi = ∫ D(h) G2 (ωo·h) / cos θo dωh over the h
 // for which ωi lies above the surface, split by Schlick's Fc = (1 − ωo·h)⁵.
@@ -90,26 +104,18 @@ vec2 splitSumByQuadrature(float cosO, float alpha) {
   const float a2 = alpha * alpha;
   const vec3 wo(std::sqrt(1.0f - cosO * cosO), 0.0f, cosO);
   const float lambdaO = ggxLambda(cosO, a2);
-  constexpr int kTheta = 2048, kPhi = 512;
   double a = 0.0, b = 0.0;
-  for (int i = 0; i < kTheta; ++i) {
-    // θh = u² π/2: dense near the normal, where a narrow D lives; dθh = u π du.
-    const double u = (i + 0.5) / kTheta, thetaH = u * u * kPi / 2.0, dTheta = u * kPi / kTheta;
-    const double sinH = std::sin(thetaH), cosH = std::cos(thetaH);
-    for (int j = 0; j < kPhi; ++j) {
-      const double phi = (j + 0.5) / kPhi * 2.0 * kPi;
-      const vec3 h(float(sinH * std::cos(phi)), float(sinH * std::sin(phi)), float(cosH));
-      const float oh = glm::dot(wo, h);
-      if (oh <= 0.0f) continue;
-      const vec3 wi = 2.0f * oh * h - wo;
-      if (wi.z <= 0.0f) continue;
-      const double g2 = 1.0 / (1.0 + lambdaO + ggxLambda(wi.z, a2));
-      const double value = ggxD(float(cosH), a2) * g2 * oh / cosO * sinH * dTheta * (2.0 * kPi / kPhi);
-      const double fc = std::pow(1.0 - oh, 5.0);
-      a += (1.0 - fc) * value;
-      b += fc * value;
-    }
-  }
+  overWarpedHemisphere(2048, 512, [&](const vec3& h, double dOmega) {
+    const float oh = glm::dot(wo, h);
+    if (oh <= 0.0f) return;
+    const vec3 wi = 2.0f * oh * h - wo;
+    if (wi.z <= 0.0f) return;
+    const double g2 = 1.0 / (1.0 + lambdaO + ggxLambda(wi.z, a2));
+    const double value = ggxD(h.z, a2) * g2 * oh / cosO * dOmega;
+    const double fc = std::pow(1.0 - oh, 5.0);
+    a += (1.0 - fc) * value;
+    b += fc * value;
+  });
   return vec2(float(a), float(b));
 }
 
@@ -151,21 +157,14 @@ template <class F>
 double prefilteredByQuadrature(const vec3& r, float alpha, const F& radiance) {
   const float a2 = alpha * alpha;
   const vec3 t = glm::normalize(glm::cross(std::abs(r.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), r));
-  const vec3 b = glm::cross(r, t);
-  constexpr int kTheta = 1024, kPhi = 512;
+  const mat3 worldFromLocal(t, glm::cross(r, t), r);
   double num = 0.0, den = 0.0;
-  for (int i = 0; i < kTheta; ++i) {
-    const double u = (i + 0.5) / kTheta, theta = u * u * kPi / 2.0, dTheta = u * kPi / kTheta;
-    const double sinT = std::sin(theta), cosT = std::cos(theta);
-    for (int j = 0; j < kPhi; ++j) {
-      const double phi = (j + 0.5) / kPhi * 2.0 * kPi;
-      const vec3 l = float(sinT * std::cos(phi)) * t + float(sinT * std::sin(phi)) * b + float(cosT) * r;
-      const float cosH = glm::dot(glm::normalize(l + r), r);
-      const double w = ggxD(cosH, a2) / 4.0 * cosT * sinT * dTheta;
-      num += w * radiance(l);
-      den += w;
-    }
-  }
+  overWarpedHemisphere(1024, 512, [&](const vec3& local, double dOmega) {
+    const vec3 l = worldFromLocal * local;
+    const double w = ggxD(glm::dot(glm::normalize(l + r), r), a2) / 4.0 * local.z * dOmega;
+    num += w * radiance(l);
+    den += w;
+  });
   return num / den;
 }
 
