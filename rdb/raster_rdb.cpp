@@ -156,7 +156,7 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.alphaCutoff = std::clamp(m.alphaCutoff, 0.0f, 1.0f);
     r.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
   }
-  if (m.isMirrorLike() && !m.hasClearTransmission() && !m.isMeasured()) {
+  if (m.showsPlanarReflection() && !m.hasClearTransmission() && !m.isMeasured()) {
     r.mirrorLike = true;
     r.mirrorReflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
     r.mirrorF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;

@@ -115,8 +115,9 @@ struct RasterMaterial {
   // `diffuse` then holds its albedo at normal incidence (what the directional ambient's mean albedo and the
   // light-map modes' fallback use).
   uint32_t measured = RasterTextureRef::kNone;
-  // An opaque mirror (sdb::Material::isMirrorLike, neither glass nor measured): on a flat mesh the engine
-  // shows what it reflects (RasterRdb::planarReflectors). Its reflection R(θ) = mirrorReflection times
+  // An opaque reflector shown by planar reflections (sdb::Material::showsPlanarReflection: a mirror, or what
+  // the scene file marks "planar"; neither glass nor measured): on a flat mesh the engine shows what it
+  // reflects (RasterRdb::planarReflectors). Its reflection R(θ) = mirrorReflection times
   // Schlick's Fresnel of mirrorF0, or times 1 for uniform reflection (mirrorF0 < 0).
   bool mirrorLike = false;
   Rgb mirrorReflection{0.0f};

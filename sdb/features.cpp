@@ -89,12 +89,10 @@ SceneFeatures computeFeatures(const Scene& scene) {
                            bool(m.anisotropyRotationTexture) || bool(m.emissionTexture) || bool(m.bumpTexture);
     f.bumpMaps |= bool(m.bumpTexture);
     f.vertexColors |= !mesh.colors.empty();
-    if (m.isMirrorLike()) {
-      if (isPlanar(mesh)) {
-        f.planarReflectors = true;
-      } else {
-        f.curvedReflectors = true;
-      }
+    if (m.showsPlanarReflection() && isPlanar(mesh)) {
+      f.planarReflectors = true;
+    } else if (m.isMirrorLike() && !isPlanar(mesh)) {
+      f.curvedReflectors = true;
     }
   }
   return f;

@@ -22,6 +22,13 @@ enum class ReflectionModel {
   kUniform,  // the reflection colour at every angle
 };
 
+// How the OpenGL engine shows what a surface reflects (FLY §5: chosen by shape and material).
+enum class EngineReflection {
+  kAuto,    // a planar reflection where the material is mirror-like (isMirrorLike) and the mesh flat
+  kPlanar,  // a planar reflection wherever the mesh is flat, whatever the reflectance (polished floors, water)
+  kNone,    // none: the reflection lobe's highlights of the lights only
+};
+
 // The three reflectances after the energy rule; each channel in [0,1] and d + r + t ≤ 1 per channel.
 struct EffectiveComponents {
   Rgb diffuse{0.0f};
@@ -80,6 +87,7 @@ struct Material {
   // Reflection glossiness, [0,1]: 0 = a perfect mirror, 1 = the widest lobe. Equal to glTF's perceptual
   // roughness; the microfacet (GGX) width is α = glossiness². Default 0.5.
   float reflectionGlossiness = 0.5f;
+  EngineReflection engineReflection = EngineReflection::kAuto;  // the scene file's "engineReflection"
   TextureRef reflectionGlossinessTexture;  // linear, red channel; multiplies reflectionGlossiness
 
   // Anisotropy in U and V (tangent and bitangent directions), each in [0,1]: the larger, the wider the
@@ -155,6 +163,10 @@ struct Material {
   // A mirror-like reflector: strong reflection at normal incidence (luminance ≥ 0.5) and a narrow lobe
   // (glossiness ≤ 0.2), the kind that needs a reflection pass rather than a light-map term.
   bool isMirrorLike() const;
+  // Whether the OpenGL engine shows a planar reflection on a flat mesh of this material (engineReflection).
+  bool showsPlanarReflection() const {
+    return engineReflection == EngineReflection::kPlanar || (engineReflection == EngineReflection::kAuto && isMirrorLike());
+  }
 };
 
 // Coarse class of a material for summaries (`fly info`): the preset's class if it has one, otherwise derived

@@ -794,6 +794,16 @@ class SceneFileReader {
     add(r.floatNumber("ior", closed(1, 4), ""), [](Material& m, float x) { m.ior = x; });
     add(r.floatNumber("reflectionGlossiness", unit, ""),
         [](Material& m, float x) { m.reflectionGlossiness = x; });
+    if (const JsonValue* e = r.find("engineReflection")) {
+      const std::string mode = e->isString() ? e->string() : "";
+      const EngineReflection chosen = mode == "auto"     ? EngineReflection::kAuto
+                                      : mode == "planar" ? EngineReflection::kPlanar
+                                      : mode == "none"   ? EngineReflection::kNone
+                                                         : EngineReflection(-1);
+      if (chosen == EngineReflection(-1))
+        src_.fail(*e, "expected \"auto\", \"planar\" or \"none\"; got " + describeValue(*e));
+      edits.push_back([chosen](Material& m) { m.engineReflection = chosen; });
+    }
     if (const JsonValue* a = r.find("anisotropy")) {
       if (!a->isArray() || a->elements().size() != 2) {
         src_.fail(*a, "expected an array of 2 numbers [u, v], each in [0, 1]; got " + describeValue(*a));
@@ -916,6 +926,7 @@ class SceneFileReader {
                           "fresnel",
                           "ior",
                           "reflectionGlossiness",
+                          "engineReflection",
                           "anisotropy",
                           "anisotropyRotationDeg",
                           "transmissionGlossiness",

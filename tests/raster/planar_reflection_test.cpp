@@ -12,6 +12,7 @@
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
 #include "rdb/raster_rdb.h"
+#include "sdb/features.h"
 #include "sdb/material.h"
 #include "sdb/scene.h"
 
@@ -30,7 +31,7 @@ struct MirrorScene {
   rdb::RasterRdb rdb;
 };
 
-MirrorScene mirrorScene(sdb::ReflectionModel model) {
+MirrorScene mirrorScene(sdb::ReflectionModel model, sdb::EngineReflection engine = sdb::EngineReflection::kAuto) {
   MirrorScene s;
   sdb::Material mirror;
   mirror.name = "mirror";
@@ -38,6 +39,7 @@ MirrorScene mirrorScene(sdb::ReflectionModel model) {
   mirror.reflectionColor = Rgb(kReflection);
   mirror.reflectionModel = model;
   mirror.reflectionGlossiness = 0.0f;
+  mirror.engineReflection = engine;
   const sdb::MaterialId mirrorId = s.scene.addMaterial(mirror).id;
   sdb::Material lamp;
   lamp.name = "emitter";
@@ -89,14 +91,19 @@ struct Comparison {
 
 // The engine's image against the ray cast at every pixel whose 3 × 3 neighbourhood the ray cast classifies
 // alike (edges are a pixel's coverage question, not the reflection's).
-Comparison compare(const std::vector<float>& rgb, const View& view, uint32_t px, float expectedReflected) {
+// reflectance(cos θ): the mirror's R at the angle the eye sees it.
+template <class R>
+Comparison compare(const std::vector<float>& rgb, const View& view, uint32_t px, const R& reflectance) {
   const vec3 eye(view.worldFromCamera[3]);
   const float tanY = std::tan(0.5f * view.yfovRad);
   std::vector<int> cls(size_t(px) * px);
+  std::vector<float> cosines(size_t(px) * px);
   for (uint32_t y = 0; y < px; ++y) {
     for (uint32_t x = 0; x < px; ++x) {
       const vec3 cam(((x + 0.5f) / px * 2.0f - 1.0f) * tanY, (1.0f - (y + 0.5f) / px * 2.0f) * tanY, -1.0f);
-      cls[y * px + x] = classify(eye, glm::normalize(mat3(view.worldFromCamera) * cam));
+      const vec3 d = glm::normalize(mat3(view.worldFromCamera) * cam);
+      cls[y * px + x] = classify(eye, d);
+      cosines[y * px + x] = -d.y;
     }
   }
   Comparison c;
@@ -108,6 +115,7 @@ Comparison compare(const std::vector<float>& rgb, const View& view, uint32_t px,
         for (int dx = -1; dx <= 1; ++dx) uniform &= cls[(y + dy) * px + x + dx] == k;
       if (!uniform) continue;
       const float l = rgb[3 * (size_t(y) * px + x) + 1];
+      const float expectedReflected = reflectance(cosines[y * px + x]) * kEmissionCdM2;
       const int got = l > 0.9f * kEmissionCdM2 ? 1 : (l > 0.5f * expectedReflected ? 2 : 0);
       const int want = k == 3 ? 0 : k;
       ++c.compared;
@@ -140,13 +148,38 @@ TEST(PlanarReflection, MirrorShowsTheReflectedEmitterWhereTheRayCastDoes) {
     const View view = test::lookAtView(vec3(0.3f, 2.0f, 4.0f), vec3(0.0f, 0.3f, 0.0f), 50.0f);
     renderer.render(view, RenderMode::kSimple, kPx, kPx);
     EXPECT_EQ(renderer.stats().reflectionPasses, 1);
-    const Comparison c = compare(renderer.luminanceRgb(), view, kPx, kReflection * kEmissionCdM2);
+    const Comparison c = compare(renderer.luminanceRgb(), view, kPx, [](float) { return kReflection; });
     std::printf("planar mirror: mask agrees at %zu of %zu pixels; the reflected emitter at %zu pixels within %.4f "
                 "of R · L\n", c.maskAgrees, c.compared, c.reflected, c.worstReflected);
     EXPECT_GT(c.reflected, 300u);
     EXPECT_GE(double(c.maskAgrees), 0.999 * double(c.compared));
     EXPECT_LT(c.worstReflected, 1e-3);
   }
+}
+
+// A Fresnel reflector (a polished floor: 4 % at normal incidence) shows no reflection by the automatic choice;
+// marked "planar" (sdb::EngineReflection::kPlanar) it does, by R(θ) = colour · Schlick(F0 = 0.04, θ).
+TEST(PlanarReflection, PolishedFloorMarkedPlanarReflectsByFresnel) {
+  context();
+  EXPECT_TRUE(mirrorScene(sdb::ReflectionModel::kFresnel).rdb.planarReflectors.empty());
+  MirrorScene s = mirrorScene(sdb::ReflectionModel::kFresnel, sdb::EngineReflection::kPlanar);
+  ASSERT_EQ(s.rdb.planarReflectors.size(), 1u);
+  EXPECT_TRUE(sdb::computeFeatures(s.scene).planarReflectors);
+  Renderer renderer;
+  renderer.upload(s.rdb);
+  constexpr uint32_t kPx = 128;
+  const View view = test::lookAtView(vec3(0.3f, 1.2f, 4.5f), vec3(0.0f, 0.3f, 0.0f), 50.0f);
+  renderer.render(view, RenderMode::kSimple, kPx, kPx);
+  const float f0 = sdb::fresnelF0(1.5f);
+  const Comparison c = compare(renderer.luminanceRgb(), view, kPx, [&](float cosTheta) {
+    return kReflection * (f0 + (1.0f - f0) * std::pow(1.0f - cosTheta, 5.0f));
+  });
+  std::printf("polished floor: mask agrees at %zu of %zu pixels; the reflected emitter at %zu pixels within %.4f "
+              "of R(θ) · L\n", c.maskAgrees, c.compared, c.reflected, c.worstReflected);
+  EXPECT_GT(c.reflected, 200u);
+  EXPECT_GE(double(c.maskAgrees), 0.999 * double(c.compared));
+  EXPECT_LT(c.worstReflected, 0.01);
+  EXPECT_TRUE(mirrorScene(sdb::ReflectionModel::kUniform, sdb::EngineReflection::kNone).rdb.planarReflectors.empty());
 }
 
 // Seen from below (its back), or out of the view, the mirror reflects nothing and no mirrored pass is drawn.

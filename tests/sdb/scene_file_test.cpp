@@ -348,6 +348,19 @@ TEST(SceneFile, OverridesMustMatchAndPresetsMustExist) {
   expectError(
       R"({"fly": 1, "models": [{"file": "car.gltf"}], "overrides": [{"material": "Glass", "diffuse": [0.5, 2, 0]}]})",
       "1:99", "/overrides/0/diffuse/1", {"expected a number, [0, 1]; got 2"});
+  expectError(
+      R"({"fly": 1, "models": [{"file": "car.gltf"}], "overrides": [{"material": "Glass", "engineReflection": "mirror"}]})",
+      "1:102", "/overrides/0/engineReflection", {"expected \"auto\", \"planar\" or \"none\"; got a string (\"mirror\")"});
+}
+
+// How the OpenGL engine shows a material's reflection, per material (docs/reflections.md).
+TEST(SceneFile, EngineReflectionPerMaterial) {
+  const Scene s = parse(R"({"fly": 1, "models": [{"file": "car.gltf"}],
+    "overrides": [{"material": "Paint", "engineReflection": "planar"}, {"material": "Glass", "engineReflection": "none"}]})");
+  EXPECT_EQ(s.material(s.findMaterial("Paint")).engineReflection, EngineReflection::kPlanar);
+  EXPECT_TRUE(s.material(s.findMaterial("Paint")).showsPlanarReflection());
+  EXPECT_EQ(s.material(s.findMaterial("Glass")).engineReflection, EngineReflection::kNone);
+  EXPECT_FALSE(s.material(s.findMaterial("Glass")).showsPlanarReflection());
 }
 
 TEST(SceneFile, CamerasNeedAViewDirection) {
