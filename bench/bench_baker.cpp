@@ -14,9 +14,11 @@
 //   6. Measured BRDFs: nanoseconds per eval + pdf and per sample of a tabulated table's lobe and of the car-
 //      paint lobe against the analytic glossy Bsdf (diffuse + GGX), one thread; and the baker's rays/s on the
 //      scene of part 1 with a measured ground and car-paint boxes against the same scene with analytic ones.
+//   7. Scaling in a sunlit interior (--part scaling-room): the room of part 1 tessellated to 1M triangles,
+//      1 thread against all, with rays/s and peak memory.
 //
-// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|textures|measured]...   (--quick: 10k
-// triangles only, a smaller QMC reference; --part: only the parts named)
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|scaling-room|textures|measured]...   (--quick:
+// 10k triangles only (part 7: 20k, 16 samples), a smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -574,6 +576,41 @@ void benchScaling(uint32_t maxThreads, bool quick) {
               quick ? "10k" : "1M", static_cast<double>(usage.ru_maxrss) / 1024.0);
 }
 
+// The sunlit interior at scale: the room of makeRoomScene with its surfaces tessellated to `triangles`
+// triangles, baked on 1 thread and on all, the same samples. Prints the BVH build, both bake times and their
+// ratio, rays/s, and the process's peak resident set size (ru_maxrss), which is the 1M-triangle bake's: no
+// other part runs before it in this process when it is run alone (--part scaling-room).
+void benchScalingRoom(uint32_t maxThreads, bool quick) {
+  const uint32_t samples = quick ? 16 : 64;
+  // makeRoomScene's grids are square in cells, so its surfaces get about 1.68 times the triangles asked for:
+  // 600k give 1.0M.
+  const uint32_t triangles = quick ? 12000 : 600000;
+  Clock::time_point start = Clock::now();
+  const rdb::TraceRdb rdb = makeRoomScene(triangles);
+  const double sceneSeconds = secondsSince(start);
+  start = Clock::now();
+  const EmbreeScene scene(rdb);
+  const double buildSeconds = secondsSince(start);
+  std::printf(
+      "\n7. Scaling in a sunlit interior: room 8 × 3 × 6 m with a window, %zu triangles, %zu vertices, %u samples "
+      "per vertex (Sobol, %u replicates); scene %.2f s, BVH build %.2f s (Embree, all threads)\n",
+      rdb.triangleCount(), rdb.positionsM.size(), samples,
+      replicatesFor(EstimateSettings{}, rdb.positionsM.size()), sceneSeconds, buildSeconds);
+  const VertexLightMaps one = bake(rdb, scene, samples, 1);
+  const VertexLightMaps many = bake(rdb, scene, samples, maxThreads);
+  std::printf("   %8s %10s %12s %14s\n", "threads", "bake", "rays", "rays/s");
+  for (const auto& [threads, maps] : {std::pair{1u, &one}, std::pair{maxThreads, &many}}) {
+    std::printf("   %8u %8.2f s %12llu %14.3g\n", threads, maps->seconds,
+                static_cast<unsigned long long>(maps->rays), static_cast<double>(maps->rays) / maps->seconds);
+  }
+  std::printf("   speed-up %.2f on %u threads (%.0f %% parallel efficiency)\n", one.seconds / many.seconds,
+              maxThreads, 100.0 * one.seconds / many.seconds / maxThreads);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  // ru_maxrss is in KiB on Linux.
+  std::printf("   peak resident set size %.0f MiB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+}
+
 }  // namespace
 }  // namespace fly::raytracer
 
@@ -585,6 +622,7 @@ int main(int argc, char** argv) {
   bool scaling = false;
   bool textures = false;
   bool measured = false;
+  bool scalingRoom = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -600,21 +638,23 @@ int main(int argc, char** argv) {
         textures = true;
       } else if (part == "measured") {
         measured = true;
+      } else if (part == "scaling-room") {
+        scalingRoom = true;
       } else {
-        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, textures or measured\n",
+        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, scaling-room, textures or measured\n",
                      part.c_str());
         return 2;
       }
     } else {
       std::fprintf(stderr,
                    "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick] "
-                   "[--part throughput|qmc|scaling|textures|measured]...\n",
+                   "[--part throughput|qmc|scaling|scaling-room|textures|measured]...\n",
                    argv[i]);
       return 2;
     }
   }
-  if (!throughput && !qmc && !scaling && !textures && !measured) {
-    throughput = qmc = scaling = textures = measured = true;
+  if (!throughput && !qmc && !scaling && !textures && !measured && !scalingRoom) {
+    throughput = qmc = scaling = textures = measured = scalingRoom = true;
   }
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
   if (throughput) {
@@ -631,5 +671,6 @@ int main(int argc, char** argv) {
   if (scaling) fly::raytracer::benchScaling(threads, quick);
   if (textures) fly::raytracer::benchTextures(threads);
   if (measured) fly::raytracer::benchMeasured(threads);
+  if (scalingRoom) fly::raytracer::benchScalingRoom(threads, quick);
   return 0;
 }
