@@ -490,7 +490,7 @@ def speed_runs(work, args, fly_run, cycles_run, fly_start_s):
 
     def cycles_step(samples, rep=0):
         csv_path = os.path.join(work, f"cycles-speed-{samples}.csv")
-        info_path = os.path.join(work, f"cycles-speed-{samples}-info.json")
+        info_path = os.path.join(work, f"cycles-speed-{samples}-{rep}-info.json")
         t = cycles_run(csv_path, f"cycles-speed-{samples}-{rep}.log", samples, info_path)
         with open(info_path) as f:
             bake_s = json.load(f)["bake_s"]
