@@ -452,14 +452,15 @@ def rms_relative_error(csv_path):
 
 def time_line(runs):
     """Least-squares line a + b · samples through the runs' wall-clock times (the mean time of each sample
-    count): a is the start-up and everything else that does not grow with the samples, b the time a sample."""
+    count): a is the start-up and everything else that does not grow with the samples, b the time a sample
+    (a run of one sample count gives its time and no slope)."""
     by = {}
     for r in runs:
         by.setdefault(r["samples"], []).append(r["s"])
     xs = sorted(by)
     ys = [sum(by[x]) / len(by[x]) for x in xs]
     if len(xs) < 2:
-        return 0.0, ys[0] / xs[0]
+        return ys[0], 0.0  # one sample count: no slope to tell, its time stands
     mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
     b = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
     return my - b * mx, b
