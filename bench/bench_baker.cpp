@@ -14,9 +14,11 @@
 //   6. Measured BRDFs: nanoseconds per eval + pdf and per sample of a tabulated table's lobe and of the car-
 //      paint lobe against the analytic glossy Bsdf (diffuse + GGX), one thread; and the baker's rays/s on the
 //      scene of part 1 with a measured ground and car-paint boxes against the same scene with analytic ones.
+//   7. Scaling in a sunlit interior (--part scaling-room): the room of part 1 tessellated to 20k and 1M
+//      triangles, 1 thread against all, with rays/s and peak memory.
 //
-// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|textures|measured]...   (--quick: 10k
-// triangles only, a smaller QMC reference; --part: only the parts named)
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|scaling-room|textures|measured]...   (--quick:
+// 10k triangles only (part 7: 20k), a smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -574,6 +576,42 @@ void benchScaling(uint32_t maxThreads, bool quick) {
               quick ? "10k" : "1M", static_cast<double>(usage.ru_maxrss) / 1024.0);
 }
 
+// The sunlit interior at scale: the room of makeRoomScene with its surfaces tessellated to about 20k and 1M
+// triangles (--quick: 20k only), each baked on all threads, on 1 thread and on all threads again, the same
+// samples: the ratio is the 1-thread time over the mean of the two all-thread runs, and the repeat shows
+// whether the order matters (first touches of memory, the machine's other load). Prints the BVH build, the
+// bake times, rays/s, and the process's peak resident set size (ru_maxrss) after the largest scene, which
+// is that bake's when this part runs alone (--part scaling-room).
+void benchScalingRoom(uint32_t maxThreads, bool quick) {
+  // makeRoomScene's grids are square in cells, so its surfaces get about 1.68 times the triangles asked for:
+  // 12k give 20k, 600k give 1.0M.
+  const std::vector<std::pair<uint32_t, uint32_t>> sizesAndSamples =
+      quick ? std::vector<std::pair<uint32_t, uint32_t>>{{12000, 16}}
+            : std::vector<std::pair<uint32_t, uint32_t>>{{12000, 64}, {600000, 16}};
+  std::printf("\n7. Scaling in a sunlit interior: room 8 × 3 × 6 m with a window under sun and sky; bake time "
+              "without the BVH build, %u threads, 1 thread, %u threads again\n", maxThreads, maxThreads);
+  std::printf("   %10s %10s %8s %10s %10s %10s %10s %12s %12s %9s\n", "triangles", "vertices", "samples",
+              "BVH build", "N threads", "1 thread", "N again", "rays/s 1", "rays/s N", "speed-up");
+  for (const auto& [requested, samples] : sizesAndSamples) {
+    const rdb::TraceRdb rdb = makeRoomScene(requested);
+    const Clock::time_point start = Clock::now();
+    const EmbreeScene scene(rdb);
+    const double buildSeconds = secondsSince(start);
+    const VertexLightMaps first = bake(rdb, scene, samples, maxThreads);
+    const VertexLightMaps one = bake(rdb, scene, samples, 1);
+    const VertexLightMaps again = bake(rdb, scene, samples, maxThreads);
+    const double many = 0.5 * (first.seconds + again.seconds);
+    std::printf("   %10zu %10zu %8u %8.2f s %8.2f s %8.2f s %8.2f s %12.3g %12.3g %9.2f\n", rdb.triangleCount(),
+                rdb.positionsM.size(), samples, buildSeconds, first.seconds, one.seconds, again.seconds,
+                static_cast<double>(one.rays) / one.seconds, static_cast<double>(again.rays) / many,
+                one.seconds / many);
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  // ru_maxrss is in KiB on Linux.
+  std::printf("   peak resident set size %.0f MiB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+}
+
 }  // namespace
 }  // namespace fly::raytracer
 
@@ -585,6 +623,7 @@ int main(int argc, char** argv) {
   bool scaling = false;
   bool textures = false;
   bool measured = false;
+  bool scalingRoom = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -600,21 +639,23 @@ int main(int argc, char** argv) {
         textures = true;
       } else if (part == "measured") {
         measured = true;
+      } else if (part == "scaling-room") {
+        scalingRoom = true;
       } else {
-        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, textures or measured\n",
+        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, scaling-room, textures or measured\n",
                      part.c_str());
         return 2;
       }
     } else {
       std::fprintf(stderr,
                    "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick] "
-                   "[--part throughput|qmc|scaling|textures|measured]...\n",
+                   "[--part throughput|qmc|scaling|scaling-room|textures|measured]...\n",
                    argv[i]);
       return 2;
     }
   }
-  if (!throughput && !qmc && !scaling && !textures && !measured) {
-    throughput = qmc = scaling = textures = measured = true;
+  if (!throughput && !qmc && !scaling && !textures && !measured && !scalingRoom) {
+    throughput = qmc = scaling = textures = measured = scalingRoom = true;
   }
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
   if (throughput) {
@@ -631,5 +672,6 @@ int main(int argc, char** argv) {
   if (scaling) fly::raytracer::benchScaling(threads, quick);
   if (textures) fly::raytracer::benchTextures(threads);
   if (measured) fly::raytracer::benchMeasured(threads);
+  if (scalingRoom) fly::raytracer::benchScalingRoom(threads, quick);
   return 0;
 }

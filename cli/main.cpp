@@ -7,8 +7,8 @@
 #include "base/error.h"
 #include "base/log.h"
 #include "cli/command.h"
+#include "cli/image_decoder_module.h"
 #include "sdb/gltf_import.h"
-#include "sdb/oiio_image_decoder.h"
 
 namespace {
 
@@ -48,8 +48,9 @@ int run(int argc, char** argv) {
     app.exit(e);  // prints the message
     return fly::kExitUsage;
   }
-  // glTF textures in every format OpenImageIO reads (PNG, JPEG, WebP, HDR, EXR, TIFF), not only PNG and JPEG.
-  fly::sdb::setImageDecoder(&fly::sdb::decodeImageOiio);
+  // glTF textures in every format OpenImageIO reads (PNG, JPEG, WebP, HDR, EXR, TIFF), not only PNG and JPEG;
+  // OpenImageIO is loaded on the first texture.
+  fly::sdb::setImageDecoder(&fly::cli::decodeImageThroughModule);
   if (verbose) fly::log::setLevel(fly::log::Level::kDebug);
   if (quiet) fly::log::setLevel(fly::log::Level::kError);
   for (const fly::cli::Command& c : commands) {

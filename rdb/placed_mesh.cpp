@@ -20,6 +20,8 @@ PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal) {
 
   // Per-vertex sum of the adjacent faces' area-weighted normals, for vertices without a usable normal.
   std::vector<dvec3> faceNormalSum(mesh.vertexCount(), dvec3(0.0));
+  placed.indices.reserve(mesh.indices.size());
+  placed.sdbTriangle.reserve(mesh.triangleCount());
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
     const uint32_t* v = &mesh.indices[3 * t];
     const dvec3 e1 = dvec3(world[v[1]]) - dvec3(world[v[0]]);

@@ -15,4 +15,13 @@ namespace fly::sdb {
 
 Texture decodeImageOiio(std::span<const uint8_t> encoded, size_t maxBytes, std::vector<std::string>& notes);
 
+// The same decoder in a shared module (target fly_oiio_module, sdb/oiio_image_decoder_module.cpp), which the
+// fly program loads with dlopen on the first texture it decodes (cli/image_decoder_module.h): OpenImageIO
+// brings some 260 shared libraries, whose loading and relocation cost every run about 0.7 s at start-up,
+// textured or not. The module's one exported symbol, kOiioDecoderModuleSymbol, is a function of C linkage
+// that returns decodeImageOiio.
+using DecodeImageFunction = Texture (*)(std::span<const uint8_t> encoded, size_t maxBytes,
+                                        std::vector<std::string>& notes);
+inline constexpr const char* kOiioDecoderModuleSymbol = "flyOiioImageDecoder";
+
 }  // namespace fly::sdb

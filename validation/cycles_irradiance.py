@@ -38,7 +38,9 @@
 # Cycles point lamp of power 4π I W with radius 0: Cycles' point lamp of power P has radiant intensity
 # P / (4π) W/sr (docs/validation.md checks this against the analytic sphere). The glTF importer's "COMPAT"
 # lighting mode converts KHR_lights_punctual this way; lights with `range` or spots are refused. The world
-# is black.
+# is black, unless the scene carries "world": {"skyRadianceCdM2": L}, a key of this script's own (not fly's)
+# for a sky of uniform radiance L above the horizon and black below (fly's CIE sky of type 5, which the
+# driver spells out so).
 #
 # Measurement. Each sensor is a square of side --quad-size metres centred on its point, facing its normal,
 # invisible to every ray that the bake traces (diffuse, glossy, transmission, shadow, volume; the scene has no
@@ -106,13 +108,16 @@ def load_scene_file(path):
     with open(path, encoding="utf-8-sig") as f:
         scene = json.load(f)
     base = os.path.dirname(os.path.abspath(path))
-    allowed = {"fly", "models", "lights", "overrides", "bake", "sky"}
+    allowed = {"fly", "models", "lights", "overrides", "bake", "sky", "world"}
     for key in scene:
         if key not in allowed:
             fail(f"{path}: key '{key}' is not supported by the Cycles reference (supported: {sorted(allowed)})")
     sky = scene.get("sky", {})
     if sky.get("model", "none") != "none" or sky.get("sun", False):
         fail(f"{path}: only a black world is supported (sky.model none, no sky sun); use a directional light")
+    for key in scene.get("world", {}):
+        if key != "skyRadianceCdM2":
+            fail(f"{path}: world key '{key}' is not supported (supported: skyRadianceCdM2)")
     for m in scene.get("models", []):
         m["file"] = m["file"] if os.path.isabs(m["file"]) else os.path.join(base, m["file"])
     return scene
@@ -398,7 +403,7 @@ def setup_materials(scene, gltf_materials):
     return report
 
 
-def configure_cycles(samples, seed, threads):
+def configure_cycles(samples, seed, threads, sky_radiance=0.0):
     s = bpy.context.scene
     s.render.engine = "CYCLES"
     c = s.cycles
@@ -433,6 +438,23 @@ def configure_cycles(samples, seed, threads):
     background = next(n for n in world.node_tree.nodes if n.type == "BACKGROUND")
     background.inputs["Color"].default_value = (0, 0, 0, 1)
     background.inputs["Strength"].default_value = 0.0
+    if sky_radiance > 0.0:
+        # Uniform radiance above the horizon, black below, as fly's sky (rdb/trace_rdb.h TraceSky): the world's
+        # Generated coordinate is the ray's direction, whose Blender z is glTF's (and fly's) +Y.
+        nodes, links = world.node_tree.nodes, world.node_tree.links
+        coords = nodes.new("ShaderNodeTexCoord")
+        split = nodes.new("ShaderNodeSeparateXYZ")
+        above = nodes.new("ShaderNodeMath")
+        above.operation = "GREATER_THAN"
+        above.inputs[1].default_value = 0.0
+        level = nodes.new("ShaderNodeMath")
+        level.operation = "MULTIPLY"
+        level.inputs[1].default_value = sky_radiance
+        links.new(coords.outputs["Generated"], split.inputs["Vector"])
+        links.new(split.outputs["Z"], above.inputs[0])
+        links.new(above.outputs["Value"], level.inputs[0])
+        links.new(level.outputs["Value"], background.inputs["Strength"])
+        background.inputs["Color"].default_value = (1, 1, 1, 1)
     s.world = world
 
 
@@ -514,7 +536,7 @@ def cmd_irradiance(args):
     add_scene_lights(scene, math.radians(args.sun_angle_deg))
     report = setup_materials(scene, gltf_materials)
     header, sensors = read_sensors(args.points)
-    configure_cycles(args.samples, args.seed, args.threads)
+    configure_cycles(args.samples, args.seed, args.threads, scene.get("world", {}).get("skyRadianceCdM2", 0.0))
     obj, image, origins = sensor_object(sensors, args.quad_size, args.pixels)
     bpy.ops.object.select_all(action="DESELECT")
     obj.select_set(True)

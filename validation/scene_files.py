@@ -1,6 +1,5 @@
 """Small glTF 2.0 and PNG writers (standard library only) for the validation's analytic scenes, and the
 Lambertian form of a fly scene file."""
-import base64
 import json
 import math
 import os
@@ -31,8 +30,10 @@ def write_gltf(path, meshes, materials, images=(), filter_mode=9729):
     material: index}], each drawn once at the origin; triangles wind counter-clockwise seen from the front,
     and every corner gets the triangle's flat normal. materials: glTF material dicts. images: PNG file
     names beside the glTF (texture i uses image i), sampled with filter_mode (glTF magFilter and minFilter:
-    9729 LINEAR, 9728 NEAREST) and REPEAT. Buffers are embedded as a data URI."""
+    9729 LINEAR, 9728 NEAREST) and REPEAT. The buffer is a .bin file beside the glTF (a data URI would cost
+    both programs base64 decoding at start-up, which a real model does not)."""
     blob = bytearray()
+    bin_path = os.path.splitext(path)[0] + ".bin"
     views, accessors, gltf_meshes, nodes = [], [], [], []
 
     def add_view(data, target):
@@ -84,13 +85,14 @@ def write_gltf(path, meshes, materials, images=(), filter_mode=9729):
         "materials": materials,
         "accessors": accessors,
         "bufferViews": views,
-        "buffers": [{"byteLength": len(blob),
-                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()}],
+        "buffers": [{"byteLength": len(blob), "uri": os.path.basename(bin_path)}],
     }
     if images:
         doc["images"] = [{"uri": name} for name in images]
         doc["samplers"] = [{"magFilter": filter_mode, "minFilter": filter_mode, "wrapS": 10497, "wrapT": 10497}]
         doc["textures"] = [{"source": i, "sampler": 0} for i in range(len(images))]
+    with open(bin_path, "wb") as f:
+        f.write(bytes(blob))
     with open(path, "w") as f:
         json.dump(doc, f)
 

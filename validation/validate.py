@@ -258,11 +258,112 @@ def case_khronos_yard(work):
     return {"scene": scene, "cast": {"spacing": 0.35, "offset": 0.002, "sideways": True, "box": 4.0}}
 
 
+def fly_sky_diffuse_lux(scene_path):
+    """The diffuse horizontal illuminance of the scene's sky as fly computes it (`fly info --json`: the light's
+    description, "… (sun S, sky D)" in lux)."""
+    out = subprocess.run([FLY, "info", scene_path, "--json"], capture_output=True, text=True, check=True)
+    text = json.loads(out.stdout)["light"]["description"]
+    marker = "sky "
+    at = text.rfind(marker)
+    if at < 0 or not text.endswith(")"):
+        raise SystemExit(f"validate: cannot read the sky's illuminance from fly info: {text}")
+    return float(text[at + len(marker):-1])
+
+
+def case_sunlit_room(work):
+    """A closed room 8 × 3 × 6 m (floor albedo 0.4, walls 0.6, ceiling 0.8, one-sided facing in) with a 3 × 1.5 m
+    window opening (sill 0.8 m) in its south wall, on a 100 m ground of albedo 0.3 outside, in Helsinki on 15
+    April at 13:00 under fly's sun (0.533° disc, 79.6 klx direct normal, 39.5° up, azimuth 173.5°) and a CIE
+    sky of type 5 (uniform luminance, at fly's default level of 13.7 klx diffuse horizontal): the sun falls
+    through the opening onto the floor, and the room is lit mostly by light reflected from that patch. Cycles
+    gets a sun lamp of the same direction, illuminance and angle and a world of the sky's uniform radiance
+    above the horizon, black below (as fly's sky). Sensors 2 mm off the floor in and out of the sun patch
+    (none within 5 cm of its edges, which the sun's disc blurs by 2 cm), on a work plane 0.85 m up, on the
+    four walls and the ceiling, and one on the open ground 49 m from the room, where E ≈ E_n sin(elevation) +
+    the sky's diffuse horizontal illuminance (the room hides a few 0.01 % of the sky: not exact, so the
+    driver prints both programs' difference from it rather than testing it)."""
+    site = {"latitude": 60.17, "longitude": 24.94, "timeZone": "Europe/Helsinki"}
+    time_local = "2026-04-15T13:00"
+    to_sun, dni = sun_of(site, time_local)
+    win_x, win_y = (-1.5, 1.5), (0.8, 2.3)
+
+    def rect(x0, y0, z0, ex, ey):
+        """Two triangles of the rectangle corner + s·ex + t·ey, s, t ∈ [0, 1], front face along ex × ey."""
+        a = (x0, y0, z0)
+        b = tuple(a[i] + ex[i] for i in range(3))
+        c = tuple(a[i] + ex[i] + ey[i] for i in range(3))
+        d = tuple(a[i] + ey[i] for i in range(3))
+        return [(a, b, c), (a, c, d)]
+
+    floor = rect(-4, 0, -3, (0, 0, 6), (8, 0, 0))              # +Y
+    ceiling = rect(-4, 3, -3, (8, 0, 0), (0, 0, 6))            # −Y
+    walls = (rect(-4, 0, -3, (0, 3, 0), (0, 0, 6))             # x = −4, +X
+             + rect(4, 0, -3, (0, 0, 6), (0, 3, 0))            # x = 4, −X
+             + rect(-4, 0, -3, (8, 0, 0), (0, 3, 0))           # z = −3 (north), +Z
+             # z = 3 (south), facing −Z, around the opening
+             + rect(-4, 0, 3, (0, 3, 0), (2.5, 0, 0)) + rect(1.5, 0, 3, (0, 3, 0), (2.5, 0, 0))
+             + rect(-1.5, 0, 3, (0, 0.8, 0), (3, 0, 0)) + rect(-1.5, 2.3, 3, (0, 0.7, 0), (3, 0, 0)))
+    ground = rect(-50, -0.05, -50, (0, 0, 100), (100, 0, 0))   # +Y
+    scene_files.write_gltf(
+        os.path.join(work, "room.gltf"),
+        [{"name": "Floor", "triangles": floor, "material": 0}, {"name": "Ceiling", "triangles": ceiling, "material": 1},
+         {"name": "Walls", "triangles": walls, "material": 2}, {"name": "Ground", "triangles": ground, "material": 3}],
+        [{"name": name, "pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1], "metallicFactor": 0}}
+         for name, rho in (("Floor", 0.4), ("Ceiling", 0.8), ("Wall", 0.6), ("Ground", 0.3))])
+    scene = {"fly": 1, "models": [{"file": os.path.join(work, "room.gltf")}], "site": site, "time": time_local,
+             "sky": {"model": "cie", "cieType": 5, "sun": True}}
+    probe = os.path.join(work, "sky-probe.json")
+    with open(probe, "w") as f:
+        json.dump(scene, f)
+    sky_lux = fly_sky_diffuse_lux(probe)
+    cycles_scene = {"fly": 1, "models": scene["models"],
+                    "lights": [{"name": "sun", "type": "directional", "direction": [-c for c in to_sun],
+                                "intensity": dni, "angleDeg": 0.533}],
+                    "world": {"skyRadianceCdM2": sky_lux / math.pi}}
+
+    def sunlit(p):
+        """Does the ray from p towards the sun pass through the opening, at least 5 cm inside its edges?"""
+        if to_sun[2] <= 0:
+            return False, 0.0
+        t = (3 - p[2]) / to_sun[2]
+        x, y = p[0] + t * to_sun[0], p[1] + t * to_sun[1]
+        margin = min(x - win_x[0], win_x[1] - x, y - win_y[0], win_y[1] - y)
+        return margin > 0, abs(margin)
+
+    sensors = []
+    for x in (-3.5, -2.5, -1.5, -0.5, 0.5, 1.5, 2.5, 3.5):
+        for z in (-2.5, -1.5, -0.5, 0.5, 1.5, 2.5):
+            for y, name in ((0.002, "floor"), (0.85, "workplane")):
+                lit, margin = sunlit((x, y, z))
+                if margin < 0.05:
+                    continue
+                if name == "workplane" and (x + z) % 2:
+                    continue  # half the work-plane lattice
+                sensors.append((x, y, z, 0, 1, 0, f"{name}-{'sun' if lit else 'shade'}"))
+    for z in (-2, 0, 2):
+        for y in (1.0, 2.2):
+            sensors.append((-3.998, y, z, 1, 0, 0, "wall-west"))
+            sensors.append((3.998, y, z, -1, 0, 0, "wall-east"))
+    for x in (-3, -1, 1, 3):
+        for y in (1.0, 2.2):
+            sensors.append((x, y, -2.998, 0, 0, 1, "wall-north"))
+    for x in (-3, 3):
+        for y in (1.0, 2.2):
+            sensors.append((x, y, 2.998, 0, 0, -1, "wall-south"))
+    for x in (-3, -1, 1, 3):
+        for z in (-2, 0, 2):
+            sensors.append((x, 2.998, z, 0, -1, 0, "ceiling"))
+    sensors.append((35.0, -0.048, -35.0, 0, 1, 0, "outside"))
+    return {"scene": scene, "cycles_scene": cycles_scene, "sensors": sensors,
+            "formula": {len(sensors) - 1: dni * to_sun[1] + sky_lux}}
+
+
 CASES = {
     "plane-sun": case_plane_sun,
     "sphere-point-0.5": lambda w: case_sphere_point(w, 0.5),
     "sphere-point-0.9": lambda w: case_sphere_point(w, 0.9),
     "sun-penumbra": case_sun_penumbra,
+    "sunlit-room": case_sunlit_room,
     "alpha-mask": case_alpha_mask,
     "alpha-mask-nearest": lambda w: case_alpha_mask(w, 9728),
     "mixed-lighting": case_mixed_lighting,
@@ -342,6 +443,121 @@ def group_stats(rows):
     }
 
 
+def rms_relative_error(csv_path):
+    """RMS over the sensors of the reported standard error relative to the estimate."""
+    rows = read_csv(csv_path)
+    return rms([float(r["std_error_lux"]) / float(r["illuminance_lux"]) for r in rows
+                if float(r["illuminance_lux"]) > 0])
+
+
+def time_line(runs):
+    """Least-squares line a + b · samples through the runs' wall-clock times (the mean time of each sample
+    count): a is the start-up and everything else that does not grow with the samples, b the time a sample
+    (a run of one sample count gives its time and no slope)."""
+    by = {}
+    for r in runs:
+        by.setdefault(r["samples"], []).append(r["s"])
+    xs = sorted(by)
+    ys = [sum(by[x]) / len(by[x]) for x in xs]
+    if len(xs) < 2:
+        return ys[0], 0.0  # one sample count: no slope to tell, its time stands
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    b = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+    return my - b * mx, b
+
+
+def speed_runs(work, args, fly_run, cycles_run, fly_start_s):
+    """--speed: runs each program until the RMS relative standard error over the sensors reaches
+    args.speed_target, start-up included, alternating between the two so that both meet the same load. fly
+    takes samples per sensor in powers of two (its --samples), from a pilot of args.speed_fly_pilot, each next
+    count the least power of two that the last run's RMS predicts to reach the target (RMS ∝ 1/√samples),
+    at least twice the last. Cycles takes samples per texel from a pilot of args.speed_cycles_pilot, each next
+    count the prediction + 15 %. The first configuration of each that reaches the target is then run again
+    until each has args.repeats runs of it (same seed, so the same answer; only the time differs), still
+    alternating. Measured: the mean wall-clock time of those runs. Fitted: the time at exactly the target, on
+    the line through each program's wall-clock times against its samples (time_line: start-up and other fixed
+    costs plus a time per sample), at the samples that the last run's RMS predicts for the target (RMS ∝
+    1/√samples); it removes fly's overshoot from its power-of-two steps. Cycles gets a second point of its line
+    at 8 × its pilot's samples; with --cycles-budget-s, a run the line predicts to take longer is replaced by
+    one within the budget, and Cycles' time is then fitted only."""
+    target = args.speed_target
+    fly = {"runs": []}
+    cyc = {"runs": []}
+
+    def fly_step(samples, rep=0):
+        csv_path = os.path.join(work, f"fly-speed-{samples}.csv")
+        t = fly_run(csv_path, f"fly-speed-{samples}-{rep}.log", ["--samples", str(samples)])
+        fly["runs"].append({"samples": samples, "s": t, "rms": rms_relative_error(csv_path), "csv": csv_path})
+
+    def cycles_step(samples, rep=0):
+        csv_path = os.path.join(work, f"cycles-speed-{samples}.csv")
+        info_path = os.path.join(work, f"cycles-speed-{samples}-{rep}-info.json")
+        t = cycles_run(csv_path, f"cycles-speed-{samples}-{rep}.log", samples, info_path)
+        with open(info_path) as f:
+            bake_s = json.load(f)["bake_s"]
+        cyc["runs"].append({"samples": samples, "s": t, "bake_s": bake_s, "rms": rms_relative_error(csv_path),
+                            "csv": csv_path, "info": info_path})
+
+    def fly_next(last):
+        need = last["samples"] * (last["rms"] / target) ** 2
+        n = 1
+        while n < need:
+            n *= 2
+        return max(n, 2 * last["samples"])
+
+    def cycles_next(last):
+        return max(int(math.ceil(1.15 * last["samples"] * (last["rms"] / target) ** 2)), last["samples"] + 1)
+
+    fly_step(args.speed_fly_pilot)
+    cycles_step(args.speed_cycles_pilot)
+    # A second point of Cycles' curve at 8 times the pilot's samples, for the line through its times.
+    if cyc["runs"][-1]["rms"] > target:
+        cycles_step(min(8 * args.speed_cycles_pilot, cycles_next(cyc["runs"][-1])))
+    cycles_done = False  # reached the target, or stopped at --cycles-budget-s (then fitted only)
+    while fly["runs"][-1]["rms"] > target or not cycles_done:
+        if fly["runs"][-1]["rms"] > target:
+            if fly["runs"][-1]["samples"] >= 1 << 20:
+                raise SystemExit("validate: --speed: fly did not reach the target within 2^20 samples")
+            fly_step(fly_next(fly["runs"][-1]))
+        last = cyc["runs"][-1]
+        if last["rms"] <= target:
+            cycles_done = True
+        elif not cycles_done:
+            samples = cycles_next(last)
+            a, b = time_line(cyc["runs"])
+            if args.cycles_budget_s and a + b * samples > args.cycles_budget_s:
+                # A run to the target would take too long: one more point of the curve within the budget, and
+                # the time to the target fitted from it.
+                samples = int((args.cycles_budget_s - a) / b) if b > 0 else last["samples"]
+                cycles_done = True
+                cyc["fitted_only"] = True
+                if samples <= last["samples"]:
+                    continue
+            cycles_step(samples)
+    fly_final, cyc_final = fly["runs"][-1], cyc["runs"][-1]
+    for rep in range(1, args.repeats):
+        fly_step(fly_final["samples"], rep)
+        if not cyc.get("fitted_only"):
+            cycles_step(cyc_final["samples"], rep)
+    for prog, final in ((fly, fly_final), (cyc, cyc_final)):
+        times = [r["s"] for r in prog["runs"] if r["samples"] == final["samples"]]
+        prog.update(final_samples=final["samples"], final_rms=final["rms"], measured_s=sum(times) / len(times),
+                    measured_runs=times)
+    fly["start_s"] = fly_start_s
+    finals = [r for r in cyc["runs"] if r["samples"] == cyc_final["samples"]]
+    cyc["start_s"] = sum(r["s"] - r["bake_s"] for r in finals) / len(finals)  # Cycles' time outside its bake
+    for prog, final in ((fly, fly_final), (cyc, cyc_final)):
+        a, b = time_line(prog["runs"])
+        prog["samples_at_target"] = final["samples"] * (final["rms"] / target) ** 2
+        prog["time_line"] = [a, b]
+        prog["fitted_s"] = a + b * prog["samples_at_target"]
+    speed = {"target": target, "fly": fly, "cycles": cyc,
+             "ratio_measured": None if cyc.get("fitted_only") else cyc["measured_s"] / fly["measured_s"],
+             "ratio_fitted": cyc["fitted_s"] / fly["fitted_s"], "threads": args.threads,
+             "load_before": os.getloadavg()}
+    return (speed, fly_final["csv"], cyc_final["csv"], cyc_final["info"], fly["measured_s"], cyc["measured_s"])
+
+
 def run_case(name, args):
     work = os.path.join(args.out, name)
     os.makedirs(work, exist_ok=True)
@@ -384,26 +600,39 @@ def run_case(name, args):
             os.path.join(work, "sensors.log"))
     sensors = read_csv(sensors_path)
 
-    fly_csv = os.path.join(work, "fly.csv")
     fly_opts = ["--threads", str(args.threads)]
     if args.fly_max_bounces is not None:
         fly_opts += ["--max-bounces", str(args.fly_max_bounces)]
-    fly_opts += ["--samples", str(args.fly_samples)] if args.fly_samples else ["--target-error", args.fly_target]
-    fly_opts_seed = fly_opts + ["--seed", str(args.seed)]
-    fly_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly_csv] + fly_opts_seed,
-                os.path.join(work, "fly.log"))
+    if not args.speed:
+        fly_opts += ["--samples", str(args.fly_samples)] if args.fly_samples else ["--target-error", args.fly_target]
+    cycles_opts = ["--pixels", args.cycles_pixels, "--threads", args.threads,
+                   "--quad-size", spec.get("quad", args.quad_size), "--normals", args.cycles_normals,
+                   *(["--untextured"] if args.cycles_untextured else [])]
+
+    def fly_run(csv_path, log_name, extra, seed=args.seed):
+        return run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", csv_path] + fly_opts
+                   + extra + ["--seed", str(seed)], os.path.join(work, log_name))
+
+    def cycles_run(csv_path, log_name, samples, info_path=None, seed=args.seed):
+        return run(blender_cmd(args, "irradiance", "--scene", cycles_scene_path, "--points", sensors_path, "--out",
+                               csv_path, *(["--info", info_path] if info_path else []), "--samples", samples,
+                               "--seed", seed, *cycles_opts), os.path.join(work, log_name))
+
     fly_start_s = run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out",
                        os.path.join(work, "fly-1spp.csv"), "--samples", "1", "--threads", str(args.threads)],
                       os.path.join(work, "fly-1spp.log"))
-    cycles_csv = os.path.join(work, "cycles.csv")
-    info_path = os.path.join(work, "cycles-info.json")
-    cycles_s = run(blender_cmd(args, "irradiance", "--scene", cycles_scene_path, "--points", sensors_path, "--out",
-                               cycles_csv, "--info", info_path, "--samples", args.cycles_samples, "--pixels",
-                               args.cycles_pixels, "--seed", args.seed, "--threads", args.threads,
-                               "--quad-size", spec.get("quad", args.quad_size),
-                               "--normals", args.cycles_normals,
-                               *(["--untextured"] if args.cycles_untextured else [])),
-                   os.path.join(work, "cycles.log"))
+    speed = None
+    if args.speed:
+        speed, fly_csv, cycles_csv, info_path, fly_s, cycles_s = speed_runs(work, args, fly_run, cycles_run,
+                                                                            fly_start_s)
+        fly_opts_seed = fly_opts + ["--samples", str(speed["fly"]["final_samples"]), "--seed", str(args.seed)]
+    else:
+        fly_csv = os.path.join(work, "fly.csv")
+        fly_opts_seed = fly_opts + ["--seed", str(args.seed)]
+        fly_s = fly_run(fly_csv, "fly.log", [])
+        cycles_csv = os.path.join(work, "cycles.csv")
+        info_path = os.path.join(work, "cycles-info.json")
+        cycles_s = cycles_run(cycles_csv, "cycles.log", args.cycles_samples, info_path)
     with open(info_path) as f:
         info = json.load(f)
 
@@ -413,15 +642,9 @@ def run_case(name, args):
         # A second run of each with another seed: the differences between independent estimates, in units
         # of their combined reported standard error, have an RMS of 1 where the reported errors are honest.
         fly2 = os.path.join(work, "fly-seed2.csv")
-        run([args.fly, "illuminance", scene_path, "--points", sensors_path, "--out", fly2]
-            + fly_opts + ["--seed", str(args.seed + 1)], os.path.join(work, "fly-seed2.log"))
+        fly_run(fly2, "fly-seed2.log", fly_opts_seed[len(fly_opts):-2], seed=args.seed + 1)
         cyc2 = os.path.join(work, "cycles-seed2.csv")
-        run(blender_cmd(args, "irradiance", "--scene", cycles_scene_path, "--points", sensors_path, "--out", cyc2,
-                        "--samples", args.cycles_samples, "--pixels", args.cycles_pixels, "--seed", args.seed + 1,
-                        "--threads", args.threads, "--quad-size", spec.get("quad", args.quad_size),
-                        "--normals", args.cycles_normals,
-                        *(["--untextured"] if args.cycles_untextured else [])),
-            os.path.join(work, "cycles-seed2.log"))
+        cycles_run(cyc2, "cycles-seed2.log", info["samples"], seed=args.seed + 1)
         seed_check = {}
         for tool, a_rows, b_rows in (("fly", fly_rows, read_csv(fly2)), ("cycles", cyc_rows, read_csv(cyc2))):
             zs = []
@@ -433,6 +656,10 @@ def run_case(name, args):
             seed_check[tool] = {"n": len(zs), "rms_z": rms(zs),
                                 "within_3": sum(abs(z) <= 3 for z in zs) / len(zs) if zs else float("nan")}
     exact = spec.get("exact", {})
+    for i, value in spec.get("formula", {}).items():
+        print(f"{name}: sensor {i} ({sensors[i]['group']}): formula {value:.6g} lx; fly "
+              f"{100 * (float(fly_rows[i]['illuminance_lux']) / value - 1):+.4f} %, Cycles "
+              f"{100 * (float(cyc_rows[i]['illuminance_lux']) / value - 1):+.4f} %")
     rows = []
     for i, (s, fr, cr) in enumerate(zip(sensors, fly_rows, cyc_rows)):
         f_lux, f_se = float(fr["illuminance_lux"]), float(fr["std_error_lux"])
@@ -481,6 +708,8 @@ def run_case(name, args):
               "fly_args": fly_opts_seed, "cycles_normals": args.cycles_normals, "cycles_untextured": args.cycles_untextured, "fly_commit": fly_commit}
     if seed_check:
         result["seed_check"] = seed_check
+    if speed:
+        result["speed"] = speed
     if exact_rows:
         result["exact"] = {
             "fly_max_abs_rel": max(abs(r["fly_vs_exact"]) for r in exact_rows),
@@ -511,6 +740,22 @@ def format_case(res):
         lines.append(f"| {g} | {s['n']} | {s['mean_lux']:.4g} | {100 * s['within']:.1f} % | "
                      f"{100 * s['mean_rel']:+.2f} % | {100 * s['mean_abs_rel']:.2f} % | "
                      f"{100 * s['max_abs_rel']:.2f} % | {s['rms_z']:.2f} |")
+    if "speed" in res:
+        sp = res["speed"]
+        f, c = sp["fly"], sp["cycles"]
+        lines += ["", f"Speed to an RMS relative error of {100 * sp['target']:g} % ({sp['threads']} threads each, "
+                  f"alternating): fly {f['measured_s']:.2f} s at {f['final_samples']} samples (RMS "
+                  f"{100 * f['final_rms']:.2f} %; start-up (1 sample) {f['start_s']:.2f} s; fitted to the target "
+                  f"{f['fitted_s']:.2f} s); Cycles {c['measured_s']:.2f} s at {c['final_samples']} samples × "
+                  f"{res['cycles_samples_per_sensor'] // c['final_samples']} texels (RMS {100 * c['final_rms']:.2f} %; "
+                  f"outside the bake {c['start_s']:.2f} s; fitted {c['fitted_s']:.2f} s); Cycles / fly "
+                  f"{'—' if sp['ratio_measured'] is None else format(sp['ratio_measured'], '.1f')} measured, "
+                  f"{sp['ratio_fitted']:.1f} fitted"
+                  f"{' (Cycles stopped short of the target at --cycles-budget-s: its time is fitted)' if c.get('fitted_only') else ''}",
+                  "", "| program | samples | wall s | RMS rel. error |", "|---|---|---|---|"]
+        for prog, p in (("fly", f), ("Cycles", c)):
+            for r in p["runs"]:
+                lines.append(f"| {prog} | {r['samples']} | {r['s']:.2f} | {100 * r['rms']:.2f} % |")
     if "seed_check" in res:
         f, c = res["seed_check"]["fly"], res["seed_check"]["cycles"]
         lines += ["", f"Two seeds: fly's differences / their σ have RMS {f['rms_z']:.2f} ({100 * f['within_3']:.1f} % "
@@ -534,6 +779,23 @@ def format_overview(results):
                      f"{r.get('fly_commit', '?').split()[0]} | {a['n']} | {100 * a['within']:.1f} % | {100 * a['mean_rel']:+.2f} % | "
                      f"{100 * a['mean_abs_rel']:.2f} % | {100 * a['max_abs_rel']:.1f} % | {a['rms_z']:.2f} | "
                      f"{t['fly_s']:.1f} ({t['fly_to_1pct_s']:.1f}) | {t['cycles_s']:.1f} ({t['cycles_to_1pct_s']:.1f}) |")
+    return "\n".join(lines) + "\n"
+
+
+def format_speed(results):
+    rows = [r for r in results if "speed" in r]
+    if not rows:
+        return ""
+    lines = ["| case | sensors | fly samples | fly s (fitted) | Cycles samples per sensor | Cycles s (fitted) "
+             "| Cycles / fly measured | fitted |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        sp = r["speed"]
+        f, c = sp["fly"], sp["cycles"]
+        lines.append(f"| {r['case']} | {r['sensors']} | {f['final_samples']} | {f['measured_s']:.2f} ({f['fitted_s']:.2f}) "
+                     f"| {r['cycles_samples_per_sensor']} | "
+                     f"{'—' if c.get('fitted_only') else format(c['measured_s'], '.2f')} ({c['fitted_s']:.2f}) | "
+                     f"{'—' if sp['ratio_measured'] is None else format(sp['ratio_measured'], '.1f')} | "
+                     f"{sp['ratio_fitted']:.1f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -565,6 +827,16 @@ def main():
     ap.add_argument("--seed-check", action="store_true",
                     help="run both again with seed + 1 and check their reported errors against the difference")
     ap.add_argument("--threads", type=int, default=0, help="threads for both (0: all cores)")
+    ap.add_argument("--speed", action="store_true",
+                    help="run each program until the RMS relative error over the sensors reaches --speed-target, "
+                         "alternating, and compare their times (the comparison uses those runs' outputs)")
+    ap.add_argument("--speed-target", type=float, default=0.01, help="RMS relative error for --speed (default 0.01)")
+    ap.add_argument("--speed-fly-pilot", type=int, default=256, help="fly's first samples per sensor in --speed")
+    ap.add_argument("--speed-cycles-pilot", type=int, default=16, help="Cycles' first samples per texel in --speed")
+    ap.add_argument("--repeats", type=int, default=2, help="--speed: runs of each program's final configuration")
+    ap.add_argument("--cycles-budget-s", type=float, default=0.0,
+                    help="--speed: a Cycles bake predicted to take longer than this to reach the target is run "
+                         "within it instead, and Cycles' time to the target is fitted (0: no limit)")
     args = ap.parse_args()
     if args.list:
         for name, fn in CASES.items():
@@ -606,6 +878,9 @@ def main():
                 f"fly {'--samples ' + str(args.fly_samples) if args.fly_samples else '--target-error ' + args.fly_target}"
                 f"{'' if args.fly_max_bounces is None else ' --max-bounces ' + str(args.fly_max_bounces)}\n\n")
         f.write(format_overview(results) + "\n")
+        if any("speed" in r for r in results):
+            f.write(f"Time to an RMS relative error of {100 * args.speed_target:g} %, start-up included "
+                    f"(--speed):\n\n" + format_speed(results) + "\n")
         for r in results:
             f.write(format_case(r) + "\n")
 
