@@ -15,7 +15,7 @@ check_files() {
     [ -s "$out/$f" ] || { echo "FAIL: $out/$f missing or empty"; exit 1; }
   done
   grep -q '"format": "fly-baked-scene"' "$out/manifest.json" || { echo "FAIL: manifest has no format"; exit 1; }
-  head -1 "$out/convergence.csv" | grep -qx 'seconds,samples,estimated_error,rays_per_second' ||
+  head -1 "$out/convergence.csv" | grep -x 'seconds,samples,estimated_error,rays_per_second' > /dev/null ||
     { echo "FAIL: convergence.csv header"; exit 1; }
   [ "$(wc -l < "$out/convergence.csv")" -ge 2 ] || { echo "FAIL: convergence.csv has no rows"; exit 1; }
 }
@@ -32,7 +32,7 @@ check_files
 # fly info reads the baked scene: its geometry and the bake's summary.
 "$fly" info "$out" > "$work/info.txt"
 grep -q "samples per vertex" "$work/info.txt" || { echo "FAIL: fly info DIR"; cat "$work/info.txt"; exit 1; }
-"$fly" info "$out" --json | grep -q '"samples_per_vertex"' || { echo "FAIL: fly info DIR --json"; exit 1; }
+"$fly" info "$out" --json | grep '"samples_per_vertex"' > /dev/null || { echo "FAIL: fly info DIR --json"; exit 1; }
 # It describes the scene the bake was made from (its camera), not the bare baked glTF.
 grep -q "^cameras    1 (classic)" "$work/info.txt" || { echo "FAIL: fly info DIR lacks the source scene's camera"; cat "$work/info.txt"; exit 1; }
 rm "$work/info.txt"
@@ -43,7 +43,7 @@ sed -i -e 's#"scene_absolute": "[^"]*"#"scene_absolute": "/nonexistent/scene.jso
   -e 's#"scene": "[^"]*"#"scene": "nonexistent/scene.json"#' "$work/moved/manifest.json"
 "$fly" info "$work/moved" > "$work/info.txt"
 grep -q "^warning    that scene file no longer exists" "$work/info.txt" || { echo "FAIL: no warning"; cat "$work/info.txt"; exit 1; }
-"$fly" info "$work/moved" --json | grep -q '"source_scene_found": false' || { echo "FAIL: --json source_scene_found"; exit 1; }
+"$fly" info "$work/moved" --json | grep '"source_scene_found": false' > /dev/null || { echo "FAIL: --json source_scene_found"; exit 1; }
 set +e
 "$fly" render "$work/moved" --out "$work/moved.png" 2> "$work/stderr"
 code=$?

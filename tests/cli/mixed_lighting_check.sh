@@ -19,7 +19,7 @@ if ls baked/lightmaps/*_front.exr > /dev/null 2>&1; then
     [ -s "${f%.exr}_sun.exr" ] || fail "no sun-direct light texture beside $f"
   done
 fi
-head -1 baked/convergence.csv | grep -q sun_direct_estimated_error || fail "convergence.csv has no sun-direct error"
+head -1 baked/convergence.csv | grep sun_direct_estimated_error > /dev/null || fail "convergence.csv has no sun-direct error"
 "$fly" info baked > info.log 2>&1 || fail "info: $(cat info.log)"
 grep -q "indirect light baked at" info.log || fail "fly info does not say when the indirect light was baked: $(cat info.log)"
 

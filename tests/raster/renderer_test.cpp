@@ -551,6 +551,9 @@ TEST(Renderer, LightMapModeShowsAMetalAsARoughReflectorOfItsReflectance) {
     m.reflectionColor = c.reflection;
     m.reflectionModel = c.model;
     m.reflectionGlossiness = 0.2f;
+    // The light-map term alone: a flat mirror-like metal would otherwise get a planar reflection
+    // (docs/reflections.md), which shows its reflection by the mirrored image instead.
+    m.engineReflection = sdb::EngineReflection::kNone;
     if (c.textured) m.diffuseTexture.texture = addTexture(s, 1, 1, 3, {255, 255, 255});
     const sdb::MaterialId mat = s.addMaterial(m).id;
     const sdb::MeshId meshId = s.addMesh(uvQuad(mat)).id;
