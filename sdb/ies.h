@@ -10,7 +10,8 @@
 
 namespace fly::sdb {
 
-enum class IesFormat { kLm63_1986, kLm63_1991, kLm63_1995, kLm63_2002 };
+// The file format a profile was read from: the LM-63 versions, or EULUMDAT (sdb/eulumdat.h).
+enum class IesFormat { kLm63_1986, kLm63_1991, kLm63_1995, kLm63_2002, kEulumdat };
 enum class PhotometryType { kC = 1, kB = 2, kA = 3 };
 
 struct IesProfile {
