@@ -499,11 +499,11 @@ float perpendicularLength(const vec3& v, const vec3& unitDir) {
   return glm::length(v - glm::dot(v, unitDir) * unitDir);
 }
 
-// A goniometric file by its extension: .ldt (in any case) is EULUMDAT, anything else IES LM-63.
-IesProfile loadGoniometricFile(const fs::path& path) {
+// Goniometric files are told apart by their extension: .ldt (in any case) is EULUMDAT, anything else IES LM-63.
+bool isEulumdatPath(const fs::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".ldt" ? loadEulumdat(path).profile : loadIes(path);
+  return ext == ".ldt";
 }
 
 // --- The scene file ----------------------------------------------------------------------------------------
@@ -763,8 +763,10 @@ class SceneFileReader {
     }
 
     if (ies) {
-      const fs::path file = src_.inputFile(r.require("file", "the IES or EULUMDAT file"), "goniometric file");
-      light.ies = std::make_shared<const IesProfile>(loadGoniometricFile(file));
+      const JsonValue& fileValue = r.require("file", "the IES or EULUMDAT (.ldt) file");
+      const bool eulumdat = isEulumdatPath(src_.string(fileValue, "the IES or EULUMDAT file's path"));
+      const fs::path file = src_.inputFile(fileValue, eulumdat ? "EULUMDAT file" : "IES file");
+      light.ies = std::make_shared<const IesProfile>(eulumdat ? loadEulumdat(file).profile : loadIes(file));
       light.iesPath = file.string();
     } else {
       r.forbid("file", "applies to IES lights only" + isA);
@@ -838,12 +840,16 @@ class SceneFileReader {
     const double lumens = src_.number(*flux, above(0), "lumens");
     const double perIntensityLm = static_cast<double>(luminance(light.color)) * fluxPerUnitIntensityLm(light);
     if (!(perIntensityLm > 0.0)) {
+      const bool dark = !(luminance(light.color) > 0.0f);
       src_.fail(*flux,
-                goniometric && fluxPerUnitIntensityLm(light) <= 0.0
-                    ? "the goniometric file " + light.iesPath +
-                          " emits no light (its intensities are all 0), so no scale gives it a flux"
-                    : "a light whose color has luminance 0 emits no flux, whatever its intensity",
-                "give the light a colour, or its intensity instead of its flux");
+                dark          ? "a light whose color has luminance 0 emits no flux, whatever its intensity"
+                : goniometric ? "the goniometric file " + light.iesPath +
+                                    " emits no light (its intensities are all 0), so no scale gives it a flux"
+                              : "a spot light whose outer cone is this narrow emits no light (the cone's cosine "
+                                "rounds to 1 in single precision)",
+                dark ? "give the light a colour, or its intensity instead of its flux"
+                : goniometric ? "use a file with a distribution, or give the light's intensity instead"
+                              : "widen outerConeDeg");
     }
     const double intensity = lumens / perIntensityLm;
     if (!(intensity <= std::numeric_limits<float>::max())) {
