@@ -88,7 +88,7 @@ TEST(LightInputs, SpotLightFluxIntegratesTheConeFalloff) {
     // Numerically, with KHR_lights_punctual's falloff as the baker applies it: within 0.05 %.
     EXPECT_NEAR(integratedFluxLm(l, 20000, 4), 1200.0, 1200.0 * 5e-4);
   }
-  // Inner 20°, outer 30°: I = Φ / (2π [(1 − cos 20°) + (cos 20° − cos 30°)/3]) = 1200 / 0.4665 sr.
+  // Inner 20°, outer 30°: I = Φ / (2π [(1 − cos 20°) + (cos 20° − cos 30°)/3]) = 1200 lm / 0.5332 sr = 2250 cd.
   const Light l = onlyLight(R"({"fly": 1, "lights": [{"type": "spot", "position": [0, 2, 0],
       "flux": 1200, "innerConeDeg": 20, "outerConeDeg": 30}]})");
   const double ci = std::cos(degToRad(20.0)), co = std::cos(degToRad(30.0));
