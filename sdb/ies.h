@@ -1,6 +1,7 @@
 // Goniometric light distributions from IES LM-63 files (LM-63-1986, -1991, -1995 and -2002; photometry
 // types C, B and A; TILT=NONE only). Candela values are interpolated between measured angles; the total flux
-// in lumens is integrated from the table.
+// in lumens is integrated from the table. EULUMDAT files are read into the same representation
+// (sdb/eulumdat.h).
 #pragma once
 
 #include <filesystem>

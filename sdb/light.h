@@ -1,5 +1,5 @@
 // Lights in photometric units (glTF KHR_lights_punctual): point and spot in candela, directional in lux,
-// goniometric from IES LM-63 files. Emissive surfaces are materials (Material::emissionLuminance, cd/m²).
+// goniometric from IES LM-63 or EULUMDAT files. Emissive surfaces are materials (Material::emissionLuminance, cd/m²).
 // Lights shine along their node's local −Z; a goniometric light's photometric axis (γ = 0, nadir) is local −Z
 // and its C = 0° half-plane contains local +X.
 #pragma once
