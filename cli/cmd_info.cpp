@@ -17,6 +17,7 @@
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
 #include "sdb/features.h"
+#include "sdb/light.h"
 #include "sdb/scene_load.h"
 #include "sdb/scene_stats.h"
 
@@ -74,6 +75,40 @@ MeasuredBrdfs measuredBrdfs(const sdb::Scene& scene) {
   return m;
 }
 
+// The lights `fly info` lists one by one; a model with more lists only these and counts the rest.
+constexpr size_t kMaxListedLights = 20;
+
+// The output of a light in the units that describe it: luminous flux (lm) and intensity (cd, or the
+// multiplier of a goniometric file's candela values); for a directional light its illuminance (lux).
+nlohmann::json lightJson(const sdb::Light& l) {
+  nlohmann::json j = {{"name", l.name}, {"type", sdb::lightTypeName(l.type)}};
+  if (l.type == sdb::LightType::kDirectional) {
+    j["illuminance_lux"] = luminance(l.color) * l.intensity;
+  } else {
+    j["flux_lm"] = sdb::luminousFluxLm(l);
+    j[l.type == sdb::LightType::kGoniometric ? "candela_multiplier" : "intensity_cd"] = l.intensity;
+  }
+  j["temperature_k"] = l.temperatureK > 0.0f ? nlohmann::json(l.temperatureK) : nlohmann::json(nullptr);
+  if (l.ies) j["file"] = l.iesPath;
+  return j;
+}
+
+// "bulb: point, 800 lm (63.7 cd), 2700 K".
+std::string lightText(const sdb::Light& l) {
+  std::string s = l.name + ": " + sdb::lightTypeName(l.type);
+  if (l.type == sdb::LightType::kDirectional) {
+    s += ", " + fixed(luminance(l.color) * l.intensity, 3) + " lx";
+  } else {
+    s += ", " + fixed(sdb::luminousFluxLm(l), 1) + " lm (";
+    s += l.type == sdb::LightType::kGoniometric
+             ? fixed(l.intensity, 4) + " × " + std::filesystem::path(l.iesPath).filename().string()
+             : fixed(l.intensity, 2) + " cd";
+    s += ")";
+  }
+  if (l.temperatureK > 0.0f) s += ", " + fixed(l.temperatureK, 0) + " K";
+  return s;
+}
+
 constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 
 nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f,
@@ -88,6 +123,9 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   j["textures"] = st.textures;
   j["materials"] = {{"total", st.materials}, {"by_class", st.materialsByClass}};
   j["lights"] = {{"total", st.lights}, {"by_type", st.lightsByType}, {"emissive_meshes", st.emissiveMeshes}};
+  nlohmann::json lights = nlohmann::json::array();
+  for (const auto& [id, l] : scene.lights()) lights.push_back(lightJson(l));
+  j["lights"]["list"] = lights;
   nlohmann::json cameras = nlohmann::json::array();
   for (const auto& [id, c] : scene.cameras()) cameras.push_back(c.name);
   j["cameras"] = cameras;
@@ -145,6 +183,14 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   if (st.emissiveMeshes > 0)
     o << ", and " << st.emissiveMeshes << " emissive mesh" << (st.emissiveMeshes > 1 ? "es" : "");
   o << "\n";
+  size_t listed = 0;
+  for (const auto& [id, l] : scene.lights()) {
+    if (listed++ == kMaxListedLights) {
+      o << "           … and " << scene.lights().size() - kMaxListedLights << " more\n";
+      break;
+    }
+    o << "           " << lightText(l) << "\n";
+  }
   o << "cameras    " << st.cameras;
   std::string names;
   for (const auto& [id, c] : scene.cameras()) names += (names.empty() ? "" : ", ") + c.name;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/spot_cone.h"
 #include "raytracer/warp.h"
 
 namespace fly::raytracer {
@@ -654,11 +655,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
   const float ratio = distM / light.rangeM;
   float factor = std::clamp(1.0f - ratio * ratio * ratio * ratio, 0.0f, 1.0f);
   if (light.type == rdb::PunctualType::kSpot) {
-    // KHR_lights_punctual: t = clamp((cos − cos_outer) / max(0.001, cos_inner − cos_outer), 0, 1), squared.
-    const float cd = glm::dot(light.directionWorld, -dir);
-    const float t =
-        std::clamp((cd - light.cosOuter) / std::max(0.001f, light.cosInner - light.cosOuter), 0.0f, 1.0f);
-    factor *= t * t;
+    factor *= spotConeAttenuation(glm::dot(light.directionWorld, -dir), light.cosInner, light.cosOuter);
   } else if (light.type == rdb::PunctualType::kGoniometric) {
     // γ from the photometric axis (directionWorld), C from cAxisWorld towards the light's +Y = −Z × X.
     const vec3 w = -dir;

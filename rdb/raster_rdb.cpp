@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "base/error.h"
+#include "base/spot_cone.h"
 #include "rdb/placed_mesh.h"
 #include "rdb/trace_rdb_build.h"
 #include "sdb/features.h"
@@ -987,9 +988,7 @@ Rgb punctualIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec
   }
   float cd = 1.0f;
   if (l.type == RasterLightType::kSpot) {
-    const float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
-    const float t = std::clamp((glm::dot(-toLightWorld, l.directionWorld) - l.cosOuter) * scale, 0.0f, 1.0f);
-    cd = t * t;
+    cd = spotConeAttenuation(glm::dot(-toLightWorld, l.directionWorld), l.cosInner, l.cosOuter);
   } else if (l.type == RasterLightType::kGoniometric) {
     cd = gonioCd(rdb, l, -toLightWorld);
   }

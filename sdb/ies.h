@@ -1,6 +1,7 @@
 // Goniometric light distributions from IES LM-63 files (LM-63-1986, -1991, -1995 and -2002; photometry
 // types C, B and A; TILT=NONE only). Candela values are interpolated between measured angles; the total flux
-// in lumens is integrated from the table.
+// in lumens is integrated from the table. EULUMDAT files are read into the same representation
+// (sdb/eulumdat.h).
 #pragma once
 
 #include <filesystem>
@@ -10,7 +11,8 @@
 
 namespace fly::sdb {
 
-enum class IesFormat { kLm63_1986, kLm63_1991, kLm63_1995, kLm63_2002 };
+// The file format a profile was read from: the LM-63 versions, or EULUMDAT (sdb/eulumdat.h).
+enum class IesFormat { kLm63_1986, kLm63_1991, kLm63_1995, kLm63_2002, kEulumdat };
 enum class PhotometryType { kC = 1, kB = 2, kA = 3 };
 
 struct IesProfile {

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "base/blackbody.h"
+#include "base/spot_cone.h"
+
 namespace fly::sdb {
 
 const char* lightTypeName(LightType t) {
@@ -14,9 +17,27 @@ const char* lightTypeName(LightType t) {
   return "unknown";
 }
 
+double fluxPerUnitIntensityLm(const Light& l) {
+  switch (l.type) {
+    case LightType::kPoint: return 4.0 * kPi;
+    case LightType::kSpot: return spotConeSolidAngleSr(std::cos(l.innerConeRad), std::cos(l.outerConeRad));
+    case LightType::kGoniometric: return l.ies ? l.ies->totalFluxLm() : 0.0;
+    case LightType::kDirectional: return 0.0;
+  }
+  return 0.0;
+}
+
+double luminousFluxLm(const Light& l) {
+  return static_cast<double>(luminance(l.color)) * l.intensity * fluxPerUnitIntensityLm(l);
+}
+
 std::string validate(const Light& l) {
   if (!(isFinite(l.color) && l.color.r >= 0.0f && l.color.g >= 0.0f && l.color.b >= 0.0f)) {
     return "color must be finite and ≥ 0 per channel";
+  }
+  if (l.temperatureK != 0.0f &&
+      !(l.temperatureK >= kMinColourTemperatureK && l.temperatureK <= kMaxColourTemperatureK)) {
+    return "colour temperature must be in [1000, 40000] K";
   }
   if (!(std::isfinite(l.intensity) && l.intensity >= 0.0f)) return "intensity must be finite and ≥ 0";
   if (!(l.rangeM > 0.0f)) return "range must be > 0 metres (or ∞)";

@@ -1,5 +1,5 @@
 // Lights in photometric units (glTF KHR_lights_punctual): point and spot in candela, directional in lux,
-// goniometric from IES LM-63 files. Emissive surfaces are materials (Material::emissionLuminance, cd/m²).
+// goniometric from IES LM-63 or EULUMDAT files. Emissive surfaces are materials (Material::emissionLuminance, cd/m²).
 // Lights shine along their node's local −Z; a goniometric light's photometric axis (γ = 0, nadir) is local −Z
 // and its C = 0° half-plane contains local +X.
 #pragma once
@@ -23,6 +23,9 @@ struct Light {
   // Linear Rec.709 tint, each channel ≥ 0; default white. The emitted photometric RGB is color × intensity, as
   // glTF defines it.
   Rgb color{1.0f};
+  // The correlated colour temperature in K that `color` was made from (planckianRec709, luminance 1), in
+  // [1000, 40000]; 0 when the colour was given as RGB. Kept for reports: `color` is what lights the scene.
+  float temperatureK = 0.0f;
   // Point, spot: luminous intensity in cd, ≥ 0. Directional: illuminance in lux on a surface facing the light,
   // ≥ 0. Goniometric: a dimensionless multiplier of the IES candela table, ≥ 0 (default 1).
   float intensity = 1.0f;
@@ -37,6 +40,16 @@ struct Light {
   std::shared_ptr<const IesProfile> ies;
   std::string iesPath;
 };
+
+// Luminous flux in lm that a light of intensity 1 and white colour emits: 4π for a point light, the cone's
+// weighted solid angle for a spot light (base/spot_cone.h, KHR_lights_punctual's falloff), the profile's
+// integrated flux (IesProfile::totalFluxLm) for a goniometric light; 0 for a directional light, whose flux is
+// not finite.
+double fluxPerUnitIntensityLm(const Light& l);
+
+// The luminous flux in lm the light emits: luminance(color) × intensity × fluxPerUnitIntensityLm; 0 for a
+// directional light.
+double luminousFluxLm(const Light& l);
 
 // Checks each parameter's range; returns "" when valid, otherwise a sentence naming the bad parameter.
 std::string validate(const Light& l);

@@ -17,9 +17,11 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "base/blackbody.h"
 #include "base/error.h"
 #include "base/file_io.h"
 #include "base/json_value.h"
+#include "sdb/eulumdat.h"
 #include "sdb/gltf_import.h"
 #include "sdb/ies.h"
 #include "sdb/material_presets.h"
@@ -497,6 +499,13 @@ float perpendicularLength(const vec3& v, const vec3& unitDir) {
   return glm::length(v - glm::dot(v, unitDir) * unitDir);
 }
 
+// Goniometric files are told apart by their extension: .ldt (in any case) is EULUMDAT, anything else IES LM-63.
+bool isEulumdatPath(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".ldt";
+}
+
 // --- The scene file ----------------------------------------------------------------------------------------
 
 const std::vector<std::string> kSkyModels = {"none", "cie", "perez", "clear"};
@@ -691,8 +700,8 @@ class SceneFileReader {
 
   void readLight(const JsonValue& v, size_t index) {
     const ObjectReader r(src_, v,
-                         {"name", "type", "position", "direction", "c0Direction", "color", "intensity",
-                          "range", "innerConeDeg", "outerConeDeg", "file"});
+                         {"name", "type", "position", "direction", "c0Direction", "color", "temperatureK",
+                          "intensity", "flux", "range", "innerConeDeg", "outerConeDeg", "file"});
     Light light;
     light.name = r.string("name", "the light's name").value_or("light " + std::to_string(index));
     const size_t type =
@@ -733,21 +742,7 @@ class SceneFileReader {
       }
     }
 
-    light.color = r.colour("color", atLeast(0)).value_or(light.color);
-
-    if (ies) {
-      light.intensity =
-          r.floatNumber("intensity", atLeast(0), "multiples of the IES candela values").value_or(1.0f);
-      const fs::path file = src_.inputFile(r.require("file", "the IES file"), "IES file");
-      light.ies = std::make_shared<const IesProfile>(loadIes(file));
-      light.iesPath = file.string();
-    } else {
-      r.forbid("file", "applies to IES lights only" + isA);
-      const char* unit = directional ? "lux" : "candela";
-      light.intensity = src_.floatNumber(
-          r.require("intensity", directional ? "illuminance in lux" : "luminous intensity in candela"),
-          atLeast(0), unit);
-    }
+    readLightColour(r, light);
 
     if (spot) {
       const float inner = r.floatNumber("innerConeDeg", closed(0, 90), "degrees").value_or(0.0f);
@@ -767,6 +762,16 @@ class SceneFileReader {
       r.forbid("outerConeDeg", "applies to spot lights only" + isA);
     }
 
+    if (ies) {
+      const JsonValue& fileValue = r.require("file", "the IES or EULUMDAT (.ldt) file");
+      const bool eulumdat = isEulumdatPath(src_.string(fileValue, "the IES or EULUMDAT file's path"));
+      const fs::path file = src_.inputFile(fileValue, eulumdat ? "EULUMDAT file" : "IES file");
+      light.ies = std::make_shared<const IesProfile>(eulumdat ? loadEulumdat(file).profile : loadIes(file));
+      light.iesPath = file.string();
+    } else {
+      r.forbid("file", "applies to IES lights only" + isA);
+    }
+    readLightOutput(r, light);
     if (const std::string problem = validate(light); !problem.empty())
       src_.fail(v, "invalid light: " + problem);
     Node node;
@@ -774,6 +779,86 @@ class SceneFileReader {
     node.parentFromLocal = lightFrame(position, dir, xHint);
     node.light = scene_.addLight(std::move(light)).id;
     scene_.addNode(std::move(node));
+  }
+
+  // "color" (linear Rec.709) or "temperatureK" (a black body's colour at luminance 1), not both.
+  void readLightColour(const ObjectReader& r, Light& light) const {
+    const JsonValue* temperature = r.find("temperatureK");
+    if (!temperature) {
+      light.color = r.colour("color", atLeast(0)).value_or(light.color);
+      return;
+    }
+    if (r.find("color")) {
+      r.forbid(
+          "temperatureK",
+          "conflicts with \"color\": give the light's colour either as RGB or as a colour temperature, not "
+          "both");
+    }
+    const double kelvin = src_.number(*temperature, anyNumber(), "kelvin");
+    if (!(kelvin >= kMinColourTemperatureK && kelvin <= kMaxColourTemperatureK)) {
+      src_.fail(
+          *temperature,
+          "colour temperature " + formatNumber(kelvin) +
+              " K is outside [1000, 40000] K, the black-body colours fly computes",
+          "a candle is about 1900 K, a warm-white lamp 2700 K, daylight about 6500 K; for another colour "
+          "give an RGB \"color\" instead");
+    }
+    light.temperatureK = static_cast<float>(kelvin);
+    light.color = planckianRec709(kelvin);
+  }
+
+  // "intensity" (cd, lux, or a multiplier of a goniometric file's candela values) or "flux" (lm), not both.
+  // The flux is what the light emits in its colour: intensity = flux / (luminance(color) × the flux of a
+  // white light of intensity 1), so a tinted light still emits the lumens given.
+  void readLightOutput(const ObjectReader& r, Light& light) const {
+    const bool directional = light.type == LightType::kDirectional;
+    const bool goniometric = light.type == LightType::kGoniometric;
+    const JsonValue* flux = r.find("flux");
+    if (!flux) {
+      if (goniometric) {
+        light.intensity =
+            r.floatNumber("intensity", atLeast(0), "multiples of the file's candela values").value_or(1.0f);
+      } else {
+        light.intensity = src_.floatNumber(
+            r.require("intensity", directional ? "illuminance in lux"
+                                               : "luminous intensity in candela, or \"flux\" in lumens"),
+            atLeast(0), directional ? "lux" : "candela");
+      }
+      return;
+    }
+    if (directional) {
+      r.forbid("flux",
+               "does not apply to a directional light (it lights everything from infinitely far away, so its "
+               "flux is not finite); give its illuminance in lux with \"intensity\"");
+    }
+    if (r.find("intensity")) {
+      r.forbid("flux",
+               "conflicts with \"intensity\": give the light's output either as luminous flux (lm) or as " +
+                   std::string(goniometric ? "a multiplier of the file's candela values" : "intensity (cd)") +
+                   ", not both");
+    }
+    const double lumens = src_.number(*flux, above(0), "lumens");
+    const double perIntensityLm = static_cast<double>(luminance(light.color)) * fluxPerUnitIntensityLm(light);
+    if (!(perIntensityLm > 0.0)) {
+      const bool dark = !(luminance(light.color) > 0.0f);
+      src_.fail(*flux,
+                dark          ? "a light whose color has luminance 0 emits no flux, whatever its intensity"
+                : goniometric ? "the goniometric file " + light.iesPath +
+                                    " emits no light (its intensities are all 0), so no scale gives it a flux"
+                              : "a spot light whose outer cone is this narrow emits no light (the cone's cosine "
+                                "rounds to 1 in single precision)",
+                dark ? "give the light a colour, or its intensity instead of its flux"
+                : goniometric ? "use a file with a distribution, or give the light's intensity instead"
+                              : "widen outerConeDeg");
+    }
+    const double intensity = lumens / perIntensityLm;
+    if (!(intensity <= std::numeric_limits<float>::max())) {
+      src_.fail(*flux,
+                "a flux of " + formatNumber(lumens) + " lm needs an intensity of " + formatNumber(intensity) +
+                    ", beyond single precision (about 3.4e38)",
+                "give a smaller flux, or widen the spot's cone");
+    }
+    light.intensity = static_cast<float>(intensity);
   }
 
   // --- overrides

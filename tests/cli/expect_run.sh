@@ -2,7 +2,8 @@
 # Runs a command and checks its exit code and that its output contains a text; fails on a crash or a hang.
 #   expect_run.sh EXPECTED_EXIT_CODE EXPECTED_TEXT COMMAND [ARGS...]
 # An --out file must not exist after a failed run.
-# An input ending in .ies is wrapped in a temporary scene file with one IES light, so `fly info` reads it.
+# An input ending in .ies or .ldt is wrapped in a temporary scene file with one goniometric light, so `fly info`
+# reads it.
 set -u
 expected_code=$1
 expected_text=$2
@@ -12,7 +13,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for i in "${!args[@]}"; do
   a=${args[$i]}
-  if [[ $a == *.ies ]]; then
+  if [[ $a == *.ies || $a == *.ldt ]]; then
     printf '{ "fly": 1, "lights": [ { "name": "probe", "type": "ies", "file": "%s", "position": [0, 3, 0] } ] }\n' \
       "$(realpath -m "$a")" > "$tmp/wrap.json"
     args[$i]=$tmp/wrap.json
