@@ -983,8 +983,7 @@ Rgb punctualIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec
   float window = 1.0f;
   if (std::isfinite(l.rangeM)) {
     const float r = dist / l.rangeM;
-    window = std::max(0.0f, 1.0f - r * r * r * r);
-    window *= window;
+    window = std::max(0.0f, 1.0f - r * r * r * r);  // KHR_lights_punctual: clamp(1 − (d/range)⁴, 0, 1) / d²
   }
   float cd = 1.0f;
   if (l.type == RasterLightType::kSpot) {

@@ -30,7 +30,7 @@ struct Light {
   // ≥ 0. Goniometric: a dimensionless multiplier of the IES candela table, ≥ 0 (default 1).
   float intensity = 1.0f;
   // Distance in metres beyond which the light is cut off with KHR_lights_punctual's recommended smooth window
-  // (1 − (d/range)⁴)²; ∞ (default) = inverse square law only. Not for directional lights.
+  // clamp(1 − (d/range)⁴, 0, 1), as the baker applies it; ∞ (default) = inverse square law only. Not for directional lights.
   float rangeM = std::numeric_limits<float>::infinity();
   // Spot cone, radians: full intensity inside `innerConeRad`, zero outside `outerConeRad`, blended between
   // (KHR_lights_punctual). 0 ≤ inner < outer ≤ π/2. Defaults 0 and π/4 (glTF).

@@ -119,8 +119,7 @@ vec3 flyLightLux(Light l, vec3 p, out vec3 toLight) {
   float window = 1.0;
   if (l.directionRange.w > 0.0) {
     float r = sqrt(dist2) / l.directionRange.w;
-    window = max(0.0, 1.0 - r * r * r * r);
-    window *= window;
+    window = max(0.0, 1.0 - r * r * r * r);  // KHR_lights_punctual: clamp(1 − (d/range)⁴, 0, 1) / d²
   }
   float cd = 1.0;
   if (type == 1) {

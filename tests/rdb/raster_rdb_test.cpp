@@ -603,3 +603,26 @@ TEST(RasterRdbUpdate, TimeOfDayReMakesOnlyTheSky) {
 
 }  // namespace
 }  // namespace fly::rdb
+
+namespace fly::rdb {
+namespace {
+
+// A point light's range window is KHR_lights_punctual's recommended clamp(1 − (d/range)⁴, 0, 1) / d², as the
+// baker applies it (raytracer/integrator.cpp): at half the range 15/16 of the inverse-square value, nothing
+// at and beyond the range.
+TEST(RasterRdbLights, RangeWindowAsKhrLightsPunctualRecommends) {
+  RasterLight l;
+  l.type = RasterLightType::kPoint;
+  l.positionM = vec3(0.0f);
+  l.intensity = Rgb(100.0f);
+  l.rangeM = 8.0f;
+  const RasterRdb rdb;
+  vec3 toLight;
+  EXPECT_NEAR(punctualIlluminanceLux(rdb, l, vec3(4.0f, 0.0f, 0.0f), toLight).g, 100.0f / 16.0f * 15.0f / 16.0f, 1e-4f);
+  EXPECT_NEAR(toLight.x, -1.0f, 1e-6f);
+  EXPECT_EQ(punctualIlluminanceLux(rdb, l, vec3(0.0f, 8.0f, 0.0f), toLight).g, 0.0f);
+  EXPECT_EQ(punctualIlluminanceLux(rdb, l, vec3(0.0f, 9.0f, 0.0f), toLight).g, 0.0f);
+}
+
+}  // namespace
+}  // namespace fly::rdb
