@@ -806,6 +806,18 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
   return sum;
 }
 
+float Integrator::patchWeight(float pdfPatch, float pdfPath) const {
+  switch (settings_.litPatchWeights) {
+    case IntegratorSettings::LitPatchWeights::kPatchesOnly:
+      return 1.0f;
+    case IntegratorSettings::LitPatchWeights::kPathsOnly:
+      return 0.0f;
+    case IntegratorSettings::LitPatchWeights::kPowerHeuristic:
+      break;
+  }
+  return powerHeuristic(pdfPatch, pdfPath);
+}
+
 std::optional<Integrator::Vertex> Integrator::vertexAt(const vec3& x, const TrianglePoint& at, const vec3& ng,
                                                       const vec3& d, std::optional<Bsdf>& point,
                                                       std::optional<Bsdf>& pointDeltaLight) const {
@@ -876,7 +888,7 @@ Rgb Integrator::litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S&
   const float targetDistM = glm::length(toTarget);
   if (!(targetDistM > 0.0f)) return Rgb(0.0f);
   const Rgb seen = visibility(origin, toTarget / targetDistM, targetDistM, rays);
-  const Rgb weight = fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) * seen;
+  const Rgb weight = fCos * (patchWeight(pdf, pdfBsdf) / pdf) * seen;
   sunPart = weight * sun;
   return weight * light;
 }
@@ -938,7 +950,7 @@ void Integrator::buildLitPatches() {
     passesStraight[t] = frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() ? 1 : 0;
   }
   auto patches = std::make_unique<const LitPatches>(
-      scene_, points, passesStraight, rdb_.indices, rdb_.positionsM.size(),
+      scene_, points, passesStraight, rdb_.indices, rdb_.positionsM,
       [this](const Hit& hit, const vec3& d, uint64_t seed) { return directlyLitRadiance(hit, d, seed); },
       [this](uint32_t t, bool front) { return faceRadiance(t, front); });
   if (!patches->empty()) litPatches_ = std::move(patches);
@@ -1133,7 +1145,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       const float pmf = litPatches_->pmf(patchCellLast, t);
       if (pmf > 0.0f) {
         const float pdfPatch = pmf / scene_.triangleAreaM2(t) * travelledM * travelledM / std::abs(cosLight);
-        if (std::isfinite(pdfPatch)) sunSkyWeight = powerHeuristic(pdfLast, pdfPatch);
+        if (std::isfinite(pdfPatch)) sunSkyWeight = 1.0f - patchWeight(pdfPatch, pdfLast);
       }
     }
 

@@ -186,6 +186,12 @@ struct IntegratorSettings {
   // (LitPatches); off gives path sampling alone, for resumed checkpoints of bakes without it and for
   // comparisons.
   bool litPatches = true;
+  // How the patch samples and path sampling share the paths that both can make: by the power heuristic, or
+  // all to one of them, a check of the weights (tests): kPatchesOnly is unbiased only where the regions'
+  // distributions hold every directly lit triangle in sight, kPathsOnly gives path sampling's answer at the
+  // cost of both.
+  enum class LitPatchWeights { kPowerHeuristic, kPatchesOnly, kPathsOnly };
+  LitPatchWeights litPatchWeights = LitPatchWeights::kPowerHeuristic;
   // Russian roulette at a vertex after its lights are sampled (and before its continuation), rather than
   // when the vertex is reached: a path that ends there still gathers the vertex's direct light (above).
   // Off gives the estimator of bakes before it existed (resumed checkpoints), and a comparison.
@@ -273,6 +279,9 @@ class Integrator {
   // seen along its normal.
   float faceRadiance(uint32_t t, bool front) const;
   void buildLitPatches();
+  // The weight of a patch sample of density pdfPatch that path sampling makes with density pdfPath
+  // (IntegratorSettings::litPatchWeights); path sampling's is one minus it.
+  float patchWeight(float pdfPatch, float pdfPath) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
   // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor; θ from the
   // shading normal), and the density per steradian with which v's continuation samples d. False when v takes

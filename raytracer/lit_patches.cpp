@@ -37,7 +37,7 @@ uint64_t LitPatches::keyOf(const vec3& p, const vec3& n) const {
 
 LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
                        std::span<const uint8_t> passesStraight,
-                       std::span<const uint32_t> indices, size_t vertexCount,
+                       std::span<const uint32_t> indices, std::span<const vec3> positionsM,
                        const RadianceEstimate& radiance, const FaceRadiance& faceRadiance) {
   if (points.empty()) return;
   vec3 lo = points.front().p, hi = lo;
@@ -46,7 +46,21 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
     hi = glm::max(hi, q.p);
   }
   const float longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  cellSizeM_ = longest > 0.0f ? longest / kCellsAlongLongestSide : 1.0f;
+  std::vector<float> edgesM;
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    for (size_t c = 0; c < 3; ++c) {
+      const float e = glm::length(positionsM[indices[t + c]] - positionsM[indices[t + (c + 1) % 3]]);
+      if (e > 0.0f && std::isfinite(e)) edgesM.push_back(e);
+    }
+  }
+  float medianEdgeM = 0.0f;
+  if (!edgesM.empty()) {
+    std::nth_element(edgesM.begin(), edgesM.begin() + static_cast<std::ptrdiff_t>(edgesM.size() / 2),
+                     edgesM.end());
+    medianEdgeM = edgesM[edgesM.size() / 2];
+  }
+  cellSizeM_ = std::max(longest / kCellsAlongLongestSide, kCellsPerEdgeLength * medianEdgeM);
+  if (!(cellSizeM_ > 0.0f) || !std::isfinite(cellSizeM_)) cellSizeM_ = 1.0f;
   originM_ = lo;
 
   // The training points of each cell, cells in order of their first point (deterministic).
@@ -134,6 +148,7 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
 
   // The triangles around each triangle: those sharing a vertex with it, itself included.
   const size_t triangleCount = indices.size() / 3;
+  const size_t vertexCount = positionsM.size();
   std::vector<uint32_t> ringStart(vertexCount + 1, 0);
   for (uint32_t v : indices) ++ringStart[v + 1];
   for (size_t v = 0; v < vertexCount; ++v) ringStart[v + 1] += ringStart[v];

@@ -3,8 +3,10 @@
 // IntegratorSettings::litPatches; docs/lit-patches.md) picks a point y whose directly lit radiance it
 // gathers at a path vertex x.
 //
-// A region (a cell) is a cube of a uniform grid over the scene's box together with one of six bins of the
-// normal's dominant axis and sign, so that the inside and the outside face of a wall, or a floor and the
+// A region (a cell) is a cube of a uniform grid over the scene's box (of side kCellsPerEdgeLength times the
+// median triangle edge, at least 1/kCellsAlongLongestSide of the box's longest side: most cubes that a
+// surface crosses then hold some of its vertices) together with one of six bins of the normal's dominant
+// axis and sign, so that the inside and the outside face of a wall, or a floor and the
 // ceiling above it, have cells of their own. A cell's distribution is learnt before the bake from training
 // rays: cosine-distributed rays from the mesh vertices whose position and normal fall into the cell (passing
 // straight through clear glass), each hit recording its triangle and a one-sample estimate of the direct
@@ -41,8 +43,10 @@ inline constexpr uint32_t kTrainingRaysPerCell = 2048;
 inline constexpr float kMaxEscapeFraction = 0.5f;
 // The defensive share of a cell's distribution given by its training rays' bare hit counts.
 inline constexpr float kHitShare = 0.1f;
-// Grid cubes along the scene box's longest side.
+// Grid cubes along the scene box's longest side, at most.
 inline constexpr float kCellsAlongLongestSide = 64.0f;
+// A grid cube's side in median triangle edges, at least.
+inline constexpr float kCellsPerEdgeLength = 2.0f;
 
 class LitPatches {
  public:
@@ -65,10 +69,10 @@ class LitPatches {
   // called from several threads at once, for the faces that training rays hit.
   using RadianceEstimate = std::function<float(const Hit& hit, const vec3& d, uint64_t seed)>;
   using FaceRadiance = std::function<float(uint32_t t, bool front)>;
-  // indices: the TraceRdb's, 3 per triangle, into vertexCount vertices (which triangles are neighbours).
+  // indices, positionsM: the TraceRdb's triangles (which are neighbours, how long their edges are).
   LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
-             std::span<const uint8_t> passesStraight, std::span<const uint32_t> indices, size_t vertexCount,
-             const RadianceEstimate& radiance, const FaceRadiance& faceRadiance);
+             std::span<const uint8_t> passesStraight, std::span<const uint32_t> indices,
+             std::span<const vec3> positionsM, const RadianceEstimate& radiance, const FaceRadiance& faceRadiance);
 
   // Whether any cell has a distribution.
   bool empty() const { return cells_.empty(); }
