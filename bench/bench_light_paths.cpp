@@ -14,7 +14,8 @@
 // fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [SCENE]: the gathering estimator
 // as it was before next-event estimation to lit patches (IntegratorSettings::litPatches and
 // rouletteAfterLight off) against the default estimator (both on; docs/lit-patches.md), each a bake of
-// SECONDS (passes that would end later do not start), in one run: p95 (as above) against time per pass, the
+// SECONDS (passes that would end later do not start), in one run: the bake's p95 (its history: vertex sides
+// and light-texture texels) against time per pass, the
 // time at which p95 reaches 2 % extrapolated from the last pass by p95² × time = constant (the 1/√time of
 // Monte Carlo; quasi-Monte Carlo and settled groups only make it sooner) and the ratio of the two; the mean
 // over the interior's vertex sides (sensor within the house's rooms: scenes/house) of the reported relative
