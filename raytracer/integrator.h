@@ -57,9 +57,9 @@
 // of daylight bakes, integrator.cpp), with survival probability q = min(1, max component of the path's
 // throughput times the vertex's albedo, relative to the sensor's) and weight 1/q (as pbrt-v4's
 // PathIntegrator), decided after the vertex's light sampling (IntegratorSettings::rouletteAfterLight: a
-// path that ends there still gathers the light at the vertex; before it, a path through a window that
-// reached the dark sunlit ground was ended there 4 times in 5 and, surviving, gathered the ground's sunlight
-// with 5 times the weight): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
+// path that ends there still gathers the light at the vertex; decided on arrival, a path through a window
+// that reaches the dark sunlit ground ends there 4 times in 5 without its sunlight and gathers it with 5
+// times the weight when it survives): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
 // each bounce with probability ρ, so the variance stays bounded even at ρ = 0.99. (A survival probability
 // capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than paths die: infinite
 // variance.)
