@@ -1,8 +1,8 @@
 // Next-event estimation to lit patches (raytracer/lit_patches.h, IntegratorSettings::litPatches): in a room
 // lit by the sun and the sky through a glazed roof window, the bake with it agrees with path sampling alone
 // (unbiased), its reported errors are honest and lower; the patch samples alone, path sampling alone and
-// their power-heuristic combination agree (the weights sum to one); bit-identical for any thread count; and
-// it is left out where the scene has no sun or no enclosed region.
+// their power-heuristic combination agree (the weights sum to one); bit-identical for any thread count and
+// after resuming from a checkpoint; and it is left out where the scene has no sun or no enclosed region.
 #include "raytracer/lit_patches.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
@@ -144,6 +145,42 @@ TEST(LitPatches, DeterministicAcrossThreadCounts) {
   EXPECT_EQ(one.maps.frontLux, two.maps.frontLux);
   EXPECT_EQ(one.maps.frontStdErrorLux, two.maps.frontStdErrorLux);
   EXPECT_EQ(one.maps.rays, two.maps.rays);
+}
+
+// A bake stopped after its third checkpoint and continued from it equals one that ran through: the regions
+// are trained again alike.
+TEST(LitPatches, ABakeStoppedAndContinuedEqualsOneThatRanThrough) {
+  const MeshBuilder b = sunlitRoom();
+  const EmbreeScene scene(b.rdb);
+  BakeSettings settings;
+  settings.estimate.maxSamples = 64;
+  settings.estimate.threads = 2;
+  const VertexLightMaps whole = bakeVertexLightMaps(b.rdb, scene, settings);
+  ASSERT_GT(whole.litPatchCells, 0u);
+  struct Killed {};
+  BakeCheckpoint state;
+  std::vector<std::string> saved;
+  std::vector<size_t> historyAtSave;
+  BakeCheckpointing checkpointing;
+  checkpointing.state = &state;
+  checkpointing.intervalS = 0.0;
+  checkpointing.save = [&](const BakeCheckpoint& s) {
+    saved.push_back(serializeProgressState(s.progress));
+    historyAtSave.push_back(s.history.size());
+    if (saved.size() == 3) throw Killed{};
+  };
+  EXPECT_THROW(bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing), Killed);
+  ASSERT_EQ(saved.size(), 3u);
+  BakeCheckpoint resumed;
+  resumed.progress = deserializeProgressState(saved.back(), "state.bin");
+  resumed.history = std::vector<ConvergencePoint>(
+      state.history.begin(), state.history.begin() + static_cast<long>(historyAtSave.back()));
+  checkpointing.state = &resumed;
+  checkpointing.save = {};
+  const VertexLightMaps continued = bakeVertexLightMaps(b.rdb, scene, settings, {}, checkpointing);
+  EXPECT_EQ(continued.frontLux, whole.frontLux);
+  EXPECT_EQ(continued.frontStdErrorLux, whole.frontStdErrorLux);
+  EXPECT_EQ(continued.frontSunDirectLux, whole.frontSunDirectLux);
 }
 
 // Left out where nothing calls for it: without a sun (the sky alone), and under the open sky (a ground
