@@ -10,6 +10,18 @@
 // [--pilot-fraction 0.125] (run from the repository's root for the default scene; --paths-per-sample: light
 // paths per vertex side per gathering sample; --pilot-fraction: the pilot's light paths as a fraction of the
 // bake's).
+//
+// fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [SCENE]: the gathering estimator
+// as it was before next-event estimation to lit patches (IntegratorSettings::litPatches and
+// rouletteAfterLight off) against the default estimator (both on; docs/lit-patches.md), each a bake of
+// SECONDS (passes that would end later do not start), in one run: the bake's p95 (its history: vertex sides
+// and light-texture texels) against time per pass, the
+// time at which p95 reaches 2 % extrapolated from the last pass by p95² × time = constant (the 1/√time of
+// Monte Carlo; quasi-Monte Carlo and settled groups only make it sooner) and the ratio of the two; the mean
+// over the interior's vertex sides (sensor within the house's rooms: scenes/house) of the reported relative
+// error and of the measured one against a reference bake of the default estimator with N samples and another
+// seed (its own error subtracted in quadrature); honesty as above. --plot writes both convergence curves in
+// one PNG.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/convergence_plot.h"
 #include "cli/scene_daylight.h"
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
@@ -81,14 +94,140 @@ std::vector<uint32_t> parseList(const char* s) {
   return out;
 }
 
+// The house's rooms (scenes/house/house.gltf: inside the outer walls, floor to ceiling), metres, with a
+// margin for the door's inner face: a vertex side is interior when its sensor, 5 cm along its normal, lies
+// within.
+constexpr float kInteriorMinM[3] = {-3.85f, 0.1f, -2.85f};
+constexpr float kInteriorMaxM[3] = {3.85f, 2.8f, 2.95f};
+
+bool interior(const vec3& p, const vec3& n) {
+  const vec3 q = p + 0.05f * n;
+  for (int k = 0; k < 3; ++k) {
+    if (!(q[k] > kInteriorMinM[k] && q[k] < kInteriorMaxM[k])) return false;
+  }
+  return true;
+}
+
+struct InteriorError {
+  double reported = 0.0;  // mean of σ / E over interior vertex sides
+  double measured = 0.0;  // √(mean of ((E − R)² − σ_R²) / R²), the reference's own error taken out
+  size_t sides = 0;
+};
+
+InteriorError interiorError(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& m,
+                            const raytracer::VertexLightMaps& ref) {
+  InteriorError out;
+  double squares = 0.0;
+  for (int back = 0; back < 2; ++back) {
+    const auto& e = back ? m.backLux : m.frontLux;
+    const auto& se = back ? m.backStdErrorLux : m.frontStdErrorLux;
+    const auto& r = back ? ref.backLux : ref.frontLux;
+    const auto& rse = back ? ref.backStdErrorLux : ref.frontStdErrorLux;
+    for (size_t v = 0; v < e.size(); ++v) {
+      const double l = luminance(e[v]), lr = luminance(r[v]);
+      if (!(l > 0.0) || !(lr > 0.0) || !interior(rdb.positionsM[v], back ? -rdb.normals[v] : rdb.normals[v]))
+        continue;
+      out.reported += luminance(se[v]) / l;
+      const double d = l - lr, sr = luminance(rse[v]);
+      squares += (d * d - sr * sr) / (lr * lr);
+      ++out.sides;
+    }
+  }
+  if (out.sides > 0) {
+    out.reported /= double(out.sides);
+    out.measured = std::sqrt(std::max(0.0, squares / double(out.sides)));
+  }
+  return out;
+}
+
+int runLitPatches(const std::string& scenePath, double seconds, uint32_t referenceSamples,
+                  const std::string& plotPath) {
+  const cli::LitScene lit = cli::loadLitScene(scenePath, cli::DaylightOptions{});
+  const rdb::TraceRdb rdb = rdb::buildTraceRdb(lit.scene);
+  const raytracer::EmbreeScene scene(rdb);
+  std::printf("%s: %zu vertices, %zu triangles; %s; bakes of %.0f s\n", scenePath.c_str(),
+              rdb.positionsM.size(), rdb.triangleCount(), lit.light.c_str(), seconds);
+  auto settingsOf = [](bool patches) {
+    raytracer::BakeSettings s;
+    s.integrator.litPatches = patches;
+    s.integrator.rouletteAfterLight = patches;
+    s.estimate.firstPassSamples = 16;
+    s.estimate.maxSamples = 1u << 20;
+    return s;
+  };
+  raytracer::BakeSettings refSettings = settingsOf(true);
+  refSettings.estimate.maxSamples = referenceSamples;
+  refSettings.estimate.seed = 1000;
+  const auto refStart = std::chrono::steady_clock::now();
+  const raytracer::VertexLightMaps reference = raytracer::bakeVertexLightMaps(rdb, scene, refSettings);
+  std::printf("reference: lit patches, %u samples, seed 1000: %.1f s, p95 %.2f %%\n", referenceSamples,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - refStart).count(),
+              100.0 * relativeErrorP95(reference));
+  struct Result {
+    raytracer::VertexLightMaps maps;
+    double secondsTo2Percent = 0.0;
+  };
+  Result results[2];
+  const char* names[2] = {"gathering (before lit patches)", "lit patches (default)"};
+  for (int k = 0; k < 2; ++k) {
+    raytracer::BakeSettings s = settingsOf(k == 1);
+    s.estimate.timeLimitS = seconds;
+    s.estimate.seed = 1;
+    results[k].maps = raytracer::bakeVertexLightMaps(rdb, scene, s);
+    const raytracer::VertexLightMaps& m = results[k].maps;
+    std::printf("\n%s%s:\n| samples | time (s) | p95 | p95² × time (s) |\n|---|---|---|---|\n", names[k],
+                k == 1 ? (" (" + std::to_string(m.litPatchCells) + " regions, trained in " +
+                          std::to_string(m.litPatchSeconds).substr(0, 4) + " s, not in the times)")
+                             .c_str()
+                       : "");
+    for (const raytracer::ConvergencePoint& p : m.history) {
+      std::printf("| %u | %.1f | %.2f %% | %.3f |\n", p.samples, p.seconds, 100.0 * p.relativeErrorP95,
+                  double(p.relativeErrorP95) * p.relativeErrorP95 * p.seconds);
+    }
+    const raytracer::ConvergencePoint& last = m.history.back();
+    const double p95 = last.relativeErrorP95;
+    results[k].secondsTo2Percent = last.seconds * (p95 / 0.02) * (p95 / 0.02);
+    const InteriorError ie = interiorError(rdb, m, reference);
+    std::printf(
+        "p95 2 %% extrapolated at %.0f s; interior (%zu vertex sides) at %.0f s: mean relative error reported "
+        "%.2f %%, measured %.2f %%; honesty %.2f\n",
+        results[k].secondsTo2Percent, ie.sides, last.seconds, 100.0 * ie.reported, 100.0 * ie.measured,
+        honesty(m, reference));
+    std::fflush(stdout);
+  }
+  std::printf("\ntime to p95 = 2 %%: %.1f times sooner with lit patches\n",
+              results[0].secondsTo2Percent / results[1].secondsTo2Percent);
+  if (!plotPath.empty()) {
+    const cli::ConvergenceCurve curves[2] = {
+        {results[0].maps.history, names[0], {214, 39, 40}},
+        {results[1].maps.history, names[1], cli::kConvergencePointRgb}};
+    cli::ConvergencePlotRequest request;
+    request.targetRelativeError = 0.02f;
+    cli::drawConvergencePlot(curves, "The house: gathering against lit patches (p95 over vertex sides)",
+                             plotPath, request);
+    std::printf("wrote %s\n", plotPath.c_str());
+  }
+  return 0;
+}
+
 int run(int argc, char** argv) {
   std::string scenePath = "scenes/house/house.json";
   std::vector<uint32_t> samples = {64, 256, 1024};
   uint32_t referenceSamples = 1024;
   double pathsPerSample = 8.0;
   double pilotFraction = 0.125;
+  double litPatchSeconds = 0.0;
+  std::string plotPath;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--lit-patches" && i + 1 < argc) {
+      litPatchSeconds = std::strtod(argv[++i], nullptr);
+      continue;
+    }
+    if (a == "--plot" && i + 1 < argc) {
+      plotPath = argv[++i];
+      continue;
+    }
     if (a == "--samples" && i + 1 < argc) {
       samples = parseList(argv[++i]);
     } else if (a == "--reference" && i + 1 < argc) {
@@ -102,10 +241,12 @@ int run(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
-                   "[--paths-per-sample X] [--pilot-fraction F]\n");
+                   "[--paths-per-sample X] [--pilot-fraction F]\n"
+                   "       fly-bench-light-paths [SCENE] --lit-patches SECONDS [--reference N] [--plot PNG]\n");
       return 2;
     }
   }
+  if (litPatchSeconds > 0.0) return runLitPatches(scenePath, litPatchSeconds, referenceSamples, plotPath);
   const cli::LitScene lit = cli::loadLitScene(scenePath, cli::DaylightOptions{});
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(lit.scene);
   const raytracer::EmbreeScene scene(rdb);

@@ -197,6 +197,8 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"max_bounces", job.settings.integrator.maxBounces},
         {"caustics", job.settings.integrator.caustics},
         {"sky_portals", job.settings.integrator.skyPortals},
+        {"lit_patches", job.settings.integrator.litPatches},
+        {"roulette_after_light", job.settings.integrator.rouletteAfterLight},
         {"light_paths", job.settings.lightPaths.enabled},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
@@ -261,6 +263,9 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.settings.integrator.caustics = s.value("caustics", false);
     // ... and without sky portals.
     c.job.settings.integrator.skyPortals = s.value("sky_portals", false);
+    // ... and without next-event estimation to lit patches, with Russian roulette before a vertex's light.
+    c.job.settings.integrator.litPatches = s.value("lit_patches", false);
+    c.job.settings.integrator.rouletteAfterLight = s.value("roulette_after_light", false);
     // ... and without light paths.
     c.job.settings.lightPaths.enabled = s.value("light_paths", false);
     c.job.exportGltf = s.at("export_gltf").get<bool>();

@@ -37,6 +37,10 @@ void addSamplingOptions(CLI::App& sub, SamplingOptions& o, const std::string& pe
                "sample the sky from its table alone; by default a scene with clear glass also sends half of "
                "the sky's light samples through the glass, which lowers the error of interiors lit through "
                "windows");
+  sub.add_flag("--no-lit-patches", o.noLitPatches,
+               "path sampling alone; by default, in a scene with a sun, points in enclosed regions also "
+               "sample the surfaces that the sun and sky light directly (next-event estimation to lit "
+               "patches, docs/lit-patches.md), which lowers the error of sunlit interiors");
 }
 
 double parseRelativeError(const std::string& s) {
@@ -98,6 +102,7 @@ raytracer::IntegratorSettings integratorSettings(const SamplingOptions& o, const
   }
   settings.caustics = o.caustics;
   settings.skyPortals = !o.noSkyPortals;
+  settings.litPatches = !o.noLitPatches;
   return settings;
 }
 

@@ -22,6 +22,7 @@ struct SamplingOptions {
   uint64_t seed = 0;                   // scrambling / random-number seed (EstimateSettings::seed)
   bool caustics = false;               // IntegratorSettings::caustics
   bool noSkyPortals = false;           // IntegratorSettings::skyPortals = false
+  bool noLitPatches = false;           // IntegratorSettings::litPatches = false
 };
 
 // Adds the options to `sub`; `per` names what a sample count counts ("sensor", "vertex").

@@ -57,7 +57,7 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     return job;
   }
   for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
-                           "--max-bounces", "--export-gltf", "--light-paths"}) {
+                           "--max-bounces", "--export-gltf", "--light-paths", "--no-lit-patches"}) {
     if (sub.count(name) > 0) {
       throw UsageError(
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
@@ -223,6 +223,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"max_bounces", settings.integrator.maxBounces},
       {"caustics", settings.integrator.caustics},
       {"sky_portals", settings.integrator.skyPortals},
+      {"lit_patches", settings.integrator.litPatches},
+      {"roulette_after_light", settings.integrator.rouletteAfterLight},
       {"light_paths", settings.lightPaths.enabled}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
@@ -264,6 +266,10 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       "%.3g Mrays/s -> %s\n",
       rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, sunText, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
+  if (maps.litPatchCells > 0) {
+    std::fprintf(stderr, "lit patches: sampled from %zu enclosed regions (trained in %.1f s)\n", maps.litPatchCells,
+                 maps.litPatchSeconds);
+  }
   if (maps.lightPaths > 0) {
     std::fprintf(stderr,
                  "light paths: %llu from the sun (pilot included), %.3g Mrays, %.1f s before the passes; "

@@ -78,19 +78,22 @@ glm::dvec2 ConvergencePlotLayout::pixel(double seconds, double relativeError) co
   return topLeftPx + glm::dvec2(u * sizePx.x, (1.0 - v) * sizePx.y);
 }
 
-ConvergencePlotLayout convergencePlotLayout(std::span<const ConvergencePoint> history,
-                                            const ConvergencePlotRequest& request) {
+namespace {
+
+ConvergencePlotLayout layoutOf(std::span<const ConvergenceCurve> curves, const ConvergencePlotRequest& request) {
   ConvergencePlotLayout l;
   const double w = request.widthPx, h = request.heightPx;
   l.topLeftPx = {kLeft * w, kTop * h};
   l.sizePx = {(1.0 - kLeft - kRight) * w, (1.0 - kTop - kBottom) * h};
   double tLo = INFINITY, tHi = 0.0, eLo = INFINITY, eHi = 0.0;
-  for (const ConvergencePoint& p : history) {
-    if (!plottable(p)) continue;
-    tLo = std::min(tLo, p.seconds);
-    tHi = std::max(tHi, p.seconds);
-    eLo = std::min(eLo, double(p.relativeErrorP95));
-    eHi = std::max(eHi, double(p.relativeErrorP95));
+  for (const ConvergenceCurve& curve : curves) {
+    for (const ConvergencePoint& p : curve.history) {
+      if (!plottable(p)) continue;
+      tLo = std::min(tLo, p.seconds);
+      tHi = std::max(tHi, p.seconds);
+      eLo = std::min(eLo, double(p.relativeErrorP95));
+      eHi = std::max(eHi, double(p.relativeErrorP95));
+    }
   }
   if (request.targetRelativeError > 0.0f) {
     eLo = std::min(eLo, double(request.targetRelativeError));
@@ -101,14 +104,28 @@ ConvergencePlotLayout convergencePlotLayout(std::span<const ConvergencePoint> hi
   return l;
 }
 
+}  // namespace
+
+ConvergencePlotLayout convergencePlotLayout(std::span<const ConvergencePoint> history,
+                                            const ConvergencePlotRequest& request) {
+  const ConvergenceCurve curve{history, ""};
+  return layoutOf({&curve, 1}, request);
+}
+
 void drawConvergencePlot(std::span<const ConvergencePoint> history, const fs::path& pngOut,
                          const ConvergencePlotRequest& request) {
+  const ConvergenceCurve curve{history, "estimate after each pass"};
+  drawConvergencePlot({&curve, 1}, "Bake convergence: estimated error against run time", pngOut, request);
+}
+
+void drawConvergencePlot(std::span<const ConvergenceCurve> curves, const std::string& title,
+                         const fs::path& pngOut, const ConvergencePlotRequest& request) {
   const int w = request.widthPx, h = request.heightPx;
   if (w < 300 || w > 8000 || h < 300 || h > 8000) {
     throw std::invalid_argument("drawConvergencePlot: size " + std::to_string(w) + " × " + std::to_string(h) +
                                 " px is outside [300, 8000]");
   }
-  const ConvergencePlotLayout l = convergencePlotLayout(history, request);
+  const ConvergencePlotLayout l = layoutOf(curves, request);
   const std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
       cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h), &cairo_surface_destroy);
   const std::unique_ptr<cairo_t, decltype(&cairo_destroy)> context(cairo_create(surface.get()),
@@ -146,7 +163,7 @@ void drawConvergencePlot(std::span<const ConvergencePoint> history, const fs::pa
   cairo_set_line_width(cr, 1.5 * p.unit);
   cairo_rectangle(cr, tl.x, tl.y, l.sizePx.x, l.sizePx.y);
   cairo_stroke(cr);
-  p.text("Bake convergence: estimated error against run time", {0.5 * w, 0.04 * h}, 20, 0.5, 0.5);
+  p.text(title, {0.5 * w, 0.04 * h}, 20, 0.5, 0.5);
   p.text("run time (s)", {0.5 * (tl.x + br.x), h - 0.035 * h}, 15, 0.5, 1.0);
   p.text("relative standard error, 95th percentile over vertices and texels (%)",
          {0.035 * w, 0.5 * (tl.y + br.y)}, 15, 0.5, 0.0, -0.5 * kPi);
@@ -156,6 +173,8 @@ void drawConvergencePlot(std::span<const ConvergencePoint> history, const fs::pa
   cairo_save(cr);
   cairo_rectangle(cr, tl.x, tl.y, l.sizePx.x, l.sizePx.y);
   cairo_clip(cr);
+  const std::span<const ConvergencePoint> history =
+      curves.empty() ? std::span<const ConvergencePoint>() : curves.front().history;
   const auto first = std::find_if(history.begin(), history.end(), plottable);
   if (first != history.end()) {
     // error = e₀·√(t₀ / t): the slope −1/2 through the first point, across the whole plot.
@@ -173,46 +192,51 @@ void drawConvergencePlot(std::span<const ConvergencePoint> history, const fs::pa
     p.line({tl.x, y}, {br.x, y}, 1.5);
   }
   cairo_restore(cr);
-  const double r = kConvergencePointRgb[0] / 255.0, g = kConvergencePointRgb[1] / 255.0,
-               b = kConvergencePointRgb[2] / 255.0;
-  p.colour(r, g, b);
-  cairo_set_line_width(cr, 2.0 * p.unit);
-  bool started = false;
-  for (const ConvergencePoint& q : history) {
-    if (!plottable(q)) continue;
-    const glm::dvec2 at = l.pixel(q.seconds, q.relativeErrorP95);
-    started ? cairo_line_to(cr, at.x, at.y) : cairo_move_to(cr, at.x, at.y);
-    started = true;
+  for (const ConvergenceCurve& curve : curves) {
+    p.colour(curve.rgb[0] / 255.0, curve.rgb[1] / 255.0, curve.rgb[2] / 255.0);
+    cairo_set_line_width(cr, 2.0 * p.unit);
+    bool started = false;
+    for (const ConvergencePoint& q : curve.history) {
+      if (!plottable(q)) continue;
+      const glm::dvec2 at = l.pixel(q.seconds, q.relativeErrorP95);
+      started ? cairo_line_to(cr, at.x, at.y) : cairo_move_to(cr, at.x, at.y);
+      started = true;
+    }
+    cairo_stroke(cr);
+    for (const ConvergencePoint& q : curve.history) {
+      if (!plottable(q)) continue;
+      const glm::dvec2 at = l.pixel(q.seconds, q.relativeErrorP95);
+      cairo_new_sub_path(cr);
+      cairo_arc(cr, at.x, at.y, 5.0 * p.unit, 0.0, 2.0 * kPi);
+    }
+    cairo_fill(cr);
   }
-  cairo_stroke(cr);
-  for (const ConvergencePoint& q : history) {
-    if (!plottable(q)) continue;
-    const glm::dvec2 at = l.pixel(q.seconds, q.relativeErrorP95);
-    cairo_new_sub_path(cr);
-    cairo_arc(cr, at.x, at.y, 5.0 * p.unit, 0.0, 2.0 * kPi);
-  }
-  cairo_fill(cr);
 
-  // Legend, top right inside the plot.
+  // Legend, top right inside the plot: the curves, the slope, the target.
   const glm::dvec2 at = {br.x - 330 * p.unit, tl.y + 20 * p.unit};
   const double step = 22 * p.unit, swatch = 30 * p.unit;
-  p.colour(r, g, b);
-  p.line(at, at + glm::dvec2(swatch, 0), 2.0);
-  p.colour(0.13, 0.13, 0.13);
-  p.text("estimate after each pass", at + glm::dvec2(swatch + 8 * p.unit, 0), 13, 0.0, 0.5);
+  double row = 0.0;
+  for (const ConvergenceCurve& curve : curves) {
+    p.colour(curve.rgb[0] / 255.0, curve.rgb[1] / 255.0, curve.rgb[2] / 255.0);
+    p.line(at + glm::dvec2(0, row), at + glm::dvec2(swatch, row), 2.0);
+    p.colour(0.13, 0.13, 0.13);
+    p.text(curve.label, at + glm::dvec2(swatch + 8 * p.unit, row), 13, 0.0, 0.5);
+    row += step;
+  }
   p.colour(0.45, 0.45, 0.45);
   const double dash = 6.0 * p.unit;
   cairo_set_dash(cr, &dash, 1, 0.0);
-  p.line(at + glm::dvec2(0, step), at + glm::dvec2(swatch, step), 1.5);
+  p.line(at + glm::dvec2(0, row), at + glm::dvec2(swatch, row), 1.5);
   cairo_set_dash(cr, nullptr, 0, 0.0);
   p.colour(0.13, 0.13, 0.13);
-  p.text("slope -1/2 (error ∝ 1/√time)", at + glm::dvec2(swatch + 8 * p.unit, step), 13, 0.0, 0.5);
+  p.text("slope -1/2 (error ∝ 1/√time)", at + glm::dvec2(swatch + 8 * p.unit, row), 13, 0.0, 0.5);
+  row += step;
   if (request.targetRelativeError > 0.0f) {
     p.colour(0.80, 0.15, 0.15);
-    p.line(at + glm::dvec2(0, 2 * step), at + glm::dvec2(swatch, 2 * step), 1.5);
+    p.line(at + glm::dvec2(0, row), at + glm::dvec2(swatch, row), 1.5);
     p.colour(0.13, 0.13, 0.13);
     p.text("target " + tickLabel(100.0 * double(request.targetRelativeError)) + " %",
-           at + glm::dvec2(swatch + 8 * p.unit, 2 * step), 13, 0.0, 0.5);
+           at + glm::dvec2(swatch + 8 * p.unit, row), 13, 0.0, 0.5);
   }
 
   writeCairoPng(surface.get(), cr, pngOut, "convergence plot");

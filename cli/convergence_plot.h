@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <glm/vec2.hpp>
 #include <span>
+#include <string>
 
 #include "raytracer/baker.h"
 
@@ -43,6 +44,18 @@ inline constexpr std::array<uint8_t, 3> kConvergencePointRgb{31, 119, 180};
 // Draws the plot and writes it as an RGB PNG, atomically. std::invalid_argument for a size out of range;
 // std::runtime_error when drawing or writing fails.
 void drawConvergencePlot(std::span<const raytracer::ConvergencePoint> history,
+                         const std::filesystem::path& pngOut, const ConvergencePlotRequest& request = {});
+
+// One of several bakes drawn side by side: its history, its legend entry and colour (8-bit sRGB).
+struct ConvergenceCurve {
+  std::span<const raytracer::ConvergencePoint> history;
+  std::string label;
+  std::array<uint8_t, 3> rgb = kConvergencePointRgb;
+};
+
+// The same plot with several curves on common axes (the layout spans all of them; the slope −1/2 goes
+// through the first curve's first point), and `title` above: a comparison of estimators.
+void drawConvergencePlot(std::span<const ConvergenceCurve> curves, const std::string& title,
                          const std::filesystem::path& pngOut, const ConvergencePlotRequest& request = {});
 
 }  // namespace fly::cli

@@ -447,9 +447,13 @@ float sunDirectRelativeErrorP95(const std::vector<IrradianceEstimate>& points) {
 VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
                                     const BakeSettings& settings, const BakeProgress& progress,
                                     const BakeCheckpointing& checkpointing) {
+  const auto integratorStart = std::chrono::steady_clock::now();
   const Integrator integrator(rdb, scene, settings.integrator);
   OneRingSource vertexSource(rdb, scene, integrator);
   VertexLightMaps maps;
+  maps.litPatchCells = integrator.litPatchCells();
+  maps.litPatchSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - integratorStart).count();
   // The light paths and the combination's weights: deterministic functions of the settings, so a resumed
   // bake computes them again alike.
   std::optional<LightPathMaps> lightPathMaps;

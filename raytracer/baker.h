@@ -90,6 +90,10 @@ struct VertexLightMaps {
   uint64_t lightPaths = 0;
   uint64_t lightPathRays = 0;
   double lightPathSeconds = 0.0;
+  // With next-event estimation to lit patches (Integrator::usesLitPatches): its regions, and the seconds
+  // its training took (before the passes, not in `seconds`).
+  size_t litPatchCells = 0;
+  double litPatchSeconds = 0.0;
   // The vertex sides whose estimate combines the light paths' (weight > 0), and their mean weight.
   size_t lightPathCombinedSides = 0;
   double lightPathMeanWeight = 0.0;

@@ -34,6 +34,17 @@ constexpr uint32_t kFirstRouletteVertex = 3;
 // The least cosine between a hit's shading normal and the direction back along the ray (sampleIrradiance).
 constexpr float kMinShadingCos = 0.01f;
 
+// The first of the sampler groups of next-event estimation to lit patches: path vertex k uses groups
+// kPatchGroupBase + 2k (the triangle and the point on it) and + 2k + 1 (the patch's sun and sky),
+// far above the path's own groups (kGroupsPerVertex per vertex, at most kPathLengthGuard vertices) and below
+// the baker's (raytracer/baker.cpp). ≡ 29 mod 32: the sensor's two groups share SobolSampler's group cache
+// only with a path's tenth and eleventh vertices.
+constexpr uint32_t kPatchGroupBase = (1u << 19) + 29;
+
+// Points per face of LitPatches' mean radiance of a face (Integrator::faceRadiance).
+constexpr uint32_t kFaceRadianceSamples = 8;
+
+
 // Direction of the sky table's (u, v) = (φ / 2π, 1 − μ), φ = atan2(d.z, d.x) (TraceSky).
 vec3 skyDirection(const vec2& uv) {
   const float mu = 1.0f - uv.y;
@@ -292,6 +303,8 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     sunRadianceCdM2_ = rdb.sun.normalIlluminanceLux / (kPiF * sunOneMinusCos_ * (2.0f - sunOneMinusCos_));
     sunFrame_ = onb(rdb.sun.directionWorld);
   }
+
+  if (settings_.litPatches && sunOneMinusCos_ > 0.0f) buildLitPatches();
 }
 
 uint32_t Integrator::skyCell(const vec3& d) const {
@@ -671,7 +684,8 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
 
 template <class S>
 Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter,
-                            float uPunctual, S& sampler, uint64_t& rays, Rgb* sunPart) const {
+                            float uPunctual, S& sampler, uint64_t& rays, Rgb* sunPart, Rgb* sunSkyPart,
+                            bool sunSkyOnly) const {
   sampler.startGroup(group);
   Rgb sum(0.0f);
   // The ray origin on the side of the light.
@@ -746,6 +760,8 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
       }
     }
   }
+  if (sunSkyPart) *sunSkyPart = sum;
+  if (sunSkyOnly) return sum;
 
   for (uint32_t i : directionalLights_) sum += punctualLight(rdb_.punctualLights[i], v, rays);
   if (positionalDistribution_) {
@@ -787,6 +803,156 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
   return sum;
 }
 
+float Integrator::patchWeight(float pdfPatch, float pdfPath) const {
+  switch (settings_.litPatchWeights) {
+    case IntegratorSettings::LitPatchWeights::kPatchesOnly:
+      return 1.0f;
+    case IntegratorSettings::LitPatchWeights::kPathsOnly:
+      return 0.0f;
+    case IntegratorSettings::LitPatchWeights::kPowerHeuristic:
+      break;
+  }
+  return powerHeuristic(pdfPatch, pdfPath);
+}
+
+std::optional<Integrator::Vertex> Integrator::vertexAt(const vec3& x, const TrianglePoint& at, const vec3& ng,
+                                                      const vec3& d, std::optional<Bsdf>& point,
+                                                      std::optional<Bsdf>& pointDeltaLight) const {
+  const uint32_t t = at.triangle;
+  const bool front = glm::dot(ng, d) < 0.0f;
+  const uint32_t mi = rdb_.triangleMaterial[t];
+  const PointBsdfs bsdfs = bsdfsAt(mi, front, at, point, pointDeltaLight);
+  const vec3 side = front ? ng : -ng;
+  const float cosGeometric = -glm::dot(side, d);
+  if (!(cosGeometric > 0.0f)) return std::nullopt;
+  // The shading normal on the side the ray came from. Where the direction back along the ray is below it
+  // (an interpolated or mapped normal tilted away from the viewer), it is bent towards the geometric normal
+  // until that direction is kMinShadingCos above it, so that no path finds a black surface (a facet of a
+  // smooth low-poly mesh seen at a grazing angle).
+  vec3 ns = shadingNormalAt(rdb_, rdb_.materials[mi], at, ng);
+  if (!front) ns = -ns;
+  const float cosShading = -glm::dot(ns, d);
+  if (cosShading < kMinShadingCos) {
+    ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
+  }
+  const Onb frame = onb(ns);
+  const vec3 wo = frame.toLocal(-d);
+  if (!(wo.z > 0.0f)) return std::nullopt;
+  return Vertex{x, ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), bsdfs.bsdf, bsdfs.deltaLight,
+                frame, wo};
+}
+
+template <class S>
+Rgb Integrator::litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S& sampler, uint64_t& rays,
+                              Rgb& sunPart) const {
+  sampler.startGroup(kPatchGroupBase + 2 * depth);
+  const vec2 u = sampler.next2D();
+  const LitPatches::Pick pick = litPatches_->sample(cell, u.x);
+  const uint32_t t = pick.triangle;
+  const float areaM2 = scene_.triangleAreaM2(t);
+  if (!(areaM2 > 0.0f)) return Rgb(0.0f);
+  const vec3 b = sampleUniformTriangle(vec2(pick.uRemapped, u.y));
+  const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
+  const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]];
+  const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]];
+  const vec3 y = b.x * p0 + b.y * p1 + b.z * p2;
+  const vec3 toPatch = y - v.p;
+  const float distM = glm::length(toPatch);
+  if (!(distM > 0.0f)) return Rgb(0.0f);
+  const vec3 d = toPatch / distM;
+  const vec3& ng = scene_.triangleNormal(t);
+  const float absCosPatch = std::abs(glm::dot(ng, d));
+  Rgb fCos;
+  float pdfBsdf;
+  if (!(absCosPatch > 0.0f) || !response(v, v.bsdf, d, fCos, pdfBsdf)) return Rgb(0.0f);
+  const float pdf = pick.pmf / areaM2 * distM * distM / absCosPatch;
+  if (!(pdf > 0.0f) || !std::isfinite(pdf)) return Rgb(0.0f);
+  // y as the next vertex of the path, and the sun's and sky's light that a path reaching it samples there.
+  std::optional<Bsdf> point, pointDeltaLight;
+  const TrianglePoint at{t, vec2(b.y, b.z)};
+  const std::optional<Vertex> patch = vertexAt(y, at, ng, d, point, pointDeltaLight);
+  if (!patch || patch->bsdf->isBlack()) return Rgb(0.0f);
+  const bool lightSampling = patch->bsdf->hasNonDelta();
+  if (!lightSampling && !patch->deltaLightBsdf->hasNonDelta()) return Rgb(0.0f);
+  Rgb sun(0.0f);
+  const Rgb light = directLight(*patch, lightSampling, kPatchGroupBase + 2 * depth + 1, vec2(0.0f), 0.0f,
+                                sampler, rays, &sun, nullptr, true);
+  if (!(maxComponent(light) > 0.0f)) return Rgb(0.0f);
+  // Both ends moved off their surfaces, the patch's towards v.
+  const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.ng, d) > 0.0f ? v.ng : -v.ng, v.magnitudeM);
+  const vec3 target = offsetRayOrigin(y, patch->ng, patch->magnitudeM);
+  const vec3 toTarget = target - origin;
+  const float targetDistM = glm::length(toTarget);
+  if (!(targetDistM > 0.0f)) return Rgb(0.0f);
+  const Rgb seen = visibility(origin, toTarget / targetDistM, targetDistM, rays);
+  const Rgb weight = fCos * (patchWeight(pdf, pdfBsdf) / pdf) * seen;
+  sunPart = weight * sun;
+  return weight * light;
+}
+
+float Integrator::directlyLitRadiance(const Hit& hit, const vec3& d, uint64_t seed) const {
+  std::optional<Bsdf> point, pointDeltaLight;
+  const std::optional<Vertex> v =
+      vertexAt(hitPoint(hit), {hit.triangle, hit.barycentric}, hit.geometricNormal, d, point, pointDeltaLight);
+  if (!v || v->bsdf->isBlack()) return 0.0f;
+  const bool lightSampling = v->bsdf->hasNonDelta();
+  if (!lightSampling && !v->deltaLightBsdf->hasNonDelta()) return 0.0f;
+  SobolSampler sampler(seed);
+  sampler.startSample(0);
+  uint64_t rays = 0;
+  return luminance(directLight(*v, lightSampling, 0, vec2(0.0f), 0.0f, sampler, rays, nullptr, nullptr, true));
+}
+
+float Integrator::faceRadiance(uint32_t t, bool front) const {
+  const vec3& ng = scene_.triangleNormal(t);
+  const vec3 d = front ? -ng : ng;  // seen along the face's normal
+  const uint64_t seed = detail::mix64(~(2 * uint64_t{t} + (front ? 0 : 1)));
+  double sum = 0.0;
+  for (uint32_t j = 0; j < kFaceRadianceSamples; ++j) {
+    SobolSampler sampler(seed);
+    sampler.startSample(j);
+    sampler.startGroup(0);
+    const vec3 b = sampleUniformTriangle(sampler.next2D());
+    Hit hit;
+    hit.triangle = t;
+    hit.barycentric = vec2(b.y, b.z);
+    hit.geometricNormal = ng;
+    sum += directlyLitRadiance(hit, d, detail::mix64(seed + j + 1));
+  }
+  return float(sum / kFaceRadianceSamples);
+}
+
+void Integrator::buildLitPatches() {
+  // Training points: every vertex on the side of its normal (turned to its triangles' front) and, for
+  // double-sided materials, on the other.
+  std::vector<LitPatches::TrainingPoint> points;
+  std::vector<uint8_t> seen(2 * rdb_.positionsM.size(), 0);
+  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
+    if (!(scene_.triangleAreaM2(t) > 0.0f)) continue;
+    const vec3& ng = scene_.triangleNormal(t);
+    const bool doubleSided = rdb_.materials[rdb_.triangleMaterial[t]].doubleSided;
+    for (uint32_t c = 0; c < 3; ++c) {
+      const uint32_t vi = rdb_.indices[3 * size_t{t} + c];
+      vec3 n = rdb_.normals[vi];
+      if (!(glm::dot(n, ng) > 0.0f)) n = ng;
+      for (uint32_t side = 0; side < (doubleSided ? 2u : 1u); ++side) {
+        if (seen[2 * size_t{vi} + side]) continue;
+        seen[2 * size_t{vi} + side] = 1;
+        points.push_back({rdb_.positionsM[vi], side == 0 ? n : -n, scene_.triangleMagnitudeM(t)});
+      }
+    }
+  }
+  std::vector<uint8_t> passesStraight(rdb_.triangleCount(), 0);
+  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
+    passesStraight[t] = frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() ? 1 : 0;
+  }
+  auto patches = std::make_unique<const LitPatches>(
+      scene_, points, passesStraight, rdb_.indices, rdb_.positionsM,
+      [this](const Hit& hit, const vec3& d, uint64_t seed) { return directlyLitRadiance(hit, d, seed); },
+      [this](uint32_t t, bool front) { return faceRadiance(t, front); });
+  if (!patches->empty()) litPatches_ = std::move(patches);
+}
+
 template <class S>
 Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint64_t& rays,
                                  float surfaceMagnitudeM, Rgb* sunDirectLux, Rgb* sunLux) const {
@@ -812,6 +978,15 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   const uint32_t maxReflections = std::min(settings_.maxBounces, kPathLengthGuard);
   // Whether v may only pass light straight through (it would be a reflection too many).
   bool straightOnly = false;
+  // Next-event estimation to lit patches: the region of the last non-delta vertex when it sampled patches
+  // (LitPatches::kNoCell otherwise, and after a mirror), and the MIS weight of v's sun and sky light against
+  // that vertex's patch sample of v.
+  uint32_t patchCellLast = LitPatches::kNoCell;
+  float sunSkyWeight = 1.0f;
+  // With rouletteAfterLight, v's survival probability (1: none) and its roulette number, applied once v's
+  // lights are sampled.
+  float pendingSurvival = 1.0f;
+  float pendingRoulette = 0.0f;
   for (uint32_t depth = 0; depth <= kPathLengthGuard; ++depth) {
     // Only the dimensions this vertex uses (each is a function of its own index alone, so skipping one
     // changes no other).
@@ -848,11 +1023,32 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     if (deltaLightSampling) {
       // At the sensor (depth 0, β = 1) the sun's sample is the sun-direct part.
       Rgb sunPart(0.0f);
+      Rgb sunSkyPart(0.0f);
       const bool wantsSun = sunLux != nullptr || (depth == 0 && sunDirectLux != nullptr);
-      sum += beta * directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler,
-                                rays, wantsSun ? &sunPart : nullptr);
+      const Rgb light = directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler,
+                                    rays, wantsSun ? &sunPart : nullptr, &sunSkyPart);
+      sum += beta * (light - (1.0f - sunSkyWeight) * sunSkyPart);
       if (depth == 0 && sunDirectLux) *sunDirectLux = sunPart;
-      if (sunLux) *sunLux += beta * sunPart;
+      if (sunLux) *sunLux += beta * sunSkyWeight * sunPart;
+    }
+
+    // Next-event estimation to lit patches, where v samples lights, has a region with a distribution, and a
+    // path continued from it could still sample lights at its next vertex.
+    uint32_t patchCell = LitPatches::kNoCell;
+    if (litPatches_ && lightSampling && reflections + (v.bsdf ? 1u : 0u) < maxReflections &&
+        depth < kPathLengthGuard) {
+      patchCell = litPatches_->cellOf(v.p, v.n);
+      if (patchCell != LitPatches::kNoCell) {
+        Rgb sunPart(0.0f);
+        const Rgb patch = litPatchLight(v, patchCell, depth, sampler, rays, sunPart);
+        sum += beta * patch;
+        if (sunLux) *sunLux += beta * sunPart;
+      }
+    }
+    if (pendingSurvival < 1.0f) {
+      if (pendingRoulette >= pendingSurvival) break;
+      beta /= pendingSurvival;
+      pendingSurvival = 1.0f;
     }
 
     // The continuation.
@@ -866,6 +1062,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       pdfLast = cosineHemispherePdf(cosTheta);
       travelledM = 0.0f;
       misOrigin = v.p;
+      patchCellLast = patchCell;
     } else if (straightOnly) {
       d = v.frame.toWorld(-v.woLocal);
       beta *= v.bsdf->straightTransmittance(v.woLocal.z);
@@ -881,6 +1078,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       pdfLast = cosineHemispherePdf(wi.z);
       travelledM = 0.0f;
       misOrigin = v.p;
+      patchCellLast = patchCell;
     } else {
       Bsdf::Sample s;
       if (!v.bsdf->sample(v.woLocal, uLobe, uContinue, s)) break;
@@ -894,6 +1092,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
         pdfLast = s.pdf;
         travelledM = 0.0f;
         misOrigin = v.p;
+        patchCellLast = specular ? LitPatches::kNoCell : patchCell;
       }
     }
     if (!(maxComponent(beta) > 0.0f)) break;
@@ -930,37 +1129,35 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       sum += beta * emissionAt(rdb_, m, at) *
              (specular ? 1.0f : powerHeuristic(pdfLast, emitterPdf(t, travelledM, std::abs(cosLight))));
     }
-    const PointBsdfs bsdfs = bsdfsAt(mi, front, at, pointBsdf, pointDeltaLightBsdf);
-    const Bsdf& bsdf = *bsdfs.bsdf;
     straightOnly = reflections >= maxReflections;
-    if (bsdf.isBlack() || (straightOnly && !bsdf.passesStraight())) break;
-
-    const vec3 x = hitPoint(*hit);
-    const vec3 side = front ? hit->geometricNormal : -hit->geometricNormal;
-    const float cosGeometric = -glm::dot(side, d);
-    if (!(cosGeometric > 0.0f)) break;
-    // The shading normal on the side the ray came from. Where the direction back along the ray is below it
-    // (an interpolated or mapped normal tilted away from the viewer), it is bent towards the geometric normal
-    // until that direction is kMinShadingCos above it, so that no path finds a black surface (a facet of a
-    // smooth low-poly mesh seen at a grazing angle).
-    vec3 ns = shadingNormalAt(rdb_, m, at, hit->geometricNormal);
-    if (!front) ns = -ns;
-    const float cosShading = -glm::dot(ns, d);
-    if (cosShading < kMinShadingCos) {
-      ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
+    const std::optional<Vertex> next =
+        vertexAt(hitPoint(*hit), at, hit->geometricNormal, d, pointBsdf, pointDeltaLightBsdf);
+    if (!next || next->bsdf->isBlack() || (straightOnly && !next->bsdf->passesStraight())) break;
+    v = *next;
+    const Bsdf& bsdf = *v.bsdf;
+    const vec3& wo = v.woLocal;
+    // The weight of v's sun and sky light against the patch sample of v at the last non-delta vertex.
+    sunSkyWeight = 1.0f;
+    if (patchCellLast != LitPatches::kNoCell && !specular) {
+      const float pmf = litPatches_->pmf(patchCellLast, t);
+      if (pmf > 0.0f) {
+        const float pdfPatch = pmf / scene_.triangleAreaM2(t) * travelledM * travelledM / std::abs(cosLight);
+        if (std::isfinite(pdfPatch)) sunSkyWeight = 1.0f - patchWeight(pdfPatch, pdfLast);
+      }
     }
-    const Onb frame = onb(ns);
-    const vec3 wo = frame.toLocal(-d);
-    if (!(wo.z > 0.0f)) break;
-    v = Vertex{x,     ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), &bsdf, bsdfs.deltaLight,
-               frame, wo};
 
     // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
-    // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator).
+    // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator): here, or
+    // with IntegratorSettings::rouletteAfterLight once v's lights are sampled.
     if (roulette) {
       const float q = std::min(1.0f, maxComponent(beta * bsdf.albedo(wo.z)) / kPiF);
-      if (uRoulette >= q) break;
-      beta /= q;
+      if (settings_.rouletteAfterLight) {
+        pendingSurvival = q;
+        pendingRoulette = uRoulette;
+      } else {
+        if (uRoulette >= q) break;
+        beta /= q;
+      }
     }
   }
   return sum;

@@ -56,7 +56,10 @@
 // Russian roulette from the fourth path vertex on (the sensor is the first; earlier it made most of the noise
 // of daylight bakes, integrator.cpp), with survival probability q = min(1, max component of the path's
 // throughput times the vertex's albedo, relative to the sensor's) and weight 1/q (as pbrt-v4's
-// PathIntegrator): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
+// PathIntegrator), decided after the vertex's light sampling (IntegratorSettings::rouletteAfterLight: a
+// path that ends there still gathers the light at the vertex; decided on arrival, a path through a window
+// that reaches the dark sunlit ground ends there 4 times in 5 without its sunlight and gathers it with 5
+// times the weight when it survives): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
 // each bounce with probability ρ, so the variance stays bounded even at ρ = 0.99. (A survival probability
 // capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than paths die: infinite
 // variance.)
@@ -84,6 +87,21 @@
 // kMinShadingCos above (integrator.cpp), so that no facet of a smooth low-poly mesh turns black at grazing
 // angles. The sensor integrates the hemisphere of the normal it is given.
 //
+// Next-event estimation to lit patches (IntegratorSettings::litPatches; docs/lit-patches.md): inside a sunlit
+// room most light comes from the sun patches on the floor and the sky's light through the windows, reflected
+// once; a path from the ceiling finds such a patch only by chance. At a vertex x that samples lights, in a
+// region that LitPatches gives a distribution (its training rays mostly stay inside), a second strategy
+// picks a triangle by that distribution and a point y uniform on it (area density p_A(y) = P(t) / A_t), and
+// adds f(x) |cos θ_x| V(x, y) L_d(y → x) / p_ω(y), p_ω = p_A r² / |cos θ_y|, where L_d(y → x) is the light
+// sampling of the sun and the sky at y (the same estimator, with the same MIS weight against y's BSDF
+// sampling, that a path reaching y computes there), for y seen as the next vertex of the path. The path
+// that reaches the same y by x's BSDF sampling (density p_b) and samples the sun and sky there makes the
+// same contribution; the two are combined by the power heuristic: the patch sample is weighted
+// p_ω² / (p_ω² + p_b²) and the sun and sky light of the path's vertex y p_b² / (p_ω² + p_b²), with p_ω
+// evaluated for the triangle that the path hit in the distribution of x's region (0 where x has none, or
+// after a mirror). The weights of every path sum to one: unbiased whatever the distribution (Veach & Guibas
+// 1995). The patch sample uses two sampler groups of its own per path vertex (kPatchGroupBase).
+//
 // Not modelled: anisotropy, refraction through thick glass.
 //
 // Sides: the sensor integrates the hemisphere of n (pass −n for the back side of a two-sided surface). The
@@ -105,6 +123,7 @@
 #include "raytracer/car_paint_lobe.h"
 #include "raytracer/distribution.h"
 #include "raytracer/embree_scene.h"
+#include "raytracer/lit_patches.h"
 #include "raytracer/progressive.h"
 #include "raytracer/sampler.h"
 #include "raytracer/surface_point.h"
@@ -163,6 +182,20 @@ struct IntegratorSettings {
   // Sky portals at clear-glass triangles (above). Off gives the estimator of bakes before they existed
   // (resumed checkpoints), and a comparison.
   bool skyPortals = true;
+  // Next-event estimation to lit patches (above), in scenes with a sun whose surfaces enclose some region
+  // (LitPatches); off gives path sampling alone, for resumed checkpoints of bakes without it and for
+  // comparisons.
+  bool litPatches = true;
+  // How the patch samples and path sampling share the paths that both can make: by the power heuristic, or
+  // all to one of them, a check of the weights (tests): kPatchesOnly is unbiased only where the regions'
+  // distributions hold every directly lit triangle in sight, kPathsOnly gives path sampling's answer at the
+  // cost of both.
+  enum class LitPatchWeights { kPowerHeuristic, kPatchesOnly, kPathsOnly };
+  LitPatchWeights litPatchWeights = LitPatchWeights::kPowerHeuristic;
+  // Russian roulette at a vertex after its lights are sampled (and before its continuation), rather than
+  // when the vertex is reached: a path that ends there still gathers the vertex's direct light (above).
+  // Off gives the estimator of bakes before it existed (resumed checkpoints), and a comparison.
+  bool rouletteAfterLight = true;
 };
 
 class Integrator {
@@ -194,6 +227,11 @@ class Integrator {
 
   // Whether the scene has a sun that lights it (sunLights): only then has sampleIrradiance a sun-direct part.
   bool hasSun() const { return sunOneMinusCos_ > 0.0f; }
+  // Whether next-event estimation to lit patches runs: IntegratorSettings::litPatches, a sun, and some
+  // enclosed region with lit surfaces in sight (LitPatches).
+  bool usesLitPatches() const { return litPatches_ != nullptr; }
+  // Its regions with a distribution (0 without).
+  size_t litPatchCells() const { return litPatches_ ? litPatches_->cellCount() : 0; }
 
  private:
   friend class SunLightPaths;  // the light paths (raytracer/light_paths.h) scatter by the same Bsdfs
@@ -216,9 +254,34 @@ class Integrator {
   // uEmitter and uPunctual choose an emitter point and a punctual light.
   // allLights: also the sky and emitters (v.bsdf has a non-delta lobe); else the sun and punctual lights
   // only. sunPart, when given, receives the sun's share of the result.
+  // sunSkyPart, when given, receives the sun's and the sky's share (what a lit patch's sample gathers);
+  // sunSkyOnly leaves out the punctual lights and emitters (the lit patch's own light).
   template <class S>
   Rgb directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter, float uPunctual,
-                  S& sampler, uint64_t& rays, Rgb* sunPart = nullptr) const;
+                  S& sampler, uint64_t& rays, Rgb* sunPart = nullptr, Rgb* sunSkyPart = nullptr,
+                  bool sunSkyOnly = false) const;
+  // The path vertex at x on the triangle point `at` of geometric normal ng, reached by a ray along unit d:
+  // its side, shading normal (bent where the direction back along the ray lies below it) and scattering
+  // functions (built in point and pointDeltaLight where the material varies), or none where the ray meets
+  // the surface edge-on or no light leaves it back along the ray.
+  std::optional<Vertex> vertexAt(const vec3& x, const TrianglePoint& at, const vec3& ng, const vec3& d,
+                                 std::optional<Bsdf>& point, std::optional<Bsdf>& pointDeltaLight) const;
+  // The next-event estimation to lit patches at v (surface or sensor) from its region `cell`: the patch
+  // sample's MIS-weighted f |cos θ| V L_d / p_ω, its sun part in sunPart. Uses the sampler groups
+  // kPatchGroupBase + 2 depth (the point) and + 1 (the patch's sun and sky).
+  template <class S>
+  Rgb litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S& sampler, uint64_t& rays,
+                    Rgb& sunPart) const;
+  // A one-sample estimate (the seed's) of the luminance (cd/m²) of the sun's and the sky's direct light that
+  // the hit point reflects back along the ray of unit direction d: LitPatches' training weights.
+  float directlyLitRadiance(const Hit& hit, const vec3& d, uint64_t seed) const;
+  // The mean of directlyLitRadiance over kFaceRadianceSamples points of triangle t's front or back face,
+  // seen along its normal.
+  float faceRadiance(uint32_t t, bool front) const;
+  void buildLitPatches();
+  // The weight of a patch sample of density pdfPatch that path sampling makes with density pdfPath
+  // (IntegratorSettings::litPatchWeights); path sampling's is one minus it.
+  float patchWeight(float pdfPatch, float pdfPath) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
   // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor; θ from the
   // shading normal), and the density per steradian with which v's continuation samples d. False when v takes
@@ -332,6 +395,7 @@ class Integrator {
   // Gives plane q, whose portals are in portals_, a grid in portalCellStart_ and portalCellItems_ when it has
   // more than kPanesWithoutGrid panes; marginM widens the grid and each pane's cells.
   void buildPortalGrid(PortalPlane& q, float marginM);
+  std::unique_ptr<const LitPatches> litPatches_;  // null: no next-event estimation to lit patches
   std::vector<uint32_t> directionalLights_;  // indices into rdb.punctualLights
   std::vector<uint32_t> positionalLights_;   // point, spot and goniometric lights
   // Over positionalLights_ by flux, when there are more than kAllPunctualLights.

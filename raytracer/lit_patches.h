@@ -1,0 +1,110 @@
+// Where the sun's and the sky's direct light is reflected from, per region of the scene: the distributions
+// over triangles with which the integrator's next-event estimation to lit patches (raytracer/integrator.h,
+// IntegratorSettings::litPatches; docs/lit-patches.md) picks a point y whose directly lit radiance it
+// gathers at a path vertex x.
+//
+// A region (a cell) is a cube of a uniform grid over the scene's box (of side kCellsPerEdgeLength times the
+// median triangle edge, at least 1/kCellsAlongLongestSide of the box's longest side: most cubes that a
+// surface crosses then hold some of its vertices) together with one of six bins of the normal's dominant
+// axis and sign, so that the inside and the outside face of a wall, or a floor and the
+// ceiling above it, have cells of their own. A cell's distribution is learnt before the bake from training
+// rays: cosine-distributed rays from the mesh vertices whose position and normal fall into the cell (passing
+// straight through clear glass), each hit recording its triangle and a one-sample estimate of the direct
+// light that the hit point reflects back along the ray (given by the caller: glossy floors send the sun's
+// glint to some cells only). Half of a cell's distribution follows those estimates over the triangles hit,
+// half the hits spread evenly over the triangles around each hit triangle (sharing a vertex with it) times
+// each face's mean radiance along its normal: smooth over a sun patch, of whose small triangles the training
+// rays hit some and miss others. A defensive share kHitShare follows the spread hits alone (a triangle whose
+// light the estimates missed keeps some probability). Cells whose training rays mostly escape to the sky (more than kMaxEscapeFraction: open
+// ground, the outside of a building) get no distribution: direct light dominates there and the integrator's
+// path sampling suffices. Any distribution keeps the integrator unbiased (its multiple importance sampling
+// weights use the same densities for both strategies); the training only decides how much the variance
+// drops.
+//
+// Deterministic: the training rays are Owen-scrambled Sobol' points seeded per cell, traced in parallel
+// with results per cell, so the distributions do not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "base/math.h"
+#include "raytracer/embree_scene.h"
+
+namespace fly::raytracer {
+
+// Training rays per cell.
+inline constexpr uint32_t kTrainingRaysPerCell = 2048;
+// A cell whose training rays escape more often than this gets no distribution.
+inline constexpr float kMaxEscapeFraction = 0.5f;
+// The defensive share of a cell's distribution given by its training rays' bare hit counts.
+inline constexpr float kHitShare = 0.1f;
+// Grid cubes along the scene box's longest side, at most.
+inline constexpr float kCellsAlongLongestSide = 64.0f;
+// A grid cube's side in median triangle edges, at least.
+inline constexpr float kCellsPerEdgeLength = 2.0f;
+
+class LitPatches {
+ public:
+  static constexpr uint32_t kNoCell = std::numeric_limits<uint32_t>::max();
+
+  // A point of the surfaces from which training rays leave: position (m), unit normal of the side, and the
+  // magnitude for ray offsets (EmbreeScene::triangleMagnitudeM).
+  struct TrainingPoint {
+    vec3 p;
+    vec3 n;
+    float magnitudeM;
+  };
+
+  // passesStraight: per triangle, whether training rays pass straight through it (clear glass).
+  // radiance(hit, d, seed): an unbiased one-sample estimate, by the seed's own random numbers, of the
+  // luminance (cd/m²) of the direct light that the hit point reflects back along the training ray's unit
+  // direction d; called from several threads at once.
+  // faceRadiance(t, front): an estimate of the luminance that triangle t's front or back face reflects of its
+  // direct light along its normal, averaged over the face (smooth where the one-sample estimates are sparse);
+  // called from several threads at once, for the faces that training rays hit.
+  using RadianceEstimate = std::function<float(const Hit& hit, const vec3& d, uint64_t seed)>;
+  using FaceRadiance = std::function<float(uint32_t t, bool front)>;
+  // indices, positionsM: the TraceRdb's triangles (which are neighbours, how long their edges are).
+  LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
+             std::span<const uint8_t> passesStraight, std::span<const uint32_t> indices,
+             std::span<const vec3> positionsM, const RadianceEstimate& radiance, const FaceRadiance& faceRadiance);
+
+  // Whether any cell has a distribution.
+  bool empty() const { return cells_.empty(); }
+  size_t cellCount() const { return cells_.size(); }
+
+  // The cell of a point with unit normal n, or kNoCell where none has a distribution.
+  uint32_t cellOf(const vec3& p, const vec3& n) const;
+
+  struct Pick {
+    uint32_t triangle;
+    float pmf;
+    float uRemapped;  // u rescaled within the triangle's interval of the distribution, in [0, 1)
+  };
+  // A triangle by the cell's distribution.
+  Pick sample(uint32_t cell, float u) const;
+  // The probability with which sample() picks triangle t in the cell (0 for triangles not in it).
+  float pmf(uint32_t cell, uint32_t t) const;
+
+ private:
+  uint64_t keyOf(const vec3& p, const vec3& n) const;
+
+  struct Cell {
+    uint32_t first;  // entries first … first + count − 1, sorted by triangle
+    uint32_t count;
+  };
+  vec3 originM_{0.0f};
+  float cellSizeM_ = 1.0f;
+  std::unordered_map<uint64_t, uint32_t> cellOfKey_;
+  std::vector<Cell> cells_;
+  std::vector<uint32_t> triangles_;
+  std::vector<float> pmfs_;
+  std::vector<float> cdfs_;  // within a cell, inclusive running sums of its pmfs
+};
+
+}  // namespace fly::raytracer
