@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "base/file_io.h"
 #include "base/log.h"
+#include "sdb/photometric_text.h"
 
 namespace fly::sdb {
 namespace {
@@ -30,23 +31,6 @@ constexpr std::string_view kTruncatedHint =
     "match "
     "what follows; export it again";
 constexpr std::string_view kFixValueHint = "check this line of the file, or export it again";
-
-std::string_view trim(std::string_view s) {
-  const auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; };
-  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-std::string quoted(std::string_view s) {
-  return "'" + printableExcerpt(s) + "'";
-}
-
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, (v == std::floor(v) && std::abs(v) < 1e15) ? "%.0f" : "%g", v);
-  return buf;
-}
 
 // A number as EULUMDAT files write it: a decimal point or, as some European software writes, a decimal comma.
 bool parseNumber(std::string_view s, double& v) {
@@ -71,7 +55,7 @@ class Parser {
     size_t pos = 0;
     while (pos < text.size()) {
       const size_t end = std::min(text.find('\n', pos), text.size());
-      lines_.push_back(trim(text.substr(pos, end - pos)));
+      lines_.push_back(trimBlanks(text.substr(pos, end - pos)));
       pos = end + 1;
     }
     // A DOS end-of-file mark (0x1A) on a line of its own after the data is not a value.
@@ -107,13 +91,13 @@ class Parser {
     e.lightOutputRatioPercent = number(23, "light output ratio LORL (%)");
     if (!(e.lightOutputRatioPercent >= 0.0 && e.lightOutputRatioPercent <= 100.5)) {
       fail(23,
-           "light output ratio LORL is " + fmt(e.lightOutputRatioPercent) + " %; it must be in [0, 100] %",
+           "light output ratio LORL is " + formatNumber(e.lightOutputRatioPercent) + " %; it must be in [0, 100] %",
            "LORL is the luminaire's flux as a percentage of its lamps' (100 for absolute photometry; 0 when "
            "not stated)");
     }
     e.conversionFactor = number(24, "conversion factor for luminous intensities");
     if (!(e.conversionFactor > 0.0)) {
-      fail(24, "conversion factor for luminous intensities must be positive, not " + fmt(e.conversionFactor),
+      fail(24, "conversion factor for luminous intensities must be positive, not " + formatNumber(e.conversionFactor),
            "EULUMDAT writes 1 where no factor applies");
     }
     e.tiltDeg = optionalNumber(25, "tilt of the luminaire during measurement (°)");
@@ -153,11 +137,11 @@ class Parser {
     const std::string_view s = text(n, what);
     double v = 0.0;
     if (!parseNumber(s, v)) {
-      fail(n, (s.empty() ? std::string("an empty line") : quoted(s)) + " is not a number (the " + what + ")",
+      fail(n, (s.empty() ? std::string("an empty line") : quotedExcerpt(s)) + " is not a number (the " + what + ")",
            kFixValueHint);
     }
     if (!std::isfinite(v) || std::abs(v) > 1e30) {
-      fail(n, quoted(s) + " is not a finite number (the " + what + ")", kFixValueHint);
+      fail(n, quotedExcerpt(s) + " is not a finite number (the " + what + ")", kFixValueHint);
     }
     return v;
   }
@@ -170,10 +154,10 @@ class Parser {
   int integer(int n, const std::string& what, int lo, int hi, std::string_view hint) const {
     const double v = number(n, what);
     if (v != std::floor(v))
-      fail(n, "the " + what + " must be a whole number, not " + quoted(text(n, what)), hint);
+      fail(n, "the " + what + " must be a whole number, not " + quotedExcerpt(text(n, what)), hint);
     if (v < lo || v > hi) {
       fail(n,
-           "the " + what + " is " + fmt(v) + "; it must be in [" + std::to_string(lo) + ", " +
+           "the " + what + " is " + formatNumber(v) + "; it must be in [" + std::to_string(lo) + ", " +
                std::to_string(hi) + "]",
            hint);
     }
@@ -206,7 +190,7 @@ class Parser {
       const double count = number(countLine, "number of lamps" + which);
       if (count != std::floor(count) || count == 0.0 || std::abs(count) > 1e6) {
         fail(countLine,
-             "the number of lamps" + which + " is " + quoted(text(countLine, "")) +
+             "the number of lamps" + which + " is " + quotedExcerpt(text(countLine, "")) +
                  "; it must be a whole number other than 0",
              "a negative number (e.g. -1) marks absolute photometry, as for LED luminaires");
       }
@@ -224,7 +208,7 @@ class Parser {
       l.colourRendering = std::string(text(lineOf(4, s), "colour rendering of the lamps" + which));
       l.watts = optionalNumber(lineOf(5, s), "wattage of the lamps" + which + " (W)");
       if (l.watts < 0.0) {
-        fail(lineOf(5, s), "the wattage" + which + " is negative (" + fmt(l.watts) + ")", kFixValueHint);
+        fail(lineOf(5, s), "the wattage" + which + " is negative (" + formatNumber(l.watts) + ")", kFixValueHint);
       }
     }
   }
@@ -248,9 +232,9 @@ class Parser {
   double tokenNumber(const Token& t, const std::string& what) const {
     double v = 0.0;
     if (!parseNumber(t.text, v))
-      fail(t.line, quoted(t.text) + " is not a number (" + what + ")", kFixValueHint);
+      fail(t.line, quotedExcerpt(t.text) + " is not a number (" + what + ")", kFixValueHint);
     if (!std::isfinite(v) || std::abs(v) > 1e30) {
-      fail(t.line, quoted(t.text) + " is not a finite number (" + what + ")", kFixValueHint);
+      fail(t.line, quotedExcerpt(t.text) + " is not a finite number (" + what + ")", kFixValueHint);
     }
     return v;
   }
@@ -286,7 +270,7 @@ class Parser {
     if (static_cast<double>(stored) * ng > kMaxCandelaValues) {
       fail(6,
            "an intensity table of " + std::to_string(stored) + " × " + std::to_string(ng) +
-               " values is too large (at most " + fmt(kMaxCandelaValues) + ")",
+               " values is too large (at most " + formatNumber(kMaxCandelaValues) + ")",
            "the counts Mc and Ng are probably corrupt; export the file again");
     }
     const size_t expected = static_cast<size_t>(mc) + static_cast<size_t>(ng) +
@@ -302,7 +286,7 @@ class Parser {
     if (tokens_.size() > expected) {
       const Token& t = tokens_[expected];
       fail(t.line,
-           "unexpected " + quoted(t.text) + " after the last intensity (" +
+           "unexpected " + quotedExcerpt(t.text) + " after the last intensity (" +
                std::to_string(tokens_.size() - expected) + " values too many)",
            "Mc (line 4), Ng (line 6) and Isym (line 3) must match the table; fix them or export the file "
            "again");
@@ -326,18 +310,18 @@ class Parser {
       planeDeg[static_cast<size_t>(p)] = (isym == 3 && cDeg >= 270.0) ? cDeg - 360.0 : cDeg;
       for (int k = 0; k < ng; ++k, ++t) {
         const auto where = [&] {
-          return "the intensity at C = " + fmt(cDeg) + "°, γ = " + fmt(g[static_cast<size_t>(k)]) + "°";
+          return "the intensity at C = " + formatNumber(cDeg) + "°, γ = " + formatNumber(g[static_cast<size_t>(k)]) + "°";
         };
         const double raw = tokenNumber(*t, where());
         if (raw < 0.0) {
-          fail(t->line, "negative intensity " + fmt(raw) + " cd/klm (" + where() + ")",
+          fail(t->line, "negative intensity " + formatNumber(raw) + " cd/klm (" + where() + ")",
                "luminous intensity cannot be negative; export the file again");
         }
         const double cd = raw * scale;
         if (cd > kMaxCandela) {
           fail(t->line,
-               "intensity " + fmt(cd) + " cd (" + where() + ", after × " + fmt(lampFluxLm) +
-                   " lm / 1000 × the conversion factor) exceeds " + fmt(kMaxCandela) + " cd",
+               "intensity " + formatNumber(cd) + " cd (" + where() + ", after × " + formatNumber(lampFluxLm) +
+                   " lm / 1000 × the conversion factor) exceeds " + formatNumber(kMaxCandela) + " cd",
                "no luminaire is this bright; check the lamp flux (line " + std::to_string(fluxLine_) +
                    ") and the conversion factor (line 24)");
         }
@@ -382,7 +366,7 @@ class Parser {
       const Token& t = tokens_[first + i];
       a[i] = tokenNumber(t, kind + " " + std::to_string(i + 1) + " of " + std::to_string(n));
       if (i > 0 && !(a[i] > a[i - 1])) {
-        fail(t.line, kind + "s are not increasing: " + fmt(a[i]) + "° follows " + fmt(a[i - 1]) + "°",
+        fail(t.line, kind + "s are not increasing: " + formatNumber(a[i]) + "° follows " + formatNumber(a[i - 1]) + "°",
              "EULUMDAT lists angles from 0° upwards, each once; fix the list or its count");
       }
     }
@@ -399,11 +383,11 @@ class Parser {
       return true;
     };
     if (!snapTo(0, 0.0)) {
-      fail(tokenLine(0), "the first C angle is " + fmt(c.front()) + "°; EULUMDAT's C angles begin at 0°",
+      fail(tokenLine(0), "the first C angle is " + formatNumber(c.front()) + "°; EULUMDAT's C angles begin at 0°",
            "list the C-planes from 0° upwards");
     }
     if (!(c.back() < 360.0 - kAngleSnapDeg)) {
-      fail(tokenLine(mc - 1), "the last C angle is " + fmt(c.back()) + "°; C angles stay below 360°",
+      fail(tokenLine(mc - 1), "the last C angle is " + formatNumber(c.back()) + "°; C angles stay below 360°",
            "C = 360° is the plane C = 0° again; leave it out and fix Mc (line 4)");
     }
     const auto require = [&](int i, double value) {
@@ -414,8 +398,8 @@ class Parser {
                 : isym == 3 ? "270°–360°–90°"
                             : "0°–90°") +
                ", but C angle " + std::to_string(i + 1) + " of " + std::to_string(mc) + ", where they " +
-               (value == 270.0 ? "begin" : "end") + ", is " + fmt(c[static_cast<size_t>(i)]) + "°, not " +
-               fmt(value) + "°",
+               (value == 270.0 ? "begin" : "end") + ", is " + formatNumber(c[static_cast<size_t>(i)]) + "°, not " +
+               formatNumber(value) + "°",
            "the C angles must be symmetric as Isym (line 3) says; fix Isym or the angles");
     };
     if (isym == 2) require(stored - 1, 180.0);
@@ -436,7 +420,7 @@ class Parser {
       }
       if (!(g[i] >= 0.0 && g[i] <= 180.0)) {
         fail(tokens_[first + i].line,
-             std::string(i == 0 ? "the first" : "the last") + " γ angle is " + fmt(g[i]) +
+             std::string(i == 0 ? "the first" : "the last") + " γ angle is " + formatNumber(g[i]) +
                  "°; γ angles lie in [0°, 180°] (0° straight down, 180° straight up)",
              "fix the γ angles or their count Ng (line 6)");
       }
@@ -494,8 +478,8 @@ Eulumdat loadEulumdat(const std::filesystem::path& path) {
   const double integrated = e.profile.totalFluxLm();
   const double stated = e.statedLuminaireFluxLm();
   if (stated > 0.0 && std::abs(integrated - stated) > kFluxMismatchWarning * stated) {
-    log::warn(path.string() + ": the intensities integrate to " + fmt(std::round(integrated)) +
-              " lm, but lamp flux × LORL gives " + fmt(std::round(stated)) +
+    log::warn(path.string() + ": the intensities integrate to " + formatNumber(std::round(integrated)) +
+              " lm, but lamp flux × LORL gives " + formatNumber(std::round(stated)) +
               " lm; fly uses the intensities as given (check the file's symmetry indicator and lamp flux)");
   }
   return e;

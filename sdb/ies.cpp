@@ -11,6 +11,7 @@
 #include "base/error.h"
 #include "base/file_io.h"
 #include "base/math.h"
+#include "sdb/photometric_text.h"
 
 namespace fly::sdb {
 namespace {
@@ -33,13 +34,6 @@ struct Token {
   int line = 0;
 };
 
-std::string_view trim(std::string_view s) {
-  const auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; };
-  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-  return s;
-}
-
 bool startsWithNoCase(std::string_view s, std::string_view prefix) {
   if (s.size() < prefix.size()) return false;
   for (size_t i = 0; i < prefix.size(); ++i) {
@@ -47,17 +41,6 @@ bool startsWithNoCase(std::string_view s, std::string_view prefix) {
     if (upper(s[i]) != upper(prefix[i])) return false;
   }
   return true;
-}
-
-std::string quoted(std::string_view s) {
-  return "'" + printableExcerpt(s) + "'";
-}
-
-// Whole numbers in full (a count of 2000000000, not 2e+09), others with 6 significant digits.
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, (v == std::floor(v) && std::abs(v) < 1e15) ? "%.0f" : "%g", v);
-  return buf;
 }
 
 bool near(double a, double b) {
@@ -138,7 +121,7 @@ class Parser {
     bool first = true;
     while (pos_ < text_.size()) {
       const size_t end = std::min(text_.find('\n', pos_), text_.size());
-      const std::string_view line = trim(text_.substr(pos_, end - pos_));
+      const std::string_view line = trimBlanks(text_.substr(pos_, end - pos_));
       ++line_;
       pos_ = end + 1;
       if (first) {
@@ -146,9 +129,9 @@ class Parser {
         if (startsFormatLine(line, p)) continue;
       }
       if (startsWithNoCase(line, "TILT")) {
-        const std::string_view rest = trim(line.substr(4));
+        const std::string_view rest = trimBlanks(line.substr(4));
         if (!rest.empty() && rest.front() == '=') {
-          checkTilt(trim(rest.substr(1)));
+          checkTilt(trimBlanks(rest.substr(1)));
           return;
         }
       }
@@ -169,7 +152,7 @@ class Parser {
     } else if (line == "IESNA91") {
       p.format = IesFormat::kLm63_1991;
     } else if (startsWithNoCase(line, "IESNA:") || startsWithNoCase(line, "IES:")) {  // e.g. IES:LM-63-2019
-      fail(line_, "unsupported IES format " + quoted(line),
+      fail(line_, "unsupported IES format " + quotedExcerpt(line),
            "fly reads LM-63-1986, IESNA91, IESNA:LM-63-1995 and IESNA:LM-63-2002 files; export the file in "
            "one of these formats");
     } else {
@@ -224,12 +207,12 @@ class Parser {
     double v = 0.0;
     const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
     if (ptr != s.data() + s.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
-      fail(t.line, quoted(t.text) + " is not a number (expected " + describe() + ")",
+      fail(t.line, quotedExcerpt(t.text) + " is not a number (expected " + describe() + ")",
            "the photometric data after TILT=NONE may hold only numbers separated by blanks, commas or line "
            "breaks");
     }
     if (ec == std::errc::result_out_of_range || !std::isfinite(v)) {
-      fail(t.line, quoted(t.text) + " is not a finite number (" + describe() + ")",
+      fail(t.line, quotedExcerpt(t.text) + " is not a finite number (" + describe() + ")",
            "NaN, infinite and out-of-range values are not allowed; export the file again");
     }
     return v;
@@ -241,10 +224,10 @@ class Parser {
   double wholeNumber(const Token& t, const std::string& what, double lo, double hi) const {
     // Counts and type codes are integers; a fractional value means the numbers are out of step.
     const double v = number(t, what.c_str());
-    if (v != std::floor(v)) fail(t.line, what + " must be a whole number, not " + quoted(t.text), kFixCounts);
-    if (v < lo) fail(t.line, what + " is " + fmt(v) + "; it must be at least " + fmt(lo), kFixCounts);
+    if (v != std::floor(v)) fail(t.line, what + " must be a whole number, not " + quotedExcerpt(t.text), kFixCounts);
+    if (v < lo) fail(t.line, what + " is " + formatNumber(v) + "; it must be at least " + formatNumber(lo), kFixCounts);
     if (v > hi) {
-      fail(t.line, what + " " + fmt(v) + " is too large (at most " + fmt(hi) + ")",
+      fail(t.line, what + " " + formatNumber(v) + " is too large (at most " + formatNumber(hi) + ")",
            "the count is probably corrupt; export the file again");
     }
     return v;
@@ -253,7 +236,7 @@ class Parser {
   double positive(const Token& t, const char* what) const {
     const double v = number(t, what);
     if (!(v > 0.0)) {
-      fail(t.line, std::string(what) + " must be positive, not " + fmt(v),
+      fail(t.line, std::string(what) + " must be positive, not " + formatNumber(v),
            "LM-63 writes 1 where no factor applies");
     }
     return v;
@@ -275,7 +258,7 @@ class Parser {
     const double lamps = wholeNumber(t[0], "number of lamps", 1.0, 1e6);
     const double lumensPerLamp = number(t[1], "lumens per lamp");
     if (lumensPerLamp < 0.0 && lumensPerLamp != -1.0) {
-      fail(t[1].line, "lumens per lamp is " + fmt(lumensPerLamp),
+      fail(t[1].line, "lumens per lamp is " + formatNumber(lumensPerLamp),
            "give the rated lamp lumens, or -1 for absolute photometry (LM-63-2002)");
     }
     p.lampLumens = lumensPerLamp < 0.0 ? 0.0 : lamps * lumensPerLamp;
@@ -284,19 +267,19 @@ class Parser {
     const double nH = wholeNumber(t[4], "number of horizontal angles", 1.0, kMaxCandelaValues);
     if (nV * nH > kMaxCandelaValues) {
       fail(t[4].line,
-           "candela table of " + fmt(nV) + " × " + fmt(nH) + " values is too large (at most " +
-               fmt(kMaxCandelaValues) + ")",
+           "candela table of " + formatNumber(nV) + " × " + formatNumber(nH) + " values is too large (at most " +
+               formatNumber(kMaxCandelaValues) + ")",
            "the angle counts are probably corrupt; export the file again");
     }
     const double type = wholeNumber(t[5], "photometric type", 0.0, 1e9);
     if (type < 1.0 || type > 3.0) {
-      fail(t[5].line, "unsupported photometric type " + fmt(type),
+      fail(t[5].line, "unsupported photometric type " + formatNumber(type),
            "LM-63 knows type 1 (C), 2 (B) and 3 (A); fix the seventh number after the TILT line");
     }
     p.type = static_cast<PhotometryType>(static_cast<int>(type));
     const double units = wholeNumber(t[6], "units type", 0.0, 1e9);
     if (units != 1.0 && units != 2.0) {
-      fail(t[6].line, "unknown units type " + fmt(units),
+      fail(t[6].line, "unknown units type " + formatNumber(units),
            "LM-63 knows units type 1 (feet) and 2 (metres); fix the eighth number after the TILT line");
     }
     const double toMetres = units == 1.0 ? kMetresPerFoot : 1.0;
@@ -315,7 +298,7 @@ class Parser {
     }
     p.inputWatts = number(t[12], "input watts");
     if (p.inputWatts < 0.0) {
-      fail(t[12].line, "input watts is negative (" + fmt(p.inputWatts) + ")", kFixCounts);
+      fail(t[12].line, "input watts is negative (" + formatNumber(p.inputWatts) + ")", kFixCounts);
     }
 
     const auto nv = static_cast<size_t>(nV);
@@ -331,7 +314,7 @@ class Parser {
     }
     if (tokens_.size() > expected) {
       fail(tokens_[expected].line,
-           "unexpected " + quoted(tokens_[expected].text) + " after the last candela value (" +
+           "unexpected " + quotedExcerpt(tokens_[expected].text) + " after the last candela value (" +
                std::to_string(tokens_.size() - expected) + " values too many)",
            "the numbers of vertical and horizontal angles (line " + std::to_string(t[3].line) +
                ") must match the table; fix them or export the file again");
@@ -348,18 +331,18 @@ class Parser {
     for (size_t h = 0; h < nh; ++h) {
       for (size_t v = 0; v < nv; ++v, ++c) {
         const auto where = [&] {
-          return "vertical angle " + fmt(p.verticalDeg[v]) + "°, horizontal angle " +
-                 fmt(p.horizontalDeg[h]) + "°";
+          return "vertical angle " + formatNumber(p.verticalDeg[v]) + "°, horizontal angle " +
+                 formatNumber(p.horizontalDeg[h]) + "°";
         };
         const double raw = number(*c, [&] { return "the candela value at " + where(); });
         if (raw < 0.0) {
-          fail(c->line, "negative candela value " + fmt(raw) + " at " + where(),
+          fail(c->line, "negative candela value " + formatNumber(raw) + " at " + where(),
                "luminous intensity cannot be negative; export the file again");
         }
         p.candela[h][v] = raw * scale;
         if (p.candela[h][v] > kMaxCandela) {
           fail(c->line,
-               "candela value " + fmt(p.candela[h][v]) + " at " + where() + " exceeds " + fmt(kMaxCandela) +
+               "candela value " + formatNumber(p.candela[h][v]) + " at " + where() + " exceeds " + formatNumber(kMaxCandela) +
                    " cd (after the multiplier and ballast factors)",
                "no luminaire is this bright; check the candela multiplier and the file");
         }
@@ -374,7 +357,7 @@ class Parser {
           number(t[i], [&] { return kind + " angle " + std::to_string(i + 1) + " of " + std::to_string(n); });
       if (i > 0 && !(a[i] > a[i - 1])) {
         fail(t[i].line,
-             kind + " angles are not in ascending order: " + fmt(a[i]) + "° follows " + fmt(a[i - 1]) + "°",
+             kind + " angles are not in ascending order: " + formatNumber(a[i]) + "° follows " + formatNumber(a[i - 1]) + "°",
              "LM-63 lists angles from smallest to largest, each once; fix the angle list or its count");
       }
     }
@@ -390,7 +373,7 @@ class Parser {
         typeC ? "0–90°, 90–180° or 0–180° for type C (LM-63-2002, vertical angles)"
               : "0–90° (mirrored) or −90–90° for types A and B (LM-63-2002, vertical angles)";
     if (n < 2) {
-      fail(t[0].line, "a single vertical angle (" + fmt(v[0]) + "°) cannot describe a distribution",
+      fail(t[0].line, "a single vertical angle (" + formatNumber(v[0]) + "°) cannot describe a distribution",
            "the vertical angles must span " + allowed);
     }
     const auto snap = [&](double& a, std::initializer_list<double> choices, const Token& tok) {
@@ -401,7 +384,7 @@ class Parser {
         }
       }
       fail(tok.line,
-           "vertical angles from " + fmt(v.front()) + "° to " + fmt(v.back()) + "° are not an LM-63 range",
+           "vertical angles from " + formatNumber(v.front()) + "° to " + formatNumber(v.back()) + "° are not an LM-63 range",
            "the vertical angles must span " + allowed);
     };
     if (typeC) {
@@ -419,7 +402,7 @@ class Parser {
     const bool typeC = p.type == PhotometryType::kC;
     const auto bad = [&](const Token& tok) {
       fail(tok.line,
-           "horizontal angles from " + fmt(h.front()) + "° to " + fmt(h.back()) +
+           "horizontal angles from " + formatNumber(h.front()) + "° to " + formatNumber(h.back()) +
                "° are not one of LM-63's symmetries",
            typeC ? "type C horizontal angles must be a single 0° (rotationally symmetric), or span 0–90° "
                    "(quadrant symmetric), 0–180° or 90–270° (bilateral) or 0–360° (no symmetry) (LM-63-2002, "
