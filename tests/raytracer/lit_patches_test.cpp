@@ -16,6 +16,7 @@
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
 #include "rdb/trace_rdb_builder.h"
+#include "roof_window_box.h"
 
 namespace fly::raytracer {
 namespace {
@@ -29,25 +30,7 @@ using Weights = IntegratorSettings::LitPatchWeights;
 MeshBuilder sunlitRoom() {
   MeshBuilder b;
   const uint32_t mat = b.material(Rgb(0.6f, 0.55f, 0.5f));
-  const vec3 lo(-1.0f);
-  const vec3 x(2, 0, 0);
-  const vec3 y(0, 2, 0);
-  const vec3 z(0, 0, 2);
-  b.grid(lo, x, y, 4, mat);
-  b.grid(lo + z, y, x, 4, mat);
-  b.grid(lo, y, z, 4, mat);
-  b.grid(lo + x, z, y, 4, mat);
-  b.grid(lo, z, x, 4, mat);
-  b.grid(vec3(-1, 1, -1), vec3(2, 0, 0), vec3(0, 0, 0.5f), 4, mat);
-  b.grid(vec3(-1, 1, 0.5f), vec3(2, 0, 0), vec3(0, 0, 0.5f), 4, mat);
-  b.grid(vec3(-1, 1, -0.5f), vec3(0.5f, 0, 0), vec3(0, 0, 1), 2, mat);
-  b.grid(vec3(0.5f, 1, -0.5f), vec3(0.5f, 0, 0), vec3(0, 0, 1), 2, mat);
-  const uint32_t pane = b.material(Rgb(0.0f));
-  rdb::TraceMaterial& m = b.rdb.materials[pane];
-  m.reflection = Rgb(1.0f);  // Fresnel reflection of F0 = 0.04, as a preset glass
-  m.transmission = Rgb(0.9f);
-  m.transmissionGlossiness = 0.0f;
-  b.grid(vec3(-0.5f, 1, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), 2, pane);
+  test::addRoofWindowBox(b, mat, mat, test::clearPaneMaterial(b));
   b.sun(glm::normalize(vec3(0.3f, 0.8f, 0.2f)), Rgb(60000.0f));
   b.uniformSky(Rgb(5000.0f));
   return b;

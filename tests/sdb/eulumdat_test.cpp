@@ -12,6 +12,7 @@
 #include "base/error.h"
 #include "base/file_io.h"
 #include "base/math.h"
+#include "bad_file_corpus.h"
 
 namespace fly::sdb {
 namespace {
@@ -228,41 +229,9 @@ TEST(Eulumdat, EveryTruncationIsAnInputErrorAtTheEnd) {
   }
 }
 
-struct ExpectedError {
-  std::string path;  // relative to tests/data/bad
-  std::string exitCode;
-  std::string substring;  // "FILE:LINE: message …": the line is part of what is checked
-};
-
+// The messages in eulumdat.expect read "FILE:LINE: message …": the line is part of what is checked.
 TEST(EulumdatBadInput, EachFileGivesTheExpectedErrorAtItsLine) {
-  std::ifstream in(kDataDir / "bad" / "eulumdat.expect");
-  std::vector<ExpectedError> cases;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    const size_t tab1 = line.find('\t');
-    const size_t tab2 = line.find('\t', tab1 + 1);
-    ASSERT_NE(tab2, std::string::npos) << line;
-    cases.push_back({line.substr(0, tab1), line.substr(tab1 + 1, tab2 - tab1 - 1), line.substr(tab2 + 1)});
-  }
-  std::set<std::string> listed;
-  for (const ExpectedError& c : cases) {
-    SCOPED_TRACE(c.path);
-    listed.insert(c.path);
-    EXPECT_EQ(c.exitCode, std::to_string(kExitBadInput));
-    try {
-      loadEulumdat(kDataDir / "bad" / c.path);
-      ADD_FAILURE() << "no error";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(c.substring), std::string::npos) << e.what();
-      EXPECT_FALSE(e.hint().empty()) << e.what();
-      EXPECT_EQ(e.location().file, (kDataDir / "bad" / c.path).string());
-    }
-  }
-  for (const fs::directory_entry& f : fs::directory_iterator(kDataDir / "bad" / "eulumdat")) {
-    EXPECT_TRUE(listed.count("eulumdat/" + f.path().filename().string())) << f.path();
-  }
-  EXPECT_GE(listed.size(), 20u);
+  test::checkBadFileCorpus(kDataDir / "bad", "eulumdat", 20, [](const fs::path& f) { loadEulumdat(f); });
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "base/error.h"
 #include "base/file_io.h"
 #include "base/math.h"
+#include "bad_file_corpus.h"
 
 namespace fly::sdb {
 namespace {
@@ -365,48 +366,8 @@ TEST(IesParse, NumbersSpanLinesAndCommasCrlfAndBom) {
   EXPECT_EQ(q.format, IesFormat::kLm63_2002);
 }
 
-struct ExpectedError {
-  std::string path;  // relative to tests/data/bad
-  std::string exitCode;
-  std::string substring;
-};
-
-std::vector<ExpectedError> readExpectations() {
-  std::ifstream in(kDataDir / "bad" / "ies.expect");
-  std::vector<ExpectedError> cases;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    const size_t tab1 = line.find('\t');
-    const size_t tab2 = line.find('\t', tab1 + 1);
-    EXPECT_NE(tab2, std::string::npos) << line;
-    if (tab2 == std::string::npos) continue;
-    cases.push_back({line.substr(0, tab1), line.substr(tab1 + 1, tab2 - tab1 - 1), line.substr(tab2 + 1)});
-  }
-  return cases;
-}
-
 TEST(IesBadInput, EachFileGivesTheExpectedError) {
-  const std::vector<ExpectedError> cases = readExpectations();
-  std::set<std::string> listed;
-  for (const ExpectedError& c : cases) {
-    SCOPED_TRACE(c.path);
-    listed.insert(c.path);
-    EXPECT_EQ(c.exitCode, std::to_string(kExitBadInput));
-    try {
-      loadIes(kDataDir / "bad" / c.path);
-      ADD_FAILURE() << "no error";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(c.substring), std::string::npos) << e.what();
-      EXPECT_FALSE(e.hint().empty()) << e.what();
-      EXPECT_EQ(e.location().file, (kDataDir / "bad" / c.path).string());
-    }
-  }
-  // Every malformed file is listed, so that none goes untested.
-  for (const fs::directory_entry& f : fs::directory_iterator(kDataDir / "bad" / "ies")) {
-    EXPECT_TRUE(listed.count("ies/" + f.path().filename().string())) << f.path();
-  }
-  EXPECT_GE(listed.size(), 9u);
+  test::checkBadFileCorpus(kDataDir / "bad", "ies", 9, [](const fs::path& f) { loadIes(f); });
 }
 
 TEST(IesBadInput, ErrorsNameTheLine) {
