@@ -125,7 +125,8 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
   }
   if (m.reflectionTexture) {
     out.reflection *=
-        Rgb(sampleTexture(rdb, m.reflectionTexture, slotUv(rdb, m.reflectionTexture, at), false));
+        Rgb(sampleTexture(rdb, m.reflectionTexture, slotUv(rdb, m.reflectionTexture, at),
+                            m.reflectionTextureSrgb));
   }
   if (m.glossinessTexture) {
     out.reflectionGlossiness *=

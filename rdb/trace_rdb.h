@@ -76,7 +76,8 @@ struct TraceMaterial {
 
   // Textures; each multiplies the constant above it (sdb::Material).
   TraceTextureSlot diffuseTexture;     // sRGB colour × diffuseColor; its alpha (2 or 4 channels) × coverage
-  TraceTextureSlot reflectionTexture;  // linear colour × reflection
+  TraceTextureSlot reflectionTexture;  // colour × reflection: linear, or sRGB where reflectionTextureSrgb
+  bool reflectionTextureSrgb = false;
   TraceTextureSlot glossinessTexture;  // linear, first channel × reflectionGlossiness
   TraceTextureSlot transmissionTexture;  // linear colour (grey: first channel) × transmission
   TraceTextureSlot emissionTexture;      // sRGB colour × emissionCdM2

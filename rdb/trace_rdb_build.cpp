@@ -249,6 +249,7 @@ class Builder {
     };
     t.diffuseTexture = slot(m.diffuseTexture);
     t.reflectionTexture = slot(m.reflectionTexture);
+    t.reflectionTextureSrgb = m.reflectionTextureSrgb;
     t.glossinessTexture = slot(m.reflectionGlossinessTexture);
     t.transmissionTexture = slot(m.transmissionTexture);
     t.emissionTexture = slot(m.emissionTexture);

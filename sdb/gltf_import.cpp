@@ -22,8 +22,10 @@
 //    metallic), the mix's reflectance at normal incidence (F0_dielectric as above); diffuseColor =
 //    (1 − metallic) × baseColor. For metallic = 1 this is glTF's conductor at normal incidence (reflection =
 //    baseColor, no diffuse); the Schlick rise towards white at grazing angles is lost.
-//  - baseColorTexture → diffuseTexture (sRGB). It does not tint a metal's reflection: reflectionTexture is
-//    linear, so a metal's reflection comes from baseColorFactor alone.
+//  - baseColorTexture → diffuseTexture (sRGB), and for a metal also → reflectionTexture (sRGB,
+//    Material::reflectionTextureSrgb): the reflection per texel is mix(F0_dielectric, baseColor, metallic) ×
+//    texel, which is glTF's mix(F0_dielectric, baseColor × texel, metallic) exactly for metallic = 1 and
+//    within (1 − metallic) × F0_dielectric ≤ 0.02 of it otherwise.
 //  - KHR_materials_transmission: transmissionColor = baseColor × transmissionFactor × (1 − metallic) (the
 //  BTDF
 //    replaces the diffuse lobe of the dielectric part only); the red channel of transmissionTexture becomes
@@ -2013,11 +2015,17 @@ class Importer {
       m.reflectionGlossinessTexture = textureRef(extensionTexInfo(*coat, "clearcoatRoughnessTexture", cpath),
                                                  cpath + "/clearcoatRoughnessTexture",
                                                  label + " clearcoatRoughnessTexture", Channels::kGreen);
-    } else if (pbr.metallicRoughnessTexture.index >= 0) {
-      const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
-      m.reflectionGlossinessTexture =
-          textureRef(texInfo(t.index, t.texCoord, t.extensions), ppath + "/metallicRoughnessTexture",
-                     label + " metallicRoughnessTexture", Channels::kGreen);
+    } else {
+      if (metallic >= 0.5f && m.diffuseTexture) {
+        m.reflectionTexture = m.diffuseTexture;
+        m.reflectionTextureSrgb = true;
+      }
+      if (pbr.metallicRoughnessTexture.index >= 0) {
+        const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
+        m.reflectionGlossinessTexture =
+            textureRef(texInfo(t.index, t.texCoord, t.extensions), ppath + "/metallicRoughnessTexture",
+                       label + " metallicRoughnessTexture", Channels::kGreen);
+      }
     }
 
     if (const tinygltf::Value* e = extension(gm, "KHR_materials_transmission")) {

@@ -77,7 +77,9 @@ struct Material {
 
   // Reflection colour, linear, [0,1]; takes precedence over transmission and diffuse in the energy rule.
   Rgb reflectionColor{0.0f};
-  TextureRef reflectionTexture;  // linear; multiplies reflectionColor
+  TextureRef reflectionTexture;  // multiplies reflectionColor; linear unless reflectionTextureSrgb
+  // reflectionTexture holds sRGB-encoded colour (a glTF metal's base colour texture) rather than linear values.
+  bool reflectionTextureSrgb = false;
   ReflectionModel reflectionModel = ReflectionModel::kFresnel;
 
   // Index of refraction, [1, 4]. Default 1.5 (glass, most plastics and paints; glTF's default). Sets the Fresnel

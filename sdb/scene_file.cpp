@@ -983,6 +983,7 @@ class SceneFileReader {
     m.name = original.name;
     m.diffuseTexture = original.diffuseTexture;
     m.reflectionTexture = original.reflectionTexture;
+    m.reflectionTextureSrgb = original.reflectionTextureSrgb;
     m.reflectionGlossinessTexture = original.reflectionGlossinessTexture;
     m.anisotropyTexture = original.anisotropyTexture;
     m.anisotropyRotationTexture = original.anisotropyRotationTexture;

@@ -132,6 +132,31 @@ TEST(SurfacePoint, TextureTransformAndSrgbAndChannels) {
   EXPECT_NEAR(between.a, (255.0f - 25.0f) / 255.0f, 1e-6f);
 }
 
+// A reflection texture multiplies the reflection colour, decoded as sRGB where the material says so (a glTF
+// metal's base colour texture) and read as linear values otherwise; the energy rule then leaves the diffuse
+// what the reflection does not take.
+TEST(SurfacePoint, ReflectionTextureLinearOrSrgb) {
+  rdb::TraceRdbBuilder b;
+  b.texture(1, 1, 4, {128, 64, 255, 255});
+  const uint32_t mat = b.material(Rgb(0.5f));
+  rdb::TraceMaterial& m = b.rdb.materials[mat];
+  m.reflection = Rgb(0.8f);
+  m.fresnel = false;  // a glTF metal's uniform reflection
+  m.reflectionTexture.texture = 0;
+  b.ground(1.0f, 1, mat);
+  const TrianglePoint at{0, vec2(0.2f, 0.3f)};
+  const PointMaterial linear = materialAt(b.rdb, m, at);
+  EXPECT_NEAR(linear.material.reflection.r, 0.8f * 128.0f / 255.0f, 1e-6f);
+  EXPECT_NEAR(linear.material.reflection.g, 0.8f * 64.0f / 255.0f, 1e-6f);
+  EXPECT_NEAR(linear.material.reflection.b, 0.8f, 1e-6f);
+  m.reflectionTextureSrgb = true;
+  const PointMaterial srgb = materialAt(b.rdb, m, at);
+  EXPECT_NEAR(srgb.material.reflection.r, 0.8f * srgbToLinear(128.0f / 255.0f), 1e-6f);  // 0.8 × 0.2158
+  EXPECT_NEAR(srgb.material.reflection.g, 0.8f * srgbToLinear(64.0f / 255.0f), 1e-6f);
+  EXPECT_NEAR(srgb.material.reflection.b, 0.8f, 1e-6f);
+  EXPECT_GT(srgb.material.diffuse.r, linear.material.diffuse.r);  // less reflected, more left to diffuse
+}
+
 TEST(SurfacePoint, CoverageAndShadingNormal) {
   rdb::TraceRdbBuilder b;
   b.texture(1, 1, 2, {255, 128});  // grey + alpha

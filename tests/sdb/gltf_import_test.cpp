@@ -682,6 +682,38 @@ TEST_F(GltfImport, TextureMetalnessScalesTheMetallicFactor) {
   expectRgb(h.diffuseColor, Rgb(0.5f * (1.0f - metallic)));
 }
 
+// A metal reflects its base colour texture (sRGB, the same image as the diffuse slot); a dielectric's
+// base colour texture tints only its diffuse part.
+TEST_F(GltfImport, MetalsReflectTheirBaseColourTexture) {
+  GltfBuilder b = withMaterial(json::object());
+  const int tex = addImageTexture(b, test::png(2, 1, {200, 100, 50, 10, 20, 30}));
+  b.doc["materials"][0] = {{"name", "Gold"},
+                           {"pbrMetallicRoughness",
+                            {{"baseColorFactor", {0.9, 0.8, 0.7, 1}},
+                             {"metallicFactor", 1},
+                             {"baseColorTexture", {{"index", tex}}}}}};
+  import(b);
+  const Material& metal = onlyMaterialOfMesh();
+  EXPECT_EQ(metal.reflectionModel, ReflectionModel::kUniform);
+  ASSERT_TRUE(metal.reflectionTexture);
+  EXPECT_EQ(metal.reflectionTexture.texture, metal.diffuseTexture.texture);
+  EXPECT_TRUE(metal.reflectionTextureSrgb);
+  expectRgb(metal.reflectionColor, Rgb(0.9f, 0.8f, 0.7f));
+
+  Scene other;
+  GltfBuilder c = withMaterial(json::object());
+  const int ctex = addImageTexture(c, test::png(2, 1, {200, 100, 50, 10, 20, 30}));
+  c.doc["materials"][0] = {{"name", "Paint"},
+                           {"pbrMetallicRoughness",
+                            {{"metallicFactor", 0}, {"baseColorTexture", {{"index", ctex}}}}}};
+  c.writeGltf(dir_ / "paint.gltf");
+  importGltf(other, dir_ / "paint.gltf");
+  const Material& paint = other.material(other.findMaterial("Paint"));
+  EXPECT_TRUE(paint.diffuseTexture);
+  EXPECT_FALSE(paint.reflectionTexture);
+  EXPECT_FALSE(paint.reflectionTextureSrgb);
+}
+
 TEST_F(GltfImport, TextureTransformAndTexCoordOverride) {
   GltfBuilder b = withMaterial(json::object());
   const int tex = addImageTexture(b, test::png(1, 1, {1, 2, 3}));
