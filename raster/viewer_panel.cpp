@@ -152,10 +152,11 @@ PanelEdits ViewerPanel::frame(const PanelState& state, float displayWidthPx, flo
     std::snprintf(timeText, sizeof timeText, "%02d:%02d", minute / 60, minute % 60);
     const bool timeMoved =
         ImGui::SliderInt("time", &minute, 0, 24 * 60 - 1, timeText, ImGuiSliderFlags_AlwaysClamp);
+    // The slider's frame (the item's rectangle also holds its label, to the right).
     const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
     layout_.timeSliderMin[0] = lo.x;
     layout_.timeSliderMin[1] = lo.y;
-    layout_.timeSliderMax[0] = hi.x;
+    layout_.timeSliderMax[0] = lo.x + ImGui::CalcItemWidth();
     layout_.timeSliderMax[1] = hi.y;
     if (timeMoved) {
       LocalClock moved = edits.clock.value_or(c);

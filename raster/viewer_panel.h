@@ -59,8 +59,8 @@ struct PanelEdits {
   bool any() const { return mode || autoExposure || ev100 || op || camera || clock; }
 };
 
-// The screen rectangles (pixels from the top left) of the panel's window and its time-of-day slider in the
-// last frame: where clicks go (tests aim at them).
+// The screen rectangles (pixels from the top left) of the panel's window and its time-of-day slider's frame
+// (without its label) in the last frame: where clicks go (tests aim at them).
 struct PanelLayout {
   float windowMin[2] = {0, 0}, windowMax[2] = {0, 0};
   float timeSliderMin[2] = {0, 0}, timeSliderMax[2] = {0, 0};
