@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include <cfloat>
+#include <cmath>
 
 #include "raster/viewer_panel.h"
 
@@ -45,7 +46,8 @@ inline int timeSliderMinuteAt(const PanelLayout& layout, float x) {
 inline PanelEdits clickTimeSlider(ViewerPanel& panel, const PanelState& state, float f, int& expectedMinute) {
   layOut(panel, state);
   const PanelLayout& l = panel.layout();
-  const float x = l.timeSliderMin[0] + f * (l.timeSliderMax[0] - l.timeSliderMin[0]);
+  // ImGui rounds the mouse position down to whole pixels (NewFrame, UpdateMouseInputs).
+  const float x = std::floor(l.timeSliderMin[0] + f * (l.timeSliderMax[0] - l.timeSliderMin[0]));
   const float y = 0.5f * (l.timeSliderMin[1] + l.timeSliderMax[1]);
   expectedMinute = timeSliderMinuteAt(l, x);
   panelFrame(panel, state, x, y, false);  // hover first, as a real mouse does
