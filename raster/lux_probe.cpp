@@ -24,6 +24,23 @@ PickRay pickRay(const View& view, double xPx, double yPx, uint32_t widthPx, uint
   return ray;
 }
 
+std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uint32_t widthPx, uint32_t heightPx) {
+  const double w = std::max<uint32_t>(widthPx, 1), h = std::max<uint32_t>(heightPx, 1);
+  const float aspect = float(w / h);
+  const vec3 p = vec3(glm::inverse(view.worldFromCamera) * vec4(pointWorld, 1.0f));
+  float ndcX = 0.0f, ndcY = 0.0f;
+  if (view.orthographic) {
+    ndcX = p.x / (view.ymagM * aspect);
+    ndcY = p.y / view.ymagM;
+  } else {
+    if (!(p.z < 0.0f)) return std::nullopt;
+    const float t = std::tan(0.5f * view.yfovRad);
+    ndcX = p.x / (-p.z * t * aspect);
+    ndcY = p.y / (-p.z * t);
+  }
+  return vec2(float((ndcX + 1.0) * 0.5 * w), float((1.0 - ndcY) * 0.5 * h));
+}
+
 std::optional<SurfaceHit> pickSurface(const rdb::RasterRdb& rdb, const PickRay& ray) {
   std::optional<SurfaceHit> best;
   float nearest = std::numeric_limits<float>::infinity();

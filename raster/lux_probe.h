@@ -26,6 +26,10 @@ struct PickRay {
 // from the eye; orthographic: from the near plane's point, along the view direction.
 PickRay pickRay(const View& view, double xPx, double yPx, uint32_t widthPx, uint32_t heightPx);
 
+// Where `pointWorld` appears in that image (pixels from the top left, as pickRay takes them); nullopt for a
+// point behind a perspective view's eye.
+std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uint32_t widthPx, uint32_t heightPx);
+
 // The nearest triangle the ray hits (either face), at distance > 0.
 struct SurfaceHit {
   uint32_t triangle = 0;  // index of the triangle (its vertices: rdb.indices[3·triangle + 0..2])

@@ -257,16 +257,30 @@ struct ViewSource {
 
 }  // namespace
 
+namespace {
+
+// Lux in plain digits: whole lux from 100 lux up, else `digits` significant digits (no exponent notation).
+std::string luxNumber(double lux, int digits) {
+  char b[32];
+  if (std::abs(lux) >= 100.0) {
+    std::snprintf(b, sizeof b, "%.0f", lux);
+  } else {
+    std::snprintf(b, sizeof b, "%.*g", digits, lux);
+  }
+  return b;
+}
+
+}  // namespace
+
 std::string luxReadingText(const LuxReading& r) {
   char line[200];
-  const int n = std::snprintf(line, sizeof line, "%.4g lux", double(r.illuminanceLuminanceLux));
-  std::string text(line, size_t(std::max(n, 0)));
+  std::string text = luxNumber(r.illuminanceLuminanceLux, 4) + " lux";
   if (r.stdErrorLuminanceLux) {
     const double e = *r.stdErrorLuminanceLux, rel = r.illuminanceLuminanceLux > 0.0f
                                                         ? 100.0 * e / double(r.illuminanceLuminanceLux)
                                                         : 0.0;
-    std::snprintf(line, sizeof line, " ± %.2g (%.2g %%)", e, rel);
-    text += line;
+    std::snprintf(line, sizeof line, " (%.2g %%)", rel);
+    text += " ± " + luxNumber(e, 2) + line;
   } else if (r.fromLightTexture) {
     text += " (light texture)";
   }
@@ -333,6 +347,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   };
 
   ViewerResult result;
+  std::optional<vec3> probePoint;  // where the last reading was taken, marked on the panel's layer
   // The lux probe at a framebuffer point (pixels from the top left) of the view shown now.
   auto probeAt = [&](double xPx, double yPx) {
     if (!rdb.variants.lightMap) {
@@ -344,6 +359,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
           pickSurface(rdb, pickRay(view, xPx, yPx, uint32_t(std::max(fbW, 1)), uint32_t(std::max(fbH, 1))));
       const std::optional<LuxReading> reading = hit ? probeIlluminance(rdb, options.lightMaps, *hit) : std::nullopt;
       if (reading) result.probe = reading;
+      probePoint = reading ? std::optional<vec3>(reading->pointWorld) : std::nullopt;
       result.probeText = reading ? luxReadingText(*reading)
                          : hit   ? "that surface has no light map"
                                  : "no surface there";
@@ -376,6 +392,15 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
     state.timeLabel = host.timeLabel();
     state.probeAvailable = rdb.variants.lightMap;
     state.probeText = result.probeText;
+    if (probePoint && fbW > 0 && fbH > 0) {
+      View shown = source.view;
+      shown.worldFromCamera = controller.worldFromCamera();
+      if (const std::optional<vec2> px = projectToImage(shown, *probePoint, uint32_t(fbW), uint32_t(fbH))) {
+        int winW = 0, winH = 0;  // ImGui's display coordinates are the window's
+        glfwGetWindowSize(w, &winW, &winH);
+        state.probeMarker = std::array<float, 2>{px->x * float(winW) / float(fbW), px->y * float(winH) / float(fbH)};
+      }
+    }
     const PanelEdits edits =
         panel.frame(state, float(fbW), float(fbH), float(std::chrono::duration<double>(Clock::now() - last).count()));
     if (edits.mode) mode = *edits.mode;

@@ -107,7 +107,8 @@ struct ViewerResult {
   uint32_t windowWidthPx = 0, windowHeightPx = 0;
 };
 
-// The panel's line for a reading: "523 lux ± 4.1 (0.8 %), front, node 3 at (1.20, 0.00, -0.50) m".
+// The panel's line for a reading: "523 lux ± 4.1 (0.78 %), front, node 3 at (1.20, 0.00, -0.50) m" (whole lux
+// from 100 lux up, else 4 significant digits; the standard error to 2).
 std::string luxReadingText(const LuxReading& reading);
 
 // Runs the window's loop until Esc, the window's close button, or the end of a scripted run. `rdb` is what

@@ -20,6 +20,9 @@ std::chrono::year_month_day dateOf(const LocalClock& c) {
   return std::chrono::year(c.year) / std::chrono::month(unsigned(c.month)) / std::chrono::day(unsigned(c.day));
 }
 
+// The width at which the panel wraps its longer lines (the time label, the probe's reading), pixels.
+constexpr float kTextWidth = 250.0f;
+
 constexpr const char* kOperatorNames[] = {"linear", "reinhard", "filmic"};  // ToneOperator's order
 constexpr const char* kMonthNames[] = {"Jan", "Feb", "Mar", "Apr", "May", "Jun",
                                        "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};
@@ -163,7 +166,11 @@ PanelEdits ViewerPanel::frame(const PanelState& state, float displayWidthPx, flo
       moved.minuteOfDay = minute;
       edits.clock = moved;
     }
-    ImGui::TextDisabled("%s", state.timeLabel.c_str());
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kTextWidth);
+    ImGui::TextWrapped("%s", state.timeLabel.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::PopStyleColor();
     ImGui::Separator();
   }
 
@@ -191,12 +198,21 @@ PanelEdits ViewerPanel::frame(const PanelState& state, float displayWidthPx, flo
 
   ImGui::TextUnformatted("Lux probe");
   if (state.probeAvailable) {
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kTextWidth);
     ImGui::TextWrapped("%s", state.probeText.empty() ? "click a surface to read the baked illuminance"
                                                      : state.probeText.c_str());
+    ImGui::PopTextWrapPos();
   } else {
     ImGui::TextDisabled("no light maps: view a baked directory");
   }
   ImGui::TextDisabled("F1 hides this panel");
+  if (state.probeMarker) {  // a ring with a dot where the probe read, over the scene
+    const ImVec2 c((*state.probeMarker)[0], (*state.probeMarker)[1]);
+    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    draw->AddCircle(c, 7.0f, IM_COL32(0, 0, 0, 255), 0, 3.0f);
+    draw->AddCircle(c, 7.0f, IM_COL32(255, 220, 0, 255), 0, 1.5f);
+    draw->AddCircleFilled(c, 1.5f, IM_COL32(255, 220, 0, 255));
+  }
 
   ImGui::PopItemWidth();
   const ImVec2 wlo = ImGui::GetWindowPos(), wsize = ImGui::GetWindowSize();

@@ -8,6 +8,7 @@
 // takes input, drawing nothing.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -45,6 +46,9 @@ struct PanelState {
   std::string timeLabel;            // e.g. "2026-09-15 17:30 +03:00"
   bool probeAvailable = false;      // the scene has light maps to probe
   std::string probeText;            // the last reading (or why there is none)
+  // Where the last reading's point is on the display (pixels from the top left, ImGui's display
+  // coordinates), marked with a ring; nullopt: no mark.
+  std::optional<std::array<float, 2>> probeMarker;
 };
 
 // What the user changed in the panel this frame.
