@@ -310,7 +310,11 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
       t.width = lt.width;
       t.height = lt.height;
       t.frontLux = baked.frontLux;
-      if (m.twoSided) t.backLux = baked.backLux;
+      t.frontStdErrorLux = baked.frontStdErrorLux;
+      if (m.twoSided) {
+        t.backLux = baked.backLux;
+        t.backStdErrorLux = baked.backStdErrorLux;
+      }
       if (sun) {
         t.frontSunDirectLux = baked.frontSunDirectLux;
         if (m.twoSided) t.backSunDirectLux = baked.backSunDirectLux;
@@ -410,8 +414,10 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
                          kHintRebake);
       }
       t.frontLux = readLightTextureSide(bakedDir, *texture, "front", t.width, t.height, textureAt);
+      t.frontStdErrorLux = readLightTextureSide(bakedDir, *texture, "front_stderr", t.width, t.height, textureAt);
       if (twoSided->get<bool>()) {
         t.backLux = readLightTextureSide(bakedDir, *texture, "back", t.width, t.height, textureAt);
+        t.backStdErrorLux = readLightTextureSide(bakedDir, *texture, "back_stderr", t.width, t.height, textureAt);
       }
       if (sun) {
         t.frontSunDirectLux =

@@ -1,5 +1,6 @@
-// `fly view`: walk through a scene or a baked scene in a window (raster/viewer.h), with a scripted mode
-// (--frames, --keys, --screenshot) that tests run under xvfb-run.
+// `fly view`: walk through a scene or a baked scene in a window (raster/viewer.h) with its panel and lux
+// probe, with a scripted mode (--frames, --keys, --probe, --screenshot, --window-screenshot) that tests run
+// under xvfb-run.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,10 +14,8 @@
 
 #include "base/error.h"
 #include "base/image_io.h"
-#include "base/log.h"
 #include "cli/command.h"
 #include "cli/raster_scene.h"
-#include "cli/scene_daylight.h"
 #include "cli/view_host.h"
 #include "raster/gl_context.h"
 #include "raster/viewer.h"

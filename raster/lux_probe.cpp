@@ -91,6 +91,7 @@ std::optional<LuxReading> probeIlluminance(const rdb::RasterRdb& rdb, const rdb:
   const float w[3] = {hit.barycentric.x, hit.barycentric.y, hit.barycentric.z};
   // A one-sided mesh shows its front values on both faces (rdb/raster_rdb.h).
   const bool back = hit.back && mesh.twoSided && !rdb.backLux.empty();
+  const rdb::MeshLightMap* map = store ? store->find(mesh.sdbNodeId, mesh.sdbMeshId) : nullptr;
   LuxReading r;
   r.pointWorld = hit.pointWorld;
   r.sdbNodeId = mesh.sdbNodeId;
@@ -100,13 +101,18 @@ std::optional<LuxReading> probeIlluminance(const rdb::RasterRdb& rdb, const rdb:
     const vec2 uv = w[0] * rdb.lightMapUv[v[0]] + w[1] * rdb.lightMapUv[v[1]] + w[2] * rdb.lightMapUv[v[2]];
     const uint32_t i = std::min(uint32_t(std::clamp(uv.x, 0.0f, 1.0f) * float(tex.width)), tex.width - 1);
     const uint32_t j = std::min(uint32_t(std::clamp(uv.y, 0.0f, 1.0f) * float(tex.height)), tex.height - 1);
-    const std::vector<Rgb>& texels = back && !tex.backLux.empty() ? tex.backLux : tex.frontLux;
-    r.illuminanceLux = texels[size_t(j) * tex.width + i];
+    const bool backTexels = back && !tex.backLux.empty();
+    const size_t texel = size_t(j) * tex.width + i;
+    r.illuminanceLux = (backTexels ? tex.backLux : tex.frontLux)[texel];
     r.fromLightTexture = true;
+    const rdb::MeshLightTexture* stored = map && map->lightTexture ? &*map->lightTexture : nullptr;
+    const std::vector<Rgb>* errors =
+        stored ? (backTexels ? &stored->backStdErrorLux : &stored->frontStdErrorLux) : nullptr;
+    if (errors && stored->width == tex.width && stored->height == tex.height && texel < errors->size())
+      r.stdErrorLuminanceLux = luminance((*errors)[texel]);
   } else {
     const std::vector<Rgb>& lux = back ? rdb.backLux : rdb.frontLux;
     r.illuminanceLux = w[0] * lux[v[0]] + w[1] * lux[v[1]] + w[2] * lux[v[2]];
-    const rdb::MeshLightMap* map = store ? store->find(mesh.sdbNodeId, mesh.sdbMeshId) : nullptr;
     const std::vector<Rgb>* errors = map ? (back ? &map->backStdErrorLux : &map->frontStdErrorLux) : nullptr;
     if (errors && !errors->empty()) {
       double variance = 0.0;

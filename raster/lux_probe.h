@@ -53,8 +53,8 @@ struct LuxReading {
   float illuminanceLuminanceLux = 0.0f;
   // The standard error of illuminanceLuminanceLux, lux: the vertices' estimates are independent, so the
   // interpolation Σ wᵢ Eᵢ has the error √(Σ wᵢ² σᵢ²), with each vertex's σᵢ the luminance of its per-channel
-  // standard errors (the channels come from the same samples, as the bake's manifest takes it). nullopt when
-  // the store kept no standard errors for the mesh, and for a light texture (its _stderr images are not read).
+  // standard errors (the channels come from the same samples, as the bake's manifest takes it); from a light
+  // texture, its texel's. nullopt when the store kept no standard errors for the mesh.
   std::optional<float> stdErrorLuminanceLux;
   // The value is the texel of the mesh's light texture at the interpolated light-map UV (the bake's mean over
   // the texel's footprint) instead of the vertices' interpolation.
@@ -62,7 +62,8 @@ struct LuxReading {
 };
 
 // The baked illuminance at `hit`, or nullopt when the hit mesh has no light map. `store` supplies the
-// standard errors (rdb::MeshLightMap::frontStdErrorLux; found by the mesh's SDB ids), may be null.
+// standard errors (rdb::MeshLightMap::frontStdErrorLux, its light texture's frontStdErrorLux; found by the
+// mesh's SDB ids), may be null.
 std::optional<LuxReading> probeIlluminance(const rdb::RasterRdb& rdb, const rdb::LightMapStore* store,
                                            const SurfaceHit& hit);
 

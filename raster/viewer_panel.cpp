@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 
 namespace fly::raster {
 
@@ -66,7 +67,7 @@ ViewerPanel::ViewerPanel() {
 ViewerPanel::~ViewerPanel() {
   ImGui::SetCurrentContext(context_);
   if (gl_) ImGui_ImplOpenGL3_Shutdown();
-  if (window_) ImGui_ImplGlfw_Shutdown();
+  if (window_ != nullptr) ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext(context_);
 }
 
@@ -78,31 +79,31 @@ void ViewerPanel::initGl() {
 
 void ViewerPanel::attachWindow(GLFWwindow* window) {
   ImGui::SetCurrentContext(context_);
-  if (!window_) window_ = ImGui_ImplGlfw_InitForOpenGL(window, false);
+  if (window_ == nullptr && ImGui_ImplGlfw_InitForOpenGL(window, false)) window_ = window;
 }
 
 void ViewerPanel::forwardKey(int key, int scancode, int action, int mods) {
-  if (!window_) return;
+  if (window_ == nullptr) return;
   ImGui::SetCurrentContext(context_);
-  ImGui_ImplGlfw_KeyCallback(nullptr, key, scancode, action, mods);
+  ImGui_ImplGlfw_KeyCallback(window_, key, scancode, action, mods);
 }
 
 void ViewerPanel::forwardChar(unsigned int codepoint) {
-  if (!window_) return;
+  if (window_ == nullptr) return;
   ImGui::SetCurrentContext(context_);
-  ImGui_ImplGlfw_CharCallback(nullptr, codepoint);
+  ImGui_ImplGlfw_CharCallback(window_, codepoint);
 }
 
 void ViewerPanel::forwardMouseButton(int button, int action, int mods) {
-  if (!window_) return;
+  if (window_ == nullptr) return;
   ImGui::SetCurrentContext(context_);
-  ImGui_ImplGlfw_MouseButtonCallback(nullptr, button, action, mods);
+  ImGui_ImplGlfw_MouseButtonCallback(window_, button, action, mods);
 }
 
 void ViewerPanel::forwardScroll(double xoffset, double yoffset) {
-  if (!window_) return;
+  if (window_ == nullptr) return;
   ImGui::SetCurrentContext(context_);
-  ImGui_ImplGlfw_ScrollCallback(nullptr, xoffset, yoffset);
+  ImGui_ImplGlfw_ScrollCallback(window_, xoffset, yoffset);
 }
 
 bool ViewerPanel::wantsKeyboard() const {
@@ -125,7 +126,7 @@ PanelEdits ViewerPanel::frame(const PanelState& state, float displayWidthPx, flo
   ImGui::SetCurrentContext(context_);
   ImGuiIO& io = ImGui::GetIO();
   if (gl_) ImGui_ImplOpenGL3_NewFrame();
-  if (window_) {
+  if (window_ != nullptr) {
     ImGui_ImplGlfw_NewFrame();
   } else {
     io.DisplaySize = ImVec2(displayWidthPx, displayHeightPx);

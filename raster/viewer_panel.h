@@ -110,7 +110,8 @@ class ViewerPanel {
 
  private:
   ImGuiContext* context_ = nullptr;
-  bool gl_ = false, window_ = false, visible_ = true, framed_ = false;
+  GLFWwindow* window_ = nullptr;  // attachWindow's
+  bool gl_ = false, visible_ = true, framed_ = false;
   PanelLayout layout_;
 };
 

@@ -28,6 +28,9 @@ struct MeshLightTexture {
   // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), the same
   // size; empty when the bake kept none apart.
   std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
+  // The standard error of frontLux / backLux per texel (lux per channel), the same sizes (the viewer's lux
+  // probe reports it; the GL engine draws without it).
+  std::vector<Rgb> frontStdErrorLux, backStdErrorLux;
 };
 
 // The baked irradiance of one placed mesh: SDB node `sdbNodeId` holding SDB mesh `sdbMeshId`.

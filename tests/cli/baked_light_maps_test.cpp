@@ -150,6 +150,10 @@ void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStor
     EXPECT_TRUE(a.lightTexture->frontSunDirectLux == e.lightTexture->frontSunDirectLux) << "mesh " << k;
     EXPECT_TRUE(a.lightTexture->backSunDirectLux == e.lightTexture->backSunDirectLux) << "mesh " << k;
     EXPECT_TRUE(a.lightTexture->cornerUv == e.lightTexture->cornerUv) << "mesh " << k << " corner UVs";
+    EXPECT_TRUE(a.lightTexture->frontStdErrorLux == e.lightTexture->frontStdErrorLux) << "mesh " << k;
+    EXPECT_TRUE(a.lightTexture->backStdErrorLux == e.lightTexture->backStdErrorLux) << "mesh " << k;
+    EXPECT_EQ(a.lightTexture->frontStdErrorLux.size(), a.lightTexture->frontLux.size()) << "mesh " << k;
+    EXPECT_EQ(a.lightTexture->backStdErrorLux.size(), a.lightTexture->backLux.size()) << "mesh " << k;
   }
 }
 

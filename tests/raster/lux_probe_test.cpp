@@ -156,6 +156,43 @@ TEST(LuxProbe, MissesAndSurfacesWithoutLightMapsReadNothing) {
   EXPECT_FALSE(r->stdErrorLuminanceLux);
 }
 
+// A light-textured floor: the reading is the texel under the interpolated light-map UV, with that texel's
+// standard error from the store.
+TEST(LuxProbe, OnALightTextureReadsTheTexelUnderTheHit) {
+  Scene s = floorScene();
+  // Light-map UV u = x/2, v = −z/3 on the floor triangle: (0,0), (1,0), (0,1); a 4 × 2 texture.
+  s.rdb.lightMapUv = {{0, 0}, {1, 0}, {0, 1}, {0, 0}, {0, 0}, {0, 0}};
+  rdb::RasterLightTexture tex;
+  tex.width = 4;
+  tex.height = 2;
+  rdb::MeshLightTexture stored;
+  stored.width = 4;
+  stored.height = 2;
+  for (uint32_t t = 0; t < 8; ++t) {
+    tex.frontLux.push_back(Rgb(100.0f * float(t + 1)));
+    stored.frontLux.push_back(tex.frontLux.back());
+    stored.frontStdErrorLux.push_back(Rgb(float(t + 1)));
+  }
+  s.rdb.lightTextures = {tex};
+  s.rdb.meshes[0].twoSided = false;
+  s.rdb.meshes[0].lightTexture = 0;
+  s.store.meshes[0].lightTexture = stored;
+  // (x, z) = (1.1, −0.6): u = 0.55 → column 2, v = 0.2 → row 0: texel 2, 300 lux ± 3.
+  const std::optional<SurfaceHit> hit = pickSurface(s.rdb, down(1.1f, -0.6f));
+  ASSERT_TRUE(hit);
+  const std::optional<LuxReading> r = probeIlluminance(s.rdb, &s.store, *hit);
+  ASSERT_TRUE(r);
+  EXPECT_TRUE(r->fromLightTexture);
+  EXPECT_NEAR(r->illuminanceLuminanceLux, 300.0f, 1e-3f);
+  ASSERT_TRUE(r->stdErrorLuminanceLux);
+  EXPECT_NEAR(*r->stdErrorLuminanceLux, 3.0f, 1e-5f);
+  // (0.3, −1.8): u = 0.15 → column 0, v = 0.6 → row 1: texel 4, 500 lux ± 5.
+  const std::optional<LuxReading> r2 = probeIlluminance(s.rdb, &s.store, *pickSurface(s.rdb, down(0.3f, -1.8f)));
+  ASSERT_TRUE(r2);
+  EXPECT_NEAR(r2->illuminanceLuminanceLux, 500.0f, 1e-3f);
+  EXPECT_NEAR(*r2->stdErrorLuminanceLux, 5.0f, 1e-5f);
+}
+
 TEST(LuxProbe, TheNearestOfTwoSurfacesIsHit) {
   Scene s = floorScene();
   // Move the shelf over the floor, 1 m up: from above it hides the floor.
