@@ -379,9 +379,10 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
       if (sunPart && !sun) continue;
       for (const bool back : {false, true}) {
         if (back && !twoSided->get<bool>()) continue;
-        const char* name = sunPart                 ? (back ? "_SUN_DIRECT_BACK" : "_SUN_DIRECT_FRONT")
-                           : part == Part::kStdError ? (back ? "_IRRADIANCE_BACK_STDERR" : "_IRRADIANCE_FRONT_STDERR")
-                                                     : (back ? "_IRRADIANCE_BACK" : "_IRRADIANCE_FRONT");
+        const char* name = sunPart ? (back ? "_SUN_DIRECT_BACK" : "_SUN_DIRECT_FRONT")
+                           : part == Part::kStdError
+                               ? (back ? "_IRRADIANCE_BACK_STDERR" : "_IRRADIANCE_FRONT_STDERR")
+                               : (back ? "_IRRADIANCE_BACK" : "_IRRADIANCE_FRONT");
         const auto attribute = attributes.find(name);
         if (attribute == attributes.end()) {
           throw InputError({gltfPath.string(), 0, 0, meshPath + "/primitives/0/attributes"},
@@ -390,9 +391,10 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
                                      : (sunPart ? ", but manifest.json gives the bake a sun_direct" : "")),
                            kHintRebake);
         }
-        std::vector<Rgb>& into = sunPart                 ? (back ? map.backSunDirectLux : map.frontSunDirectLux)
-                                 : part == Part::kStdError ? (back ? map.backStdErrorLux : map.frontStdErrorLux)
-                                                           : (back ? map.backLux : map.frontLux);
+        std::vector<Rgb>& into = sunPart ? (back ? map.backSunDirectLux : map.frontSunDirectLux)
+                                 : part == Part::kStdError
+                                     ? (back ? map.backStdErrorLux : map.frontStdErrorLux)
+                                     : (back ? map.backLux : map.frontLux);
         into = readIrradiance(model, attribute->second, vertices, bakedDir,
                               "mesh " + std::to_string(meshIndex) + "'s " + name);
       }
@@ -414,10 +416,12 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
                          kHintRebake);
       }
       t.frontLux = readLightTextureSide(bakedDir, *texture, "front", t.width, t.height, textureAt);
-      t.frontStdErrorLux = readLightTextureSide(bakedDir, *texture, "front_stderr", t.width, t.height, textureAt);
+      t.frontStdErrorLux =
+          readLightTextureSide(bakedDir, *texture, "front_stderr", t.width, t.height, textureAt);
       if (twoSided->get<bool>()) {
         t.backLux = readLightTextureSide(bakedDir, *texture, "back", t.width, t.height, textureAt);
-        t.backStdErrorLux = readLightTextureSide(bakedDir, *texture, "back_stderr", t.width, t.height, textureAt);
+        t.backStdErrorLux =
+            readLightTextureSide(bakedDir, *texture, "back_stderr", t.width, t.height, textureAt);
       }
       if (sun) {
         t.frontSunDirectLux =

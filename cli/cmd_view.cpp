@@ -146,7 +146,8 @@ int runView(const ViewOptions& o) {
     writePng(o.screenshot, int(r.widthPx), int(r.heightPx), 3, r.srgb8.data());
   }
   if (!o.windowScreenshot.empty()) {
-    if (r.windowSrgb8.empty()) throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
+    if (r.windowSrgb8.empty())
+      throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
     writePng(o.windowScreenshot, int(r.windowWidthPx), int(r.windowHeightPx), 3, r.windowSrgb8.data());
   }
   char line[160];
@@ -158,7 +159,8 @@ int runView(const ViewOptions& o) {
   if (!o.screenshot.empty())
     std::cout << "image     " << o.screenshot << " (" << r.widthPx << "×" << r.heightPx << ")\n";
   if (!o.windowScreenshot.empty())
-    std::cout << "window    " << o.windowScreenshot << " (" << r.windowWidthPx << "×" << r.windowHeightPx << ")\n";
+    std::cout << "window    " << o.windowScreenshot << " (" << r.windowWidthPx << "×" << r.windowHeightPx
+              << ")\n";
   if (!r.probeText.empty()) std::cout << "probe     " << r.probeText << "\n";
   return 0;
 }

@@ -24,7 +24,8 @@ PickRay pickRay(const View& view, double xPx, double yPx, uint32_t widthPx, uint
   return ray;
 }
 
-std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uint32_t widthPx, uint32_t heightPx) {
+std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uint32_t widthPx,
+                                   uint32_t heightPx) {
   const double w = std::max<uint32_t>(widthPx, 1), h = std::max<uint32_t>(heightPx, 1);
   const float aspect = float(w / h);
   const vec3 p = vec3(glm::inverse(view.worldFromCamera) * vec4(pointWorld, 1.0f));

@@ -22,13 +22,14 @@ struct PickRay {
 };
 
 // The ray through the point (xPx, yPx) of an image widthPx × heightPx seen through `view` (x to the right and
-// y down from the image's top left corner, pixel centres at half-integers, as a window's cursor). Perspective:
-// from the eye; orthographic: from the near plane's point, along the view direction.
+// y down from the image's top left corner, pixel centres at half-integers, as a window's cursor).
+// Perspective: from the eye; orthographic: from the near plane's point, along the view direction.
 PickRay pickRay(const View& view, double xPx, double yPx, uint32_t widthPx, uint32_t heightPx);
 
 // Where `pointWorld` appears in that image (pixels from the top left, as pickRay takes them); nullopt for a
 // point behind a perspective view's eye.
-std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uint32_t widthPx, uint32_t heightPx);
+std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uint32_t widthPx,
+                                   uint32_t heightPx);
 
 // The nearest triangle the ray hits (either face), at distance > 0.
 struct SurfaceHit {

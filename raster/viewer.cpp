@@ -118,7 +118,9 @@ struct KeyQueue {
   ViewerPanel* panel = nullptr;
 };
 
-KeyQueue* queueOf(GLFWwindow* window) { return static_cast<KeyQueue*>(glfwGetWindowUserPointer(window)); }
+KeyQueue* queueOf(GLFWwindow* window) {
+  return static_cast<KeyQueue*>(glfwGetWindowUserPointer(window));
+}
 
 void onChar(GLFWwindow* window, unsigned int codepoint) {
   if (KeyQueue* q = queueOf(window); q && q->panel && q->panel->visible()) q->panel->forwardChar(codepoint);
@@ -130,7 +132,8 @@ void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
 }
 
 void onScroll(GLFWwindow* window, double xoffset, double yoffset) {
-  if (KeyQueue* q = queueOf(window); q && q->panel && q->panel->visible()) q->panel->forwardScroll(xoffset, yoffset);
+  if (KeyQueue* q = queueOf(window); q && q->panel && q->panel->visible())
+    q->panel->forwardScroll(xoffset, yoffset);
 }
 
 void onKey(GLFWwindow* window, int key, int scancode, int action, int mods) {
@@ -276,9 +279,8 @@ std::string luxReadingText(const LuxReading& r) {
   char line[200];
   std::string text = luxNumber(r.illuminanceLuminanceLux, 4) + " lux";
   if (r.stdErrorLuminanceLux) {
-    const double e = *r.stdErrorLuminanceLux, rel = r.illuminanceLuminanceLux > 0.0f
-                                                        ? 100.0 * e / double(r.illuminanceLuminanceLux)
-                                                        : 0.0;
+    const double e = *r.stdErrorLuminanceLux,
+                 rel = r.illuminanceLuminanceLux > 0.0f ? 100.0 * e / double(r.illuminanceLuminanceLux) : 0.0;
     std::snprintf(line, sizeof line, " (%.2g %%)", rel);
     text += " ± " + luxNumber(e, 2) + line;
   } else if (r.fromLightTexture) {
@@ -357,7 +359,8 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
       view.worldFromCamera = controller.worldFromCamera();
       const std::optional<SurfaceHit> hit =
           pickSurface(rdb, pickRay(view, xPx, yPx, uint32_t(std::max(fbW, 1)), uint32_t(std::max(fbH, 1))));
-      const std::optional<LuxReading> reading = hit ? probeIlluminance(rdb, options.lightMaps, *hit) : std::nullopt;
+      const std::optional<LuxReading> reading =
+          hit ? probeIlluminance(rdb, options.lightMaps, *hit) : std::nullopt;
       if (reading) result.probe = reading;
       probePoint = reading ? std::optional<vec3>(reading->pointWorld) : std::nullopt;
       result.probeText = reading ? luxReadingText(*reading)
@@ -398,11 +401,12 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
       if (const std::optional<vec2> px = projectToImage(shown, *probePoint, uint32_t(fbW), uint32_t(fbH))) {
         int winW = 0, winH = 0;  // ImGui's display coordinates are the window's
         glfwGetWindowSize(w, &winW, &winH);
-        state.probeMarker = std::array<float, 2>{px->x * float(winW) / float(fbW), px->y * float(winH) / float(fbH)};
+        state.probeMarker =
+            std::array<float, 2>{px->x * float(winW) / float(fbW), px->y * float(winH) / float(fbH)};
       }
     }
-    const PanelEdits edits =
-        panel.frame(state, float(fbW), float(fbH), float(std::chrono::duration<double>(Clock::now() - last).count()));
+    const PanelEdits edits = panel.frame(state, float(fbW), float(fbH),
+                                         float(std::chrono::duration<double>(Clock::now() - last).count()));
     if (edits.mode) mode = *edits.mode;
     if (edits.autoExposure) autoExposure = *edits.autoExposure;
     if (edits.ev100) {

@@ -4,8 +4,8 @@
 // on-screen panel (raster/viewer_panel.h) with the same settings, date and time sliders, the camera list and
 // the lux probe (raster/lux_probe.h: a click that does not drag reads the baked illuminance there). What
 // needs the scene (the time of day) or files (screenshots) is the caller's, through ViewerHost: raster/ sees
-// only the RasterRdb (docs/architecture.md). Scripted runs (a frame count and a list of keys) drive the same loop for
-// tests under xvfb-run.
+// only the RasterRdb (docs/architecture.md). Scripted runs (a frame count and a list of keys) drive the same
+// loop for tests under xvfb-run.
 #pragma once
 
 #include <cstdint>
@@ -66,7 +66,8 @@ class ViewerHost {
   // Sets the scene's time to `clock` (local civil time at the site) and brings the RasterRdb up to date, as
   // stepTime does; `message` says why the time cannot be set (a time the clock skips at a daylight-saving
   // change, a time the weather file does not cover), or is empty.
-  virtual std::optional<rdb::RasterRdbChanges> setLocalClock(const LocalClock& clock, std::string& message) = 0;
+  virtual std::optional<rdb::RasterRdbChanges> setLocalClock(const LocalClock& clock,
+                                                             std::string& message) = 0;
   // The P key: the tone-mapped image without the overlay, sRGB-encoded RGB8, rows from the top.
   virtual void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) = 0;
 };

@@ -18,7 +18,8 @@ namespace fly::raster {
 namespace {
 
 std::chrono::year_month_day dateOf(const LocalClock& c) {
-  return std::chrono::year(c.year) / std::chrono::month(unsigned(c.month)) / std::chrono::day(unsigned(c.day));
+  return std::chrono::year(c.year) / std::chrono::month(unsigned(c.month)) /
+         std::chrono::day(unsigned(c.day));
 }
 
 // The width at which the panel wraps its longer lines (the time label, the probe's reading), pixels.
@@ -186,7 +187,8 @@ PanelEdits ViewerPanel::frame(const PanelState& state, float displayWidthPx, flo
   float ev100 = float(state.tone.ev100);
   if (ImGui::SliderFloat("EV100", &ev100, kPanelMinEv100, kPanelMaxEv100, "%.1f")) edits.ev100 = ev100;
   int op = int(state.tone.op);
-  if (ImGui::Combo("operator", &op, kOperatorNames, 3) && op != int(state.tone.op)) edits.op = ToneOperator(op);
+  if (ImGui::Combo("operator", &op, kOperatorNames, 3) && op != int(state.tone.op))
+    edits.op = ToneOperator(op);
   ImGui::Separator();
 
   ImGui::TextUnformatted("Camera");

@@ -22,7 +22,9 @@ Rgb affineLux(const vec3& p) {
 }
 
 // Standard errors per vertex (lux per channel), different at each vertex.
-Rgb vertexStdError(uint32_t v) { return Rgb(1.0f + float(v), 2.0f + float(v), 3.0f); }
+Rgb vertexStdError(uint32_t v) {
+  return Rgb(1.0f + float(v), 2.0f + float(v), 3.0f);
+}
 
 // A floor triangle at y = 0, (0,0,0), (2,0,0), (0,0,−3), normals +Y, with a light map (front and back, two-
 // sided), and a triangle without one 1 m above it at (5, 1, 0) … out of the floor's way; store with the
@@ -72,7 +74,9 @@ Scene floorScene() {
   return s;
 }
 
-PickRay down(float x, float z) { return PickRay{vec3(x, 4.0f, z), vec3(0, -1, 0)}; }
+PickRay down(float x, float z) {
+  return PickRay{vec3(x, 4.0f, z), vec3(0, -1, 0)};
+}
 
 TEST(LuxProbe, AtAVertexReadsItsBakedValue) {
   const Scene s = floorScene();
@@ -110,7 +114,8 @@ TEST(LuxProbe, InsideATriangleInterpolatesWithBarycentrics) {
   EXPECT_NEAR(hit->barycentric.z, w2, 1e-6);
   const std::optional<LuxReading> r = probeIlluminance(s.rdb, &s.store, *hit);
   ASSERT_TRUE(r);
-  // E(0.5, −1) = 200 + 20 + 25 = 245 lux on the red channel; luminance 245 · (0.2126 + 0.7152·0.8 + 0.0722·0.5).
+  // E(0.5, −1) = 200 + 20 + 25 = 245 lux on the red channel; luminance 245 · (0.2126 + 0.7152·0.8 +
+  // 0.0722·0.5).
   EXPECT_NEAR(r->illuminanceLux.r, 245.0f, 1e-3f);
   EXPECT_NEAR(r->illuminanceLuminanceLux, 245.0 * (0.2126 + 0.7152 * 0.8 + 0.0722 * 0.5), 1e-3);
   // The interpolation's standard error: √(Σ wᵢ² σᵢ²) of the vertices' luminance errors.
@@ -187,7 +192,8 @@ TEST(LuxProbe, OnALightTextureReadsTheTexelUnderTheHit) {
   ASSERT_TRUE(r->stdErrorLuminanceLux);
   EXPECT_NEAR(*r->stdErrorLuminanceLux, 3.0f, 1e-5f);
   // (0.3, −1.8): u = 0.15 → column 0, v = 0.6 → row 1: texel 4, 500 lux ± 5.
-  const std::optional<LuxReading> r2 = probeIlluminance(s.rdb, &s.store, *pickSurface(s.rdb, down(0.3f, -1.8f)));
+  const std::optional<LuxReading> r2 =
+      probeIlluminance(s.rdb, &s.store, *pickSurface(s.rdb, down(0.3f, -1.8f)));
   ASSERT_TRUE(r2);
   EXPECT_NEAR(r2->illuminanceLuminanceLux, 500.0f, 1e-3f);
   EXPECT_NEAR(*r2->stdErrorLuminanceLux, 5.0f, 1e-5f);
@@ -214,9 +220,9 @@ TEST(LuxProbe, PickRayInvertsTheRenderersProjection) {
     v.orthographic = ortho;
     v.ymagM = 2.0f;
     const float aspect = float(w) / float(h);
-    const mat4 clipFromCamera = ortho ? glm::ortho(-v.ymagM * aspect, v.ymagM * aspect, -v.ymagM, v.ymagM,
-                                                   v.znearM, 100.0f)
-                                      : glm::perspective(v.yfovRad, aspect, v.znearM, 100.0f);
+    const mat4 clipFromCamera =
+        ortho ? glm::ortho(-v.ymagM * aspect, v.ymagM * aspect, -v.ymagM, v.ymagM, v.znearM, 100.0f)
+              : glm::perspective(v.yfovRad, aspect, v.znearM, 100.0f);
     for (const vec3 p : {vec3(0.5f, 0.0f, -1.0f), vec3(-1.0f, 0.7f, 0.3f)}) {
       const vec4 clip = clipFromCamera * glm::inverse(v.worldFromCamera) * vec4(p, 1.0f);
       const double x = (clip.x / clip.w * 0.5 + 0.5) * w, y = (0.5 - clip.y / clip.w * 0.5) * h;

@@ -30,9 +30,10 @@ inline void layOut(ViewerPanel& panel, const PanelState& state) {
   panelFrame(panel, state, -1.0f, -1.0f, false);
 }
 
-// The time slider's minute under the window x coordinate `x`: ImGui 1.86's horizontal slider (SliderBehaviorT)
-// keeps 2 px of padding at each end and a grab of style.GrabMinSize (its range of 1440 values is wider than
-// the slider), and maps the grab's centre linearly over what remains, rounding to the nearest integer.
+// The time slider's minute under the window x coordinate `x`: ImGui 1.86's horizontal slider
+// (SliderBehaviorT) keeps 2 px of padding at each end and a grab of style.GrabMinSize (its range of 1440
+// values is wider than the slider), and maps the grab's centre linearly over what remains, rounding to the
+// nearest integer.
 inline int timeSliderMinuteAt(const PanelLayout& layout, float x) {
   const float grab = ImGui::GetStyle().GrabMinSize, pad = 2.0f;
   const float lo = layout.timeSliderMin[0] + pad + 0.5f * grab;

@@ -34,7 +34,7 @@ PanelState sampleState() {
 
 TEST(ViewerPanel, DayOfYearRoundTrips) {
   EXPECT_EQ(dayOfYear(LocalClock{2026, 1, 1, 0}), 1);
-  EXPECT_EQ(dayOfYear(LocalClock{2026, 9, 15, 0}), 258);  // 243 days in January–August
+  EXPECT_EQ(dayOfYear(LocalClock{2026, 9, 15, 0}), 258);   // 243 days in January–August
   EXPECT_EQ(dayOfYear(LocalClock{2028, 12, 31, 0}), 366);  // a leap year
   const LocalClock c = withDayOfYear(LocalClock{2026, 9, 15, 600}, 172);
   EXPECT_EQ(c, (LocalClock{2026, 6, 21, 600}));
@@ -99,7 +99,8 @@ TEST(ViewerPanel, DrawsHeadlessAndHiddenLeavesTheImageAlone) {
   const sdb::MeshId mesh = scene.addMesh(test::quadXY(material)).id;
   const sdb::NodeId node = scene.addNode({.name = "quad", .meshes = {mesh}}).id;
   rdb::LightMapStore store;  // a different irradiance (lux) at each corner: a gradient to tone-map
-  store.meshes.push_back({node.value, mesh.value, {{100, 200, 300}, {400, 250, 50}, {1000, 800, 600}, {30, 60, 90}}, {}});
+  store.meshes.push_back(
+      {node.value, mesh.value, {{100, 200, 300}, {400, 250, 50}, {1000, 800, 600}, {30, 60, 90}}, {}});
   const rdb::RasterRdb rdb = rdb::buildRasterRdb(scene, &store);
   Renderer renderer;
   renderer.upload(rdb);
@@ -145,8 +146,8 @@ TEST(ViewerPanel, DrawsHeadlessAndHiddenLeavesTheImageAlone) {
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       const float fx = float(x), fy = float(y);  // one pixel of slack for the window's edges
-      const bool in = fx + 1.0f >= l.windowMin[0] && fx <= l.windowMax[0] + 1.0f && fy + 1.0f >= l.windowMin[1] &&
-                      fy <= l.windowMax[1] + 1.0f;
+      const bool in = fx + 1.0f >= l.windowMin[0] && fx <= l.windowMax[0] + 1.0f &&
+                      fy + 1.0f >= l.windowMin[1] && fy <= l.windowMax[1] + 1.0f;
       const size_t i = (size_t(y) * w + x) * 3;
       const bool changed = !std::equal(&shown[i], &shown[i] + 3, &image[i]);
       inside += in;
