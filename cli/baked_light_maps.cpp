@@ -270,7 +270,8 @@ rdb::BakedSun readBakedSun(const json& entry, const fs::path& manifestPath) {
 
 rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps) {
   const size_t n = rdb.positionsM.size();
-  if (maps.frontLux.size() != n || maps.backLux.size() != n) {
+  if (maps.frontLux.size() != n || maps.backLux.size() != n || maps.frontStdErrorLux.size() != n ||
+      maps.backStdErrorLux.size() != n) {
     throw std::invalid_argument("lightMapStoreFromBake: the light maps do not have one value per vertex");
   }
   const bool sun = maps.hasSunDirect();
@@ -291,6 +292,8 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
     map.sdbMeshId = m.sdbMeshId;
     map.frontLux = vertices(maps.frontLux, m);
     if (m.twoSided) map.backLux = vertices(maps.backLux, m);
+    map.frontStdErrorLux = vertices(maps.frontStdErrorLux, m);
+    if (m.twoSided) map.backStdErrorLux = vertices(maps.backStdErrorLux, m);
     if (sun) {
       map.frontSunDirectLux = vertices(maps.frontSunDirectLux, m);
       if (m.twoSided) map.backSunDirectLux = vertices(maps.backSunDirectLux, m);
@@ -307,7 +310,11 @@ rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytrac
       t.width = lt.width;
       t.height = lt.height;
       t.frontLux = baked.frontLux;
-      if (m.twoSided) t.backLux = baked.backLux;
+      t.frontStdErrorLux = baked.frontStdErrorLux;
+      if (m.twoSided) {
+        t.backLux = baked.backLux;
+        t.backStdErrorLux = baked.backStdErrorLux;
+      }
       if (sun) {
         t.frontSunDirectLux = baked.frontSunDirectLux;
         if (m.twoSided) t.backSunDirectLux = baked.backSunDirectLux;
@@ -365,12 +372,17 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
     }
     // Every primitive of a baked mesh shares its vertex attributes; the first one's are the mesh's.
     const std::map<std::string, int>& attributes = mesh.primitives[0].attributes;
-    for (const bool sunPart : {false, true}) {
+    // The irradiance, its standard error (kept for the viewer's lux probe) and the sun-direct part.
+    enum class Part { kIrradiance, kStdError, kSunDirect };
+    for (const Part part : {Part::kIrradiance, Part::kStdError, Part::kSunDirect}) {
+      const bool sunPart = part == Part::kSunDirect;
       if (sunPart && !sun) continue;
       for (const bool back : {false, true}) {
         if (back && !twoSided->get<bool>()) continue;
         const char* name = sunPart ? (back ? "_SUN_DIRECT_BACK" : "_SUN_DIRECT_FRONT")
-                                   : (back ? "_IRRADIANCE_BACK" : "_IRRADIANCE_FRONT");
+                           : part == Part::kStdError
+                               ? (back ? "_IRRADIANCE_BACK_STDERR" : "_IRRADIANCE_FRONT_STDERR")
+                               : (back ? "_IRRADIANCE_BACK" : "_IRRADIANCE_FRONT");
         const auto attribute = attributes.find(name);
         if (attribute == attributes.end()) {
           throw InputError({gltfPath.string(), 0, 0, meshPath + "/primitives/0/attributes"},
@@ -380,7 +392,9 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
                            kHintRebake);
         }
         std::vector<Rgb>& into = sunPart ? (back ? map.backSunDirectLux : map.frontSunDirectLux)
-                                         : (back ? map.backLux : map.frontLux);
+                                 : part == Part::kStdError
+                                     ? (back ? map.backStdErrorLux : map.frontStdErrorLux)
+                                     : (back ? map.backLux : map.frontLux);
         into = readIrradiance(model, attribute->second, vertices, bakedDir,
                               "mesh " + std::to_string(meshIndex) + "'s " + name);
       }
@@ -402,8 +416,12 @@ rdb::LightMapStore readBakedLightMaps(const fs::path& bakedDir) {
                          kHintRebake);
       }
       t.frontLux = readLightTextureSide(bakedDir, *texture, "front", t.width, t.height, textureAt);
+      t.frontStdErrorLux =
+          readLightTextureSide(bakedDir, *texture, "front_stderr", t.width, t.height, textureAt);
       if (twoSided->get<bool>()) {
         t.backLux = readLightTextureSide(bakedDir, *texture, "back", t.width, t.height, textureAt);
+        t.backStdErrorLux =
+            readLightTextureSide(bakedDir, *texture, "back_stderr", t.width, t.height, textureAt);
       }
       if (sun) {
         t.frontSunDirectLux =

@@ -13,25 +13,26 @@ namespace fly::cli {
 // The light maps of a bake: one MeshLightMap per TraceMesh that has triangles (a mesh whose every triangle
 // was degenerate has nothing to draw, and the baked scene.gltf leaves it out too), with the TraceMesh's
 // vertices — the SDB mesh's vertices in order (rdb/trace_rdb_build.cpp) — and backLux only for two-sided
-// meshes; for a light-textured mesh (TraceMesh::lightTexture) also its texture (maps.lightTextures' front
-// and, two-sided, back values) and corner UVs (TraceLightTexture::cornerUv: the TraceMesh's triangles are the
-// SDB mesh's triangles with area, in order). std::invalid_argument when `maps` does not have one value per
-// TraceRdb vertex or a light texture does not match its mesh.
+// meshes, each with its standard errors; for a light-textured mesh (TraceMesh::lightTexture) also its texture
+// (maps.lightTextures' front and, two-sided, back values and standard errors) and corner UVs
+// (TraceLightTexture::cornerUv: the TraceMesh's triangles are the SDB mesh's triangles with area, in order).
+// std::invalid_argument when `maps` does not have one value per TraceRdb vertex or a light texture does not
+// match its mesh.
 rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps);
 
 // The light maps of a baked scene directory: manifest.json's objects give each baked mesh's SDB ids, vertex
-// count, sidedness and glTF mesh; scene.gltf's _IRRADIANCE_FRONT (and, for two-sided meshes,
-// _IRRADIANCE_BACK) attributes hold the values, of which the first `vertices` are the SDB mesh's (a
-// light-textured mesh appends seam-split copies after them). An object with a "light_texture" entry also
-// gets its light texture: the EXR files it names (lightmaps/objectN_front.exr, and _back for two-sided
-// meshes; the _stderr files are not read) and the corner UVs, TEXCOORD_1 of each corner of the glTF mesh's
-// triangles. A manifest with a "sun_direct" (cli/baked_scene.h) also gives the store its sun and every map
-// its sun-direct part (_SUN_DIRECT_FRONT/_BACK, the light textures' "front_sun_direct"/"back_sun_direct"
-// EXRs); one without it (an earlier fly's bake) reads without them. Equals lightMapStoreFromBake of the bake
-// that wrote the directory, value for value. The vertex counts are those of the scene at bake time: a caller
-// checks them against the scene it draws. InputError naming the file (manifest.json, scene.gltf or its
-// buffer, an EXR) when one is missing, corrupt, truncated, holds a value that is not finite, or does not
-// match the others.
+// count, sidedness and glTF mesh; scene.gltf's _IRRADIANCE_FRONT and _IRRADIANCE_FRONT_STDERR (and, for
+// two-sided meshes, _IRRADIANCE_BACK and its _STDERR) attributes hold the values and their standard errors,
+// of which the first `vertices` are the SDB mesh's (a light-textured mesh appends seam-split copies after
+// them). An object with a "light_texture" entry also gets its light texture: the EXR files it names
+// (lightmaps/objectN_front.exr and objectN_front_stderr.exr, and _back for two-sided meshes) and the corner
+// UVs, TEXCOORD_1 of each corner of the glTF mesh's triangles. A manifest with a "sun_direct"
+// (cli/baked_scene.h) also gives the store its sun and every map its sun-direct part
+// (_SUN_DIRECT_FRONT/_BACK, the light textures' "front_sun_direct"/"back_sun_direct" EXRs); one without it
+// (an earlier fly's bake) reads without them. Equals lightMapStoreFromBake of the bake that wrote the
+// directory, value for value. The vertex counts are those of the scene at bake time: a caller checks them
+// against the scene it draws. InputError naming the file (manifest.json, scene.gltf or its buffer, an EXR)
+// when one is missing, corrupt, truncated, holds a value that is not finite, or does not match the others.
 rdb::LightMapStore readBakedLightMaps(const std::filesystem::path& bakedDir);
 
 }  // namespace fly::cli

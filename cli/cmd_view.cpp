@@ -1,5 +1,6 @@
-// `fly view`: walk through a scene or a baked scene in a window (raster/viewer.h), with a scripted mode
-// (--frames, --keys, --screenshot) that tests run under xvfb-run.
+// `fly view`: walk through a scene or a baked scene in a window (raster/viewer.h) with its panel and lux
+// probe, with a scripted mode (--frames, --keys, --probe, --screenshot, --window-screenshot) that tests run
+// under xvfb-run.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,14 +14,12 @@
 
 #include "base/error.h"
 #include "base/image_io.h"
-#include "base/log.h"
 #include "cli/command.h"
 #include "cli/raster_scene.h"
-#include "cli/scene_daylight.h"
+#include "cli/view_host.h"
 #include "raster/gl_context.h"
 #include "raster/viewer.h"
 #include "rdb/raster_rdb.h"
-#include "sunsky/civil_time.h"
 
 namespace fly::cli {
 
@@ -42,60 +41,28 @@ struct ViewOptions {
   uint64_t frames = 0;
   std::string keys;
   std::string screenshot;
+  std::string windowScreenshot;
+  bool noPanel = false;
+  std::string probe;
 };
 
-class SceneHost : public raster::ViewerHost {
- public:
-  SceneHost(RasterScene& scene, rdb::RasterRdb& rdb) : s_(scene), rdb_(rdb) {}
-
-  std::optional<rdb::RasterRdbChanges> stepTime(int minutes, std::string& message) override {
-    if (!s_.scene.hasSite() || s_.scene.time().localDateTime.empty()) {
-      message = s_.scene.time().sunDirection ? "no time of day: the sun is placed directly (--sun-dir)"
-                                             : "no time of day: the scene has no site";
-      return std::nullopt;
-    }
-    // Steps in UTC, so that a daylight-saving change neither repeats nor skips a step; the new time carries
-    // its offset, which the local clock alone would leave ambiguous in the autumn overlap.
-    const sdb::SiteTime before = s_.scene.time();
-    const std::string after = sceneLocalTime(s_.scene, minutes / 60.0);
-    const rdb::LightMapStore* maps = s_.lightMaps ? &*s_.lightMaps : nullptr;
-    try {
-      return rdb::updateRasterRdb(rdb_, s_.scene, s_.scene.setTime(sdb::SiteTime{after}), maps);
-    } catch (const InputError& e) {  // e.g. a time the weather file does not cover: back to the time before
-      message = e.what();
-      return rdb::updateRasterRdb(rdb_, s_.scene, s_.scene.setTime(before), maps);
-    }
+// --probe X,Y: a window point in pixels from the top left, inside the window.
+vec2 parseProbePoint(const std::string& text, uint32_t widthPx, uint32_t heightPx) {
+  double x = 0.0, y = 0.0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf%c", &x, &y, &tail) != 2 || !std::isfinite(x) || !std::isfinite(y) ||
+      x < 0.0 || y < 0.0 || x >= widthPx || y >= heightPx) {
+    throw UsageError("--probe " + text + ": give X,Y in pixels from the window's top left, inside the " +
+                     std::to_string(widthPx) + "×" + std::to_string(heightPx) + " window");
   }
+  return vec2(float(x), float(y));
+}
 
-  std::string timeLabel() const override {
-    if (!s_.scene.hasSite() || s_.scene.time().localDateTime.empty()) return "";
-    std::string t = sceneLocalTime(s_.scene);  // 2026-09-15T17:30:00+03:00
-    std::string label = t.substr(0, 10) + " " + t.substr(11, 5) + " " + t.substr(19);
-    // Over a bake that keeps the sun's direct light apart, the indirect light stays as baked.
-    if (!s_.bakedSunTime.empty()) label += ", indirect baked at " + s_.bakedSunTime;
-    return label;
-  }
-
-  void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) override {
-    std::filesystem::path name;
-    do {
-      char b[32];
-      std::snprintf(b, sizeof b, "fly-view-%04d.png", ++counter_);
-      name = b;
-    } while (std::filesystem::exists(name));
-    try {
-      writePng(name, int(widthPx), int(heightPx), 3, srgb8.data());
-      std::cout << "screenshot " << name.string() << " (" << widthPx << "×" << heightPx << ")" << std::endl;
-    } catch (const std::exception& e) {  // a full disk or a read-only directory does not end the session
-      log::error(std::string("screenshot not saved: ") + e.what());
-    }
-  }
-
- private:
-  RasterScene& s_;
-  rdb::RasterRdb& rdb_;
-  int counter_ = 0;
-};
+void checkPngName(const std::string& option, const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".png") throw UsageError(option + " " + file + ": give a .png file");
+}
 
 std::vector<raster::ViewerAction> parseKeys(const std::string& text) {
   std::vector<raster::ViewerAction> actions;
@@ -106,7 +73,7 @@ std::vector<raster::ViewerAction> parseKeys(const std::string& text) {
     const std::optional<raster::ViewerAction> a = raster::parseViewerAction(key);
     if (!a) {
       throw UsageError("--keys: unknown key '" + key +
-                       "' (expected keys separated by commas: 1 2 3 + - E O T shift+T C R P Esc)");
+                       "' (expected keys separated by commas: 1 2 3 + - E O T shift+T C R P F1 Esc)");
     }
     actions.push_back(*a);
   }
@@ -124,11 +91,10 @@ int runView(const ViewOptions& o) {
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
     throw UsageError("--exposure must be a finite EV100");
   const std::vector<raster::ViewerAction> script = parseKeys(o.keys);
-  if (!o.screenshot.empty()) {
-    std::string ext = std::filesystem::path(o.screenshot).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".png") throw UsageError("--screenshot " + o.screenshot + ": give a .png file");
-  }
+  if (!o.screenshot.empty()) checkPngName("--screenshot", o.screenshot);
+  if (!o.windowScreenshot.empty()) checkPngName("--window-screenshot", o.windowScreenshot);
+  std::optional<vec2> probeAt;
+  if (!o.probe.empty()) probeAt = parseProbePoint(o.probe, width, height);
   // GLFW 3.3 needs an X display (Wayland through XWayland).
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) throw std::runtime_error(kNoDisplay);
 
@@ -149,6 +115,10 @@ int runView(const ViewOptions& o) {
   v.script = script;
   v.shadows = shadows;
   v.balls = balls;
+  v.panel = !o.noPanel;
+  v.lightMaps = scene.lightMaps ? &*scene.lightMaps : nullptr;
+  v.probeAtPx = probeAt;
+  v.captureWindow = !o.windowScreenshot.empty();
 
   std::unique_ptr<raster::GlfwWindowContext> window;
   try {
@@ -168,12 +138,17 @@ int runView(const ViewOptions& o) {
             << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
             << " (" << window->info().platform << ")\n"
             << std::flush;
-  SceneHost host(scene, rdb);
+  SceneViewHost host(scene, rdb);
   const raster::ViewerResult r = raster::runViewer(*window, rdb, host, v);
 
   if (!o.screenshot.empty()) {
     if (r.frames == 0) throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
     writePng(o.screenshot, int(r.widthPx), int(r.heightPx), 3, r.srgb8.data());
+  }
+  if (!o.windowScreenshot.empty()) {
+    if (r.windowSrgb8.empty())
+      throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
+    writePng(o.windowScreenshot, int(r.windowWidthPx), int(r.windowHeightPx), 3, r.windowSrgb8.data());
   }
   char line[160];
   std::snprintf(line, sizeof line, "frames    %llu in %.2f s; last: mode %s, exposure EV100 %.2f\n",
@@ -183,6 +158,10 @@ int runView(const ViewOptions& o) {
   if (const std::string t = host.timeLabel(); !t.empty()) std::cout << "time      " << t << "\n";
   if (!o.screenshot.empty())
     std::cout << "image     " << o.screenshot << " (" << r.widthPx << "×" << r.heightPx << ")\n";
+  if (!o.windowScreenshot.empty())
+    std::cout << "window    " << o.windowScreenshot << " (" << r.windowWidthPx << "×" << r.windowHeightPx
+              << ")\n";
+  if (!r.probeText.empty()) std::cout << "probe     " << r.probeText << "\n";
   return 0;
 }
 
@@ -214,6 +193,12 @@ Command addViewCommand(CLI::App& app) {
       "key presses to replay, one per frame from the first, separated by commas, e.g. 3,+,T,shift+T");
   sub->add_option("--screenshot", o->screenshot,
                   "save the last frame (without the overlay) to this PNG on closing");
+  sub->add_option("--window-screenshot", o->windowScreenshot,
+                  "save the last frame as the window shows it (overlay and panel included) to this PNG");
+  sub->add_flag("--no-panel", o->noPanel, "start with the panel hidden (F1 shows it)");
+  sub->add_option("--probe", o->probe,
+                  "read the baked illuminance under the window point X,Y (pixels from the top left) at the "
+                  "first frame, as a click there does");
   return {sub, [o]() { return runView(*o); }};
 }
 

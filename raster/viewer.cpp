@@ -21,7 +21,7 @@ namespace fly::raster {
 const char* const kViewerKeysHelp =
     "Keys:\n"
     "  W A S D, arrows  walk (1.4 m/s; Shift: run, 4.2 m/s)   PageUp/PageDown  rise/sink\n"
-    "  left mouse drag  look around\n"
+    "  left mouse drag  look around                  left click  lux probe (baked scenes)\n"
     "  1 2 3            mode simple / lightmap / sunlight (those the scene supports)\n"
     "  + -              exposure ±1/3 EV             E  auto exposure on/off (histogram)\n"
     "  O                tone-mapping operator: linear, reinhard, filmic\n"
@@ -29,6 +29,7 @@ const char* const kViewerKeysHelp =
     "  C                next camera (the scene's cameras, then a view framing the scene)\n"
     "  R                back to the start view and exposure\n"
     "  P                screenshot fly-view-NNNN.png in the current directory (without the overlay)\n"
+    "  F1               show or hide the panel (date and time, mode, exposure, cameras, lux probe)\n"
     "  Esc              quit";
 
 std::optional<ViewerAction> parseViewerAction(std::string_view key) {
@@ -46,6 +47,7 @@ std::optional<ViewerAction> parseViewerAction(std::string_view key) {
   if (k == "c") return ViewerAction::kNextCamera;
   if (k == "r") return ViewerAction::kReset;
   if (k == "p") return ViewerAction::kScreenshot;
+  if (k == "f1") return ViewerAction::kTogglePanel;
   if (k == "esc") return ViewerAction::kQuit;
   return std::nullopt;
 }
@@ -109,14 +111,38 @@ TextImage rasterizeText(std::string_view text, uint32_t scale) {
 
 namespace {
 
-// Key presses arrive through GLFW's callback between frames; they wait here in order.
+// Key presses arrive through GLFW's callback between frames; they wait here in order. While the panel is
+// shown, GLFW's input goes to it too, and keys it wants (a slider being typed into) go only to it.
 struct KeyQueue {
   std::deque<ViewerAction> actions;
+  ViewerPanel* panel = nullptr;
 };
 
-void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
+KeyQueue* queueOf(GLFWwindow* window) {
+  return static_cast<KeyQueue*>(glfwGetWindowUserPointer(window));
+}
+
+void onChar(GLFWwindow* window, unsigned int codepoint) {
+  if (KeyQueue* q = queueOf(window); q && q->panel && q->panel->visible()) q->panel->forwardChar(codepoint);
+}
+
+void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
+  if (KeyQueue* q = queueOf(window); q && q->panel && q->panel->visible())
+    q->panel->forwardMouseButton(button, action, mods);
+}
+
+void onScroll(GLFWwindow* window, double xoffset, double yoffset) {
+  if (KeyQueue* q = queueOf(window); q && q->panel && q->panel->visible())
+    q->panel->forwardScroll(xoffset, yoffset);
+}
+
+void onKey(GLFWwindow* window, int key, int scancode, int action, int mods) {
+  auto* queue = queueOf(window);
+  if (queue && queue->panel && queue->panel->visible()) {
+    queue->panel->forwardKey(key, scancode, action, mods);
+    if (key != GLFW_KEY_F1 && queue->panel->wantsKeyboard()) return;
+  }
   if (action != GLFW_PRESS) return;
-  auto* queue = static_cast<KeyQueue*>(glfwGetWindowUserPointer(window));
   const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
   std::optional<ViewerAction> a;
   switch (key) {
@@ -157,6 +183,9 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) 
       break;
     case GLFW_KEY_P:
       a = ViewerAction::kScreenshot;
+      break;
+    case GLFW_KEY_F1:
+      a = ViewerAction::kTogglePanel;
       break;
     case GLFW_KEY_ESCAPE:
       a = ViewerAction::kQuit;
@@ -231,6 +260,37 @@ struct ViewSource {
 
 }  // namespace
 
+namespace {
+
+// Lux in plain digits: whole lux from 100 lux up, else `digits` significant digits (no exponent notation).
+std::string luxNumber(double lux, int digits) {
+  char b[32];
+  if (std::abs(lux) >= 100.0) {
+    std::snprintf(b, sizeof b, "%.0f", lux);
+  } else {
+    std::snprintf(b, sizeof b, "%.*g", digits, lux);
+  }
+  return b;
+}
+
+}  // namespace
+
+std::string luxReadingText(const LuxReading& r) {
+  char line[200];
+  std::string text = luxNumber(r.illuminanceLuminanceLux, 4) + " lux";
+  if (r.stdErrorLuminanceLux) {
+    const double e = *r.stdErrorLuminanceLux,
+                 rel = r.illuminanceLuminanceLux > 0.0f ? 100.0 * e / double(r.illuminanceLuminanceLux) : 0.0;
+    std::snprintf(line, sizeof line, " (%.2g %%)", rel);
+    text += " ± " + luxNumber(e, 2) + line;
+  } else if (r.fromLightTexture) {
+    text += " (light texture)";
+  }
+  std::snprintf(line, sizeof line, ", %s, node %u at (%.2f, %.2f, %.2f) m", r.back ? "back" : "front",
+                r.sdbNodeId, double(r.pointWorld.x), double(r.pointWorld.y), double(r.pointWorld.z));
+  return text + line;
+}
+
 ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, ViewerHost& host,
                        const ViewerOptions& options) {
   using Clock = std::chrono::steady_clock;
@@ -246,10 +306,18 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   renderer.setSunShadows(options.shadows);
   renderer.setBallSettings(options.balls);
   Overlay overlay;
+  ViewerPanel panel;
+  panel.setVisible(options.panel);
+  panel.initGl();
   KeyQueue keys;
+  keys.panel = &panel;
   GLFWwindow* w = window.window();
+  panel.attachWindow(w);
   glfwSetWindowUserPointer(w, &keys);
   glfwSetKeyCallback(w, onKey);
+  glfwSetCharCallback(w, onChar);
+  glfwSetMouseButtonCallback(w, onMouseButton);
+  glfwSetScrollCallback(w, onScroll);
   glfwSwapInterval(1);
 
   CameraController controller(options.controller);
@@ -281,6 +349,28 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   };
 
   ViewerResult result;
+  std::optional<vec3> probePoint;  // where the last reading was taken, marked on the panel's layer
+  // The lux probe at a framebuffer point (pixels from the top left) of the view shown now.
+  auto probeAt = [&](double xPx, double yPx) {
+    if (!rdb.variants.lightMap) {
+      result.probeText = "no light maps to probe: view a baked directory";
+    } else {
+      View view = source.view;
+      view.worldFromCamera = controller.worldFromCamera();
+      const std::optional<SurfaceHit> hit =
+          pickSurface(rdb, pickRay(view, xPx, yPx, uint32_t(std::max(fbW, 1)), uint32_t(std::max(fbH, 1))));
+      const std::optional<LuxReading> reading =
+          hit ? probeIlluminance(rdb, options.lightMaps, *hit) : std::nullopt;
+      if (reading) result.probe = reading;
+      probePoint = reading ? std::optional<vec3>(reading->pointWorld) : std::nullopt;
+      result.probeText = reading ? luxReadingText(*reading)
+                         : hit   ? "that surface has no light map"
+                                 : "no surface there";
+    }
+    log::info("lux probe: " + result.probeText);
+  };
+  bool mouseWasDown = false, dragFromPanel = false;
+  double pressX = 0.0, pressY = 0.0;
   const Clock::time_point start = Clock::now();
   Clock::time_point last = start, fpsStart = start;
   uint64_t fpsFrames = 0;
@@ -291,6 +381,47 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   while (!quit && !window.shouldClose()) {
     window.pollEvents();
     if (result.frames < options.script.size()) keys.actions.push_back(options.script[result.frames]);
+
+    // The panel: shows the settings as they are and hands back what the user changed in it.
+    window.framebufferSize(fbW, fbH);
+    PanelState state;
+    state.modes = modes;
+    state.mode = mode;
+    state.tone = tone;
+    state.autoExposure = autoExposure;
+    for (const rdb::RasterCamera& c : rdb.cameras) state.cameraNames.push_back(c.name);
+    state.camera = source.index;
+    state.clock = host.localClock();
+    state.timeLabel = host.timeLabel();
+    state.probeAvailable = rdb.variants.lightMap;
+    state.probeText = result.probeText;
+    if (probePoint && fbW > 0 && fbH > 0) {
+      View shown = source.view;
+      shown.worldFromCamera = controller.worldFromCamera();
+      if (const std::optional<vec2> px = projectToImage(shown, *probePoint, uint32_t(fbW), uint32_t(fbH))) {
+        int winW = 0, winH = 0;  // ImGui's display coordinates are the window's
+        glfwGetWindowSize(w, &winW, &winH);
+        state.probeMarker =
+            std::array<float, 2>{px->x * float(winW) / float(fbW), px->y * float(winH) / float(fbH)};
+      }
+    }
+    const PanelEdits edits = panel.frame(state, float(fbW), float(fbH),
+                                         float(std::chrono::duration<double>(Clock::now() - last).count()));
+    if (edits.mode) mode = *edits.mode;
+    if (edits.autoExposure) autoExposure = *edits.autoExposure;
+    if (edits.ev100) {
+      autoExposure = false;
+      tone.ev100 = *edits.ev100;
+    }
+    if (edits.op) tone.op = *edits.op;
+    if (edits.camera) setSource(*edits.camera);
+    if (edits.clock) {
+      std::string why;
+      const std::optional<rdb::RasterRdbChanges> changes = host.setLocalClock(*edits.clock, why);
+      if (changes) renderer.update(rdb, *changes);
+      if (!why.empty()) say(why);
+    }
+
     bool screenshot = false;
     while (!keys.actions.empty()) {
       const ViewerAction a = keys.actions.front();
@@ -342,6 +473,9 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
         case ViewerAction::kScreenshot:
           screenshot = true;
           break;
+        case ViewerAction::kTogglePanel:
+          panel.setVisible(!panel.visible());
+          break;
         case ViewerAction::kQuit:
           quit = true;
           break;
@@ -362,10 +496,26 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
     walk.up = float(glfwGetKey(w, GLFW_KEY_PAGE_UP) == GLFW_PRESS) -
               float(glfwGetKey(w, GLFW_KEY_PAGE_DOWN) == GLFW_PRESS);
     walk.run = held(GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
+    if (panel.wantsKeyboard()) walk = WalkInput{};
     controller.walk(walk, dt);
+    // The left button: a drag that starts outside the panel looks around; a click that does not move (3
+    // pixels at most) probes the surface under it.
     double x = 0.0, y = 0.0;
     glfwGetCursorPos(w, &x, &y);
-    if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) controller.look(x - lastX, y - lastY);
+    const bool mouseDown = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    if (mouseDown && !mouseWasDown) {
+      dragFromPanel = panel.wantsMouse();
+      pressX = x;
+      pressY = y;
+    }
+    if (mouseDown && !dragFromPanel) controller.look(x - lastX, y - lastY);
+    if (!mouseDown && mouseWasDown && !dragFromPanel && std::hypot(x - pressX, y - pressY) <= 3.0) {
+      int winW = 0, winH = 0;
+      glfwGetWindowSize(w, &winW, &winH);  // the cursor is in window coordinates
+      const double sx = winW > 0 ? double(fbW) / winW : 1.0, sy = winH > 0 ? double(fbH) / winH : 1.0;
+      probeAt(x * sx, y * sy);
+    }
+    mouseWasDown = mouseDown;
     lastX = x;
     lastY = y;
 
@@ -374,6 +524,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
       glfwWaitEventsTimeout(0.1);
       continue;
     }
+    if (options.probeAtPx && result.frames == 0) probeAt(options.probeAtPx->x, options.probeAtPx->y);
     View view = source.view;
     view.worldFromCamera = controller.worldFromCamera();
     renderer.render(view, mode, uint32_t(fbW), uint32_t(fbH));
@@ -404,6 +555,21 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
     if (!time.empty()) text += "  " + time;
     if (!message.empty() && now < messageUntil) text += "  | " + message;
     overlay.draw(text, fbW >= 1600 ? 2u : 1u, fbW, fbH);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    panel.render();
+    if (options.captureWindow) {
+      result.windowWidthPx = uint32_t(fbW);
+      result.windowHeightPx = uint32_t(fbH);
+      std::vector<uint8_t> rows(size_t(fbW) * fbH * 3);
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+      glReadBuffer(GL_BACK);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, fbW, fbH, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+      result.windowSrgb8.resize(rows.size());
+      const size_t stride = size_t(fbW) * 3;
+      for (int row = 0; row < fbH; ++row)  // GL's rows start at the bottom
+        std::copy_n(&rows[size_t(fbH - 1 - row) * stride], stride, &result.windowSrgb8[size_t(row) * stride]);
+    }
     window.swapBuffers();
 
     ++result.frames;
@@ -418,6 +584,9 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   result.mode = mode;
   result.ev100 = tone.ev100;
   glfwSetKeyCallback(w, nullptr);
+  glfwSetCharCallback(w, nullptr);
+  glfwSetMouseButtonCallback(w, nullptr);
+  glfwSetScrollCallback(w, nullptr);
   glfwSetWindowUserPointer(w, nullptr);
   return result;
 }

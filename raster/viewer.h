@@ -1,9 +1,11 @@
 // The interactive viewer (`fly view`): a GLFW window showing the Renderer's tone-mapped image, walked through
 // with a first-person camera (raster/camera_controller.h), with keys for the mode, exposure, operator, time
-// of day, camera and screenshots, and an overlay line with fps, mode, exposure, operator and local time. What
+// of day, camera and screenshots, an overlay line with fps, mode, exposure, operator and local time, and an
+// on-screen panel (raster/viewer_panel.h) with the same settings, date and time sliders, the camera list and
+// the lux probe (raster/lux_probe.h: a click that does not drag reads the baked illuminance there). What
 // needs the scene (the time of day) or files (screenshots) is the caller's, through ViewerHost: raster/ sees
-// only the RasterRdb (docs/architecture.md). Scripted runs (a frame count and a list of keys) drive the same loop for
-// tests under xvfb-run.
+// only the RasterRdb (docs/architecture.md). Scripted runs (a frame count and a list of keys) drive the same
+// loop for tests under xvfb-run.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +17,9 @@
 #include "base/tone_map.h"
 #include "raster/camera_controller.h"
 #include "raster/gl_context.h"
+#include "raster/lux_probe.h"
 #include "raster/renderer.h"
+#include "raster/viewer_panel.h"
 #include "rdb/raster_rdb.h"
 
 namespace fly::raster {
@@ -33,6 +37,7 @@ enum class ViewerAction {
   kNextCamera,    // the scene's cameras in order, then the view framing the scene
   kReset,         // the start view and exposure
   kScreenshot,
+  kTogglePanel,  // shows or hides the panel
   kQuit,
 };
 
@@ -40,7 +45,7 @@ enum class ViewerAction {
 extern const char* const kViewerKeysHelp;
 
 // An action by the name of its key, as `fly view --keys` takes them (case-insensitive): 1 2 3 + - E O T
-// shift+T C R P Esc. nullopt for anything else.
+// shift+T C R P F1 Esc. nullopt for anything else.
 std::optional<ViewerAction> parseViewerAction(std::string_view key);
 
 inline constexpr double kExposureStepEv = 1.0 / 3.0;
@@ -56,6 +61,13 @@ class ViewerHost {
   virtual std::optional<rdb::RasterRdbChanges> stepTime(int minutes, std::string& message) = 0;
   // The scene's local date and time for the overlay ("2026-09-15 17:30 +03:00"), or "" without a site.
   virtual std::string timeLabel() const = 0;
+  // The scene's local date and time for the panel's sliders; nullopt without a time of day.
+  virtual std::optional<LocalClock> localClock() const = 0;
+  // Sets the scene's time to `clock` (local civil time at the site) and brings the RasterRdb up to date, as
+  // stepTime does; `message` says why the time cannot be set (a time the clock skips at a daylight-saving
+  // change, a time the weather file does not cover), or is empty.
+  virtual std::optional<rdb::RasterRdbChanges> setLocalClock(const LocalClock& clock,
+                                                             std::string& message) = 0;
   // The P key: the tone-mapped image without the overlay, sRGB-encoded RGB8, rows from the top.
   virtual void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) = 0;
 };
@@ -72,6 +84,14 @@ struct ViewerOptions {
   CameraControllerSettings controller;
   SunShadowSettings shadows;  // the sun's shadows (raster/sun_shadows.h)
   BallSettings balls;         // measured materials' ball textures (raster/ball_texture.h)
+  bool panel = true;          // start with the panel shown (F1 toggles it)
+  // The baked light maps the RasterRdb was built with, for the lux probe's standard errors; may be null.
+  const rdb::LightMapStore* lightMaps = nullptr;
+  // Probe the surface under this window point (pixels from the top left) at the first frame, as a click
+  // there would (scripted runs).
+  std::optional<vec2> probeAtPx;
+  // Read back the last frame as the window shows it (overlay and panel included) into ViewerResult.
+  bool captureWindow = false;
 };
 
 struct ViewerResult {
@@ -81,7 +101,16 @@ struct ViewerResult {
   uint32_t widthPx = 0, heightPx = 0;
   RenderMode mode = RenderMode::kSimple;
   double ev100 = 0.0;
+  std::optional<LuxReading> probe;  // the lux probe's last reading
+  std::string probeText;            // … as the panel shows it, or why there is none ("" without a probe)
+  // With ViewerOptions::captureWindow: the last frame as the window showed it, sRGB RGB8, rows from the top.
+  std::vector<uint8_t> windowSrgb8;
+  uint32_t windowWidthPx = 0, windowHeightPx = 0;
 };
+
+// The panel's line for a reading: "523 lux ± 4.1 (0.78 %), front, node 3 at (1.20, 0.00, -0.50) m" (whole lux
+// from 100 lux up, else 4 significant digits; the standard error to 2).
+std::string luxReadingText(const LuxReading& reading);
 
 // Runs the window's loop until Esc, the window's close button, or the end of a scripted run. `rdb` is what
 // the renderer shows; `host` updates it in place when the time changes. The window's context must be current.

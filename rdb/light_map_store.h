@@ -28,6 +28,9 @@ struct MeshLightTexture {
   // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), the same
   // size; empty when the bake kept none apart.
   std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
+  // The standard error of frontLux / backLux per texel (lux per channel), the same sizes (the viewer's lux
+  // probe reports it; the GL engine draws without it).
+  std::vector<Rgb> frontStdErrorLux, backStdErrorLux;
 };
 
 // The baked irradiance of one placed mesh: SDB node `sdbNodeId` holding SDB mesh `sdbMeshId`.
@@ -42,6 +45,10 @@ struct MeshLightMap {
   // The part of frontLux / backLux that came straight from the sun's disc (LightMapStore::sun), per vertex as
   // they are; empty when the bake kept none apart.
   std::vector<Rgb> frontSunDirectLux, backSunDirectLux;
+  // The standard error of frontLux / backLux (lux per channel, the Monte-Carlo estimate's), per vertex as
+  // they are; empty when the caller did not keep it (the GL engine draws without it; the viewer's lux probe
+  // reports it).
+  std::vector<Rgb> frontStdErrorLux, backStdErrorLux;
 };
 
 // The sun of a bake that kept its direct light apart (FLY §3's sunlight mode: baked light without the sun's

@@ -137,6 +137,10 @@ void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStor
     EXPECT_TRUE(a.backLux == e.backLux) << "mesh " << k << " back";
     EXPECT_TRUE(a.frontSunDirectLux == e.frontSunDirectLux) << "mesh " << k << " front sun direct";
     EXPECT_TRUE(a.backSunDirectLux == e.backSunDirectLux) << "mesh " << k << " back sun direct";
+    EXPECT_TRUE(a.frontStdErrorLux == e.frontStdErrorLux) << "mesh " << k << " front standard error";
+    EXPECT_TRUE(a.backStdErrorLux == e.backStdErrorLux) << "mesh " << k << " back standard error";
+    EXPECT_EQ(a.frontStdErrorLux.size(), a.frontLux.size()) << "mesh " << k;
+    EXPECT_EQ(a.backStdErrorLux.size(), a.backLux.size()) << "mesh " << k;
     ASSERT_EQ(a.lightTexture.has_value(), e.lightTexture.has_value()) << "mesh " << k;
     if (!e.lightTexture) continue;
     EXPECT_EQ(a.lightTexture->width, e.lightTexture->width) << "mesh " << k;
@@ -146,6 +150,10 @@ void expectEqualStores(const rdb::LightMapStore& actual, const rdb::LightMapStor
     EXPECT_TRUE(a.lightTexture->frontSunDirectLux == e.lightTexture->frontSunDirectLux) << "mesh " << k;
     EXPECT_TRUE(a.lightTexture->backSunDirectLux == e.lightTexture->backSunDirectLux) << "mesh " << k;
     EXPECT_TRUE(a.lightTexture->cornerUv == e.lightTexture->cornerUv) << "mesh " << k << " corner UVs";
+    EXPECT_TRUE(a.lightTexture->frontStdErrorLux == e.lightTexture->frontStdErrorLux) << "mesh " << k;
+    EXPECT_TRUE(a.lightTexture->backStdErrorLux == e.lightTexture->backStdErrorLux) << "mesh " << k;
+    EXPECT_EQ(a.lightTexture->frontStdErrorLux.size(), a.lightTexture->frontLux.size()) << "mesh " << k;
+    EXPECT_EQ(a.lightTexture->backStdErrorLux.size(), a.lightTexture->backLux.size()) << "mesh " << k;
   }
 }
 
