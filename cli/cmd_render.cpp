@@ -20,6 +20,7 @@
 #include "cli/baked_light_maps.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
+#include "cli/image_metadata.h"
 #include "cli/raster_scene.h"
 #include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
@@ -39,6 +40,7 @@ struct RenderOptions {
   std::string size = "1280x720";
   std::string out;
   std::optional<double> exposureEv100;
+  double dotsPerInch = 0.0;
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
@@ -192,13 +194,16 @@ int runRender(const RenderOptions& options) {
       if (!std::isfinite(v))
         throw std::runtime_error("internal error: the render has a non-finite luminance");
     }
+    ImageSettings settings = daylightSettings(loaded.scene);
+    settings.insert(settings.end(), {{"fly:scene", scenePath.string()},
+                                     {"fly:mode", raster::renderModeName(*mode)},
+                                     {"fly:view", viewName}});
     if (ext == ".exr") {
       ImageRgbF image{int(width), int(height), rgb};
-      writeExr(path, image,
-               {{"units", "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)"},
-                {"fly:mode", raster::renderModeName(*mode)},
-                {"fly:view", viewName},
-                {"fly:scene", scenePath.string()}});
+      ExrAttributes attributes = exrAttributes(imageMetadata("Render", settings, o.dotsPerInch));
+      attributes.emplace_back("units",
+                              "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)");
+      writeExr(path, image, attributes);
       return 0.0;
     }
     if (!ev100) {
@@ -209,7 +214,9 @@ int runRender(const RenderOptions& options) {
     }
     renderer.toneMap(ToneMapSettings{op, *ev100, o.whitePoint});
     const std::vector<uint8_t> px = renderer.srgb8();
-    writePng(path, int(width), int(height), 3, px.data());
+    settings.emplace_back("fly:exposure", "EV100 " + std::to_string(*ev100) + ", white point " +
+                                              std::to_string(o.whitePoint) + ", tone operator " + o.op);
+    writePng(path, int(width), int(height), 3, px.data(), imageMetadata("Render", settings, o.dotsPerInch));
     return *ev100;
   };
 
@@ -328,6 +335,7 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--out", o->out, "output image: .png (tone-mapped sRGB) or .exr (luminance, cd/m²)")
       ->required();
   sub->add_option("--exposure", o->exposureEv100, "exposure as EV100 (default: automatic)");
+  addDpiOption(*sub, &o->dotsPerInch);
   sub->add_flag("--auto-exposure", o->autoExposure,
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
