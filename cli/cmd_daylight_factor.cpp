@@ -90,9 +90,9 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
     csv += sensors.lines[i] + "," + number(percent.back()) + "," + number(stdErrorPercent.back()) + "\n";
   }
   const DaylightFactorSummary s = summarizeDaylightFactors(percent, stdErrorPercent);
-  const std::string summary = "mean " + number(s.meanPercent) + " % ± " + number(s.meanStdErrorPercent) +
-                              " %, min " + number(s.minPercent) + " %, uniformity (min/mean) " +
-                              number(s.uniformity);
+  char summary[160];
+  std::snprintf(summary, sizeof summary, "mean %.3g %% ± %.2g %%, min %.3g %%, uniformity (min/mean) %.3g",
+                s.meanPercent, s.meanStdErrorPercent, s.minPercent, s.uniformity);
   if (!o.image.path.empty()) {
     PlanContent plan;
     plan.title = "Daylight factor, %, on a work plane " + number(grid.heightM) + " m above the floor";
@@ -113,7 +113,7 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
   }
   writeFileAtomic(o.out, csv);
   std::fprintf(stderr, "daylight factor: %zu sensors, %u samples each, %s; %.1f s -> %s\n",
-               sensors.lines.size(), result.samplesPerPoint, summary.c_str(), result.seconds, o.out.c_str());
+               sensors.lines.size(), result.samplesPerPoint, summary, result.seconds, o.out.c_str());
   return 0;
 }
 

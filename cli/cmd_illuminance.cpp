@@ -88,10 +88,16 @@ int runIlluminance(const IlluminanceOptions& o) {
   if (!o.image.path.empty()) {
     PlanContent plan;
     plan.title = "Illuminance, lux, on a work plane " + number(grid.heightM) + " m above the floor";
-    plan.subtitle = o.scene + "  ·  " + lit.light;
     plan.unit = "lx";
     for (const raytracer::IrradianceEstimate& e : result.points) plan.values.push_back(luminance(e.meanLux));
     plan.settings = daylightSettings(scene);
+    plan.subtitle = o.scene;
+    for (const auto& [key, value] : plan.settings) {
+      if (key == "fly:time" || key == "fly:sky") plan.subtitle += "  ·  " + value;
+    }
+    if (const size_t n = scene.lights().size(); n > 0) {
+      plan.subtitle += "  ·  " + std::to_string(n) + (n == 1 ? " lamp" : " lamps");
+    }
     plan.settings.emplace_back("fly:quantity", "illuminance on a horizontal work plane, lux");
     std::fprintf(stderr, "image: %s\n", writePlanImage(o.image, gridded, plan, rdb, scene).c_str());
   }

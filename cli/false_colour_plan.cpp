@@ -63,13 +63,19 @@ class Pen {
   Pen(cairo_t* cr, double unit) : cr_(cr), unit_(unit) {}
   double unit() const { return unit_; }
 
-  // Text with its anchor (anchorX of its width from the left, vertically centred) at `at`.
-  void text(const std::string& s, dvec2 at, double size, bool bold = false, double anchorX = 0.0) {
+  // Text with its anchor (anchorX of its width from the left, vertically centred) at `at`, shrunk to at most
+  // maxWidthPx pixels wide when that is given.
+  void text(const std::string& s, dvec2 at, double size, bool bold = false, double anchorX = 0.0,
+            double maxWidthPx = 0.0) {
     cairo_select_font_face(cr_, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
                            bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr_, size * unit_);
     cairo_text_extents_t e;
     cairo_text_extents(cr_, s.c_str(), &e);
+    if (maxWidthPx > 0.0 && e.x_advance > maxWidthPx) {
+      cairo_set_font_size(cr_, size * unit_ * maxWidthPx / e.x_advance);
+      cairo_text_extents(cr_, s.c_str(), &e);
+    }
     cairo_font_extents_t f;
     cairo_font_extents(cr_, &f);
     cairo_move_to(cr_, at.x - anchorX * e.x_advance, at.y + 0.5 * (f.ascent - f.descent));
@@ -208,8 +214,9 @@ void drawFalseColourPlan(const PlanGrid& grid, const PlanDrawing& drawing,
   cairo_stroke(cr);
 
   // Title and subtitle.
-  pen.text(drawing.title, {l.planTopLeftPx.x, 30.0 * u}, 24.0, true);
-  pen.text(drawing.subtitle, {l.planTopLeftPx.x, 60.0 * u}, 15.0);
+  const double textWidth = l.widthPx - 2.0 * l.planTopLeftPx.x;
+  pen.text(drawing.title, {l.planTopLeftPx.x, 30.0 * u}, 24.0, true, 0.0, textWidth);
+  pen.text(drawing.subtitle, {l.planTopLeftPx.x, 60.0 * u}, 15.0, false, 0.0, textWidth);
 
   // The legend bar, row by row at each row's centre, its ticks and unit.
   const int barTop = int(l.legendTopPx), barBottom = int(l.legendBottomPx), barWidth = int(l.legendWidthPx);
@@ -271,7 +278,7 @@ void drawFalseColourPlan(const PlanGrid& grid, const PlanDrawing& drawing,
   cairo_stroke(cr);
   pen.text("0", {x0, barY + 24.0 * u}, 13.0, false, 0.5);
   pen.text(formatValue(lengthM) + " m", {x1, barY + 24.0 * u}, 13.0, false, 0.5);
-  pen.text(drawing.caption, {x1 + 50.0 * u, barY + 4.0 * u}, 15.0);
+  pen.text(drawing.caption, {x1 + 50.0 * u, barY + 4.0 * u}, 15.0, false, 0.0, l.widthPx - x1 - 80.0 * u);
 
   writeCairoPng(surface.get(), cr, pngOut, "false-colour plan", drawing.metadata);
 }

@@ -21,6 +21,13 @@ std::string number(double v) {
   return buf;
 }
 
+// A value as a plan's caption gives it: whole units from 100 up (34660 lx, not 3.466e+04), else 3 digits.
+std::string quantity(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, std::fabs(v) >= 100.0 ? "%.0f" : "%.3g", v);
+  return buf;
+}
+
 std::optional<std::pair<double, double>> parseRange(const std::string& s, bool logarithmic) {
   if (s.empty()) return std::nullopt;
   const std::vector<std::string> fields = splitCsvFields(s);
@@ -144,9 +151,9 @@ std::string writePlanImage(const PlanImageOptions& o, const GridSensors& sensors
     minimum = std::min(minimum, v);
   }
   const double mean = sum / double(shown.size());
-  d.caption = "mean " + number(mean) + " " + content.unit + "  ·  min " + number(minimum) + " " +
+  d.caption = "mean " + quantity(mean) + " " + content.unit + "  ·  min " + quantity(minimum) + " " +
               content.unit + "  ·  uniformity (min/mean) " +
-              (mean > 0.0 ? number(minimum / mean) : std::string("–")) + "  ·  " +
+              (mean > 0.0 ? quantity(minimum / mean) : std::string("–")) + "  ·  " +
               std::to_string(shown.size()) + " sensors, " + number(spacing) + " m apart";
   ImageSettings settings = content.settings;
   settings.emplace_back("fly:scale", std::string(logarithmic ? "log" : "linear") + ", " +
