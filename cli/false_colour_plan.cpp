@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "cli/cairo_png.h"
+#include "cli/false_colour_legend.h"
 
 namespace fly::cli {
 
@@ -218,32 +219,8 @@ void drawFalseColourPlan(const PlanGrid& grid, const PlanDrawing& drawing,
   pen.text(drawing.title, {l.planTopLeftPx.x, 30.0 * u}, 24.0, true, 0.0, textWidth);
   pen.text(drawing.subtitle, {l.planTopLeftPx.x, 60.0 * u}, 15.0, false, 0.0, textWidth);
 
-  // The legend bar, row by row at each row's centre, its ticks and unit.
-  const int barTop = int(l.legendTopPx), barBottom = int(l.legendBottomPx), barWidth = int(l.legendWidthPx);
-  const SurfacePtr bar = imageSurface(barWidth, barBottom - barTop);
-  cairo_surface_flush(bar.get());
-  for (int y = barTop; y < barBottom; ++y) {
-    const Rgb8 c = falseColour((l.legendBottomPx - (y + 0.5)) / (l.legendBottomPx - l.legendTopPx));
-    for (int x = 0; x < barWidth; ++x) setPixel(bar.get(), x, y - barTop, c);
-  }
-  cairo_surface_mark_dirty(bar.get());
-  cairo_set_source_surface(cr, bar.get(), l.legendLeftPx, l.legendTopPx);
-  cairo_paint(cr);
-  cairo_rectangle(cr, l.legendLeftPx - 0.5, l.legendTopPx - 0.5, barWidth + 1.0, barBottom - barTop + 1.0);
-  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  cairo_set_line_width(cr, 1.0);
-  cairo_stroke(cr);
-  const double right = l.legendLeftPx + barWidth;
-  std::vector<std::array<dvec2, 2>> tickMarks;
-  for (const double tick : drawing.scale.ticks()) {
-    const double y = l.legendY(drawing.scale.fraction(tick));
-    tickMarks.push_back({dvec2(right, y), dvec2(right + 8.0 * u, y)});
-    pen.text(formatValue(tick), {right + 13.0 * u, y}, 14.0);
-  }
-  pen.segments(tickMarks, 1.3, 0.15);
-  pen.text(drawing.unit, {l.legendLeftPx, l.legendTopPx - 20.0 * u}, 16.0, true);
-  pen.text(drawing.scale.logarithmic ? "log scale" : "linear scale",
-           {l.legendLeftPx, l.legendBottomPx + 20.0 * u}, 13.0);
+  drawFalseColourLegend(cr, drawing.scale, drawing.unit,
+                        {l.legendLeftPx, l.legendTopPx, l.legendWidthPx, l.legendBottomPx}, u);
 
   // North arrow under the legend.
   if (drawing.northPlan) {
