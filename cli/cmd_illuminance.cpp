@@ -1,7 +1,7 @@
 // `fly illuminance SCENE --points IN.csv --out OUT.csv`: illuminance at sensor points with its standard
 // error, from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as
 // Radiance's rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
-// (raytracer/sensor_grid.h).
+// (raytracer/sensor_grid.h), and `--image plan.png` draws them as a false-colour plan (cli/plan_image.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
