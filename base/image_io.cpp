@@ -191,7 +191,8 @@ ImageRgbF readExr(const fs::path& path, ExrAttributes* attributes) {
   return image;
 }
 
-void writePng(const fs::path& path, int width, int height, int channels, const uint8_t* pixels) {
+void writePng(const fs::path& path, int width, int height, int channels, const uint8_t* pixels,
+              const PngMetadata& metadata) {
   const std::string where = "writePng(" + path.string() + "): ";
   if (width < 1 || height < 1 || int64_t{width} * height > kMaxPixels || channels < 1 || channels > 4 ||
       pixels == nullptr) {
@@ -206,7 +207,7 @@ void writePng(const fs::path& path, int width, int height, int channels, const u
   if (stbi_write_png_to_func(append, &bytes, width, height, channels, pixels, width * channels) == 0) {
     throw std::runtime_error(where + "PNG encoding failed");
   }
-  writeOutput(path, bytes);
+  writeOutput(path, withPngMetadata(bytes, metadata));
 }
 
 ImageU8 readPng(const fs::path& path) {

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "base/png_metadata.h"
+
 namespace fly {
 
 // A linear RGB float image: Rec.709 primaries, photometric scale (luminance in cd/m², docs/architecture.md, "Units and frames").
@@ -38,8 +40,10 @@ ImageRgbF readExr(const std::filesystem::path& path, ExrAttributes* attributes =
 // Writes 8-bit pixels (already encoded for display, e.g. sRGB) as PNG. `pixels`: row-major from the top row,
 // `channels` bytes per pixel (1 grey, 2 grey+alpha, 3 RGB, 4 RGBA), width·height·channels bytes in all.
 // Preconditions (std::invalid_argument): width, height ≥ 1, width·height ≤ 2^28, channels in 1..4, pixels
-// not null. Writing fails with std::runtime_error naming the path.
-void writePng(const std::filesystem::path& path, int width, int height, int channels, const uint8_t* pixels);
+// not null. `metadata` (text and print resolution) is written into the file (base/png_metadata.h). Writing
+// fails with std::runtime_error naming the path.
+void writePng(const std::filesystem::path& path, int width, int height, int channels, const uint8_t* pixels,
+              const PngMetadata& metadata = {});
 
 // An 8-bit image as a PNG holds it: row-major from the top row, `channels` bytes per pixel (1..4).
 struct ImageU8 {

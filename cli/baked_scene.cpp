@@ -15,6 +15,7 @@
 #include "base/tone_map.h"
 #include "cli/command.h"
 #include "cli/convergence_plot.h"
+#include "cli/image_metadata.h"
 
 namespace fly::cli {
 
@@ -497,7 +498,9 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
 
   writeBakedGltf(dir, rdb, maps, d);
   writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history, maps.hasSunDirect()));
-  drawConvergencePlot(maps.history, dir / "convergence.png", {.targetRelativeError = d.targetRelativeError});
+  drawConvergencePlot(
+      maps.history, dir / "convergence.png",
+      {.targetRelativeError = d.targetRelativeError, .metadata = imageMetadata("Bake convergence", {})});
   std::vector<std::string> files = {"scene.gltf", "scene.bin", "convergence.csv", "convergence.png"};
   if (maps.lightTextures.size() != rdb.lightTextures.size()) {
     throw std::invalid_argument("writeBakedScene: the light textures do not match the TraceRdb's");
@@ -521,13 +524,16 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
           const std::string file = lightTextureFile(lt.mesh, back, stdError, ".exr", sun);
           const std::string quantity = std::string(stdError ? "standard error of " : "") +
                                        (sun ? "irradiance straight from the sun's disc" : "irradiance");
-          writeExr(dir / file, image,
-                   {{"units", "lux"},
-                    {"fly:quantity", quantity},
-                    {"fly:side", back ? "back" : "front"},
-                    {"fly:object", std::to_string(lt.mesh)},
-                    {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
-                    {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
+          ExrAttributes attributes = exrAttributes(imageMetadata("Light texture: " + quantity, {}));
+          attributes.insert(
+              attributes.end(),
+              {{"units", "lux"},
+               {"fly:quantity", quantity},
+               {"fly:side", back ? "back" : "front"},
+               {"fly:object", std::to_string(lt.mesh)},
+               {"fly:texelsPerMetre", shortest(lt.texelsPerMetre)},
+               {"fly:uv", "TEXCOORD_1 of the object's mesh in scene.gltf; v = 0 is the top row"}});
+          writeExr(dir / file, image, attributes);
           files.push_back(file);
         }
       }

@@ -17,7 +17,7 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
 }  // namespace
 
 void writeCairoPng(cairo_surface_t* surface, cairo_t* cr, const std::filesystem::path& path,
-                   std::string_view what) {
+                   std::string_view what, const PngMetadata& metadata) {
   cairo_surface_flush(surface);
   std::string png;
   if (cairo_status(cr) != CAIRO_STATUS_SUCCESS ||
@@ -25,7 +25,7 @@ void writeCairoPng(cairo_surface_t* surface, cairo_t* cr, const std::filesystem:
     throw std::runtime_error("drawing the " + std::string(what) +
                              " failed: " + std::string(cairo_status_to_string(cairo_status(cr))));
   }
-  writeFileAtomic(path, png);
+  writeFileAtomic(path, withPngMetadata(png, metadata));
 }
 
 }  // namespace fly::cli

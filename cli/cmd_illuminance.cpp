@@ -1,9 +1,8 @@
 // `fly illuminance SCENE --points IN.csv --out OUT.csv`: illuminance at sensor points with its standard
 // error, from the baker's integrator — the point-in-time illuminance grid of daylighting studies (as
 // Radiance's rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
-// (raytracer/sensor_grid.h).
+// (raytracer/sensor_grid.h), and `--image plan.png` draws them as a false-colour plan (cli/plan_image.h).
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -14,11 +13,13 @@
 #include "cli/bake_options.h"
 #include "cli/bounce_cap_warning.h"
 #include "cli/command.h"
+#include "cli/grid_sensors.h"
+#include "cli/image_metadata.h"
+#include "cli/plan_image.h"
 #include "cli/scene_daylight.h"
 #include "cli/sensor_csv.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
-#include "raytracer/sensor_grid.h"
 #include "rdb/trace_rdb_build.h"
 
 namespace fly::cli {
@@ -29,7 +30,9 @@ struct IlluminanceOptions {
   std::string scene;
   std::string points;
   std::string grid;
+  std::string area;
   std::string out;
+  PlanImageOptions image;
   SamplingOptions sampling;
   DaylightOptions daylight;
 };
@@ -40,76 +43,17 @@ std::string number(double v) {
   return buf;
 }
 
-// The most sensors --grid may place: beyond this a spacing is surely a slip (10^6 sensors take minutes).
-constexpr double kMaxGridSensors = 1e6;
-
-struct GridSpec {
-  float heightM = 0.0f;
-  float spacingM = 0.0f;
-};
-
-// --grid HEIGHT,SPACING in metres, e.g. 0.85,0.5.
-GridSpec parseGrid(const std::string& s) {
-  const std::vector<std::string> fields = splitCsvFields(s);
-  GridSpec g;
-  float* values[2] = {&g.heightM, &g.spacingM};
-  bool ok = fields.size() == 2;
-  for (size_t i = 0; ok && i < 2; ++i) {
-    const std::string f = trimBlanks(fields[i]);
-    const char* end = f.data() + f.size();
-    const auto [ptr, ec] = std::from_chars(f.data(), end, *values[i]);
-    ok = ec == std::errc() && ptr == end && std::isfinite(*values[i]);
-  }
-  if (!ok) {
-    throw UsageError("--grid " + s +
-                     ": expected HEIGHT,SPACING in metres, e.g. 0.85,0.5 (sensors 0.85 m above "
-                     "the floors, 0.5 m apart)");
-  }
-  if (!(g.heightM > 0.0f)) throw UsageError("--grid " + s + ": the height above the floors must be > 0 m");
-  if (!(g.spacingM >= 0.01f)) throw UsageError("--grid " + s + ": the spacing must be at least 0.01 m");
-  return g;
-}
-
-// --grid's sensors over the scene's floors, as a table with the columns x,y,z,nx,ny,nz.
-SensorTable gridSensors(const std::string& spec, const GridSpec& g, const std::string& scenePath,
-                        const rdb::TraceRdb& rdb, const raytracer::EmbreeScene& embree) {
-  const double columns = raytracer::floorGridColumnCount(rdb, g.spacingM);
-  if (columns > kMaxGridSensors) {
-    throw UsageError("--grid " + spec + ": a spacing of " + number(g.spacingM) + " m gives " +
-                     number(columns) + " grid columns over the scene's " + number(rdb.boundsM.size().x) +
-                     " m × " + number(rdb.boundsM.size().z) +
-                     " m, more than the limit of 10^6 sensors; give a larger spacing");
-  }
-  const std::vector<raytracer::GridSensor> grid =
-      raytracer::floorSensorGrid(rdb, embree, g.heightM, g.spacingM);
-  if (double(grid.size()) > kMaxGridSensors) {
-    throw UsageError("--grid " + spec + ": " + std::to_string(grid.size()) +
-                     " sensors over all floors, more than the limit of 10^6; give a larger spacing");
-  }
-  if (grid.empty()) {
-    throw InputError(
-        {scenePath},
-        "--grid " + spec + ": the scene has no floor with " + number(g.heightM) + " m of free space above it",
-        "a floor is a surface facing up (within 25.8° of +Y); give a smaller height or use --points");
-  }
-  SensorTable t;
-  t.header = "x,y,z,nx,ny,nz";
-  for (const raytracer::GridSensor& s : grid) {
-    t.lines.push_back(number(s.positionM.x) + "," + number(s.positionM.y) + "," + number(s.positionM.z) +
-                      "," + number(s.normal.x) + "," + number(s.normal.y) + "," + number(s.normal.z));
-    t.positionsM.push_back(s.positionM);
-    t.normals.push_back(s.normal);
-  }
-  return t;
-}
-
 int runIlluminance(const IlluminanceOptions& o) {
+  if (!o.area.empty() && o.grid.empty())
+    throw UsageError("--area " + o.area + " limits --grid; give --grid too");
   if (o.points.empty() == o.grid.empty()) {
     throw UsageError(
         "give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
         "over the floors)");
   }
-  const GridSpec grid = o.grid.empty() ? GridSpec{} : parseGrid(o.grid);  // bad values fail before the load
+  const GridSpec grid =
+      o.grid.empty() ? GridSpec{} : parseGridSpec(o.grid, o.area);  // bad values fail before the load
+  o.image.check(!o.grid.empty());
   const LitScene lit = loadLitScene(o.scene, o.daylight);
   const sdb::Scene& scene = lit.scene;
   std::fprintf(stderr, "light: %s\n", lit.light.c_str());
@@ -120,9 +64,10 @@ int runIlluminance(const IlluminanceOptions& o) {
   settings.replicates = std::min(8u, settings.firstPassSamples);
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
-  const SensorTable sensors =
-      o.grid.empty() ? parseSensorCsv(readInputFile(o.points, "sensor file"), o.points)
+  const GridSensors gridded =
+      o.grid.empty() ? GridSensors{parseSensorCsv(readInputFile(o.points, "sensor file"), o.points), {}, 0.0f}
                      : gridSensors(o.grid, grid, o.scene, rdb, embree);
+  const SensorTable& sensors = gridded.table;
   const raytracer::IntegratorSettings integratorOptions = integratorSettings(o.sampling, scene.bakeSettings());
   const raytracer::Integrator integrator(rdb, embree, integratorOptions);
   const raytracer::EstimateResult result =
@@ -139,6 +84,22 @@ int runIlluminance(const IlluminanceOptions& o) {
     // (as they are for white light), otherwise a slight overestimate.
     csv +=
         sensors.lines[i] + "," + number(luminance(e.meanLux)) + "," + number(luminance(e.stdErrorLux)) + "\n";
+  }
+  if (!o.image.path.empty()) {
+    PlanContent plan;
+    plan.title = "Illuminance, lux, on a work plane " + number(grid.heightM) + " m above the floor";
+    plan.unit = "lx";
+    for (const raytracer::IrradianceEstimate& e : result.points) plan.values.push_back(luminance(e.meanLux));
+    plan.settings = daylightSettings(scene);
+    plan.subtitle = o.scene;
+    for (const auto& [key, value] : plan.settings) {
+      if (key == "fly:time" || key == "fly:sky") plan.subtitle += "  ·  " + value;
+    }
+    if (const size_t n = scene.lights().size(); n > 0) {
+      plan.subtitle += "  ·  " + std::to_string(n) + (n == 1 ? " lamp" : " lamps");
+    }
+    plan.settings.emplace_back("fly:quantity", "illuminance on a horizontal work plane, lux");
+    std::fprintf(stderr, "image: %s\n", writePlanImage(o.image, gridded, plan, rdb, scene).c_str());
   }
   writeFileAtomic(o.out, csv);
   std::fprintf(
@@ -169,10 +130,16 @@ Command addIlluminanceCommand(CLI::App& app) {
          "0.85,0.5")
       ->type_name("HEIGHT,SPACING");
   sub->add_option(
+         "--area", o->area,
+         "with --grid: only the sensors with x in [XMIN, XMAX] and z in [ZMIN, ZMAX] (world, metres), e.g. a "
+         "building's rooms without the ground around it")
+      ->type_name("XMIN,ZMIN,XMAX,ZMAX");
+  sub->add_option(
          "--out", o->out,
          "output .csv: the sensor rows (--grid: x,y,z,nx,ny,nz) with illuminance_lux and std_error_lux "
          "added")
       ->required();
+  o->image.add(*sub, "illuminance");
   addSamplingOptions(*sub, o->sampling, "sensor");
   o->daylight.add(*sub, &o->sampling.time);
   return {sub, [o] { return runIlluminance(*o); }};

@@ -20,6 +20,8 @@
 #include "cli/baked_light_maps.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
+#include "cli/illuminance_view.h"
+#include "cli/image_metadata.h"
 #include "cli/raster_scene.h"
 #include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
@@ -39,6 +41,8 @@ struct RenderOptions {
   std::string size = "1280x720";
   std::string out;
   std::optional<double> exposureEv100;
+  double dotsPerInch = 0.0;
+  std::string falseColour;  // "lux": the bake's illuminance in false colour (cli/illuminance_view.h)
   bool autoExposure = false;
   std::string op = "filmic";
   float whitePoint = 4.0f;
@@ -122,6 +126,15 @@ int runRender(const RenderOptions& options) {
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
     throw UsageError("--exposure must be a finite EV100");
   if (!(o.whitePoint > 0.0f) || !std::isfinite(o.whitePoint)) throw UsageError("--white-point must be > 0");
+  if (!o.falseColour.empty()) {
+    if (o.falseColour != "lux") {
+      throw UsageError("--false-colour " + o.falseColour + ": expected lux (the bake's illuminance)");
+    }
+    if (ext != ".png") throw UsageError("--false-colour draws a PNG with a legend; give --out FILE.png");
+    if (!o.mode.empty() || !o.timeLapse.empty()) {
+      throw UsageError("--false-colour shows the bake's light maps; leave out --mode and --time-lapse");
+    }
+  }
   uint32_t width = 0, height = 0;
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
@@ -147,6 +160,18 @@ int runRender(const RenderOptions& options) {
   // The scene, and the light maps of a baked directory.
   RasterScene loaded = loadRasterScene(o.scene, o.daylight);
   const std::filesystem::path& scenePath = loaded.scenePath;
+  ImageSettings falseColourSettings;
+  if (!o.falseColour.empty()) {
+    if (!loaded.lightMaps) {
+      throw UsageError(
+          "--false-colour lux shows a bake's illuminance: give a baked directory (fly bake SCENE "
+          "--out DIR), not " +
+          o.scene);
+    }
+    falseColourSettings = daylightSettings(loaded.scene);  // the bake's daylight, before it is turned off
+    showIlluminance(loaded.scene);
+    requestedMode = raster::RenderMode::kLightMap;
+  }
   const std::optional<rdb::LightMapStore>& lightMaps = loaded.lightMaps;
   const rdb::LightMapStore* maps = lightMaps ? &*lightMaps : nullptr;
   rdb::RasterRdb rdb = buildRasterRdb(loaded.scene, maps);
@@ -192,13 +217,28 @@ int runRender(const RenderOptions& options) {
       if (!std::isfinite(v))
         throw std::runtime_error("internal error: the render has a non-finite luminance");
     }
+    ImageSettings settings = daylightSettings(loaded.scene);
+    if (!o.falseColour.empty()) {
+      IlluminanceView illuminance{int(width), int(height), illuminanceFromRender(rgb), {}, {}};
+      illuminance.scale = falseColourScale(illuminance.lux, true);
+      falseColourSettings.insert(
+          falseColourSettings.end(),
+          {{"fly:scene", scenePath.string()},
+           {"fly:view", viewName},
+           {"fly:quantity", "illuminance from the bake's light maps, lux (log scale)"}});
+      illuminance.metadata = imageMetadata("Illuminance, lux", falseColourSettings, o.dotsPerInch);
+      drawIlluminanceView(illuminance, path);
+      return 0.0;
+    }
+    settings.insert(settings.end(), {{"fly:scene", scenePath.string()},
+                                     {"fly:mode", raster::renderModeName(*mode)},
+                                     {"fly:view", viewName}});
     if (ext == ".exr") {
       ImageRgbF image{int(width), int(height), rgb};
-      writeExr(path, image,
-               {{"units", "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)"},
-                {"fly:mode", raster::renderModeName(*mode)},
-                {"fly:view", viewName},
-                {"fly:scene", scenePath.string()}});
+      ExrAttributes attributes = exrAttributes(imageMetadata("Render", settings, o.dotsPerInch));
+      attributes.emplace_back("units",
+                              "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)");
+      writeExr(path, image, attributes);
       return 0.0;
     }
     if (!ev100) {
@@ -209,7 +249,9 @@ int runRender(const RenderOptions& options) {
     }
     renderer.toneMap(ToneMapSettings{op, *ev100, o.whitePoint});
     const std::vector<uint8_t> px = renderer.srgb8();
-    writePng(path, int(width), int(height), 3, px.data());
+    settings.emplace_back("fly:exposure", "EV100 " + std::to_string(*ev100) + ", white point " +
+                                              std::to_string(o.whitePoint) + ", tone operator " + o.op);
+    writePng(path, int(width), int(height), 3, px.data(), imageMetadata("Render", settings, o.dotsPerInch));
     return *ev100;
   };
 
@@ -253,7 +295,9 @@ int runRender(const RenderOptions& options) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     t << shadowLine() << glassLine();
     t << "image     " << o.out << " (" << width << "×" << height;
-    if (ext == ".png") {
+    if (!o.falseColour.empty()) {
+      t << "; illuminance in lux, false colour with a legend";
+    } else if (ext == ".png") {
       std::snprintf(buf, sizeof buf, "%.2f", ev100);
       t << "; exposure EV100 " << buf << (o.exposureEv100 ? "" : " (auto)") << ", " << o.op;
     } else {
@@ -328,6 +372,10 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--out", o->out, "output image: .png (tone-mapped sRGB) or .exr (luminance, cd/m²)")
       ->required();
   sub->add_option("--exposure", o->exposureEv100, "exposure as EV100 (default: automatic)");
+  addDpiOption(*sub, &o->dotsPerInch);
+  sub->add_option("--false-colour", o->falseColour,
+                  "lux: the illuminance of a baked directory's light maps on the visible surfaces, in false "
+                  "colour with a legend (PNG), instead of their luminance");
   sub->add_flag("--auto-exposure", o->autoExposure,
                 "exposure from the log-luminance histogram (the default when --exposure is not given)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");

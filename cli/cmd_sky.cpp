@@ -11,6 +11,7 @@
 #include "base/tone_map.h"
 #include "cli/command.h"
 #include "cli/daylight.h"
+#include "cli/image_metadata.h"
 #include "cli/sky_image.h"
 #include "sunsky/epw.h"
 
@@ -24,6 +25,7 @@ struct SkyOptions {
   std::string weather;
   std::string out;
   int sizePx = 512;
+  double dotsPerInch = 0.0;
   std::optional<double> exposureEv100;
   bool json = false;
   bool skyGiven = false;        // --sky on the command line (else a scene's sky is the default)
@@ -81,16 +83,18 @@ int runSky(SkyOptions o) {
   const double directNormalLux = day.sun ? luminance(day.sun->normalIlluminanceLux) : 0.0;
   const double directHorizontalLux = day.sun ? std::max(0.0, directNormalLux * day.sun->dirEnu.z) : 0.0;
   double ev100 = 0.0;
+  ImageSettings settings = {
+      {"fly:projection",
+       "equidistant fisheye looking up: zenith at the centre, horizon on the circle, north up, east left"},
+      {"fly:sky", day.description},
+      {"fly:site", std::to_string(st.spa.latitudeDeg) + " N, " + std::to_string(st.spa.longitudeDeg) +
+                       " E, " + std::to_string(st.spa.elevationM) + " m"},
+      {"fly:time", st.localIso + " " + st.timeZone + " = " + st.spa.utc.iso()}};
   if (ext == ".exr") {
-    writeExr(o.out, image,
-             {{"units", "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)"},
-              {"fly:projection",
-               "equidistant fisheye looking up: zenith at the centre, horizon on the circle, north "
-               "up, east left"},
-              {"fly:sky", day.description},
-              {"fly:site", std::to_string(st.spa.latitudeDeg) + " N, " + std::to_string(st.spa.longitudeDeg) +
-                               " E, " + std::to_string(st.spa.elevationM) + " m"},
-              {"fly:time", st.localIso + " " + st.timeZone + " = " + st.spa.utc.iso()}});
+    ExrAttributes attributes = exrAttributes(imageMetadata("Sky", settings, o.dotsPerInch));
+    attributes.emplace_back("units",
+                            "cd/m^2 (linear Rec.709 RGB, luminance Y = 0.2126 R + 0.7152 G + 0.0722 B)");
+    writeExr(o.out, image, attributes);
   } else {
     std::vector<float> lum;
     lum.reserve(image.rgb.size() / 3);
@@ -99,7 +103,8 @@ int runSky(SkyOptions o) {
     }
     ev100 = o.exposureEv100 ? *o.exposureEv100 : autoExposureEv100(lum);
     const std::vector<uint8_t> px = toneMapToSrgb8(image.rgb, ev100, ToneOperator::kReinhard);
-    writePng(o.out, image.width, image.height, 3, px.data());
+    settings.emplace_back("fly:exposure", "EV100 " + std::to_string(ev100) + ", Reinhard tone mapping, sRGB");
+    writePng(o.out, image.width, image.height, 3, px.data(), imageMetadata("Sky", settings, o.dotsPerInch));
   }
 
   if (o.json) {
@@ -173,6 +178,7 @@ Command addSkyCommand(CLI::App& app) {
   sub->add_option("--dew-point", o->request.dewPointC, "dew point for the Perez luminous efficacy, °C")
       ->capture_default_str();
   sub->add_option("--out", o->out, "image file: .exr (radiance, cd/m²) or .png (tone-mapped)")->required();
+  addDpiOption(*sub, &o->dotsPerInch);
   sub->add_option("--size", o->sizePx, "image width and height, pixels, [16, 8192]")
       ->capture_default_str()
       ->check(CLI::Range(16, 8192));

@@ -1,6 +1,7 @@
 // `fly sun`: the sun's position, sunrise/transit/sunset and daylight illuminance for a site and time, and the
 // sun-path diagram of the site.
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include "base/error.h"
 #include "cli/command.h"
 #include "cli/daylight.h"
+#include "cli/image_metadata.h"
 #include "cli/site_options.h"
 #include "cli/sun_path_diagram.h"
 
@@ -24,6 +26,7 @@ struct SunOptions {
   bool path = false;
   std::string out;
   int sizePx = 1200;
+  double dotsPerInch = 0.0;
   bool turbidityGiven = false;  // --turbidity on the command line (else a scene's is the default)
 };
 
@@ -58,7 +61,15 @@ int runSun(const SunOptions& o) {
   }
 
   if (o.path) {
-    drawSunPath({.spa = st.spa, .timeZone = st.timeZone, .sizePx = o.sizePx}, o.out);
+    char where[96];
+    std::snprintf(where, sizeof where, "latitude %.4f°, longitude %.4f°, elevation %.0f m, time zone ",
+                  st.spa.latitudeDeg, st.spa.longitudeDeg, st.spa.elevationM);
+    const ImageSettings settings = {{"fly:site", where + st.timeZone}, {"fly:time", st.localIso}};
+    drawSunPath({.spa = st.spa,
+                 .timeZone = st.timeZone,
+                 .sizePx = o.sizePx,
+                 .metadata = imageMetadata("Sun path", settings, o.dotsPerInch)},
+                o.out);
   }
 
   const char* polar = times.kind == sunsky::SunTimes::Kind::kPolarDay     ? "polar day"
@@ -147,6 +158,7 @@ Command addSunCommand(CLI::App& app) {
   sub->add_flag("--json", o->json, "print one JSON object instead of text");
   sub->add_flag("--path", o->path, "draw the site's sun-path diagram into --out (PNG)");
   sub->add_option("--out", o->out, "sun-path diagram file (.png), with --path");
+  addDpiOption(*sub, &o->dotsPerInch);
   sub->add_option("--size", o->sizePx, "sun-path diagram size, pixels, [300, 8000]")
       ->capture_default_str()
       ->check(CLI::Range(300, 8000));

@@ -20,6 +20,7 @@ Command addInfoCommand(CLI::App& app);
 Command addSunCommand(CLI::App& app);
 Command addSkyCommand(CLI::App& app);
 Command addIlluminanceCommand(CLI::App& app);
+Command addDaylightFactorCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);

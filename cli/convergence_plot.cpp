@@ -239,7 +239,7 @@ void drawConvergencePlot(std::span<const ConvergenceCurve> curves, const std::st
            at + glm::dvec2(swatch + 8 * p.unit, row), 13, 0.0, 0.5);
   }
 
-  writeCairoPng(surface.get(), cr, pngOut, "convergence plot");
+  writeCairoPng(surface.get(), cr, pngOut, "convergence plot", request.metadata);
 }
 
 }  // namespace fly::cli

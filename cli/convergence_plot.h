@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 
+#include "base/png_metadata.h"
 #include "raytracer/baker.h"
 
 namespace fly::cli {
@@ -19,6 +20,7 @@ struct ConvergencePlotRequest {
   int widthPx = 900;                 // [300, 8000]
   int heightPx = 600;                // [300, 8000]
   float targetRelativeError = 0.0f;  // drawn as a horizontal line when > 0
+  PngMetadata metadata;              // settings and print resolution in the file (cli/image_metadata.h)
 };
 
 // Where the plot area lies and which decades it spans. Pixel coordinates: x right, y down, (0, 0) the

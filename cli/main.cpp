@@ -8,6 +8,7 @@
 #include "base/log.h"
 #include "cli/command.h"
 #include "cli/image_decoder_module.h"
+#include "cli/image_metadata.h"
 #include "sdb/gltf_import.h"
 
 namespace {
@@ -18,6 +19,7 @@ constexpr const char* kFooter =
     "Run 'fly COMMAND --help' for a command's options.";
 
 int run(int argc, char** argv) {
+  fly::cli::recordCommandLine(argc, argv);
   CLI::App app(
       "fly: physically based daylight and artificial light for buildings and products.\n"
       "Bakes global illumination into light maps and shows it in real time.",
@@ -31,8 +33,13 @@ int run(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "print errors only (no warnings)");
 
   const std::vector<fly::cli::Command> commands = {
-      fly::cli::addInfoCommand(app),        fly::cli::addSunCommand(app),  fly::cli::addSkyCommand(app),
-      fly::cli::addIlluminanceCommand(app), fly::cli::addBakeCommand(app), fly::cli::addRenderCommand(app),
+      fly::cli::addInfoCommand(app),
+      fly::cli::addSunCommand(app),
+      fly::cli::addSkyCommand(app),
+      fly::cli::addIlluminanceCommand(app),
+      fly::cli::addDaylightFactorCommand(app),
+      fly::cli::addBakeCommand(app),
+      fly::cli::addRenderCommand(app),
       fly::cli::addViewCommand(app),
   };
 

@@ -537,7 +537,7 @@ void drawSunPath(const SunPathRequest& request, const fs::path& pngOut) {
            {cx, 0.983 * size}, {.size = 15.0, .bold = true, .maxWidth = kWidth});
   }
 
-  writeCairoPng(surface.get(), cr, pngOut, "sun-path diagram");
+  writeCairoPng(surface.get(), cr, pngOut, "sun-path diagram", request.metadata);
 }
 
 }  // namespace fly::cli

@@ -18,6 +18,7 @@
 #include <glm/vec2.hpp>
 #include <string>
 
+#include "base/png_metadata.h"
 #include "sunsky/sun_position.h"
 
 namespace fly::cli {
@@ -33,6 +34,7 @@ struct SunPathRequest {
   // included.
   std::string timeZone;
   int sizePx = 1200;  // width and height of the square image in pixels, [300, 8000]
+  PngMetadata metadata;  // settings and print resolution in the file (cli/image_metadata.h)
 };
 
 // Where the polar diagram lies in an image of sizePx × sizePx pixels. Pixel coordinates: x to the right, y

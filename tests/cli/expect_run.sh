@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs a command and checks its exit code and that its output contains a text; fails on a crash or a hang.
 #   expect_run.sh EXPECTED_EXIT_CODE EXPECTED_TEXT COMMAND [ARGS...]
-# An --out file must not exist after a failed run.
+# An --out or --image file must not exist after a failed run.
 # An input ending in .ies or .ldt is wrapped in a temporary scene file with one goniometric light, so `fly info`
 # reads it.
 set -u
@@ -19,12 +19,12 @@ for i in "${!args[@]}"; do
     args[$i]=$tmp/wrap.json
   fi
 done
-# The file an --out option names: removed first; after a failure it must not exist (no partial output).
-out=""
+# The files --out and --image name: removed first; after a failure they must not exist (no partial output).
+outs=()
 for i in "${!args[@]}"; do
-  if [ "${args[$i]}" = "--out" ]; then out=${args[$((i + 1))]}; fi
+  if [ "${args[$i]}" = "--out" ] || [ "${args[$i]}" = "--image" ]; then outs+=("${args[$((i + 1))]}"); fi
 done
-[ -n "$out" ] && rm -f "$out"
+for out in "${outs[@]}"; do rm -f "$out"; done
 timeout 120 "${args[@]}" > "$tmp/out" 2>&1
 code=$?
 if [ $code -eq 124 ]; then echo "FAIL: hung (killed after 120 s): ${args[*]}"; exit 1; fi
@@ -35,7 +35,9 @@ fi
 if ! grep -qF -- "$expected_text" "$tmp/out"; then
   echo "FAIL: output lacks '$expected_text': ${args[*]}"; cat "$tmp/out"; exit 1
 fi
-if [ -n "$out" ] && [ "$code" != 0 ] && [ -e "$out" ]; then
-  echo "FAIL: $out exists after a failed run (partial output)"; exit 1
-fi
+for out in "${outs[@]}"; do
+  if [ "$code" != 0 ] && [ -e "$out" ]; then
+    echo "FAIL: $out exists after a failed run (partial output)"; exit 1
+  fi
+done
 cat "$tmp/out"

@@ -3,7 +3,8 @@
 # the sun stores the sun's direct part beside E (vertex attributes, light-texture EXRs, the bake's sun in the
 # manifest); `fly render BAKED --mode sunlight --time T` renders another time from the same bake and says
 # when the indirect light was baked; at the bake's own time the image differs from another time's; and
-# `--time-lapse FROM,TO,STEP` writes one complete numbered PNG per time, nothing for a bad range.
+# `--time-lapse FROM,TO,STEP` writes one complete numbered PNG per time, nothing for a bad range; and
+# `--false-colour lux` draws the bake's illuminance with a legend.
 #   mixed_lighting_check.sh FLY PNG_CHECK SCENE WORKDIR   (SCENE: a scene file with a site, time and sun)
 set -uo pipefail
 fly=$1 pngCheck=$2 scene=$3 work=$4
@@ -22,6 +23,11 @@ fi
 head -1 baked/convergence.csv | grep sun_direct_estimated_error > /dev/null || fail "convergence.csv has no sun-direct error"
 "$fly" info baked > info.log 2>&1 || fail "info: $(cat info.log)"
 grep -q "indirect light baked at" info.log || fail "fly info does not say when the indirect light was baked: $(cat info.log)"
+
+# The bake's illuminance in false colour: the 160×90 view and its legend column (160 pixels wide, 300 high).
+"$fly" render baked --false-colour lux --size 160x90 --out lux.png > lux.log 2>&1 || fail "false colour: $(cat lux.log)"
+grep -q "illuminance in lux, false colour" lux.log || fail "render does not say it shows lux: $(cat lux.log)"
+"$pngCheck" lux.png 320 300 || fail "the false-colour view is not 320×300 or is uniform"
 
 bakeTime=$(sed -n 's/.*"time": "\([^"]*\)".*/\1/p' baked/manifest.json | head -1)
 [ -n "$bakeTime" ] || fail "no time in the manifest"
