@@ -73,7 +73,7 @@ namespace {
 
 // The shader's std430 blocks (raster/shaders/scene_glsl.h).
 struct GpuMaterial {
-  vec4 diffuse, specular, emission, transmission, reflection, coverage;
+  vec4 diffuse, specular, emission, transmission, reflection, coverage, environment;
 };
 struct GpuLight {
   vec4 positionType, directionRange, cAxisOffset, intensity, cone;
@@ -85,7 +85,8 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
           vec4(m.emissionCdM2, 0.0f),
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),
-          vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode)))};
+          vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
+          vec4(m.environmentF90, m.ggxAlpha)};
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -177,6 +178,8 @@ enum VariantBit : uint32_t {
   kVariantNearDeferred = 1u << 17,
   // Flat mirrors show the image of a mirrored pass (RasterRdb::planarReflectors).
   kVariantPlanarReflection = 1u << 18,
+  // Sunlight mode's image-based light from the sky (raster/environment_light.h).
+  kVariantIbl = 1u << 19,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -307,7 +310,7 @@ struct Renderer::SceneProgram {
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
-        mirrorF0 = -1;
+        mirrorF0 = -1, radianceTopLevel = -1;
 };
 
 struct NearProgram {
@@ -406,6 +409,17 @@ Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
   }
   gpu_->driverMaxAnisotropy = gpu_->maxAnisotropy;
   stats_.maxAnisotropy = gpu_->maxAnisotropy;
+  // The environment's cube maps are filtered across their faces' edges (raster/environment_light.h).
+  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+}
+
+void Renderer::setImageBasedLight(bool on) { imageBasedLight_ = on; }
+
+void Renderer::setEnvironmentSettings(const EnvironmentSettings& settings) {
+  if (environment_ && environment_->settings() == settings) return;
+  environment_ = std::make_unique<EnvironmentLight>(compiler(), settings);  // checks the settings
+  environmentSettings_ = settings;
+  environmentDirty_ = true;
 }
 
 void Renderer::setMaxAnisotropy(float samples) {
@@ -486,7 +500,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"},
                    {kVariantMeasured, "measured", "FLY_MEASURED"},
                    {kVariantNearDeferred, "neardeferred", "FLY_NEAR_DEFERRED"},
-                   {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"}};
+                   {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"},
+                   {kVariantIbl, "ibl", "FLY_IBL"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -501,7 +516,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
            ? std::string(shaders::kSceneCommon) +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
                  shaders::kLightTextureLookup + shaders::kSurfaceFragment
-           : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
+           : std::string((variant & kVariantIbl) ? shaders::kSceneCommon : "") + shaders::kLightTextureLookup +
+                 shaders::kSceneFragment);
   const GLuint p = compileProgram(
       name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
@@ -528,6 +544,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.sunInReflection = loc("uSunInReflection");
   sp.mirrorReflection = loc("uMirrorReflection");
   sp.mirrorF0 = loc("uMirrorF0");
+  sp.radianceTopLevel = loc("uRadianceTopLevel");
   sp.program = p;
   return sp;
 }
@@ -869,6 +886,7 @@ void Renderer::uploadLights() {
 }
 
 void Renderer::uploadSky() {
+  environmentDirty_ = true;
   if (gpu_->skyTexture) {
     glDeleteTextures(1, &gpu_->skyTexture);
     gpu_->skyTexture = 0;
@@ -943,6 +961,14 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
                                 ")");
   }
   resize(widthPx, heightPx);
+  if (mode == RenderMode::kSunlight && imageBasedLight_ && gpu_->skyTexture) {
+    if (!environment_) environment_ = std::make_unique<EnvironmentLight>(compiler(), environmentSettings_);
+    if (environmentDirty_) {
+      environment_->build(gpu_->skyTexture);
+      environmentDirty_ = false;
+      ++stats_.environmentBuilds;
+    }
+  }
   if (v.planarReflectors) drawReflections(view, mode, widthPx, heightPx);
   renderPass(view, mode, widthPx, heightPx, nullptr);
 }
@@ -1048,7 +1074,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
     // Sunlight mode over light maps without the sun's direct part: that part drawn for the current sun.
     const bool sunDirect = sunlight && lightMaps && v.sunDirect;
-    const uint32_t shared = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
+    const bool ibl = sunlight && imageBasedLight_ && environment_ && !environmentDirty_;
+    const uint32_t shared = (ibl ? kVariantIbl : 0u) | (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
                             ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
                             (sunDirect ? kVariantSunDirect : 0u) | (v.twoSided ? kVariantTwoSided : 0u) |
                             (phong && v.goniometric ? kVariantGonio : 0u) |
@@ -1129,6 +1156,9 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
+      if (programVariant & kVariantIbl) {
+        glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
+      }
       if (programVariant & kVariantSunGlass) {
         glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);
         glUniform1f(p.sunGlassBias, sunGlass_->biasM());
@@ -1188,6 +1218,11 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glBindTextureUnit(2, gpu_->lightTextures);
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
+      if (ibl) {
+        glBindTextureUnit(12, environment_->irradianceCube());
+        glBindTextureUnit(13, environment_->radianceCube());
+        glBindTextureUnit(14, environment_->splitSumTable());
+      }
       if (v.measuredBrdf) {
         glBindTextureUnit(9, balls_->texture());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, balls_->brdfBuffer());

@@ -61,6 +61,7 @@
 #include "base/math.h"
 #include "base/tone_map.h"
 #include "raster/ball_texture.h"
+#include "raster/environment_light.h"
 #include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
@@ -111,12 +112,21 @@ struct RendererStats {
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
   int reflectionPasses = 0;  // mirrored passes drawn for planar reflectors (RasterRdb::planarReflectors)
+  int environmentBuilds = 0;  // the sky's image-based light maps (re)built: a new sky or sun (EnvironmentLight)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
 
 // The most anisotropic filtering material textures get, where the driver has it (GL 4.6, or
 // GL_ARB_/EXT_texture_filter_anisotropic): 16 samples, the usual ceiling.
 inline constexpr float kMaxAnisotropy = 16.0f;
+
+// The sky's image-based light maps: a 64² source and radiance cube with 6 levels (α = 0, 0.04, … 1) of 256
+// GGX samples a texel, a 16² irradiance cube summed over the 32² level, a 32² split-sum table — a sky is
+// smooth, and a change of time rebuilds them in a few milliseconds on a GPU.
+inline constexpr EnvironmentSettings kSkyEnvironmentSettings{.cubePx = 64, .radianceLevels = 6,
+                                                             .prefilterSamples = 256, .irradiancePx = 16,
+                                                             .irradianceQuadPx = 32, .tablePx = 32,
+                                                             .tableSamples = 512};
 
 class Renderer {
  public:
@@ -176,6 +186,20 @@ class Renderer {
   // A layer of the ball textures, as last made (BallTextures::readLayer); for tests.
   std::vector<float> ballLayer(uint32_t layer) const;
 
+  // Sunlight mode's image-based light (on by default): the sky image (the sky and ground, without the sun's
+  // disc, which stays a directional light) is the environment (raster/environment_light.h), convolved when
+  // the sky changes (a new sky, time or sun) at the first sunlight frame after it. Its irradiance replaces the
+  // directional ambient term on surfaces without a light map, and its prefiltered radiance by the split sum
+  // adds the specular part of every material with a reflection (RasterMaterial::environmentF90; light-mapped
+  // ones too, whose light map holds the diffuse part), per fragment, except measured BRDFs (their balls) and
+  // planar reflectors that show a mirrored pass. Off: the directional ambient term, as in simple mode.
+  void setImageBasedLight(bool on);
+  // The environment maps' sizes and sample counts; std::invalid_argument out of range (EnvironmentSettings).
+  // Default: kSkyEnvironmentSettings.
+  void setEnvironmentSettings(const EnvironmentSettings& settings);
+  // The last built environment maps (null before the first sunlight frame with image-based light); for tests.
+  const EnvironmentLight* environmentLight() const { return environment_.get(); }
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -221,6 +245,10 @@ class Renderer {
   bool shadowGeometryDirty_ = true;
   std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass
   bool sunGlassDirty_ = true;
+  std::unique_ptr<EnvironmentLight> environment_;  // made at the first sunlight frame with image-based light
+  EnvironmentSettings environmentSettings_ = kSkyEnvironmentSettings;
+  bool imageBasedLight_ = true;
+  bool environmentDirty_ = true;
   std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
   bool ballBrdfsDirty_ = true;
   std::vector<char> materialCasts_;  // per material: castsSunShadows

@@ -130,6 +130,12 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   r.specular = glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f));
   const double alpha = std::max(1e-4, double(m.reflectionGlossiness) * m.reflectionGlossiness);
   r.phongExponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
+  r.ggxAlpha = float(alpha);
+  if (std::max({r.specular.r, r.specular.g, r.specular.b}) > 0.0f) {
+    r.environmentF90 = m.reflectionModel == sdb::ReflectionModel::kUniform
+                           ? r.specular
+                           : glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
+  }
   r.emissionCdM2 = m.emissionLuminance;
   if (m.hasClearTransmission()) {
     r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
@@ -602,6 +608,7 @@ void buildMeasuredBrdfs(RasterRdb& rdb, const sdb::Scene& scene) {
     block.diffuse = glm::clamp(brdf.albedo.back(), Rgb(0.0f), Rgb(1.0f));
     block.specular = Rgb(0.0f);
     block.reflection = Rgb(0.0f);
+    block.environmentF90 = Rgb(0.0f);
     rdb.measuredBrdfs.push_back(std::move(brdf));
   }
 }

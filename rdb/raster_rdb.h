@@ -96,6 +96,12 @@ struct RasterMaterial {
   // (diffuse + reflection) · E / π (raster/renderer.h).
   Rgb reflection{0.0f};
   float fresnelF0 = -1.0f;
+  // What the image-based light's split sum (raster/environment_light.h) reflects: F0 = `specular` at normal
+  // incidence and F90 = environmentF90 at grazing incidence (the reflection colour: Schlick's Fresnel rises
+  // to it; uniform reflection has F90 = F0), with the GGX width ggxAlpha = glossiness² (as the baker's
+  // glossy lobe). environmentF90 is 0 for a material that reflects nothing and for measured BRDFs.
+  Rgb environmentF90{0.0f};
+  float ggxAlpha = 1.0f;
   // Textures (each optional). The base colour's texel (sRGB-decoded) times COLOR_0 multiplies `diffuse` —
   // the energy rule is linear in the diffuse input, so this is the rule applied per texel
   // (sdb::applyEnergyRule) — and its alpha the coverage; the emission texel multiplies emissionCdM2; the
