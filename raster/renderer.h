@@ -14,7 +14,11 @@
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term.
 //              Over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect):
 //              albedo · (E − E_sunDirect) / π plus the sun's direct term (Lambert and Phong lobe, normal maps)
-//              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md)
+//              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md). The sky is
+//              also image-based light (setImageBasedLight): its irradiance in place of the directional ambient
+//              term, its prefiltered radiance by the split sum for every material's specular part
+// Curved reflectors (rdb::RasterRdb::cubeReflectors) show cube maps of the scene from their centres
+// (raster/cube_reflections.h), captured before the frame only when the scene, its light or the mode changed.
 // Where the sun's direct term is drawn (simple and sunlight modes: surfaces without light maps, and light maps
 // that keep the sun's direct part apart) it is shadowed (setSunShadows; raster/sun_shadows.h): after the
 // scene, a z-fail stencil pass of the sun's shadow volumes, then the pixels inside a volume drawn again at
@@ -68,6 +72,8 @@
 
 namespace fly::raster {
 
+class CubeReflections;
+
 enum class RenderMode { kSimple, kLightMap, kSunlight };
 
 const char* renderModeName(RenderMode m);  // "simple", "lightmap", "sunlight"
@@ -112,6 +118,7 @@ struct RendererStats {
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
   int reflectionPasses = 0;  // mirrored passes drawn for planar reflectors (RasterRdb::planarReflectors)
+  int cubeCaptures = 0;  // cube reflectors' maps captured (six views each): a new scene, light or mode
   int environmentBuilds = 0;  // the sky's image-based light maps (re)built: a new sky or sun (EnvironmentLight)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
@@ -228,7 +235,13 @@ class Renderer {
     vec4 planeWorld;
     uint32_t reflector;
   };
-  void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass);
+  // A face of a cube reflector's capture (captureCubeReflectors) leaves out the reflector.
+  struct CubePass {
+    uint32_t reflector;
+  };
+  void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass,
+                  const CubePass* cubePass);
+  void captureCubeReflectors(RenderMode mode);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::
   // kNearLampsCompute): prepareNearLamps, after the balls are made, uploads every BRDF's lamps and readies
@@ -249,6 +262,9 @@ class Renderer {
   EnvironmentSettings environmentSettings_ = kSkyEnvironmentSettings;
   bool imageBasedLight_ = true;
   bool environmentDirty_ = true;
+  std::unique_ptr<CubeReflections> cubes_;  // made at the first frame of a scene with cube reflectors
+  bool cubesDirty_ = true;
+  RenderMode cubeMode_ = RenderMode::kSimple;
   std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
   bool ballBrdfsDirty_ = true;
   std::vector<char> materialCasts_;  // per material: castsSunShadows

@@ -15,6 +15,8 @@
 //   FLY_IBL        sunlight mode's image-based light (raster/environment_light.h): the sky's irradiance in place
 //                  of the directional ambient term, and its prefiltered radiance by the split sum for the
 //                  specular part of every material, per fragment (flyEnvironmentSpecular)
+//   FLY_CUBE_REFLECTION  curved reflectors (per fragment): a draw with uCubeReflector ≥ 0 adds the split sum of
+//                  its own cube map (raster/cube_reflections.h) in every mode
 //   FLY_SUN_GLASS  scenes with clear glass and a sun (with FLY_SUN): the sun's direct term times the T of the
 //                  glass between the surface and the sun, per fragment (raster/sun_glass.h; kSunGlassLookup,
 //                  prepended to every stage). Per-vertex meshes pass the sun's term apart from the rest
@@ -170,15 +172,19 @@ float flySunHighlight() {
 #endif
 }
 
-#ifdef FLY_IBL
+#if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
 // Image-based light (raster/environment_light.h): the environment's irradiance cube (lux) for the diffuse
 // part of surfaces without a light map, and its GGX-prefiltered radiance cube with the split sum's table for
-// the specular part of every material (Karis 2013: L_pre(r, α) · (F0 A + F90 B)).
+// the specular part of every material (Karis 2013: L_pre(r, α) · (F0 A + F90 B)). The environment is the
+// sky's (FLY_IBL), or on a cube reflector's draw its own cube map (FLY_CUBE_REFLECTION, uCubeReflector ≥ 0).
 layout(binding = 12) uniform samplerCube uIrradiance;
 layout(binding = 13) uniform samplerCube uRadiance;  // level k: α_k = (k / (K − 1))²
 layout(binding = 14) uniform sampler2D uSplitSum;    // (A, B)(cos θo, √α), texel centres at (i + ½) / N
 uniform float uRadianceTopLevel;                     // K − 1
 vec3 flyIrradianceLux(vec3 n) { return textureLod(uIrradiance, n, 0.0).rgb; }
+#ifdef FLY_CUBE_REFLECTION
+uniform int uCubeReflector;  // the draw's RasterRdb::cubeReflectors index, −1 for none
+#endif
 // The environment's light reflected towards the eye by material m's GGX lobe (cd/m²).
 vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
   if (m.environment.r + m.environment.g + m.environment.b <= 0.0) return vec3(0.0);
@@ -582,7 +588,7 @@ out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -605,7 +611,7 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -653,7 +659,7 @@ void main() {
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -862,7 +868,7 @@ void main() {
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
   // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 n = normalize(vNormal);
@@ -911,6 +917,9 @@ void main() {
 #ifdef FLY_PLANAR_REFLECTION
     if (uReflector >= 0) reflectance = base.rgb;  // the reflection image shows what the mirror reflects
 #endif
+#ifdef FLY_CUBE_REFLECTION
+    if (uCubeReflector >= 0) reflectance = base.rgb;  // its cube map shows what it reflects
+#endif
     l = reflectance * eLux / kPi;
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
@@ -933,9 +942,13 @@ void main() {
 #endif
   }
 #endif
-#ifdef FLY_IBL
-  // The environment's specular part; a planar reflector's image and a measured BRDF's ball show their own.
+#if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+  // The environment's specular part (without FLY_IBL, only a cube reflector's); a planar reflector's image and
+  // a measured BRDF's ball show their own.
   bool environmentReflects = !back || twoSided;
+#ifndef FLY_IBL
+  environmentReflects = environmentReflects && uCubeReflector >= 0;
+#endif
 #ifdef FLY_PLANAR_REFLECTION
   environmentReflects = environmentReflects && uReflector < 0;
 #endif
