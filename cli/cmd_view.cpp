@@ -15,6 +15,7 @@
 #include "base/image_io.h"
 #include "base/log.h"
 #include "cli/command.h"
+#include "cli/environment_option.h"
 #include "cli/raster_scene.h"
 #include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
@@ -38,6 +39,7 @@ struct ViewOptions {
   std::string op = "filmic";
   ShadowOptions shadows;
   uint32_t ballTexels = 256;
+  EnvironmentOptions environment;
   DaylightOptions daylight;
   uint64_t frames = 0;
   std::string keys;
@@ -46,9 +48,14 @@ struct ViewOptions {
 
 class SceneHost : public raster::ViewerHost {
  public:
-  SceneHost(RasterScene& scene, rdb::RasterRdb& rdb) : s_(scene), rdb_(rdb) {}
+  SceneHost(RasterScene& scene, rdb::RasterRdb& rdb, bool environment)
+      : s_(scene), rdb_(rdb), environment_(environment) {}
 
   std::optional<rdb::RasterRdbChanges> stepTime(int minutes, std::string& message) override {
+    if (environment_) {
+      message = "the --environment stands in for the sky and sun: the time of day does not change it";
+      return std::nullopt;
+    }
     if (!s_.scene.hasSite() || s_.scene.time().localDateTime.empty()) {
       message = s_.scene.time().sunDirection ? "no time of day: the sun is placed directly (--sun-dir)"
                                              : "no time of day: the scene has no site";
@@ -94,6 +101,7 @@ class SceneHost : public raster::ViewerHost {
  private:
   RasterScene& s_;
   rdb::RasterRdb& rdb_;
+  bool environment_;
   int counter_ = 0;
 };
 
@@ -129,12 +137,14 @@ int runView(const ViewOptions& o) {
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".png") throw UsageError("--screenshot " + o.screenshot + ": give a .png file");
   }
+  const std::optional<rdb::RasterSky> environment = loadEnvironment(o.environment);
   // GLFW 3.3 needs an X display (Wayland through XWayland).
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) throw std::runtime_error(kNoDisplay);
 
   RasterScene scene = loadRasterScene(o.scene, o.daylight);
   rdb::RasterRdb rdb = buildRasterRdb(scene.scene, scene.lightMaps ? &*scene.lightMaps : nullptr);
   if (rdb.indices.empty()) throw InputError({scene.scenePath.string()}, "has no triangles to show");
+  if (environment) applyEnvironment(rdb, *environment);
 
   raster::ViewerOptions v;
   v.mode = chooseRenderMode(rdb, mode, scene.scenePath);
@@ -163,12 +173,12 @@ int runView(const ViewOptions& o) {
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
             << "\nlight     " << scene.light << "\n"
-            << measuredBrdfLine(rdb, balls)
+            << measuredBrdfLine(rdb, balls) << environmentLine(o.environment, environment)
             << (scene.bakedSunlight.empty() ? "" : "baked     " + scene.bakedSunlight + "\n") << "OpenGL    "
             << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
             << " (" << window->info().platform << ")\n"
             << std::flush;
-  SceneHost host(scene, rdb);
+  SceneHost host(scene, rdb, environment.has_value());
   const raster::ViewerResult r = raster::runViewer(*window, rdb, host, v);
 
   if (!o.screenshot.empty()) {
@@ -207,6 +217,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   addShadowOptions(*sub, o->shadows);
   addBallOption(*sub, o->ballTexels);
+  addEnvironmentOptions(*sub, o->environment);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
   sub->add_option(
