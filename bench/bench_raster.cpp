@@ -200,8 +200,9 @@ sdb::Scene makeScene(uint32_t cells, bool textured = false) {
 }
 
 // Two flat reflectors in makeScene's scene: a 40 × 8 m wall at z = −20.5 facing the camera and an 8 × 6 m pool
-// on the ground; mirrors (uniform reflection 0.9, glossiness 0: planar reflectors) or, for the baseline, the
-// same quads of a plain grey.
+// on the ground, and a curved one: a 1.5 m sphere (48 × 96 quads) on the ground between them; mirrors (uniform
+// reflection 0.9, glossiness 0: two planar reflectors and one cube map) or, for the baseline, the same meshes
+// of a plain grey.
 void addReflectors(sdb::Scene& s, bool mirrors) {
   sdb::Material m;
   m.name = mirrors ? "mirror" : "grey";
@@ -222,6 +223,28 @@ void addReflectors(sdb::Scene& s, bool mirrors) {
   };
   s.addNode({.name = "wall", .meshes = {quad(vec3(-20, 0, -20.5f), vec3(40, 0, 0), vec3(0, 8, 0))}});
   s.addNode({.name = "pool", .meshes = {quad(vec3(-4, 0.01f, 4), vec3(8, 0, 0), vec3(0, 0, -6))}});
+  // A UV sphere: (rings + 1) × (segments + 1) vertices, unit normals from the centre.
+  sdb::Mesh ball;
+  constexpr int kRings = 48, kSegments = 96;
+  const vec3 centre(-6.0f, 1.5f, 2.0f);
+  for (int i = 0; i <= kRings; ++i) {
+    const float theta = float(kPi) * float(i) / kRings;
+    for (int j = 0; j <= kSegments; ++j) {
+      const float phi = 2.0f * float(kPi) * float(j) / kSegments;
+      const vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
+      ball.positions.push_back(centre + 1.5f * n);
+      ball.normals.push_back(n);
+    }
+  }
+  for (uint32_t i = 0; i < uint32_t(kRings); ++i) {
+    for (uint32_t j = 0; j < uint32_t(kSegments); ++j) {
+      const uint32_t a = i * (kSegments + 1) + j, b = a + kSegments + 1;
+      if (i > 0) ball.indices.insert(ball.indices.end(), {a, b, a + 1});
+      if (i + 1 < uint32_t(kRings)) ball.indices.insert(ball.indices.end(), {a + 1, b, b + 1});
+    }
+  }
+  ball.material = id;
+  s.addNode({.name = "ball", .meshes = {s.addMesh(ball).id}});
 }
 
 // A box from `lo` to `hi` with every face split into k × k quads (vertices shared within a face; the faces'
@@ -644,9 +667,35 @@ int run(int argc, char** argv) {
         const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
         if (!mirrors) grey[m] = t;
         printRow(name.c_str(), renderModeName(kAll[m]), t, baseline.pipelinedMs);
-        if (mirrors) std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, × grey %.2f\n", "", "",
+        if (mirrors) std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, cube maps %zu, × grey %.2f\n", "", "",
                                  r.planarReflectors.size(), double(renderer.stats().reflectionPasses) / double(renderer.stats().scenePasses - renderer.stats().reflectionPasses),
-                                 t.pipelinedMs / grey[m].pipelinedMs);
+                                 r.cubeReflectors.size(), t.pipelinedMs / grey[m].pipelinedMs);
+        if (mirrors && !r.cubeReflectors.empty()) {
+          // The cube map's capture (six 64² views and its prefiltering), which runs only when the scene or its
+          // light changes: one frame after a change against one without.
+          auto oneFrameMs = [&](bool change) {
+            if (change) renderer.update(r, {.lights = true});
+            renderer.finish();
+            const Clock::time_point start = Clock::now();
+            renderer.render(view, kAll[m], w, h);
+            renderer.finish();
+            return 1e3 * secondsSince(start);
+          };
+          oneFrameMs(false);
+          const double still = oneFrameMs(false), changed = oneFrameMs(true);
+          std::printf("%-9s %-9s cube-map capture %.2f ms (a frame after a light change %.2f ms, without %.2f ms)\n", "",
+                      "", changed - still, changed, still);
+        }
+      }
+      if (mirrors) {
+        // Sunlight mode's image-based light (the sky's irradiance and split sum) against the directional
+        // ambient term, in the mirrors' scene.
+        renderer.setImageBasedLight(false);
+        const FrameTimes off = timeFrames(renderer, view, RenderMode::kSunlight, w, h, gpuTimers);
+        printRow((name + "-ibl").c_str(), "sunlight", off, baseline.pipelinedMs);
+        renderer.setImageBasedLight(true);
+        const FrameTimes on = timeFrames(renderer, view, RenderMode::kSunlight, w, h, gpuTimers);
+        std::printf("%-9s %-9s without image-based light; with it × %.2f\n", "", "", on.pipelinedMs / off.pipelinedMs);
       }
     }
     return 0;

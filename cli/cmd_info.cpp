@@ -156,6 +156,7 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   if (scene.sky().model == sdb::SkyModel::kClear || scene.sky().sun) j["sky"]["turbidity"] = scene.sky().turbidity;
   j["light"] = {{"default_daylight", lit.defaultDaylight}, {"description", lit.light}};
   j["features"] = f.names();
+  j["engine_reflections"] = f.engineReflections;
   if (f.measuredBrdfs) {
     const MeasuredBrdfs m = measuredBrdfs(scene);
     nlohmann::json tables = nlohmann::json::array();
@@ -223,6 +224,7 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   std::string feats;
   for (const std::string& n : f.names()) feats += (feats.empty() ? "" : " ") + n;
   o << "features   " << (feats.empty() ? "none" : feats) << "\n";
+  for (const auto& [material, choice] : f.engineReflections) o << "reflection " << material << ": " << choice << "\n";
   if (f.measuredBrdfs) {
     // Each table's largest directional albedo: above 1 the baker scales the table down (docs/measured-brdf.md).
     const MeasuredBrdfs m = measuredBrdfs(scene);

@@ -22,6 +22,7 @@
 #include "cli/command.h"
 #include "cli/illuminance_view.h"
 #include "cli/image_metadata.h"
+#include "cli/environment_option.h"
 #include "cli/raster_scene.h"
 #include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
@@ -48,6 +49,7 @@ struct RenderOptions {
   float whitePoint = 4.0f;
   ShadowOptions shadows;
   uint32_t ballTexels = 256;
+  EnvironmentOptions environment;
   DaylightOptions daylight;
   std::string timeLapse;  // FROM,TO,STEP
 };
@@ -140,6 +142,9 @@ int runRender(const RenderOptions& options) {
   const ToneOperator op = parseToneOperator(o.op);
   const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
   const raster::BallSettings balls = parseBallOption(o.ballTexels);
+  if (!o.environment.source.empty() && !o.timeLapse.empty())
+    throw UsageError("--time-lapse moves the sun of the sky; --environment replaces both: give one of them");
+  const std::optional<rdb::RasterSky> environment = loadEnvironment(o.environment);
   std::optional<raster::RenderMode> requestedMode;
   if (!o.mode.empty()) requestedMode = parseRenderMode(o.mode);
   const bool timeLapse = !o.timeLapse.empty();
@@ -176,6 +181,7 @@ int runRender(const RenderOptions& options) {
   const rdb::LightMapStore* maps = lightMaps ? &*lightMaps : nullptr;
   rdb::RasterRdb rdb = buildRasterRdb(loaded.scene, maps);
   if (rdb.indices.empty()) throw InputError({scenePath.string()}, "has no triangles to render");
+  if (environment) applyEnvironment(rdb, *environment);
   std::optional<TimeLapse> lapse;
   if (timeLapse) {
     if (!loaded.scene.hasSite() || loaded.scene.time().localDateTime.empty()) {
@@ -261,7 +267,7 @@ int runRender(const RenderOptions& options) {
   t << "view      " << viewName << "\n";
   t << "mode      " << raster::renderModeName(*mode) << "\n";
   t << "light     " << loaded.light << "\n";
-  t << measuredBrdfLine(rdb, balls);
+  t << measuredBrdfLine(rdb, balls) << environmentLine(o.environment, environment);
   if (lightMaps && *mode == raster::RenderMode::kSunlight) t << "baked     " << loaded.bakedSunlight << "\n";
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
@@ -382,6 +388,7 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
   addShadowOptions(*sub, o->shadows);
   addBallOption(*sub, o->ballTexels);
+  addEnvironmentOptions(*sub, o->environment);
   o->daylight.add(*sub);
   sub->add_option("--time-lapse", o->timeLapse,
                   "FROM,TO,STEP: one image per time from FROM to TO (times as --time takes them) every STEP "

@@ -15,6 +15,7 @@
 #include "base/error.h"
 #include "base/image_io.h"
 #include "cli/command.h"
+#include "cli/environment_option.h"
 #include "cli/raster_scene.h"
 #include "cli/view_host.h"
 #include "raster/gl_context.h"
@@ -37,6 +38,7 @@ struct ViewOptions {
   std::string op = "filmic";
   ShadowOptions shadows;
   uint32_t ballTexels = 256;
+  EnvironmentOptions environment;
   DaylightOptions daylight;
   uint64_t frames = 0;
   std::string keys;
@@ -95,12 +97,14 @@ int runView(const ViewOptions& o) {
   if (!o.windowScreenshot.empty()) checkPngName("--window-screenshot", o.windowScreenshot);
   std::optional<vec2> probeAt;
   if (!o.probe.empty()) probeAt = parseProbePoint(o.probe, width, height);
+  const std::optional<rdb::RasterSky> environment = loadEnvironment(o.environment);
   // GLFW 3.3 needs an X display (Wayland through XWayland).
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) throw std::runtime_error(kNoDisplay);
 
   RasterScene scene = loadRasterScene(o.scene, o.daylight);
   rdb::RasterRdb rdb = buildRasterRdb(scene.scene, scene.lightMaps ? &*scene.lightMaps : nullptr);
   if (rdb.indices.empty()) throw InputError({scene.scenePath.string()}, "has no triangles to show");
+  if (environment) applyEnvironment(rdb, *environment);
 
   raster::ViewerOptions v;
   v.mode = chooseRenderMode(rdb, mode, scene.scenePath);
@@ -133,12 +137,12 @@ int runView(const ViewOptions& o) {
             << (v.camera ? "camera \"" + rdb.cameras[*v.camera].name + "\""
                          : std::string("a view framing the whole scene"))
             << "\nlight     " << scene.light << "\n"
-            << measuredBrdfLine(rdb, balls)
+            << measuredBrdfLine(rdb, balls) << environmentLine(o.environment, environment)
             << (scene.bakedSunlight.empty() ? "" : "baked     " + scene.bakedSunlight + "\n") << "OpenGL    "
             << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
             << " (" << window->info().platform << ")\n"
             << std::flush;
-  SceneViewHost host(scene, rdb);
+  SceneViewHost host(scene, rdb, environment.has_value());
   const raster::ViewerResult r = raster::runViewer(*window, rdb, host, v);
 
   if (!o.screenshot.empty()) {
@@ -186,6 +190,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   addShadowOptions(*sub, o->shadows);
   addBallOption(*sub, o->ballTexels);
+  addEnvironmentOptions(*sub, o->environment);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
   sub->add_option(

@@ -13,6 +13,7 @@ namespace {
 
 struct LoadedDecoder {
   sdb::DecodeImageFunction decode = nullptr;
+  sdb::DecodeFloatImageFunction decodeFloat = nullptr;
   std::string error;  // why it could not be loaded
 };
 
@@ -31,25 +32,37 @@ LoadedDecoder load() {
     return r;
   }
   using Entry = sdb::DecodeImageFunction (*)();
+  using FloatEntry = sdb::DecodeFloatImageFunction (*)();
   const auto entry = reinterpret_cast<Entry>(dlsym(handle, sdb::kOiioDecoderModuleSymbol));
-  if (!entry) {
-    r.error = module.string() + " has no symbol " + sdb::kOiioDecoderModuleSymbol;
+  const auto floatEntry = reinterpret_cast<FloatEntry>(dlsym(handle, sdb::kOiioFloatModuleSymbol));
+  if (!entry || !floatEntry) {
+    r.error = module.string() + " has no symbol " + (entry ? sdb::kOiioFloatModuleSymbol : sdb::kOiioDecoderModuleSymbol);
     return r;
   }
   r.decode = entry();
+  r.decodeFloat = floatEntry();
   return r;
 }
 
 }  // namespace
 
-sdb::Texture decodeImageThroughModule(std::span<const uint8_t> encoded, size_t maxBytes,
-                                      std::vector<std::string>& notes) {
+// The module, loaded once (thread-safe); std::logic_error when it cannot be.
+const LoadedDecoder& loadedModule() {
   static const LoadedDecoder loaded = load();
   if (!loaded.decode) {
     throw std::logic_error("fly cannot load its texture decoder module (" + loaded.error +
                            "); it is built beside the fly program: rebuild fly (scripts/build fly)");
   }
-  return loaded.decode(encoded, maxBytes, notes);
+  return loaded;
+}
+
+sdb::Texture decodeImageThroughModule(std::span<const uint8_t> encoded, size_t maxBytes,
+                                      std::vector<std::string>& notes) {
+  return loadedModule().decode(encoded, maxBytes, notes);
+}
+
+sdb::FloatRgbImage decodeFloatImageThroughModule(std::span<const uint8_t> encoded, size_t maxBytes) {
+  return loadedModule().decodeFloat(encoded, maxBytes);
 }
 
 }  // namespace fly::cli

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sdb/oiio_image_decoder.h"
 #include "sdb/texture.h"
 
 namespace fly::cli {
@@ -18,5 +19,8 @@ namespace fly::cli {
 // behaves exactly as sdb::decodeImageOiio.
 sdb::Texture decodeImageThroughModule(std::span<const uint8_t> encoded, size_t maxBytes,
                                       std::vector<std::string>& notes);
+// The module's float decoder (sdb::decodeFloatImageOiio: Radiance HDR and OpenEXR, values as stored), loaded
+// and failing alike.
+sdb::FloatRgbImage decodeFloatImageThroughModule(std::span<const uint8_t> encoded, size_t maxBytes);
 
 }  // namespace fly::cli

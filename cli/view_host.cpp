@@ -12,6 +12,7 @@
 namespace fly::cli {
 
 std::string SceneViewHost::noTimeOfDay() const {
+  if (environment_) return "the --environment stands in for the sky and sun: the time of day does not change it";
   if (s_.scene.hasSite() && !s_.scene.time().localDateTime.empty()) return "";
   return s_.scene.time().sunDirection ? "no time of day: the sun is placed directly (--sun-dir)"
                                       : "no time of day: the scene has no site";

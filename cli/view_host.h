@@ -15,8 +15,10 @@ namespace fly::cli {
 
 class SceneViewHost : public raster::ViewerHost {
  public:
-  // `rdb` was built from scene.scene (with scene.lightMaps); both outlive the host.
-  SceneViewHost(RasterScene& scene, rdb::RasterRdb& rdb) : s_(scene), rdb_(rdb) {}
+  // `rdb` was built from scene.scene (with scene.lightMaps); both outlive the host. environment: an
+  // --environment stands in for the sky and the sun, so the time of day has nothing to change.
+  SceneViewHost(RasterScene& scene, rdb::RasterRdb& rdb, bool environment = false)
+      : s_(scene), rdb_(rdb), environment_(environment) {}
 
   std::optional<rdb::RasterRdbChanges> stepTime(int minutes, std::string& message) override;
   std::string timeLabel() const override;
@@ -35,6 +37,7 @@ class SceneViewHost : public raster::ViewerHost {
 
   RasterScene& s_;
   rdb::RasterRdb& rdb_;
+  bool environment_;
   int counter_ = 0;
 };
 

@@ -107,7 +107,35 @@ void EnvironmentLight::build(const std::vector<Rgb>& radianceCdM2, uint32_t widt
   glDeleteTextures(1, &t);
 }
 
+unsigned EnvironmentLight::sourceCube() {
+  Gpu& g = *gpu_;
+  const EnvironmentSettings& s = settings_;
+  if (!g.source) {
+    g.sourceLevels = uint32_t(std::log2(double(s.cubePx))) + 1;
+    g.source = cubeTexture(s.cubePx, g.sourceLevels);
+    g.radiance = cubeTexture(s.cubePx, s.radianceLevels);
+    g.irradiance = cubeTexture(s.irradiancePx, 1);
+  }
+  return g.source;
+}
+
 void EnvironmentLight::build(unsigned equirectTexture) {
+  Gpu& g = *gpu_;
+  // The source's level 0 from the image.
+  sourceCube();
+  if (!g.fromEquirect) {
+    g.fromEquirect = compile_("environment-cube", std::string(shaders::kEnvironmentCommon),
+                              {{GL_COMPUTE_SHADER, shaders::kEnvironmentFromEquirect}});
+  }
+  glUseProgram(g.fromEquirect);
+  glUniform1i(glGetUniformLocation(g.fromEquirect, "uSize"), GLint(settings_.cubePx));
+  glBindTextureUnit(0, equirectTexture);
+  glBindImageTexture(0, g.source, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchCube(settings_.cubePx);
+  buildFromSource();
+}
+
+void EnvironmentLight::buildFromSource() {
   Gpu& g = *gpu_;
   const EnvironmentSettings& s = settings_;
   auto program = [&](GLuint& p, const char* name, const char* source) {
@@ -115,19 +143,9 @@ void EnvironmentLight::build(unsigned equirectTexture) {
     glUseProgram(p);
     return p;
   };
-  if (!g.source) {
-    g.sourceLevels = uint32_t(std::log2(double(s.cubePx))) + 1;
-    g.source = cubeTexture(s.cubePx, g.sourceLevels);
-    g.radiance = cubeTexture(s.cubePx, s.radianceLevels);
-    g.irradiance = cubeTexture(s.irradiancePx, 1);
-  }
-  // The source: level 0 from the image, the rest box-filtered.
-  GLuint p = program(g.fromEquirect, "environment-cube", shaders::kEnvironmentFromEquirect);
-  glUniform1i(glGetUniformLocation(p, "uSize"), GLint(s.cubePx));
-  glBindTextureUnit(0, equirectTexture);
-  glBindImageTexture(0, g.source, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  dispatchCube(s.cubePx);
-  p = program(g.downsample, "environment-downsample", shaders::kEnvironmentDownsample);
+  sourceCube();
+  // The source's coarser levels, box-filtered from level 0.
+  GLuint p = program(g.downsample, "environment-downsample", shaders::kEnvironmentDownsample);
   for (uint32_t level = 1; level < g.sourceLevels; ++level) {
     const uint32_t n = std::max(1u, s.cubePx >> level);
     glUniform1i(glGetUniformLocation(p, "uSize"), GLint(n));

@@ -53,6 +53,11 @@ class EnvironmentLight {
   // The same from pixels: width × height, rows from the zenith; std::invalid_argument for an empty image or
   // a value that is negative or not finite (naming the pixel).
   void build(const std::vector<Rgb>& radianceCdM2, uint32_t width, uint32_t height);
+  // The same from a cube the caller renders: sourceCube() is the source's texture (GL_TEXTURE_CUBE_MAP,
+  // RGBA32F, cubePx² a face; write level 0, e.g. by image stores, then make them visible), buildFromSource()
+  // makes the rest from its level 0.
+  unsigned sourceCube();
+  void buildFromSource();
 
   const EnvironmentSettings& settings() const { return settings_; }
   unsigned radianceCube() const;    // GL_TEXTURE_CUBE_MAP, RGBA32F, radianceLevels mip levels

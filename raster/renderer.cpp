@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "raster/cube_reflections.h"
 #include "raster/gl_program.h"
 #include "raster/shaders/ball_texture_glsl.h"
 #include "raster/shaders/scene_glsl.h"
@@ -73,7 +74,7 @@ namespace {
 
 // The shader's std430 blocks (raster/shaders/scene_glsl.h).
 struct GpuMaterial {
-  vec4 diffuse, specular, emission, transmission, reflection, coverage;
+  vec4 diffuse, specular, emission, transmission, reflection, coverage, environment;
 };
 struct GpuLight {
   vec4 positionType, directionRange, cAxisOffset, intensity, cone;
@@ -85,7 +86,8 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
           vec4(m.emissionCdM2, 0.0f),
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),
-          vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode)))};
+          vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
+          vec4(m.environmentF90, m.ggxAlpha)};
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -177,6 +179,10 @@ enum VariantBit : uint32_t {
   kVariantNearDeferred = 1u << 17,
   // Flat mirrors show the image of a mirrored pass (RasterRdb::planarReflectors).
   kVariantPlanarReflection = 1u << 18,
+  // Curved reflectors show their cube maps (RasterRdb::cubeReflectors, raster/cube_reflections.h).
+  kVariantCubeReflection = 1u << 20,
+  // Sunlight mode's image-based light from the sky (raster/environment_light.h).
+  kVariantIbl = 1u << 19,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -245,6 +251,7 @@ struct SurfaceDraw {
   bool mask = false;
   bool blend = false;
   uint32_t reflector = rdb::RasterTextureRef::kNone;  // RasterRdb::planarReflectors' index of its meshes
+  uint32_t cubeReflector = rdb::RasterTextureRef::kNone;  // RasterRdb::cubeReflectors' index of its mesh
   vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
   GLuint samplers[3] = {0, 0, 0};  // the material's texture slots' sampler objects (Renderer::samplerFor)
 };
@@ -307,7 +314,7 @@ struct Renderer::SceneProgram {
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
-        mirrorF0 = -1;
+        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1;
 };
 
 struct NearProgram {
@@ -406,6 +413,20 @@ Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
   }
   gpu_->driverMaxAnisotropy = gpu_->maxAnisotropy;
   stats_.maxAnisotropy = gpu_->maxAnisotropy;
+  // The environment's cube maps are filtered across their faces' edges (raster/environment_light.h).
+  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+}
+
+void Renderer::setImageBasedLight(bool on) {
+  cubesDirty_ |= on != imageBasedLight_;  // the cube reflectors' captures are lit by it
+  imageBasedLight_ = on;
+}
+
+void Renderer::setEnvironmentSettings(const EnvironmentSettings& settings) {
+  if (environment_ && environment_->settings() == settings) return;
+  environment_ = std::make_unique<EnvironmentLight>(compiler(), settings);  // checks the settings
+  environmentSettings_ = settings;
+  environmentDirty_ = true;
 }
 
 void Renderer::setMaxAnisotropy(float samples) {
@@ -486,7 +507,9 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantSunGlass, "sunglass", "FLY_SUN_GLASS"},
                    {kVariantMeasured, "measured", "FLY_MEASURED"},
                    {kVariantNearDeferred, "neardeferred", "FLY_NEAR_DEFERRED"},
-                   {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"}};
+                   {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"},
+                   {kVariantIbl, "ibl", "FLY_IBL"},
+                   {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -501,7 +524,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
            ? std::string(shaders::kSceneCommon) +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
                  shaders::kLightTextureLookup + shaders::kSurfaceFragment
-           : std::string(shaders::kLightTextureLookup) + shaders::kSceneFragment);
+           : std::string((variant & kVariantIbl) ? shaders::kSceneCommon : "") + shaders::kLightTextureLookup +
+                 shaders::kSceneFragment);
   const GLuint p = compileProgram(
       name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
   auto loc = [&](const char* n) { return glGetUniformLocation(p, n); };
@@ -528,12 +552,15 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.sunInReflection = loc("uSunInReflection");
   sp.mirrorReflection = loc("uMirrorReflection");
   sp.mirrorF0 = loc("uMirrorF0");
+  sp.radianceTopLevel = loc("uRadianceTopLevel");
+  sp.cubeReflector = loc("uCubeReflector");
   sp.program = p;
   return sp;
 }
 
 void Renderer::upload(const rdb::RasterRdb& rdb) {
   rdb_ = &rdb;
+  cubesDirty_ = true;
   uploadGeometry();
   uploadTextures();
   uploadMaterials();
@@ -553,6 +580,7 @@ std::vector<float> Renderer::ballLayer(uint32_t layer) const {
 
 void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes) {
   rdb_ = &rdb;
+  cubesDirty_ |= changes.any();
   if (changes.geometry) {
     upload(rdb);
     return;
@@ -788,20 +816,32 @@ void Renderer::uploadDraws() {
   for (const rdb::RasterAlphaMode mode : {rdb::RasterAlphaMode::kOpaque, rdb::RasterAlphaMode::kMask}) {
     for (uint32_t material = 0; material < r.materials.size(); ++material) {
       if (r.materials[material].alphaMode != mode) continue;
-      // The material's meshes that are no planar reflector in one draw, then one draw per reflector: kNone
-      // first, then 0 … n − 1 (kNone + 1 wraps to 0).
-      for (uint32_t reflector = rdb::RasterTextureRef::kNone;; ++reflector) {
+      // The material's meshes that are no reflector in one draw, then one draw per planar reflector and one
+      // per cube reflector, in the order of their first mesh.
+      std::vector<std::pair<uint32_t, uint32_t>> groups;  // (planar, cube) reflector
+      for (const rdb::RasterMesh& m : r.meshes) {
+        const std::pair<uint32_t, uint32_t> g(m.planarReflector, m.cubeReflector);
+        if (m.material == material && r.shadedPerFragment(m) && std::find(groups.begin(), groups.end(), g) == groups.end())
+          groups.push_back(g);
+      }
+      std::stable_sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) {
+        return (a.first == rdb::RasterTextureRef::kNone && a.second == rdb::RasterTextureRef::kNone) &&
+               !(b.first == rdb::RasterTextureRef::kNone && b.second == rdb::RasterTextureRef::kNone);
+      });
+      for (const auto& [reflector, cube] : groups) {
         SurfaceDraw d;
         d.firstIndex = ordered.size();
         d.material = material;
         d.mask = mode == rdb::RasterAlphaMode::kMask;
         d.reflector = reflector;
+        d.cubeReflector = cube;
         for (const rdb::RasterMesh& m : r.meshes) {
-          if (m.material == material && m.planarReflector == reflector && r.shadedPerFragment(m)) append(m);
+          if (m.material == material && m.planarReflector == reflector && m.cubeReflector == cube &&
+              r.shadedPerFragment(m))
+            append(m);
         }
         d.indexCount = GLsizei(ordered.size() - d.firstIndex);
         if (d.indexCount > 0) gpu_->surfaceDraws.push_back(d);
-        if (reflector + 1 == r.planarReflectors.size()) break;
       }
     }
   }
@@ -869,6 +909,7 @@ void Renderer::uploadLights() {
 }
 
 void Renderer::uploadSky() {
+  environmentDirty_ = true;
   if (gpu_->skyTexture) {
     glDeleteTextures(1, &gpu_->skyTexture);
     gpu_->skyTexture = 0;
@@ -942,9 +983,41 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
                                                                : "it has neither sky nor sun") +
                                 ")");
   }
+  if (mode == RenderMode::kSunlight && imageBasedLight_ && gpu_->skyTexture) {
+    if (!environment_) environment_ = std::make_unique<EnvironmentLight>(compiler(), environmentSettings_);
+    if (environmentDirty_) {
+      environment_->build(gpu_->skyTexture);
+      environmentDirty_ = false;
+      ++stats_.environmentBuilds;
+    }
+  }
+  if (v.cubeReflectors) captureCubeReflectors(mode);
   resize(widthPx, heightPx);
   if (v.planarReflectors) drawReflections(view, mode, widthPx, heightPx);
-  renderPass(view, mode, widthPx, heightPx, nullptr);
+  renderPass(view, mode, widthPx, heightPx, nullptr, nullptr);
+}
+
+// The cube reflectors' maps, where the scene, its light or the mode changed since they were captured: each
+// face the scene without the reflector's own draw, from its centre, no planar reflections, the sun's disc left
+// out of the sky (a few texels would hold its whole radiance; the reflector's Phong lobe shows the sun).
+void Renderer::captureCubeReflectors(RenderMode mode) {
+  const rdb::RasterRdb& r = *rdb_;
+  if (!cubesDirty_ && cubeMode_ == mode && cubes_ && cubes_->count() == r.cubeReflectors.size()) return;
+  if (!cubes_) cubes_ = std::make_unique<CubeReflections>(compiler());
+  const uint32_t n = cubes_->facePx();
+  resize(n, n);
+  gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
+  for (uint32_t k = 0; k < r.cubeReflectors.size(); ++k) {
+    const rdb::RasterCubeReflector& c = r.cubeReflectors[k];
+    cubes_->capture(k, c.centreM, std::max(1e-3f, 1e-3f * c.radiusM), [&](const View& face) {
+      const CubePass pass{k};
+      renderPass(face, mode, n, n, nullptr, &pass);
+      return gpu_->floatColor;
+    });
+    ++stats_.cubeCaptures;
+  }
+  cubesDirty_ = false;
+  cubeMode_ = mode;
 }
 
 // Each planar reflector seen from its front: the scene mirrored in its plane, drawn from the mirrored camera
@@ -976,7 +1049,7 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k};
     glScissor(rect.x, rect.y, rect.width, rect.height);
     glEnable(GL_SCISSOR_TEST);
-    renderPass(mirrored, mode, widthPx, heightPx, &pass);
+    renderPass(mirrored, mode, widthPx, heightPx, &pass, nullptr);
     glDisable(GL_SCISSOR_TEST);
     GLuint& image = gpu_->reflectionColor[k];
     if (!image) {
@@ -993,7 +1066,7 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
 }
 
 void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx,
-                          const MirrorPass* mirrorPass) {
+                          const MirrorPass* mirrorPass, const CubePass* cubePass) {
   const rdb::RasterRdb& r = *rdb_;
   const rdb::RasterVariants& v = r.variants;
   const float aspect = float(widthPx) / float(heightPx);
@@ -1028,7 +1101,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     const rdb::RasterSky& s = *r.sky;
     glUniform3fv(bg.sunDir, 1, &s.sunDirWorld[0]);
     glUniform3fv(bg.sunRadiance, 1, &s.sunRadianceCdM2[0]);
-    glUniform1f(bg.sunCosHalfAngle, s.hasSun ? std::cos(s.sunHalfAngleRad) : 2.0f);
+    glUniform1f(bg.sunCosHalfAngle, s.hasSun && !cubePass ? std::cos(s.sunHalfAngleRad) : 2.0f);
     glBindTextureUnit(0, gpu_->skyTexture);
   }
   glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32UI);
@@ -1048,7 +1121,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
     // Sunlight mode over light maps without the sun's direct part: that part drawn for the current sun.
     const bool sunDirect = sunlight && lightMaps && v.sunDirect;
-    const uint32_t shared = (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
+    const bool ibl = sunlight && imageBasedLight_ && environment_ && !environmentDirty_;
+    const uint32_t shared = (ibl ? kVariantIbl : 0u) | (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
                             ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
                             (sunDirect ? kVariantSunDirect : 0u) | (v.twoSided ? kVariantTwoSided : 0u) |
                             (phong && v.goniometric ? kVariantGonio : 0u) |
@@ -1075,7 +1149,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
-        (v.planarReflectors ? kVariantPlanarReflection : 0u);
+        (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
@@ -1129,6 +1203,9 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
+      if (programVariant & kVariantIbl) {
+        glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
+      }
       if (programVariant & kVariantSunGlass) {
         glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);
         glUniform1f(p.sunGlassBias, sunGlass_->biasM());
@@ -1161,6 +1238,23 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       }
       glUniform1ui(p.textureSlots, bits);
       glUniform4fv(p.uvRows, 6, &rows[0][0]);
+      if (v.cubeReflectors) {
+        // A cube reflector shades with its own maps (captured this frame or before) in place of the sky's.
+        const bool cube = d.cubeReflector != rdb::RasterTextureRef::kNone && cubes_ && d.cubeReflector < cubes_->count();
+        glUniform1i(p.cubeReflector, cube ? GLint(d.cubeReflector) : -1);
+        if (cube) {
+          const EnvironmentLight& maps = cubes_->maps(d.cubeReflector);
+          glBindTextureUnit(12, maps.irradianceCube());
+          glBindTextureUnit(13, maps.radianceCube());
+          glBindTextureUnit(14, maps.splitSumTable());
+          glUniform1f(p.radianceTopLevel, float(maps.settings().radianceLevels - 1));
+        } else if (ibl) {
+          glBindTextureUnit(12, environment_->irradianceCube());
+          glBindTextureUnit(13, environment_->radianceCube());
+          glBindTextureUnit(14, environment_->splitSumTable());
+          glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
+        }
+      }
       if (v.planarReflectors) {
         // A reflector shows its image in the real view; in a mirrored pass none does (one reflection deep).
         const bool shows = !mirrorPass && d.reflector != rdb::RasterTextureRef::kNone && !d.blend &&
@@ -1188,6 +1282,11 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glBindTextureUnit(2, gpu_->lightTextures);
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
+      if (ibl) {
+        glBindTextureUnit(12, environment_->irradianceCube());
+        glBindTextureUnit(13, environment_->radianceCube());
+        glBindTextureUnit(14, environment_->splitSumTable());
+      }
       if (v.measuredBrdf) {
         glBindTextureUnit(9, balls_->texture());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, balls_->brdfBuffer());
@@ -1211,6 +1310,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       for (const SurfaceDraw& d : gpu_->surfaceDraws) {
         if (d.blend) continue;
         if (mirrorPass && d.reflector == mirrorPass->reflector) continue;  // the mirror itself, on the near plane
+        if (cubePass && d.cubeReflector == cubePass->reflector) continue;  // the reflector itself, around the eye
         const uint32_t want = opaqueSurfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
         if (want != current) program = &use(current = want);
         bindTextures(*program, d);

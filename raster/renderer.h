@@ -14,7 +14,11 @@
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term.
 //              Over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect):
 //              albedo · (E − E_sunDirect) / π plus the sun's direct term (Lambert and Phong lobe, normal maps)
-//              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md)
+//              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md). The sky is
+//              also image-based light (setImageBasedLight): its irradiance in place of the directional ambient
+//              term, its prefiltered radiance by the split sum for every material's specular part
+// Curved reflectors (rdb::RasterRdb::cubeReflectors) show cube maps of the scene from their centres
+// (raster/cube_reflections.h), captured before the frame only when the scene, its light or the mode changed.
 // Where the sun's direct term is drawn (simple and sunlight modes: surfaces without light maps, and light maps
 // that keep the sun's direct part apart) it is shadowed (setSunShadows; raster/sun_shadows.h): after the
 // scene, a z-fail stencil pass of the sun's shadow volumes, then the pixels inside a volume drawn again at
@@ -61,11 +65,14 @@
 #include "base/math.h"
 #include "base/tone_map.h"
 #include "raster/ball_texture.h"
+#include "raster/environment_light.h"
 #include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
 
 namespace fly::raster {
+
+class CubeReflections;
 
 enum class RenderMode { kSimple, kLightMap, kSunlight };
 
@@ -111,12 +118,22 @@ struct RendererStats {
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
   int reflectionPasses = 0;  // mirrored passes drawn for planar reflectors (RasterRdb::planarReflectors)
+  int cubeCaptures = 0;  // cube reflectors' maps captured (six views each): a new scene, light or mode
+  int environmentBuilds = 0;  // the sky's image-based light maps (re)built: a new sky or sun (EnvironmentLight)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
 
 // The most anisotropic filtering material textures get, where the driver has it (GL 4.6, or
 // GL_ARB_/EXT_texture_filter_anisotropic): 16 samples, the usual ceiling.
 inline constexpr float kMaxAnisotropy = 16.0f;
+
+// The sky's image-based light maps: a 64² source and radiance cube with 6 levels (α = 0, 0.04, … 1) of 256
+// GGX samples a texel, a 16² irradiance cube summed over the 32² level, a 32² split-sum table — a sky is
+// smooth, and a change of time rebuilds them in a few milliseconds on a GPU.
+inline constexpr EnvironmentSettings kSkyEnvironmentSettings{.cubePx = 64, .radianceLevels = 6,
+                                                             .prefilterSamples = 256, .irradiancePx = 16,
+                                                             .irradianceQuadPx = 32, .tablePx = 32,
+                                                             .tableSamples = 512};
 
 class Renderer {
  public:
@@ -176,6 +193,20 @@ class Renderer {
   // A layer of the ball textures, as last made (BallTextures::readLayer); for tests.
   std::vector<float> ballLayer(uint32_t layer) const;
 
+  // Sunlight mode's image-based light (on by default): the sky image (the sky and ground, without the sun's
+  // disc, which stays a directional light) is the environment (raster/environment_light.h), convolved when
+  // the sky changes (a new sky, time or sun) at the first sunlight frame after it. Its irradiance replaces the
+  // directional ambient term on surfaces without a light map, and its prefiltered radiance by the split sum
+  // adds the specular part of every material with a reflection (RasterMaterial::environmentF90; light-mapped
+  // ones too, whose light map holds the diffuse part), per fragment, except measured BRDFs (their balls) and
+  // planar reflectors that show a mirrored pass. Off: the directional ambient term, as in simple mode.
+  void setImageBasedLight(bool on);
+  // The environment maps' sizes and sample counts; std::invalid_argument out of range (EnvironmentSettings).
+  // Default: kSkyEnvironmentSettings.
+  void setEnvironmentSettings(const EnvironmentSettings& settings);
+  // The last built environment maps (null before the first sunlight frame with image-based light); for tests.
+  const EnvironmentLight* environmentLight() const { return environment_.get(); }
+
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -204,7 +235,13 @@ class Renderer {
     vec4 planeWorld;
     uint32_t reflector;
   };
-  void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass);
+  // A face of a cube reflector's capture (captureCubeReflectors) leaves out the reflector.
+  struct CubePass {
+    uint32_t reflector;
+  };
+  void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass,
+                  const CubePass* cubePass);
+  void captureCubeReflectors(RenderMode mode);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::
   // kNearLampsCompute): prepareNearLamps, after the balls are made, uploads every BRDF's lamps and readies
@@ -221,6 +258,13 @@ class Renderer {
   bool shadowGeometryDirty_ = true;
   std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass
   bool sunGlassDirty_ = true;
+  std::unique_ptr<EnvironmentLight> environment_;  // made at the first sunlight frame with image-based light
+  EnvironmentSettings environmentSettings_ = kSkyEnvironmentSettings;
+  bool imageBasedLight_ = true;
+  bool environmentDirty_ = true;
+  std::unique_ptr<CubeReflections> cubes_;  // made at the first frame of a scene with cube reflectors
+  bool cubesDirty_ = true;
+  RenderMode cubeMode_ = RenderMode::kSimple;
   std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
   bool ballBrdfsDirty_ = true;
   std::vector<char> materialCasts_;  // per material: castsSunShadows

@@ -34,13 +34,14 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
          tangents == o.tangents && textures == o.textures && measuredBrdfs == o.measuredBrdfs && lights == o.lights &&
          goniometricCd == o.goniometricCd && ambient == o.ambient && daylightAmbient == o.daylightAmbient &&
          cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants &&
-         planarReflectors == o.planarReflectors;
+         planarReflectors == o.planarReflectors && cubeReflectors == o.cubeReflectors;
 }
 
 bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
   const RasterMaterial& m = materials[mesh.material];
   return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || m.measured != RasterTextureRef::kNone ||
-         mesh.hasColors || mesh.planarReflector != RasterTextureRef::kNone;
+         mesh.hasColors || mesh.planarReflector != RasterTextureRef::kNone ||
+         mesh.cubeReflector != RasterTextureRef::kNone;
 }
 
 namespace {
@@ -130,6 +131,12 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   r.specular = glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f));
   const double alpha = std::max(1e-4, double(m.reflectionGlossiness) * m.reflectionGlossiness);
   r.phongExponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
+  r.ggxAlpha = m.reflectionGlossiness * m.reflectionGlossiness;
+  if (std::max({r.specular.r, r.specular.g, r.specular.b}) > 0.0f) {
+    r.environmentF90 = m.reflectionModel == sdb::ReflectionModel::kUniform
+                           ? r.specular
+                           : glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
+  }
   r.emissionCdM2 = m.emissionLuminance;
   if (m.hasClearTransmission()) {
     r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
@@ -162,6 +169,10 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.mirrorReflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
     r.mirrorF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
   }
+  if (!m.hasClearTransmission() && !m.isMeasured()) {
+    r.cubeMapAlways = m.showsCubeMapReflection(true);
+    r.cubeMapOnCurved = m.showsCubeMapReflection(false);
+  }
   r.sdbMaterialId = sdbMaterialId;
   return r;
 }
@@ -173,7 +184,8 @@ bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
     return x.texture == y.texture && x.texCoord == y.texCoord;
   };
   return same(a.baseColorTexture, b.baseColorTexture) && same(a.emissionTexture, b.emissionTexture) &&
-         same(a.normalTexture, b.normalTexture) && a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike;
+         same(a.normalTexture, b.normalTexture) && a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike &&
+         a.cubeMapOnCurved == b.cubeMapOnCurved && a.cubeMapAlways == b.cubeMapAlways;
 }
 
 // An SDB texture as RGBA8 (RasterTexture). InputError when its pixels do not match its size.
@@ -602,6 +614,7 @@ void buildMeasuredBrdfs(RasterRdb& rdb, const sdb::Scene& scene) {
     block.diffuse = glm::clamp(brdf.albedo.back(), Rgb(0.0f), Rgb(1.0f));
     block.specular = Rgb(0.0f);
     block.reflection = Rgb(0.0f);
+    block.environmentF90 = Rgb(0.0f);
     rdb.measuredBrdfs.push_back(std::move(brdf));
   }
 }
@@ -789,12 +802,35 @@ void buildCameras(RasterRdb& rdb, const sdb::Scene& scene) {
 
 // The flat meshes of mirror materials, grouped by material and plane (RasterPlanarReflector), the
 // kMaxPlanarReflectors largest kept; each mesh's planarReflector set (none for the rest).
-void buildPlanarReflectors(RasterRdb& rdb) {
+// The curved meshes of mirror-like materials and every mesh of "cubemap" ones: RasterCubeReflector, the
+// kMaxCubeReflectors largest kept; each mesh's cubeReflector set (none for the rest).
+void buildCubeReflectors(RasterRdb& rdb, const std::vector<char>& flat) {
+  std::vector<RasterCubeReflector> all;
+  for (uint32_t i = 0; i < rdb.meshes.size(); ++i) {
+    RasterMesh& mesh = rdb.meshes[i];
+    mesh.cubeReflector = RasterTextureRef::kNone;
+    const RasterMaterial& m = rdb.materials[mesh.material];
+    if (mesh.indexCount == 0 || mesh.planarReflector != RasterTextureRef::kNone) continue;
+    if (!m.cubeMapAlways && !(m.cubeMapOnCurved && !flat[i])) continue;
+    Bounds3 b;
+    for (uint32_t v = mesh.firstVertex; v < mesh.firstVertex + mesh.vertexCount; ++v) b.extend(rdb.positionsM[v]);
+    all.push_back({mesh.material, i, 0.5f * (b.min + b.max), 0.5f * glm::length(b.size())});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.radiusM > b.radiusM; });
+  if (all.size() > kMaxCubeReflectors) all.resize(kMaxCubeReflectors);
+  for (uint32_t k = 0; k < all.size(); ++k) rdb.meshes[all[k].mesh].cubeReflector = k;
+  rdb.cubeReflectors = std::move(all);
+}
+
+// Returns per mesh whether it is flat (for buildCubeReflectors).
+std::vector<char> buildPlanarReflectors(RasterRdb& rdb) {
   std::vector<RasterPlanarReflector> all;
+  std::vector<char> flatMeshes(rdb.meshes.size(), 0);
   for (uint32_t i = 0; i < rdb.meshes.size(); ++i) {
     RasterMesh& mesh = rdb.meshes[i];
     mesh.planarReflector = RasterTextureRef::kNone;
-    if (!rdb.materials[mesh.material].mirrorLike || mesh.indexCount == 0) continue;
+    const RasterMaterial& material = rdb.materials[mesh.material];
+    if (!(material.mirrorLike || material.cubeMapOnCurved) || mesh.indexCount == 0) continue;
     // The area-weighted normal, the area and the extent; flat when every vertex lies on its plane.
     vec3 weighted(0.0f);
     double area = 0.0;
@@ -817,7 +853,8 @@ void buildPlanarReflectors(RasterRdb& rdb) {
     bool flat = true;
     for (uint32_t v = mesh.firstVertex; v < mesh.firstVertex + mesh.vertexCount && flat; ++v)
       flat = std::abs(glm::dot(normal, rdb.positionsM[v]) - offset) <= tolerance;
-    if (!flat) continue;
+    flatMeshes[i] = flat ? 1 : 0;
+    if (!flat || !material.mirrorLike) continue;
     auto same = [&](const RasterPlanarReflector& r) {
       return r.material == mesh.material && glm::dot(r.normal, normal) > 0.9999995f &&
              std::abs(r.offsetM - offset) <= 1e-3f;
@@ -834,6 +871,7 @@ void buildPlanarReflectors(RasterRdb& rdb) {
   for (uint32_t k = 0; k < all.size(); ++k)
     for (uint32_t i : all[k].meshes) rdb.meshes[i].planarReflector = k;
   rdb.planarReflectors = std::move(all);
+  return flatMeshes;
 }
 
 void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
@@ -863,6 +901,7 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   }
   v.measuredBrdf = !rdb.measuredBrdfs.empty();
   v.planarReflectors = !rdb.planarReflectors.empty();
+  v.cubeReflectors = !rdb.cubeReflectors.empty();
 }
 
 void checkOptions(const RasterBuildOptions& o) {
@@ -885,7 +924,7 @@ RasterRdb buildRasterRdb(const sdb::Scene& scene, const LightMapStore* lightMaps
   buildSky(rdb, scene, options);
   buildAmbient(rdb);
   buildCameras(rdb, scene);
-  buildPlanarReflectors(rdb);
+  buildCubeReflectors(rdb, buildPlanarReflectors(rdb));
   buildVariants(rdb, scene);
   return rdb;
 }

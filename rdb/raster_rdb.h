@@ -96,6 +96,12 @@ struct RasterMaterial {
   // (diffuse + reflection) · E / π (raster/renderer.h).
   Rgb reflection{0.0f};
   float fresnelF0 = -1.0f;
+  // What the image-based light's split sum (raster/environment_light.h) reflects: F0 = `specular` at normal
+  // incidence and F90 = environmentF90 at grazing incidence (the reflection colour: Schlick's Fresnel rises
+  // to it; uniform reflection has F90 = F0), with the GGX width ggxAlpha = glossiness² (as the baker's
+  // glossy lobe). environmentF90 is 0 for a material that reflects nothing and for measured BRDFs.
+  Rgb environmentF90{0.0f};
+  float ggxAlpha = 1.0f;
   // Textures (each optional). The base colour's texel (sRGB-decoded) times COLOR_0 multiplies `diffuse` —
   // the energy rule is linear in the diffuse input, so this is the rule applied per texel
   // (sdb::applyEnergyRule) — and its alpha the coverage; the emission texel multiplies emissionCdM2; the
@@ -122,6 +128,11 @@ struct RasterMaterial {
   bool mirrorLike = false;
   Rgb mirrorReflection{0.0f};
   float mirrorF0 = -1.0f;
+  // Shown by a cube map rendered from each mesh's centre (RasterRdb::cubeReflectors;
+  // sdb::Material::showsCubeMapReflection): on its curved meshes (a mirror-like material), or on all of them
+  // (the scene file's "cubemap"). Neither glass nor measured.
+  bool cubeMapOnCurved = false;
+  bool cubeMapAlways = false;
   uint32_t sdbMaterialId = 0;
 
   bool hasTexture() const { return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture); }
@@ -147,6 +158,22 @@ struct RasterPlanarReflector {
 // The most planar reflectors a scene renders (one mirrored pass each); further mirrors show no reflection.
 inline constexpr uint32_t kMaxPlanarReflectors = 4;
 
+// A mesh that shows what it reflects by a cube environment map (FLY §5's curved reflectors): the scene without
+// the mesh rendered into six 90° views from the centre of its bounding box, prefiltered for its glossiness.
+// A mesh of a material with RasterMaterial::cubeMapAlways, or with cubeMapOnCurved that is not flat (the
+// planar reflectors' flatness test).
+struct RasterCubeReflector {
+  uint32_t material = 0;  // index into RasterRdb::materials
+  uint32_t mesh = 0;      // index into RasterRdb::meshes
+  vec3 centreM{0.0f};     // world: the centre of the mesh's bounding box
+  float radiusM = 0.0f;   // half the box's diagonal
+
+  bool operator==(const RasterCubeReflector&) const = default;
+};
+// The most cube-map reflectors a scene renders (six views each, when the scene or its light changes); the
+// largest by radius are kept, the others show no reflection.
+inline constexpr uint32_t kMaxCubeReflectors = 4;
+
 // A placed mesh: contiguous vertex and index ranges in the flat arrays. Its vertices are the SDB mesh's in
 // order; a light-textured mesh's are followed by seam copies (see RasterRdb::lightMapUv).
 struct RasterMesh {
@@ -163,6 +190,7 @@ struct RasterMesh {
   uint32_t lightTexture = kNoLightTexture;  // index into RasterRdb::lightTextures, or none
   bool hasColors = false;  // RasterRdb::colors holds this mesh's COLOR_0 (else it reads (1, 1, 1, 1) there)
   uint32_t planarReflector = RasterTextureRef::kNone;  // index into RasterRdb::planarReflectors, or none
+  uint32_t cubeReflector = RasterTextureRef::kNone;    // index into RasterRdb::cubeReflectors, or none
 
   bool operator==(const RasterMesh&) const = default;
 };
@@ -244,6 +272,7 @@ struct RasterVariants {
   bool alphaBlend = false;    // some material is blended (kBlend): drawn after the rest, back to front
   bool measuredBrdf = false;  // some mesh has a measured BRDF: ball textures (raster/ball_texture.h)
   bool planarReflectors = false;  // RasterRdb::planarReflectors is not empty: mirrored passes
+  bool cubeReflectors = false;    // RasterRdb::cubeReflectors is not empty: cube-map captures
 
   bool operator==(const RasterVariants&) const = default;
 };
@@ -322,6 +351,8 @@ struct RasterRdb {
   std::vector<RasterMeasuredBrdf> measuredBrdfs;
   // Flat mirrors (RasterPlanarReflector), the kMaxPlanarReflectors largest by area.
   std::vector<RasterPlanarReflector> planarReflectors;
+  // Curved mirrors (RasterCubeReflector), the kMaxCubeReflectors largest.
+  std::vector<RasterCubeReflector> cubeReflectors;
 
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;

@@ -89,10 +89,24 @@ SceneFeatures computeFeatures(const Scene& scene) {
                            bool(m.anisotropyRotationTexture) || bool(m.emissionTexture) || bool(m.bumpTexture);
     f.bumpMaps |= bool(m.bumpTexture);
     f.vertexColors |= !mesh.colors.empty();
-    if (m.showsPlanarReflection() && isPlanar(mesh)) {
+    const bool flat = isPlanar(mesh);
+    const char* choice = nullptr;
+    if (m.isMeasured() || m.hasClearTransmission()) {
+      // shown by their ball textures, or as glass
+    } else if (m.showsPlanarReflection() && flat) {
       f.planarReflectors = true;
-    } else if (m.isMirrorLike() && !isPlanar(mesh)) {
+      choice = "planar";
+    } else if (m.showsCubeMapReflection(flat)) {
       f.curvedReflectors = true;
+      choice = "cubemap";
+    }
+    if (choice) {
+      std::string& c = f.engineReflections[m.name];
+      if (c.empty()) {
+        c = choice;
+      } else if (c != choice) {
+        c = "planar, cubemap";
+      }
     }
   }
   return f;

@@ -2,6 +2,7 @@
 // only the parts a scene's features call for (docs/architecture.md, "Features decide what is built").
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,11 @@ struct SceneFeatures {
   bool bumpMaps = false;
   bool vertexColors = false;
   bool planarReflectors = false;     // mirror-like materials on flat meshes
-  bool curvedReflectors = false;     // mirror-like materials on curved meshes
+  bool curvedReflectors = false;     // cube-map reflectors: mirror-like materials on curved meshes, "cubemap" ones
+  // How the OpenGL engine shows each reflecting material's reflection (FLY §5's automatic choice by shape and
+  // material, or the scene file's "engineReflection"), by material name: "planar" (its flat meshes), "cubemap"
+  // (its curved meshes, or all with "cubemap"), or "planar, cubemap"; materials that get neither are absent.
+  std::map<std::string, std::string> engineReflections;
 
   // The names of the features present, in the order above: "sun", "sky", "punctual-lights",
   // "goniometric-lights", "emissive-surfaces", "two-sided-surfaces", "light-textured-meshes", "measured-brdf",

@@ -24,9 +24,11 @@ enum class ReflectionModel {
 
 // How the OpenGL engine shows what a surface reflects (FLY §5: chosen by shape and material).
 enum class EngineReflection {
-  kAuto,    // a planar reflection where the material is mirror-like (isMirrorLike) and the mesh flat
-  kPlanar,  // a planar reflection wherever the mesh is flat, whatever the reflectance (polished floors, water)
-  kNone,    // none: the reflection lobe's highlights of the lights only
+  kAuto,     // where the material is mirror-like (isMirrorLike): a planar reflection on a flat mesh, a cube map
+             // on a curved one
+  kPlanar,   // a planar reflection wherever the mesh is flat, whatever the reflectance (polished floors, water)
+  kCubemap,  // a cube map rendered from each mesh's centre, flat or curved, whatever the reflectance
+  kNone,     // none: the reflection lobe's highlights of the lights only
 };
 
 // The three reflectances after the energy rule; each channel in [0,1] and d + r + t ≤ 1 per channel.
@@ -168,6 +170,11 @@ struct Material {
   // Whether the OpenGL engine shows a planar reflection on a flat mesh of this material (engineReflection).
   bool showsPlanarReflection() const {
     return engineReflection == EngineReflection::kPlanar || (engineReflection == EngineReflection::kAuto && isMirrorLike());
+  }
+  // Whether it shows a cube-map reflection on a mesh of this material that is flat (`flatMesh`) or not.
+  bool showsCubeMapReflection(bool flatMesh) const {
+    return engineReflection == EngineReflection::kCubemap ||
+           (engineReflection == EngineReflection::kAuto && isMirrorLike() && !flatMesh);
   }
 };
 

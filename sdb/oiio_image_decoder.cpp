@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -33,26 +34,64 @@ std::string oiioError(const OIIO::ImageInput* in) {
   return e.empty() ? "OpenImageIO gave no reason" : e;
 }
 
-}  // namespace
-
-Texture decodeImageOiio(std::span<const uint8_t> encoded, size_t maxBytes, std::vector<std::string>& notes) {
-  const char* extension = formatExtension(encoded);
-  if (!extension) throw std::runtime_error("it is not a PNG, JPEG, WebP, HDR, EXR or TIFF image");
-  OIIO::Filesystem::IOMemReader proxy(encoded.data(), encoded.size());
+// Opens `encoded` for reading through `proxy`; std::runtime_error when it cannot.
+std::unique_ptr<OIIO::ImageInput> openImage(const char* extension,
+                                            OIIO::Filesystem::IOMemReader& proxy, OIIO::ImageSpec& spec) {
   auto in = OIIO::ImageInput::create(extension);
   if (!in) throw std::runtime_error("OpenImageIO has no reader for it: " + oiioError(nullptr));
   if (!in->supports("ioproxy") || !in->set_ioproxy(&proxy)) {
     throw std::runtime_error(std::string("OpenImageIO's reader for ") + in->format_name() +
                              " cannot read from memory");
   }
-  OIIO::ImageSpec spec;
   if (!in->open(std::string("memory.") + extension, spec))
     throw std::runtime_error("it cannot be decoded: " + oiioError(in.get()));
-  const int width = spec.width, height = spec.height, fileChannels = spec.nchannels;
-  if (width <= 0 || height <= 0 || fileChannels <= 0 || spec.depth > 1) {
-    throw std::runtime_error("it has no pixels (" + std::to_string(width) + " × " + std::to_string(height) +
-                             " px, " + std::to_string(fileChannels) + " channels)");
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
+    throw std::runtime_error("it has no pixels (" + std::to_string(spec.width) + " × " +
+                             std::to_string(spec.height) + " px, " + std::to_string(spec.nchannels) +
+                             " channels)");
   }
+  return in;
+}
+
+}  // namespace
+
+FloatRgbImage decodeFloatImageOiio(std::span<const uint8_t> encoded, size_t maxBytes) {
+  const char* extension = formatExtension(encoded);
+  if (!extension || (std::strcmp(extension, "hdr") != 0 && std::strcmp(extension, "exr") != 0)) {
+    throw std::runtime_error(std::string("it is ") + (extension ? std::string("a .") + extension + " image" : "no image") +
+                             ", not a Radiance HDR or OpenEXR one");
+  }
+  OIIO::Filesystem::IOMemReader proxy(encoded.data(), encoded.size());
+  OIIO::ImageSpec spec;
+  auto in = openImage(extension, proxy, spec);
+  const size_t pixels = size_t(spec.width) * size_t(spec.height);
+  const int used = std::min(spec.nchannels, 3);
+  if (spec.width > kMaxTextureDimension || spec.height > kMaxTextureDimension ||
+      pixels * size_t(used + 3) * sizeof(float) > maxBytes) {
+    throw std::runtime_error("it is " + std::to_string(spec.width) + " × " + std::to_string(spec.height) +
+                             " px, over the budget (at most " + std::to_string(kMaxTextureDimension) +
+                             " px a side and " + std::to_string(maxBytes) + " bytes of decoded pixels)");
+  }
+  std::vector<float> file(pixels * size_t(used));
+  if (!in->read_image(0, 0, 0, used, OIIO::TypeDesc::FLOAT, file.data()))
+    throw std::runtime_error("it cannot be decoded: " + oiioError(in.get()));
+  FloatRgbImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.rgb.resize(pixels * 3);
+  for (size_t p = 0; p < pixels; ++p) {
+    for (int c = 0; c < 3; ++c) image.rgb[3 * p + size_t(c)] = file[p * size_t(used) + size_t(used == 3 ? c : 0)];
+  }
+  return image;
+}
+
+Texture decodeImageOiio(std::span<const uint8_t> encoded, size_t maxBytes, std::vector<std::string>& notes) {
+  const char* extension = formatExtension(encoded);
+  if (!extension) throw std::runtime_error("it is not a PNG, JPEG, WebP, HDR, EXR or TIFF image");
+  OIIO::Filesystem::IOMemReader proxy(encoded.data(), encoded.size());
+  OIIO::ImageSpec spec;
+  auto in = openImage(extension, proxy, spec);
+  const int width = spec.width, height = spec.height, fileChannels = spec.nchannels;
   const OIIO::TypeDesc::BASETYPE base = OIIO::TypeDesc::BASETYPE(spec.format.basetype);
   const bool isFloat =
       base == OIIO::TypeDesc::HALF || base == OIIO::TypeDesc::FLOAT || base == OIIO::TypeDesc::DOUBLE;

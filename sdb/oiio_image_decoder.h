@@ -24,4 +24,17 @@ using DecodeImageFunction = Texture (*)(std::span<const uint8_t> encoded, size_t
                                         std::vector<std::string>& notes);
 inline constexpr const char* kOiioDecoderModuleSymbol = "flyOiioImageDecoder";
 
+// A float image as decoded: RGB per pixel (grey replicated, channels beyond the third dropped), rows from the
+// top, the file's values unchanged.
+struct FloatRgbImage {
+  int width = 0, height = 0;  // pixels
+  std::vector<float> rgb;     // 3 per pixel
+};
+// Decodes a Radiance HDR or OpenEXR file's bytes (values as stored: no clamping, no encoding). Fails with
+// std::runtime_error giving the reason: another format, an undecodable file, or one over kMaxTextureDimension
+// a side or `maxBytes` of decoded floats. The module's second entry, kOiioFloatModuleSymbol, returns it.
+FloatRgbImage decodeFloatImageOiio(std::span<const uint8_t> encoded, size_t maxBytes);
+using DecodeFloatImageFunction = FloatRgbImage (*)(std::span<const uint8_t> encoded, size_t maxBytes);
+inline constexpr const char* kOiioFloatModuleSymbol = "flyOiioFloatImageDecoder";
+
 }  // namespace fly::sdb

@@ -882,11 +882,12 @@ class SceneFileReader {
     if (const JsonValue* e = r.find("engineReflection")) {
       const std::string mode = e->isString() ? e->string() : "";
       const EngineReflection chosen = mode == "auto"     ? EngineReflection::kAuto
-                                      : mode == "planar" ? EngineReflection::kPlanar
-                                      : mode == "none"   ? EngineReflection::kNone
-                                                         : EngineReflection(-1);
+                                      : mode == "planar"  ? EngineReflection::kPlanar
+                                      : mode == "cubemap" ? EngineReflection::kCubemap
+                                      : mode == "none"    ? EngineReflection::kNone
+                                                          : EngineReflection(-1);
       if (chosen == EngineReflection(-1))
-        src_.fail(*e, "expected \"auto\", \"planar\" or \"none\"; got " + describeValue(*e));
+        src_.fail(*e, "expected \"auto\", \"planar\", \"cubemap\" or \"none\"; got " + describeValue(*e));
       edits.push_back([chosen](Material& m) { m.engineReflection = chosen; });
     }
     if (const JsonValue* a = r.find("anisotropy")) {

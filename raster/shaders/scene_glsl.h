@@ -12,6 +12,11 @@
 //   FLY_SUN_DIRECT sunlight mode over light maps that keep the sun's direct part apart (with FLY_LIGHT_MAP):
 //                  L = albedo · (E − E_sunDirect) / π + the sun's direct term (flySunTerm) for the current sun
 //                  (FLY §3: baked indirect light, real-time sun)
+//   FLY_IBL        sunlight mode's image-based light (raster/environment_light.h): the sky's irradiance in place
+//                  of the directional ambient term, and its prefiltered radiance by the split sum for the
+//                  specular part of every material, per fragment (flyEnvironmentSpecular)
+//   FLY_CUBE_REFLECTION  curved reflectors (per fragment): a draw with uCubeReflector ≥ 0 adds the split sum of
+//                  its own cube map (raster/cube_reflections.h) in every mode
 //   FLY_SUN_GLASS  scenes with clear glass and a sun (with FLY_SUN): the sun's direct term times the T of the
 //                  glass between the surface and the sun, per fragment (raster/sun_glass.h; kSunGlassLookup,
 //                  prepended to every stage). Per-vertex meshes pass the sun's term apart from the rest
@@ -42,6 +47,7 @@ struct Material {
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
   vec4 reflection;    // rgb reflection colour
   vec4 coverage;      // x opacity, y alpha cut-off, z normal scale, w alpha mode (0 opaque, 1 mask, 2 blend)
+  vec4 environment;   // rgb the split sum's F90 (0: no environment reflection), w GGX α
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 
@@ -96,8 +102,12 @@ float flyGonioCd(int offset, vec3 axis, vec3 cAxis, vec3 dir) {
 // (a metal's) as if it were a rough reflector — under the baked irradiance, the limit of a rough conductor
 // (raster/renderer.h). Glass keeps its reflection for T(θ).
 vec3 flyLightMapReflectance(vec3 albedo, Material m) {
+#ifdef FLY_IBL
+  return albedo;  // the image-based light draws the reflection (flyEnvironmentSpecular)
+#else
   bool glass = max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0;
   return glass ? albedo : albedo + m.reflection.rgb;
+#endif
 }
 #endif
 
@@ -162,6 +172,32 @@ float flySunHighlight() {
 #endif
 }
 
+#if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+// Image-based light (raster/environment_light.h): the environment's irradiance cube (lux) for the diffuse
+// part of surfaces without a light map, and its GGX-prefiltered radiance cube with the split sum's table for
+// the specular part of every material (Karis 2013: L_pre(r, α) · (F0 A + F90 B)). The environment is the
+// sky's (FLY_IBL), or on a cube reflector's draw its own cube map (FLY_CUBE_REFLECTION, uCubeReflector ≥ 0).
+layout(binding = 12) uniform samplerCube uIrradiance;
+layout(binding = 13) uniform samplerCube uRadiance;  // level k: α_k = (k / (K − 1))²
+layout(binding = 14) uniform sampler2D uSplitSum;    // (A, B)(cos θo, √α), texel centres at (i + ½) / N
+uniform float uRadianceTopLevel;                     // K − 1
+vec3 flyIrradianceLux(vec3 n) { return textureLod(uIrradiance, n, 0.0).rgb; }
+#ifdef FLY_CUBE_REFLECTION
+uniform int uCubeReflector;  // the draw's RasterRdb::cubeReflectors index, −1 for none
+#endif
+// The environment's light reflected towards the eye by material m's GGX lobe (cd/m²).
+vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
+  if (m.environment.r + m.environment.g + m.environment.b <= 0.0) return vec3(0.0);
+  float cosO = clamp(dot(n, toEye), 1e-4, 1.0);
+  vec3 r = 2.0 * dot(n, toEye) * n - toEye;
+  // √α indexes both the table and the levels (√α_k = k / (K − 1)).
+  float rough = sqrt(clamp(m.environment.w, 0.0, 1.0));
+  vec2 ab = textureLod(uSplitSum, vec2(cosO, rough), 0.0).rg;
+  vec3 prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel).rgb;
+  return prefiltered * (m.specular.rgb * ab.x + m.environment.rgb * ab.y);
+}
+#endif
+
 #ifdef FLY_SUN
 // The sun's illuminance on a surface at p facing it (lux): per fragment with FLY_SUN_GLASS, times the T of the
 // clear glass between p and the sun; per vertex the fragment stage applies that T to the sun's term, which the
@@ -202,9 +238,15 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, sunSpecularLux);
   specularLux += sunSpecularLux * flySunHighlight();
 #endif
+#ifdef FLY_IBL
+  // The environment's irradiance in place of the directional ambient term; its specular part is added per
+  // fragment (flyEnvironmentSpecular).
+  vec3 ambientLux = flyIrradianceLux(n);
+#else
   // The directional ambient term (rdb/raster_rdb.h, DirectionalAmbient).
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
                     (1.0 + kCornerGain * corner);
+#endif
   return albedo / kPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
 }
 #endif
@@ -249,6 +291,13 @@ flat out uint vGlass;
 out vec3 vSunLuminance;  // the sun's direct term (cd/m²), not in vLuminance: the fragment applies the glass's T
 out vec3 vPositionM;
 #endif
+#ifdef FLY_IBL
+// For the environment's specular part, per fragment (flyEnvironmentSpecular): the shading normal (the back's
+// on a two-sided mesh seen from behind), the direction to the eye (not unit) and the material.
+out vec3 vIblNormal;
+out vec3 vToEye;
+flat out uint vMaterial;
+#endif
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
@@ -262,6 +311,11 @@ void main() {
   Material m = materials[aSurface & 0x3fffffffu];
   vec3 l = vec3(0.0);
   bool useLightMap = false;
+#ifdef FLY_IBL
+  vIblNormal = back ? -n : n;
+  vToEye = uOrthographic != 0 ? -uViewDirWorld : uEyeM - aPositionM;
+  vMaterial = aSurface & 0x3fffffffu;
+#endif
 #ifdef FLY_SUN_GLASS
   vSunLuminance = vec3(0.0);
   vPositionM = aPositionM;
@@ -457,11 +511,19 @@ flat in uint vLightSlot;
 flat in uint vBack;
 flat in vec3 vAlbedoOverPi;
 #endif
+#ifdef FLY_IBL
+in vec3 vIblNormal;
+in vec3 vToEye;
+flat in uint vMaterial;
+#endif
 void main() {
 #ifdef FLY_GLASS
   if ((vGlass != 0u) != (uGlassPass != 0)) discard;
 #endif
   vec3 l = vLuminance;
+#ifdef FLY_IBL
+  l += flyEnvironmentSpecular(materials[vMaterial], normalize(vIblNormal), normalize(vToEye));
+#endif
 #ifdef FLY_SUN_GLASS
   // A pane's own sun term (its reflection) is not behind it (raster/sun_glass.h). The renderer compiles
   // FLY_SUN_GLASS only for scenes with clear glass, so FLY_GLASS (vGlass) is defined with it.
@@ -525,7 +587,8 @@ layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(nor
 out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -547,7 +610,8 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -594,7 +658,8 @@ void main() {
 // the emission (factor × texel). One draw per material (its textures bound to units 5–7), or per mesh for
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -802,7 +867,8 @@ void main() {
 #endif
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
-#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION)
+#if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
   // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 n = normalize(vNormal);
@@ -851,6 +917,9 @@ void main() {
 #ifdef FLY_PLANAR_REFLECTION
     if (uReflector >= 0) reflectance = base.rgb;  // the reflection image shows what the mirror reflects
 #endif
+#ifdef FLY_CUBE_REFLECTION
+    if (uCubeReflector >= 0) reflectance = base.rgb;  // its cube map shows what it reflects
+#endif
     l = reflectance * eLux / kPi;
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
@@ -872,6 +941,21 @@ void main() {
     l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
 #endif
   }
+#endif
+#if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+  // The environment's specular part (without FLY_IBL, only a cube reflector's); a planar reflector's image and
+  // a measured BRDF's ball show their own.
+  bool environmentReflects = !back || twoSided;
+#ifndef FLY_IBL
+  environmentReflects = environmentReflects && uCubeReflector >= 0;
+#endif
+#ifdef FLY_PLANAR_REFLECTION
+  environmentReflects = environmentReflects && uReflector < 0;
+#endif
+#ifdef FLY_MEASURED
+  environmentReflects = environmentReflects && uBallLayer < 0;
+#endif
+  if (environmentReflects) l += flyEnvironmentSpecular(m, n, toEye);
 #endif
 #ifdef FLY_PLANAR_REFLECTION
   // What the mirror reflects: the mirrored pass's image at this pixel (renderer.cpp, render) times R(θ).

@@ -178,6 +178,24 @@ TEST(RasterGolden, SunlightMode) {
   checkGolden(RenderMode::kSunlight, rdb::buildRasterRdb(y.scene), 13.0);
 }
 
+// A chrome sphere (uniform reflection 0.9, glossiness 0: a cube-map reflector) in the yard at sunset: its cube
+// map holds the sky, the ground, the box and the fence (raster/cube_reflections.h).
+TEST(RasterGolden, ChromeSphereSunlightMode) {
+  context();
+  Yard y = yard();
+  sdb::Material chrome;
+  chrome.name = "chrome";
+  chrome.diffuseColor = Rgb(0.0f);
+  chrome.reflectionColor = Rgb(0.9f);
+  chrome.reflectionModel = sdb::ReflectionModel::kUniform;
+  chrome.reflectionGlossiness = 0.0f;
+  const sdb::MaterialId id = y.scene.addMaterial(chrome).id;
+  y.scene.addNode({.name = "chrome", .meshes = {y.scene.addMesh(test::uvSphere(vec3(-0.9f, 0.4f, 1.0f), 0.4f, 24, 48, id)).id}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(y.scene);
+  ASSERT_EQ(r.cubeReflectors.size(), 1u);
+  checkGolden(RenderMode::kSunlight, r, 13.0, "chrome-sphere");
+}
+
 // Small textures made here (the repository owns them as code): 8-bit RGB or RGBA, row-major from the top.
 sdb::TextureId addTexture(sdb::Scene& s, const std::string& name, int w, int h, int channels,
                           const std::function<std::array<uint8_t, 4>(int x, int y)>& texel) {

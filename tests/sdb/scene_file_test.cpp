@@ -350,7 +350,7 @@ TEST(SceneFile, OverridesMustMatchAndPresetsMustExist) {
       "1:99", "/overrides/0/diffuse/1", {"expected a number, [0, 1]; got 2"});
   expectError(
       R"({"fly": 1, "models": [{"file": "car.gltf"}], "overrides": [{"material": "Glass", "engineReflection": "mirror"}]})",
-      "1:102", "/overrides/0/engineReflection", {"expected \"auto\", \"planar\" or \"none\"; got a string (\"mirror\")"});
+      "1:102", "/overrides/0/engineReflection", {"expected \"auto\", \"planar\", \"cubemap\" or \"none\"; got a string (\"mirror\")"});
 }
 
 // How the OpenGL engine shows a material's reflection, per material (docs/reflections.md).
@@ -361,6 +361,14 @@ TEST(SceneFile, EngineReflectionPerMaterial) {
   EXPECT_TRUE(s.material(s.findMaterial("Paint")).showsPlanarReflection());
   EXPECT_EQ(s.material(s.findMaterial("Glass")).engineReflection, EngineReflection::kNone);
   EXPECT_FALSE(s.material(s.findMaterial("Glass")).showsPlanarReflection());
+  EXPECT_FALSE(s.material(s.findMaterial("Glass")).showsCubeMapReflection(false));
+  const Scene c = parse(R"({"fly": 1, "models": [{"file": "car.gltf"}],
+    "overrides": [{"material": "Paint", "engineReflection": "cubemap"}]})");
+  const Material& paint = c.material(c.findMaterial("Paint"));
+  EXPECT_EQ(paint.engineReflection, EngineReflection::kCubemap);
+  EXPECT_TRUE(paint.showsCubeMapReflection(true));
+  EXPECT_TRUE(paint.showsCubeMapReflection(false));
+  EXPECT_FALSE(paint.showsPlanarReflection());
 }
 
 TEST(SceneFile, CamerasNeedAViewDirection) {

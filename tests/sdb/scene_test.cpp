@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "sdb/features.h"
@@ -147,9 +149,12 @@ TEST(SceneFeatures, DetectedFromWhatTheSceneContains) {
   EXPECT_TRUE(f.planarReflectors);
   EXPECT_FALSE(f.curvedReflectors);
   EXPECT_FALSE(f.transmissiveMaterials);  // the glass mesh is not placed by any node
+  const std::string steelName = s.material(steel).name;
+  EXPECT_EQ(f.engineReflections, (std::map<std::string, std::string>{{steelName, "planar"}}));
   s.addNode({.name = "c", .meshes = {curved}});
   f = computeFeatures(s);
   EXPECT_TRUE(f.curvedReflectors);
+  EXPECT_EQ(f.engineReflections.at(steelName), "planar, cubemap");  // the flat mirror and the bent one
   s.setSky({.model = SkyModel::kCie, .sun = true});
   s.setMeshTwoSided(mirror, true);
   EXPECT_EQ(computeFeatures(s).names(),
