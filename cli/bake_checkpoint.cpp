@@ -199,6 +199,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"sky_portals", job.settings.integrator.skyPortals},
         {"lit_patches", job.settings.integrator.litPatches},
         {"roulette_after_light", job.settings.integrator.rouletteAfterLight},
+        {"lit_patch_sky", job.settings.integrator.litPatchSky},
         {"light_paths", job.settings.lightPaths.enabled},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
@@ -266,6 +267,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     // ... and without next-event estimation to lit patches, with Russian roulette before a vertex's light.
     c.job.settings.integrator.litPatches = s.value("lit_patches", false);
     c.job.settings.integrator.rouletteAfterLight = s.value("roulette_after_light", false);
+    // ... and those with lit patches from before the choice gathered the sky's light at the patches too.
+    c.job.settings.integrator.litPatchSky = s.value("lit_patch_sky", true);
     // ... and without light paths.
     c.job.settings.lightPaths.enabled = s.value("light_paths", false);
     c.job.exportGltf = s.at("export_gltf").get<bool>();

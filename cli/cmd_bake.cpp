@@ -225,6 +225,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"sky_portals", settings.integrator.skyPortals},
       {"lit_patches", settings.integrator.litPatches},
       {"roulette_after_light", settings.integrator.rouletteAfterLight},
+      {"lit_patch_sky", settings.integrator.litPatchSky},
       {"light_paths", settings.lightPaths.enabled}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {

@@ -35,7 +35,7 @@ constexpr uint32_t kFirstRouletteVertex = 3;
 constexpr float kMinShadingCos = 0.01f;
 
 // The first of the sampler groups of next-event estimation to lit patches: path vertex k uses groups
-// kPatchGroupBase + 2k (the triangle and the point on it) and + 2k + 1 (the patch's sun and sky),
+// kPatchGroupBase + 2k (the triangle and the point on it) and + 2k + 1 (the patch's sun, and sky),
 // far above the path's own groups (kGroupsPerVertex per vertex, at most kPathLengthGuard vertices) and below
 // the baker's (raytracer/baker.cpp). ≡ 29 mod 32: the sensor's two groups share SobolSampler's group cache
 // only with a path's tenth and eleventh vertices.
@@ -875,8 +875,8 @@ Rgb Integrator::litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S&
   const bool lightSampling = patch->bsdf->hasNonDelta();
   if (!lightSampling && !patch->deltaLightBsdf->hasNonDelta()) return Rgb(0.0f);
   Rgb sun(0.0f);
-  const Rgb light = directLight(*patch, lightSampling, kPatchGroupBase + 2 * depth + 1, vec2(0.0f), 0.0f,
-                                sampler, rays, &sun, nullptr, true);
+  const Rgb light = directLight(*patch, lightSampling && settings_.litPatchSky, kPatchGroupBase + 2 * depth + 1,
+                                vec2(0.0f), 0.0f, sampler, rays, &sun, nullptr, true);
   if (!(maxComponent(light) > 0.0f)) return Rgb(0.0f);
   // Both ends moved off their surfaces, the patch's towards v.
   const vec3 origin = offsetRayOrigin(v.p, glm::dot(v.ng, d) > 0.0f ? v.ng : -v.ng, v.magnitudeM);
@@ -900,7 +900,8 @@ float Integrator::directlyLitRadiance(const Hit& hit, const vec3& d, uint64_t se
   SobolSampler sampler(seed);
   sampler.startSample(0);
   uint64_t rays = 0;
-  return luminance(directLight(*v, lightSampling, 0, vec2(0.0f), 0.0f, sampler, rays, nullptr, nullptr, true));
+  return luminance(directLight(*v, lightSampling && settings_.litPatchSky, 0, vec2(0.0f), 0.0f, sampler, rays,
+                               nullptr, nullptr, true));
 }
 
 float Integrator::faceRadiance(uint32_t t, bool front) const {
@@ -982,7 +983,9 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   // (LitPatches::kNoCell otherwise, and after a mirror), and the MIS weight of v's sun and sky light against
   // that vertex's patch sample of v.
   uint32_t patchCellLast = LitPatches::kNoCell;
-  float sunSkyWeight = 1.0f;
+  // v's triangle and |cos θ| of the ray that reached it, for that vertex's density of a patch sample of v.
+  uint32_t triangleOfV = 0;
+  float absCosOfV = 0.0f;
   // With rouletteAfterLight, v's survival probability (1: none) and its roulette number, applied once v's
   // lights are sampled.
   float pendingSurvival = 1.0f;
@@ -1024,10 +1027,21 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       // At the sensor (depth 0, β = 1) the sun's sample is the sun-direct part.
       Rgb sunPart(0.0f);
       Rgb sunSkyPart(0.0f);
-      const bool wantsSun = sunLux != nullptr || (depth == 0 && sunDirectLux != nullptr);
       const Rgb light = directLight(v, lightSampling, kGroupsPerVertex * depth, uEmitter, uPunctual, sampler,
-                                    rays, wantsSun ? &sunPart : nullptr, &sunSkyPart);
-      sum += beta * (light - (1.0f - sunSkyWeight) * sunSkyPart);
+                                    rays, &sunPart, &sunSkyPart);
+      // The light that the patch samples also gather, and its weight against the last non-delta vertex's
+      // patch sample of v (evaluated where that light is not 0: the weight multiplies it alone).
+      const Rgb& patchLight = settings_.litPatchSky ? sunSkyPart : sunPart;
+      float sunSkyWeight = 1.0f;
+      if (patchCellLast != LitPatches::kNoCell && !specular && maxComponent(patchLight) > 0.0f) {
+        const float pmf = litPatches_->pmf(patchCellLast, triangleOfV);
+        if (pmf > 0.0f) {
+          const float pdfPatch =
+              pmf / scene_.triangleAreaM2(triangleOfV) * travelledM * travelledM / absCosOfV;
+          if (std::isfinite(pdfPatch)) sunSkyWeight = 1.0f - patchWeight(pdfPatch, pdfLast);
+        }
+      }
+      sum += beta * (light - (1.0f - sunSkyWeight) * patchLight);
       if (depth == 0 && sunDirectLux) *sunDirectLux = sunPart;
       if (sunLux) *sunLux += beta * sunSkyWeight * sunPart;
     }
@@ -1136,15 +1150,8 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     v = *next;
     const Bsdf& bsdf = *v.bsdf;
     const vec3& wo = v.woLocal;
-    // The weight of v's sun and sky light against the patch sample of v at the last non-delta vertex.
-    sunSkyWeight = 1.0f;
-    if (patchCellLast != LitPatches::kNoCell && !specular) {
-      const float pmf = litPatches_->pmf(patchCellLast, t);
-      if (pmf > 0.0f) {
-        const float pdfPatch = pmf / scene_.triangleAreaM2(t) * travelledM * travelledM / std::abs(cosLight);
-        if (std::isfinite(pdfPatch)) sunSkyWeight = 1.0f - patchWeight(pdfPatch, pdfLast);
-      }
-    }
+    triangleOfV = t;
+    absCosOfV = std::abs(cosLight);
 
     // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
     // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator): here, or

@@ -93,11 +93,11 @@
 // region that LitPatches gives a distribution (its training rays mostly stay inside), a second strategy
 // picks a triangle by that distribution and a point y uniform on it (area density p_A(y) = P(t) / A_t), and
 // adds f(x) |cos θ_x| V(x, y) L_d(y → x) / p_ω(y), p_ω = p_A r² / |cos θ_y|, where L_d(y → x) is the light
-// sampling of the sun and the sky at y (the same estimator, with the same MIS weight against y's BSDF
-// sampling, that a path reaching y computes there), for y seen as the next vertex of the path. The path
-// that reaches the same y by x's BSDF sampling (density p_b) and samples the sun and sky there makes the
-// same contribution; the two are combined by the power heuristic: the patch sample is weighted
-// p_ω² / (p_ω² + p_b²) and the sun and sky light of the path's vertex y p_b² / (p_ω² + p_b²), with p_ω
+// sampling of the sun at y (IntegratorSettings::litPatchSky: and of the sky, with the same MIS weight
+// against y's BSDF sampling that a path reaching y computes there), for y seen as the next vertex of the
+// path. The path that reaches the same y by x's BSDF sampling (density p_b) and samples the sun there makes
+// the same contribution; the two are combined by the power heuristic: the patch sample is weighted
+// p_ω² / (p_ω² + p_b²) and the sun's light (and the sky's) of the path's vertex y p_b² / (p_ω² + p_b²), with p_ω
 // evaluated for the triangle that the path hit in the distribution of x's region (0 where x has none, or
 // after a mirror). The weights of every path sum to one: unbiased whatever the distribution (Veach & Guibas
 // 1995). The patch sample uses two sampler groups of its own per path vertex (kPatchGroupBase).
@@ -192,6 +192,11 @@ struct IntegratorSettings {
   // cost of both.
   enum class LitPatchWeights { kPowerHeuristic, kPatchesOnly, kPathsOnly };
   LitPatchWeights litPatchWeights = LitPatchWeights::kPowerHeuristic;
+  // Whether the patch sample gathers the sky's light at y besides the sun's. Off (the default), it gathers
+  // the sun's alone, one ray fewer: the sky's light reflected at y is left to path sampling, whose MIS
+  // weight for it is then 1, and the regions' distributions follow the sun's light alone. On gives the
+  // estimator of bakes before the choice existed (resumed checkpoints), and a comparison.
+  bool litPatchSky = false;
   // Russian roulette at a vertex after its lights are sampled (and before its continuation), rather than
   // when the vertex is reached: a path that ends there still gathers the vertex's direct light (above).
   // Off gives the estimator of bakes before it existed (resumed checkpoints), and a comparison.
@@ -254,7 +259,8 @@ class Integrator {
   // uEmitter and uPunctual choose an emitter point and a punctual light.
   // allLights: also the sky and emitters (v.bsdf has a non-delta lobe); else the sun and punctual lights
   // only. sunPart, when given, receives the sun's share of the result.
-  // sunSkyPart, when given, receives the sun's and the sky's share (what a lit patch's sample gathers);
+  // sunSkyPart, when given, receives the sun's and the sky's share (what a lit patch's sample gathers with
+  // IntegratorSettings::litPatchSky);
   // sunSkyOnly leaves out the punctual lights and emitters (the lit patch's own light).
   template <class S>
   Rgb directLight(const Vertex& v, bool allLights, uint32_t group, const vec2& uEmitter, float uPunctual,
@@ -268,12 +274,13 @@ class Integrator {
                                  std::optional<Bsdf>& point, std::optional<Bsdf>& pointDeltaLight) const;
   // The next-event estimation to lit patches at v (surface or sensor) from its region `cell`: the patch
   // sample's MIS-weighted f |cos θ| V L_d / p_ω, its sun part in sunPart. Uses the sampler groups
-  // kPatchGroupBase + 2 depth (the point) and + 1 (the patch's sun and sky).
+  // kPatchGroupBase + 2 depth (the point) and + 1 (the patch's sun, and sky).
   template <class S>
   Rgb litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S& sampler, uint64_t& rays,
                     Rgb& sunPart) const;
-  // A one-sample estimate (the seed's) of the luminance (cd/m²) of the sun's and the sky's direct light that
-  // the hit point reflects back along the ray of unit direction d: LitPatches' training weights.
+  // A one-sample estimate (the seed's) of the luminance (cd/m²) of the direct light that the patch samples
+  // gather (the sun's; with IntegratorSettings::litPatchSky also the sky's) that the hit point reflects back
+  // along the ray of unit direction d: LitPatches' training weights.
   float directlyLitRadiance(const Hit& hit, const vec3& d, uint64_t seed) const;
   // The mean of directlyLitRadiance over kFaceRadianceSamples points of triangle t's front or back face,
   // seen along its normal.

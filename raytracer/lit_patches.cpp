@@ -263,22 +263,47 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
     }
     if (!(smoothSum > 0.0) && !(hitSum > 0.0)) continue;  // nothing lit in sight: path sampling alone
     const double smoothShare = !(hitSum > 0.0) ? 1.0 : !(smoothSum > 0.0) ? 0.0 : 0.5;
-    const auto first = static_cast<uint32_t>(triangles_.size());
+    const auto first = static_cast<uint32_t>(entries_.size());
     double running = 0.0;
     for (const Weight& w : weights) {
       running += (1.0 - kHitShare) * (smoothShare * (smoothSum > 0.0 ? w.smooth / smoothSum : 0.0) +
                                       (1.0 - smoothShare) * (hitSum > 0.0 ? w.hit / hitSum : 0.0)) +
                  kHitShare * w.count / countSum;
-      triangles_.push_back(w.triangle);
-      pmfs_.push_back(0.0f);
-      cdfs_.push_back(static_cast<float>(running));
+      entries_.push_back({static_cast<float>(running), 0.0f, w.triangle});
     }
-    cdfs_.back() = 1.0f;
+    entries_.back().cdf = 1.0f;
     // Each triangle's probability as sample() picks it: the width of its interval of [0, 1).
-    for (size_t i = first; i < cdfs_.size(); ++i) pmfs_[i] = cdfs_[i] - (i == first ? 0.0f : cdfs_[i - 1]);
+    for (size_t i = first; i < entries_.size(); ++i) {
+      entries_[i].pmf = entries_[i].cdf - (i == first ? 0.0f : entries_[i - 1].cdf);
+    }
     cellOfKey_.emplace(keys[c], static_cast<uint32_t>(cells_.size()));
-    cells_.push_back({first, static_cast<uint32_t>(weights.size())});
+    const auto count = static_cast<uint32_t>(weights.size());
+    const auto firstGuide = static_cast<uint32_t>(guides_.size());
+    uint32_t i = first;
+    for (uint32_t g = 0; g < count; ++g) {
+      const float threshold = float(g) / float(count);
+      while (i + 1 < first + count && entries_[i].cdf <= threshold) ++i;
+      guides_.push_back(i);
+    }
+    cells_.push_back({first, count, firstGuide});
   }
+
+  size_t slots = 1;
+  while (slots < 2 * entries_.size()) slots *= 2;
+  slots_.assign(slots, {kEmptySlot, 0.0f});
+  for (uint32_t c = 0; c < cells_.size(); ++c) {
+    for (uint32_t i = cells_[c].first; i < cells_[c].first + cells_[c].count; ++i) {
+      const uint64_t key = (uint64_t{c} << 32) | entries_[i].triangle;
+      slots_[slotOf(key)] = {key, entries_[i].pmf};
+    }
+  }
+}
+
+size_t LitPatches::slotOf(uint64_t key) const {
+  const size_t mask = slots_.size() - 1;
+  size_t slot = detail::mix64(key) & mask;
+  while (slots_[slot].key != key && slots_[slot].key != kEmptySlot) slot = (slot + 1) & mask;
+  return slot;
 }
 
 uint32_t LitPatches::cellOf(const vec3& p, const vec3& n) const {
@@ -289,23 +314,22 @@ uint32_t LitPatches::cellOf(const vec3& p, const vec3& n) const {
 
 LitPatches::Pick LitPatches::sample(uint32_t cell, float u) const {
   const Cell& c = cells_[cell];
-  const auto begin = cdfs_.begin() + c.first;
-  const auto end = begin + c.count;
-  auto it = std::upper_bound(begin, end, u);
-  if (it == end) --it;
-  const auto i = static_cast<size_t>(it - cdfs_.begin());
-  const float below = it == begin ? 0.0f : *(it - 1);
-  const float width = *it - below;
+  // The first entry whose running sum exceeds u (the last where none does), from the guide of u's interval.
+  const uint32_t last = c.first + c.count - 1;
+  const auto g = std::min(static_cast<uint32_t>(std::max(u, 0.0f) * float(c.count)), c.count - 1);
+  uint32_t i = guides_[c.firstGuide + g];
+  while (i < last && entries_[i].cdf <= u) ++i;
+  while (i > c.first && entries_[i - 1].cdf > u) --i;
+  const float below = i == c.first ? 0.0f : entries_[i - 1].cdf;
+  const float width = entries_[i].cdf - below;
   const float remapped = width > 0.0f ? std::clamp((u - below) / width, 0.0f, 0x1.fffffep-1f) : 0.0f;
-  return {triangles_[i], pmfs_[i], remapped};
+  return {entries_[i].triangle, entries_[i].pmf, remapped};
 }
 
 float LitPatches::pmf(uint32_t cell, uint32_t t) const {
-  const Cell& c = cells_[cell];
-  const auto begin = triangles_.begin() + c.first;
-  const auto end = begin + c.count;
-  const auto it = std::lower_bound(begin, end, t);
-  return it != end && *it == t ? pmfs_[static_cast<size_t>(it - triangles_.begin())] : 0.0f;
+  const uint64_t key = (uint64_t{cell} << 32) | t;
+  const Slot& slot = slots_[slotOf(key)];
+  return slot.key == key ? slot.pmf : 0.0f;
 }
 
 }  // namespace fly::raytracer

@@ -1,4 +1,4 @@
-// Where the sun's and the sky's direct light is reflected from, per region of the scene: the distributions
+// Where the sun's direct light (and the sky's) is reflected from, per region of the scene: the distributions
 // over triangles with which the integrator's next-event estimation to lit patches (raytracer/integrator.h,
 // IntegratorSettings::litPatches; docs/lit-patches.md) picks a point y whose directly lit radiance it
 // gathers at a path vertex x.
@@ -97,14 +97,36 @@ class LitPatches {
   struct Cell {
     uint32_t first;  // entries first … first + count − 1, sorted by triangle
     uint32_t count;
+    uint32_t firstGuide;  // its guide table: guides_[firstGuide … firstGuide + count − 1]
   };
+  // pmf()'s table: an open-addressed hash (linear probing) from (cell, triangle) to its probability; the
+  // slot of key, or the free one where it would go.
+  size_t slotOf(uint64_t key) const;
   vec3 originM_{0.0f};
   float cellSizeM_ = 1.0f;
   std::unordered_map<uint64_t, uint32_t> cellOfKey_;
   std::vector<Cell> cells_;
-  std::vector<uint32_t> triangles_;
-  std::vector<float> pmfs_;
-  std::vector<float> cdfs_;  // within a cell, inclusive running sums of its pmfs
+  // A cell's triangle with its probability and the inclusive running sum of the probabilities within the
+  // cell, side by side (one cache line for sample()).
+  struct Entry {
+    float cdf;
+    float pmf;
+    uint32_t triangle;
+  };
+  std::vector<Entry> entries_;
+  // Per cell, a guide table of `count` entries (Chen & Asau's guide table, as in Devroye, "Non-Uniform
+  // Random Variate Generation", 1986, §III.2.4): entry g is the first index whose running sum exceeds
+  // g / count, where sample()'s search for u in [g / count, (g + 1) / count) starts; it finds the entry
+  // that a binary search would, in O(1) expected steps.
+  std::vector<uint32_t> guides_;
+  // pmf()'s hash: key (cell << 32 | triangle) and probability, key kEmptySlot where free; a power-of-two
+  // size at least twice the entries.
+  static constexpr uint64_t kEmptySlot = std::numeric_limits<uint64_t>::max();
+  struct Slot {
+    uint64_t key;
+    float pmf;
+  };
+  std::vector<Slot> slots_;
 };
 
 }  // namespace fly::raytracer

@@ -107,6 +107,20 @@ TEST_F(BakeCheckpointTest, LoadGivesBackWhatWasSaved) {
   EXPECT_EQ(c.state.progress.sums.size(), 12u);
 }
 
+// Whether the lit patches' samples gather the sky's light too travels with the checkpoint; one written before
+// that choice existed resumes with the sky's light at the patches, the estimator it started with.
+TEST_F(BakeCheckpointTest, LitPatchSkyIsKeptAndOlderCheckpointsResumeWithTheSkyAtThePatches) {
+  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
+  job_.settings.integrator.litPatchSky = true;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
+  job_.settings.integrator.litPatchSky = false;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
+  editJson([](nlohmann::json& j) { j["settings"].erase("lit_patch_sky"); });
+  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
+}
+
 // Counts that do not fit their type are a damaged checkpoint, not a float-to-integer conversion out of range
 // (undefined behaviour, found by fuzzing: tests/fuzz/corpus/bake_checkpoint/regression-*.json) or a
 // wrap-around of -1 to 4294967295 threads.
