@@ -15,6 +15,7 @@
 #include "base/error.h"
 #include "base/image_io.h"
 #include "cli/command.h"
+#include "cli/post_options.h"
 #include "cli/raster_scene.h"
 #include "cli/view_host.h"
 #include "raster/gl_context.h"
@@ -36,6 +37,7 @@ struct ViewOptions {
   std::optional<double> exposureEv100;
   std::string op = "filmic";
   ShadowOptions shadows;
+  PostOptions post;
   uint32_t ballTexels = 256;
   DaylightOptions daylight;
   uint64_t frames = 0;
@@ -85,6 +87,8 @@ int runView(const ViewOptions& o) {
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
   const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
+  const raster::AmbientOcclusionSettings ambientOcclusion = parseAmbientOcclusion(o.post);
+  const raster::BloomSettings bloom = parseBloom(o.post);
   const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> mode;
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
@@ -115,6 +119,8 @@ int runView(const ViewOptions& o) {
   v.script = script;
   v.shadows = shadows;
   v.balls = balls;
+  v.ambientOcclusion = ambientOcclusion;
+  v.bloom = bloom;
   v.panel = !o.noPanel;
   v.lightMaps = scene.lightMaps ? &*scene.lightMaps : nullptr;
   v.probeAtPx = probeAt;
@@ -185,6 +191,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   addShadowOptions(*sub, o->shadows);
+  addPostOptions(*sub, o->post);
   addBallOption(*sub, o->ballTexels);
   o->daylight.add(*sub);
   sub->add_option("--frames", o->frames, "close after this many frames (and after the --keys script)");
