@@ -12,8 +12,9 @@
 namespace fly::raster {
 
 AmbientOcclusion::AmbientOcclusion(SunShadows::Compile compile) : compile_(std::move(compile)) {
-  depthProgram_ = compile_("ssao-depth", "", {{GL_VERTEX_SHADER, shaders::kAoDepthVertex},
-                                              {GL_FRAGMENT_SHADER, shaders::kAoDepthFragment}});
+  depthProgram_ = compile_(
+      "ssao-depth", "",
+      {{GL_VERTEX_SHADER, shaders::kAoDepthVertex}, {GL_FRAGMENT_SHADER, shaders::kAoDepthFragment}});
   const std::string ao = std::string(shaders::kAoCameraPoint) + shaders::kAoCompute;
   const std::string blur = std::string(shaders::kAoCameraPoint) + shaders::kAoBlurCompute;
   aoProgram_ = compile_("ssao", "", {{GL_COMPUTE_SHADER, ao.c_str()}});
@@ -72,7 +73,8 @@ void AmbientOcclusion::run(const mat4& clipFromCamera, const mat4& cameraFromWor
   glDepthMask(GL_TRUE);
   glDisable(GL_CULL_FACE);
   glUseProgram(depthProgram_);
-  glUniformMatrix4fv(glGetUniformLocation(depthProgram_, "uClipFromWorld"), 1, GL_FALSE, &clipFromWorld[0][0]);
+  glUniformMatrix4fv(glGetUniformLocation(depthProgram_, "uClipFromWorld"), 1, GL_FALSE,
+                     &clipFromWorld[0][0]);
   drawDepth();
   glBindVertexArray(0);
 

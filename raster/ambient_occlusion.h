@@ -26,8 +26,9 @@ class AmbientOcclusion {
   AmbientOcclusion& operator=(const AmbientOcclusion&) = delete;
 
   // Draws the opaque scene's depth (drawDepth issues the draws with the scene's vertex array bound; the depth
-  // program is bound here) from clipFromCamera · cameraFromWorld into its own depth target, then estimates and
-  // blurs the occlusion. The result, texture(), is an R16F image of widthPx × heightPx in [0, 1] (1: open).
+  // program is bound here) from clipFromCamera · cameraFromWorld into its own depth target, then estimates
+  // and blurs the occlusion. The result, texture(), is an R16F image of widthPx × heightPx in [0, 1] (1:
+  // open).
   void run(const mat4& clipFromCamera, const mat4& cameraFromWorld, bool orthographic, uint32_t widthPx,
            uint32_t heightPx, float radiusM, const std::function<void()>& drawDepth);
   unsigned texture() const { return ao_; }

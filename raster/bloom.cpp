@@ -70,7 +70,9 @@ unsigned Bloom::apply(unsigned luminance, uint32_t widthPx, uint32_t heightPx, f
                       const BloomSettings& settings) {
   resize(widthPx, heightPx);
   const float thresholdCdM2 = settings.thresholdExposed / exposureScale;
-  auto levelSize = [&](int k) { return std::pair{std::max(1u, ((widthPx + 1) / 2) >> k), std::max(1u, ((heightPx + 1) / 2) >> k)}; };
+  auto levelSize = [&](int k) {
+    return std::pair{std::max(1u, ((widthPx + 1) / 2) >> k), std::max(1u, ((heightPx + 1) / 2) >> k)};
+  };
   // Down: the bright part into level 0, then each level from the one above.
   glUseProgram(firstDown_);
   glUniform1f(glGetUniformLocation(firstDown_, "uThresholdCdM2"), thresholdCdM2);

@@ -1,5 +1,5 @@
-// Bloom (glare): the light of the sun's disc and of bright highlights scattered around them, as in the eye and
-// the camera's lens, on the linear luminance image before the display transform (tone mapping), where the
+// Bloom (glare): the light of the sun's disc and of bright highlights scattered around them, as in the eye
+// and the camera's lens, on the linear luminance image before the display transform (tone mapping), where the
 // light's energy is still known (the thesis's order: bright part, blur, combine, then tone-map). The part of
 // each pixel above a threshold, B = L · max(Y − T, 0) / Y, is blurred at every scale of a mip chain (2×2 box
 // down, 3×3 tent up; shaders/bloom_glsl.h) and the fraction `strength` of it moved there: L' = L − k B +

@@ -1296,7 +1296,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glEnable(GL_BLEND);
       glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
       glDepthMask(GL_FALSE);
-      const SceneProgram& p = use(surfaceVariant | kVariantBlendPass);
+      // Blended surfaces are in no depth pre-pass: the ambient occlusion under them is another surface's.
+      const SceneProgram& p = use((surfaceVariant | kVariantBlendPass) & ~uint32_t(kVariantAmbientOcclusion));
       for (size_t i : order) {
         const SurfaceDraw& d = gpu_->surfaceDraws[i];
         bindTextures(p, d);

@@ -186,8 +186,8 @@ float decodeGreen(uint32_t x, uint32_t y) {
 // is B = 2^20 − 1, and the glare moves k B into the kernel about the pixel: the pixel keeps L − k B plus the
 // kernel's own centre weight, and the kernel's sum over the image (the pixel's gain included) is k B within
 // 1 % (the image's energy, Σ L, is kept: the kernel stays inside the 256² image). The kernel is wide: most of
-// it lies outside the 3 × 3 pixels about the source; and it is centred: mirror pixels 3, 10 and 30 pixels away
-// agree within 10 %.
+// it lies outside the 3 × 3 pixels about the source; and it is centred: mirror pixels 3, 10 and 30 pixels
+// away agree within 10 %.
 TEST(PostProcessing, BloomSpreadsTheStatedFractionOfABrightPixel) {
   context();
   constexpr uint32_t w = 256, h = 256, cx = 128, cy = 128;
@@ -218,7 +218,8 @@ TEST(PostProcessing, BloomSpreadsTheStatedFractionOfABrightPixel) {
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       total += at(x, y);
-      if (std::abs(int(x) - int(cx)) <= 1 && std::abs(int(y) - int(cy)) <= 1 && !(x == cx && y == cy)) near += at(x, y);
+      if (std::abs(int(x) - int(cx)) <= 1 && std::abs(int(y) - int(cy)) <= 1 && !(x == cx && y == cy))
+        near += at(x, y);
     }
   }
   const double keptAtSource = sourceCdM2 - k * brightPart;
