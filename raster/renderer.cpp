@@ -179,7 +179,7 @@ enum VariantBit : uint32_t {
   // Flat mirrors show the image of a mirrored pass (RasterRdb::planarReflectors).
   kVariantPlanarReflection = 1u << 18,
   // Simple mode's ambient term times the screen-space ambient occlusion (raster/ambient_occlusion.h).
-  kVariantAmbientOcclusion = 1u << 19,
+  kVariantAmbientOcclusion = 1u << 21,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
