@@ -45,7 +45,11 @@
 // i.e. what a frame costs more when the sun moves every frame (each frame with glFinish, wall clock, against
 // frames with a still sun).
 //
-// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --shadows [--shadow-map N]] [--house PATH]
+// Post-processing (--post): the 300k scene (100k with --quick) in simple mode without and with the ambient
+// occlusion (raster/ambient_occlusion.h, R = 0.5 m), and in sunlight mode without and with bloom (raster/bloom.h,
+// strength 0.05), each with its ratio against the same scene and mode without it ("× plain").
+//
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --post | --shadows [--shadow-map N]] [--house PATH]
 //   default 1920x1080; --quick: the 100k scene only (and the shadow scenes but the 1M one); --textured: the
 //   300k scene only, plain and textured; --shadows: the shadow section only; --house: scenes/house/house.json
 //   (relative to the working directory) by default, skipped when missing
@@ -603,7 +607,7 @@ int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h,
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
   uint32_t shadowMapTexels = 1024;
-  bool quick = false, texturedOnly = false, shadowsOnly = false, reflectorsOnly = false;
+  bool quick = false, texturedOnly = false, shadowsOnly = false, reflectorsOnly = false, postOnly = false;
   std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
@@ -614,6 +618,8 @@ int run(int argc, char** argv) {
       shadowsOnly = true;
     } else if (std::strcmp(argv[i], "--reflectors") == 0) {
       reflectorsOnly = true;
+    } else if (std::strcmp(argv[i], "--post") == 0) {
+      postOnly = true;
     } else if (std::strcmp(argv[i], "--shadow-map") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%u", &shadowMapTexels) == 1 && shadowMapTexels >= 16) {
     } else if (std::strcmp(argv[i], "--house") == 0 && i + 1 < argc) {
@@ -622,7 +628,7 @@ int run(int argc, char** argv) {
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
       std::fprintf(stderr,
-                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --shadows [--shadow-map N]] [--house PATH]\n");
+                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --post | --shadows [--shadow-map N]] [--house PATH]\n");
       return 2;
     }
   }
@@ -651,6 +657,30 @@ int run(int argc, char** argv) {
   const FrameTimes baseline = timeFrames(baselineRenderer, emptyView, RenderMode::kSimple, w, h, gpuTimers);
   printRow("0", "empty", baseline, baseline.pipelinedMs);
   if (shadowsOnly) return runShadows(quick, housePath, w, h, gpuTimers, baseline.pipelinedMs, shadowMapTexels);
+  if (postOnly) {
+    const sdb::Scene scene = makeScene(quick ? 221 : 387);
+    const rdb::RasterRdb r = rdb::buildRasterRdb(scene);  // no light maps: simple mode shades every mesh
+    const View view = viewOfCamera(r.cameras.at(0));
+    const std::string triangles = std::to_string(r.triangleCount());
+    std::printf("%-9s %-9s %9s %9s %8s %9s %8s %8s %9s %11s %8s\n", "triangles", "mode", "fps", "ms/frame",
+                "× base", "scene", "tone", "ms", "ms/frame", "mean L cd/m²", "× plain");
+    for (const RenderMode mode : {RenderMode::kSimple, RenderMode::kSunlight}) {
+      Renderer plain, post;
+      plain.upload(r);
+      post.upload(r);
+      const FrameTimes p = timeFrames(plain, view, mode, w, h, gpuTimers);
+      printRow(triangles.c_str(), renderModeName(mode), p, baseline.pipelinedMs);
+      if (mode == RenderMode::kSimple) {
+        post.setAmbientOcclusion({true, 0.5f});
+      } else {
+        post.setBloom({0.05f, 1.0f});
+      }
+      const FrameTimes t = timeFrames(post, view, mode, w, h, gpuTimers);
+      printRow(triangles.c_str(), mode == RenderMode::kSimple ? "+ssao" : "+bloom", t, baseline.pipelinedMs,
+               p.pipelinedMs);
+    }
+    return 0;
+  }
   if (reflectorsOnly) {
     // The 300k-triangle scene with two mirrors against the same quads in grey, mode by mode.
     constexpr RenderMode kAll[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};

@@ -15,6 +15,7 @@
 
 #include "base/error.h"
 #include "base/image_io.h"
+#include "base/log.h"
 #include "base/tone_map.h"
 #include "cli/bake_options.h"
 #include "cli/baked_light_maps.h"
@@ -23,6 +24,7 @@
 #include "cli/illuminance_view.h"
 #include "cli/image_metadata.h"
 #include "cli/environment_option.h"
+#include "cli/post_options.h"
 #include "cli/raster_scene.h"
 #include "cli/scene_daylight.h"
 #include "raster/gl_context.h"
@@ -48,6 +50,7 @@ struct RenderOptions {
   std::string op = "filmic";
   float whitePoint = 4.0f;
   ShadowOptions shadows;
+  PostOptions post;
   uint32_t ballTexels = 256;
   EnvironmentOptions environment;
   DaylightOptions daylight;
@@ -141,6 +144,8 @@ int runRender(const RenderOptions& options) {
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
   const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
+  const raster::AmbientOcclusionSettings ambientOcclusion = parseAmbientOcclusion(o.post);
+  const raster::BloomSettings bloom = parseBloom(o.post);
   const raster::BallSettings balls = parseBallOption(o.ballTexels);
   if (!o.environment.source.empty() && !o.timeLapse.empty())
     throw UsageError("--time-lapse moves the sun of the sky; --environment replaces both: give one of them");
@@ -192,6 +197,10 @@ int runRender(const RenderOptions& options) {
     if (!requestedMode && rdb.variants.sky) requestedMode = raster::RenderMode::kSunlight;
   }
   const std::optional<raster::RenderMode> mode = chooseRenderMode(rdb, requestedMode, scenePath);
+  if (ambientOcclusion.enabled && mode && *mode != raster::RenderMode::kSimple) {
+    log::warn(std::string("--ssao occludes simple mode's ambient term only; this is ") +
+              raster::renderModeName(*mode) + " mode, which it leaves as it is (give --mode simple)");
+  }
 
   // The view: the named camera, else the scene's first camera, else one framing the whole scene.
   const float aspect = float(width) / float(height);
@@ -215,6 +224,8 @@ int runRender(const RenderOptions& options) {
   renderer.upload(rdb);
   renderer.setSunShadows(shadows);
   renderer.setBallSettings(balls);
+  renderer.setAmbientOcclusion(ambientOcclusion);
+  renderer.setBloom(bloom);
   // Renders the current RasterRdb into `path`; the exposure is `ev100` when given, else automatic (returned).
   auto renderImage = [&](const std::string& path, std::optional<double> ev100) {
     renderer.render(view, *mode, width, height);
@@ -387,6 +398,7 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   sub->add_option("--white-point", o->whitePoint, "Reinhard: the exposed value shown as white (default 4)");
   addShadowOptions(*sub, o->shadows);
+  addPostOptions(*sub, o->post);
   addBallOption(*sub, o->ballTexels);
   addEnvironmentOptions(*sub, o->environment);
   o->daylight.add(*sub);

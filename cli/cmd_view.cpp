@@ -16,6 +16,7 @@
 #include "base/image_io.h"
 #include "cli/command.h"
 #include "cli/environment_option.h"
+#include "cli/post_options.h"
 #include "cli/raster_scene.h"
 #include "cli/view_host.h"
 #include "raster/gl_context.h"
@@ -37,6 +38,7 @@ struct ViewOptions {
   std::optional<double> exposureEv100;
   std::string op = "filmic";
   ShadowOptions shadows;
+  PostOptions post;
   uint32_t ballTexels = 256;
   EnvironmentOptions environment;
   DaylightOptions daylight;
@@ -87,6 +89,8 @@ int runView(const ViewOptions& o) {
   parseSize(o.size, width, height);
   const ToneOperator op = parseToneOperator(o.op);
   const raster::SunShadowSettings shadows = parseShadowOptions(o.shadows);
+  const raster::AmbientOcclusionSettings ambientOcclusion = parseAmbientOcclusion(o.post);
+  const raster::BloomSettings bloom = parseBloom(o.post);
   const raster::BallSettings balls = parseBallOption(o.ballTexels);
   std::optional<raster::RenderMode> mode;
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
@@ -119,6 +123,8 @@ int runView(const ViewOptions& o) {
   v.script = script;
   v.shadows = shadows;
   v.balls = balls;
+  v.ambientOcclusion = ambientOcclusion;
+  v.bloom = bloom;
   v.panel = !o.noPanel;
   v.lightMaps = scene.lightMaps ? &*scene.lightMaps : nullptr;
   v.probeAtPx = probeAt;
@@ -189,6 +195,7 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   addShadowOptions(*sub, o->shadows);
+  addPostOptions(*sub, o->post);
   addBallOption(*sub, o->ballTexels);
   addEnvironmentOptions(*sub, o->environment);
   o->daylight.add(*sub);

@@ -12,6 +12,7 @@
 
 #include "raster/cube_reflections.h"
 #include "raster/gl_program.h"
+#include "raster/shaders/ambient_occlusion_glsl.h"
 #include "raster/shaders/ball_texture_glsl.h"
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
@@ -183,6 +184,8 @@ enum VariantBit : uint32_t {
   kVariantCubeReflection = 1u << 20,
   // Sunlight mode's image-based light from the sky (raster/environment_light.h).
   kVariantIbl = 1u << 19,
+  // Simple mode's ambient term times the screen-space ambient occlusion (raster/ambient_occlusion.h).
+  kVariantAmbientOcclusion = 1u << 21,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -509,17 +512,19 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantNearDeferred, "neardeferred", "FLY_NEAR_DEFERRED"},
                    {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"},
                    {kVariantIbl, "ibl", "FLY_IBL"},
-                   {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"}};
+                   {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"},
+                   {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
-  const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kSceneCommon +
+  const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kAoAmbientCommon + shaders::kSceneCommon +
                              (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
   const std::string fragment =
-      std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup +
+      std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup + shaders::kAoAmbientCommon +
+      shaders::kAoAmbientLookup +
       (perFragment
            ? std::string(shaders::kSceneCommon) +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
@@ -994,6 +999,7 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
   if (v.cubeReflectors) captureCubeReflectors(mode);
   resize(widthPx, heightPx);
   if (v.planarReflectors) drawReflections(view, mode, widthPx, heightPx);
+  if (mode == RenderMode::kSimple && aoSettings_.enabled) drawAmbientOcclusion(view, widthPx, heightPx);
   renderPass(view, mode, widthPx, heightPx, nullptr, nullptr);
 }
 
@@ -1126,7 +1132,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
                             ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
                             (sunDirect ? kVariantSunDirect : 0u) | (v.twoSided ? kVariantTwoSided : 0u) |
                             (phong && v.goniometric ? kVariantGonio : 0u) |
-                            (lightMaps && v.lightTexture ? kVariantLightTexture : 0u);
+                            (lightMaps && v.lightTexture ? kVariantLightTexture : 0u) |
+                            (mode == RenderMode::kSimple && aoSettings_.enabled && !mirrorPass && !cubePass
+                                 ? kVariantAmbientOcclusion
+                                 : 0u);
     // The sun through clear glass (raster/sun_glass.h), where a program draws the sun's direct term, the sun
     // is above the horizon and the scene has clear glass: the transmittance map is rebuilt here only when the
     // sun, the geometry or the materials changed.
@@ -1387,7 +1396,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glEnable(GL_BLEND);
       glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
       glDepthMask(GL_FALSE);
-      const SceneProgram& p = use(surfaceVariant | kVariantBlendPass);
+      // Blended surfaces are in no depth pre-pass: the ambient occlusion under them is another surface's.
+      const SceneProgram& p = use((surfaceVariant | kVariantBlendPass) & ~uint32_t(kVariantAmbientOcclusion));
       for (size_t i : order) {
         const SurfaceDraw& d = gpu_->surfaceDraws[i];
         bindTextures(p, d);
@@ -1542,7 +1552,13 @@ void Renderer::toneMap(const ToneMapSettings& settings) {
   glUniform1i(tone.op, GLint(settings.op));
   glUniform1f(tone.exposureScale, exposureScale(settings.ev100));
   glUniform1f(tone.whitePoint, settings.whitePoint);
-  glBindImageTexture(1, gpu_->floatColor, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
+  GLuint luminance = gpu_->floatColor;
+  if (bloomSettings_.strength > 0.0f) {
+    if (!bloom_) bloom_ = std::make_unique<Bloom>(compiler());
+    luminance = bloom_->apply(luminance, width_, height_, exposureScale(settings.ev100), bloomSettings_);
+    glUseProgram(tone.program);
+  }
+  glBindImageTexture(1, luminance, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
   glBindImageTexture(0, gpu_->srgbColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   dispatchPerPixel(width_, height_);
   ++stats_.toneMapPasses;
@@ -1589,6 +1605,45 @@ uint64_t Renderer::shadowVolumeFill() {
   glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
   glViewport(0, 0, GLsizei(width_), GLsizei(height_));
   return shadows_->measureFill(lastShadowClipFromWorld_);
+}
+
+void Renderer::setAmbientOcclusion(const AmbientOcclusionSettings& settings) {
+  if (!(settings.radiusM > 0.0f && settings.radiusM <= 1e4f)) {
+    throw std::invalid_argument("the ambient occlusion radius must lie in (0, 10000] metres, not " +
+                                std::to_string(settings.radiusM));
+  }
+  aoSettings_ = settings;
+}
+
+void Renderer::setBloom(const BloomSettings& settings) {
+  if (!(settings.strength >= 0.0f && settings.strength <= 1.0f)) {
+    throw std::invalid_argument("the bloom strength must lie in [0, 1], not " + std::to_string(settings.strength));
+  }
+  if (!(settings.thresholdExposed > 0.0f && std::isfinite(settings.thresholdExposed))) {
+    throw std::invalid_argument("the bloom threshold must be a finite exposed value > 0, not " +
+                                std::to_string(settings.thresholdExposed));
+  }
+  bloomSettings_ = settings;
+}
+
+// The opaque scene's depth for the ambient occlusion: the per-vertex meshes and the opaque and cut-out
+// per-fragment draws (cut-outs and clear glass as solid occluders; blended surfaces left out).
+void Renderer::drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t heightPx) {
+  if (!ambientOcclusion_) ambientOcclusion_ = std::make_unique<AmbientOcclusion>(compiler());
+  const mat4 clipFromCamera = projection(view, float(widthPx) / float(heightPx));
+  ambientOcclusion_->run(clipFromCamera, glm::inverse(view.worldFromCamera), view.orthographic, widthPx, heightPx,
+                         aoSettings_.radiusM, [&] {
+                           glBindVertexArray(gpu_->vao);
+                           auto draw = [](size_t firstIndex, GLsizei count) {
+                             glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                                            reinterpret_cast<const void*>(firstIndex * sizeof(uint32_t)));
+                           };
+                           if (gpu_->perVertexIndexCount > 0) draw(0, gpu_->perVertexIndexCount);
+                           for (const SurfaceDraw& d : gpu_->surfaceDraws) {
+                             if (!d.blend) draw(d.firstIndex, d.indexCount);
+                           }
+                         });
+  glBindTextureUnit(15, ambientOcclusion_->texture());  // shaders::kAoAmbientLookup
 }
 
 void Renderer::finish() const {

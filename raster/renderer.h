@@ -64,8 +64,10 @@
 
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "raster/ambient_occlusion.h"
 #include "raster/ball_texture.h"
 #include "raster/environment_light.h"
+#include "raster/bloom.h"
 #include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
@@ -206,6 +208,13 @@ class Renderer {
   void setEnvironmentSettings(const EnvironmentSettings& settings);
   // The last built environment maps (null before the first sunlight frame with image-based light); for tests.
   const EnvironmentLight* environmentLight() const { return environment_.get(); }
+  // Simple mode's screen-space ambient occlusion of the ambient term (raster/ambient_occlusion.h);
+  // std::invalid_argument for a radius outside (0, 1e4] m. Default: off.
+  void setAmbientOcclusion(const AmbientOcclusionSettings& settings);
+  // Glare around the sun and bright highlights in the tone-map pass (raster/bloom.h), on the luminance before
+  // the display transform; luminanceRgb() stays without it. std::invalid_argument for a strength outside
+  // [0, 1] or a threshold ≤ 0. Default: off.
+  void setBloom(const BloomSettings& settings);
 
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
@@ -243,6 +252,7 @@ class Renderer {
                   const CubePass* cubePass);
   void captureCubeReflectors(RenderMode mode);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
+  void drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t heightPx);
   // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::
   // kNearLampsCompute): prepareNearLamps, after the balls are made, uploads every BRDF's lamps and readies
   // the opaque draws' record images; false when no measured material has a near lamp. drawNearLamps adds
@@ -267,6 +277,10 @@ class Renderer {
   RenderMode cubeMode_ = RenderMode::kSimple;
   std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
   bool ballBrdfsDirty_ = true;
+  AmbientOcclusionSettings aoSettings_;
+  std::unique_ptr<AmbientOcclusion> ambientOcclusion_;  // made at the first frame that draws it
+  BloomSettings bloomSettings_;
+  std::unique_ptr<Bloom> bloom_;  // made at the first tone-map pass with bloom
   std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;

@@ -305,6 +305,8 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
   renderer.upload(rdb);
   renderer.setSunShadows(options.shadows);
   renderer.setBallSettings(options.balls);
+  renderer.setAmbientOcclusion(options.ambientOcclusion);
+  renderer.setBloom(options.bloom);
   Overlay overlay;
   ViewerPanel panel;
   panel.setVisible(options.panel);

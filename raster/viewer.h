@@ -84,6 +84,8 @@ struct ViewerOptions {
   CameraControllerSettings controller;
   SunShadowSettings shadows;  // the sun's shadows (raster/sun_shadows.h)
   BallSettings balls;         // measured materials' ball textures (raster/ball_texture.h)
+  AmbientOcclusionSettings ambientOcclusion;  // simple mode's SSAO (raster/ambient_occlusion.h)
+  BloomSettings bloom;                        // glare before tone mapping (raster/bloom.h)
   bool panel = true;          // start with the panel shown (F1 toggles it)
   // The baked light maps the RasterRdb was built with, for the lux probe's standard errors; may be null.
   const rdb::LightMapStore* lightMaps = nullptr;

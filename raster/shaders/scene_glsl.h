@@ -30,6 +30,8 @@
 //   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
 //   FLY_BLEND_PASS    a blended surface: writes (coverage · L, coverage) into the blend target, composited
 //                     over the image by kBlendComposite
+//   FLY_SSAO          simple mode's ambient occlusion: phong's ambient term times the pixel's AO
+//                     (raster/ambient_occlusion.h; shaders/ambient_occlusion_glsl.h, prepended to every stage)
 //   FLY_MEASURED      measured BRDFs (rdb::RasterMeasuredBrdf): a material with one shows its ball texture
 //                     (raster/ball_texture.h) by reflection mapping (kMeasuredLookup)
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
@@ -247,6 +249,9 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
                     (1.0 + kCornerGain * corner);
 #endif
+#ifdef FLY_SSAO
+  flyAmbientLuminance = albedo / kPi * ambientLux;
+#endif
   return albedo / kPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
 }
 #endif
@@ -279,6 +284,9 @@ flat out vec3 vAlbedoOverPi;   // sr⁻¹
 #endif
 
 out vec3 vLuminance;
+#ifdef FLY_SSAO
+out vec3 vAmbientLuminance;  // phong's ambient part of vLuminance (shaders/ambient_occlusion_glsl.h)
+#endif
 invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (raster/sun_shadows.h)
 #ifdef FLY_TWO_SIDED
 flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying costs every triangle its setup)
@@ -368,6 +376,9 @@ void main() {
   }
 #endif
   vLuminance = l + m.emission.rgb;
+#ifdef FLY_SSAO
+  vAmbientLuminance = flyAmbientLuminance;
+#endif
 #ifdef FLY_TWO_SIDED
   vTwoSided = twoSided ? 1u : 0u;
 #endif
@@ -491,6 +502,9 @@ vec3 flyOctDecode(uint word) {
 // it is clear glass, whose both faces pass light).
 inline constexpr const char* kSceneFragment = R"GLSL(
 in vec3 vLuminance;
+#ifdef FLY_SSAO
+in vec3 vAmbientLuminance;
+#endif
 #ifdef FLY_TWO_SIDED
 flat in uint vTwoSided;
 #endif
@@ -523,6 +537,9 @@ void main() {
   vec3 l = vLuminance;
 #ifdef FLY_IBL
   l += flyEnvironmentSpecular(materials[vMaterial], normalize(vIblNormal), normalize(vToEye));
+#endif
+#ifdef FLY_SSAO
+  l -= (1.0 - flyAmbientOcclusion()) * vAmbientLuminance;
 #endif
 #ifdef FLY_SUN_GLASS
   // A pane's own sun term (its reflection) is not behind it (raster/sun_glass.h). The renderer compiles
@@ -939,6 +956,9 @@ void main() {
     }
 #else
     l = phong(base.rgb, m, vPositionM, n, toEye, vCorner);
+#endif
+#ifdef FLY_SSAO
+    l -= (1.0 - flyAmbientOcclusion()) * flyAmbientLuminance;
 #endif
   }
 #endif
