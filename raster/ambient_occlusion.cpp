@@ -38,9 +38,9 @@ void AmbientOcclusion::resize(uint32_t widthPx, uint32_t heightPx) {
   const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
   glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
   glTextureStorage2D(depth_, 1, GL_DEPTH_COMPONENT32F, w, h);
-  // Bilinear: kAoCompute reads a plane's depth exactly between pixel centres.
-  glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  // Read per pixel: kAoCompute interpolates between pixel centres itself, in full float precision.
+  glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(depth_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(depth_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   for (unsigned* t : {&raw_, &ao_}) {

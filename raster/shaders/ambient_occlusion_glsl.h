@@ -19,7 +19,7 @@ void main() {}
 // A pixel's camera-space point (metres; the camera looks down −Z) from the depth texture, shared by both
 // compute passes. Window depth 1 (nothing drawn) is kept just below 1 so an infinite far plane stays finite.
 inline constexpr const char* kAoCameraPoint = R"GLSL(
-layout(binding = 0) uniform sampler2D uDepth;  // window depth in [0, 1], bilinear
+layout(binding = 0) uniform sampler2D uDepth;  // window depth in [0, 1], read per pixel
 uniform mat4 uCameraFromClip;
 uniform ivec2 uSizePx;
 vec3 flyCameraPoint(vec2 windowPx, float depth) {
@@ -36,7 +36,7 @@ vec3 flyPixelPoint(ivec2 px) {
 // The occlusion estimate per pixel: a normal-oriented hemisphere (Crytek's SSAO, Mittring 2007, with the
 // hemisphere of Bavoil & Sainz's normal-oriented variant): kAoSamples points p + ε n + t_i R d_i, the d_i
 // cosine-distributed about the normal n (reconstructed from the depth of the neighbours, flyPlanarStep),
-// t_i in [0.1, 1]. A point lies in an occluder where the depth buffer, read bilinearly at
+// t_i in [0.1, 1]. A point lies in an occluder where the depth buffer, read bilinearly (flyBilinearDepth) at
 // its projection (window depth is affine over a plane, so a plane reads exactly), is nearer than it; an
 // occluder farther than R in depth from p counts less (smoothstep(0, 1, R / Δz), the range check). AO = 1 −
 // the occluded fraction: the cosine-weighted fraction of the hemisphere left open within R, so a point on an
@@ -55,6 +55,16 @@ const float kTwoPi = 6.28318530718;
 // window depth is affine over a plane, so the side whose next two pixels extrapolate the pixel's depth best
 // (the smaller second difference) lies on its surface, not across a crease or a silhouette.
 float flyDepthAt(ivec2 px) { return texelFetch(uDepth, clamp(px, ivec2(0), uSizePx - 1), 0).r; }
+// Window depth at a window point, bilinear between the four nearest pixels in full float precision: the
+// texture unit's own filter weighs with a few bits of sub-texel position (8 on NVIDIA), which on a floor seen
+// at a grazing angle reads a plane several ‰ of its depth step off, enough to occlude the plane with itself.
+float flyBilinearDepth(vec2 windowPx) {
+  vec2 f = windowPx - 0.5;
+  ivec2 i = ivec2(floor(f));
+  vec2 w = f - vec2(i);
+  return mix(mix(flyDepthAt(i), flyDepthAt(i + ivec2(1, 0)), w.x),
+             mix(flyDepthAt(i + ivec2(0, 1)), flyDepthAt(i + ivec2(1, 1)), w.x), w.y);
+}
 vec3 flyPlanarStep(ivec2 px, float depth, ivec2 axis) {
   float plus = abs(2.0 * flyDepthAt(px + axis) - flyDepthAt(px + 2 * axis) - depth);
   float minus = abs(2.0 * flyDepthAt(px - axis) - flyDepthAt(px - 2 * axis) - depth);
@@ -88,7 +98,7 @@ void main() {
     vec4 c = uClipFromCamera * vec4(s, 1.0);
     vec2 windowPx = (c.xy / c.w * 0.5 + 0.5) * vec2(uSizePx);
     if (any(lessThan(windowPx, vec2(0.0))) || any(greaterThan(windowPx, vec2(uSizePx)))) continue;
-    float sceneDepth = texture(uDepth, windowPx / vec2(uSizePx)).r;
+    float sceneDepth = flyBilinearDepth(windowPx);
     if (sceneDepth >= 1.0) continue;
     float sceneZ = flyCameraPoint(windowPx, sceneDepth).z;
     if (sceneZ > s.z + 1.0e-4 * abs(s.z)) {
