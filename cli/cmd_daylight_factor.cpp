@@ -42,14 +42,7 @@ std::string number(double v) {
 }
 
 int runDaylightFactor(const DaylightFactorOptions& o) {
-  if (!o.area.empty() && o.grid.empty())
-    throw UsageError("--area " + o.area + " limits --grid; give --grid too");
-  if (o.points.empty() == o.grid.empty()) {
-    throw UsageError(
-        "give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
-        "over the floors)");
-  }
-  const GridSpec grid = o.grid.empty() ? GridSpec{} : parseGridSpec(o.grid, o.area);
+  const GridSpec grid = parseSensorOptions(o.points, o.grid, o.area);  // bad values fail before the load
   o.image.check(!o.grid.empty());
   sdb::Scene scene = sdb::loadScene(o.scene);
   turnOffDaylight(scene);
@@ -67,9 +60,7 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
       "illuminance %.6g lux\n",
       outsideLux);
   const raytracer::EmbreeScene embree(rdb);
-  const GridSensors gridded =
-      o.grid.empty() ? GridSensors{parseSensorCsv(readInputFile(o.points, "sensor file"), o.points), {}, 0.0f}
-                     : gridSensors(o.grid, grid, o.scene, rdb, embree);
+  const GridSensors gridded = loadSensors(o.points, o.grid, grid, o.scene, rdb, embree);
   const SensorTable& sensors = gridded.table;
   const raytracer::IntegratorSettings integratorOptions =
       integratorSettings(o.sampling, scene.bakeSettings());

@@ -44,15 +44,7 @@ std::string number(double v) {
 }
 
 int runIlluminance(const IlluminanceOptions& o) {
-  if (!o.area.empty() && o.grid.empty())
-    throw UsageError("--area " + o.area + " limits --grid; give --grid too");
-  if (o.points.empty() == o.grid.empty()) {
-    throw UsageError(
-        "give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
-        "over the floors)");
-  }
-  const GridSpec grid =
-      o.grid.empty() ? GridSpec{} : parseGridSpec(o.grid, o.area);  // bad values fail before the load
+  const GridSpec grid = parseSensorOptions(o.points, o.grid, o.area);  // bad values fail before the load
   o.image.check(!o.grid.empty());
   const LitScene lit = loadLitScene(o.scene, o.daylight);
   const sdb::Scene& scene = lit.scene;
@@ -64,9 +56,7 @@ int runIlluminance(const IlluminanceOptions& o) {
   settings.replicates = std::min(8u, settings.firstPassSamples);
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const raytracer::EmbreeScene embree(rdb);
-  const GridSensors gridded =
-      o.grid.empty() ? GridSensors{parseSensorCsv(readInputFile(o.points, "sensor file"), o.points), {}, 0.0f}
-                     : gridSensors(o.grid, grid, o.scene, rdb, embree);
+  const GridSensors gridded = loadSensors(o.points, o.grid, grid, o.scene, rdb, embree);
   const SensorTable& sensors = gridded.table;
   const raytracer::IntegratorSettings integratorOptions = integratorSettings(o.sampling, scene.bakeSettings());
   const raytracer::Integrator integrator(rdb, embree, integratorOptions);

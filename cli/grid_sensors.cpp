@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "base/error.h"
+#include "base/file_io.h"
 #include "raytracer/sensor_grid.h"
 
 namespace fly::cli {
@@ -95,6 +96,23 @@ GridSensors gridSensors(const std::string& spec, const GridSpec& g, const std::s
     out.floorHeightsM.push_back(s.floorHeightM);
   }
   return out;
+}
+
+GridSpec parseSensorOptions(const std::string& points, const std::string& grid, const std::string& area) {
+  if (!area.empty() && grid.empty()) throw UsageError("--area " + area + " limits --grid; give --grid too");
+  if (points.empty() == grid.empty()) {
+    throw UsageError(
+        "give exactly one of --points FILE.csv (your sensors) and --grid HEIGHT,SPACING (a grid "
+        "over the floors)");
+  }
+  return grid.empty() ? GridSpec{} : parseGridSpec(grid, area);
+}
+
+GridSensors loadSensors(const std::string& points, const std::string& gridText, const GridSpec& grid,
+                        const std::string& scenePath, const rdb::TraceRdb& rdb,
+                        const raytracer::EmbreeScene& embree) {
+  if (!points.empty()) return GridSensors{parseSensorCsv(readInputFile(points, "sensor file"), points), {}, 0.0f};
+  return gridSensors(gridText, grid, scenePath, rdb, embree);
 }
 
 }  // namespace fly::cli

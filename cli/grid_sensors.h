@@ -25,6 +25,11 @@ struct GridSpec {
 // naming the option for a malformed or out-of-range value.
 GridSpec parseGridSpec(const std::string& spec, const std::string& area = "");
 
+// The sensor options of fly illuminance and fly daylight-factor: exactly one of --points FILE.csv and --grid
+// HEIGHT,SPACING, and --area only with --grid. UsageError otherwise; a bad grid fails here, before the scene is
+// loaded. Returns the grid (an empty GridSpec with --points).
+GridSpec parseSensorOptions(const std::string& points, const std::string& grid, const std::string& area);
+
 struct GridSensors {
   SensorTable table;                 // columns x,y,z,nx,ny,nz
   std::vector<float> floorHeightsM;  // the floor under each sensor (y, metres)
@@ -36,5 +41,10 @@ struct GridSensors {
 // it.
 GridSensors gridSensors(const std::string& spec, const GridSpec& grid, const std::string& scenePath,
                         const rdb::TraceRdb& rdb, const raytracer::EmbreeScene& embree);
+
+// The sensors of --points (the CSV file) or, when it is "", of --grid `gridText` (parsed as `grid`).
+GridSensors loadSensors(const std::string& points, const std::string& gridText, const GridSpec& grid,
+                        const std::string& scenePath, const rdb::TraceRdb& rdb,
+                        const raytracer::EmbreeScene& embree);
 
 }  // namespace fly::cli
