@@ -82,7 +82,7 @@ struct GpuLight {
 };
 
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
-  return {vec4(m.diffuse, 0.0f),
+  return {vec4(m.diffuse, m.reflectionTinted ? 1.0f : 0.0f),
           vec4(m.specular, m.phongExponent),
           vec4(m.emissionCdM2, 0.0f),
           vec4(m.transmission, m.fresnelF0),

@@ -147,6 +147,12 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   }
   if (readsTextures(m)) {
     r.baseColorTexture = lowerTextureRef(m.diffuseTexture, true, table);
+    r.reflectionTinted = m.reflectionTextureSrgb && m.reflectionTexture && m.diffuseTexture &&
+                         m.reflectionTexture.texture == m.diffuseTexture.texture &&
+                         m.reflectionTexture.texCoord == m.diffuseTexture.texCoord &&
+                         m.reflectionTexture.transform.offset == m.diffuseTexture.transform.offset &&
+                         m.reflectionTexture.transform.rotationRad == m.diffuseTexture.transform.rotationRad &&
+                         m.reflectionTexture.transform.scale == m.diffuseTexture.transform.scale;
     r.emissionTexture = lowerTextureRef(m.emissionTexture, true, table);
     r.normalTexture = lowerTextureRef(m.bumpTexture, false, table);
     r.normalScale = std::max(0.0f, m.bumpScale);

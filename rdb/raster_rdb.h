@@ -95,6 +95,9 @@ struct RasterMaterial {
   // other (Fresnel) reflection. The light-map modes show an opaque uniform reflector as a rough one:
   // (diffuse + reflection) · E / π (raster/renderer.h).
   Rgb reflection{0.0f};
+  // The base colour's texel (sRGB-decoded) multiplies specular, reflection and environmentF90 too: a glTF
+  // metal reflects its base colour texture (sdb::Material::reflectionTextureSrgb, sdb/gltf_import.cpp).
+  bool reflectionTinted = false;
   float fresnelF0 = -1.0f;
   // What the image-based light's split sum (raster/environment_light.h) reflects: F0 = `specular` at normal
   // incidence and F90 = environmentF90 at grazing incidence (the reflection colour: Schlick's Fresnel rises

@@ -43,7 +43,7 @@ namespace fly::raster::shaders {
 // view and lighting uniforms, and the modified Phong.
 inline constexpr const char* kSceneCommon = R"GLSL(
 struct Material {
-  vec4 diffuse;       // rgb albedo
+  vec4 diffuse;       // rgb albedo, w 1 where the base colour texel tints the reflection (specular, reflection, F90)
   vec4 specular;      // rgb reflectance at normal incidence, w Blinn–Phong exponent
   vec4 emission;      // rgb cd/m²
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
@@ -870,7 +870,15 @@ void main() {
   vec3 emission = m.emission.rgb;
 #ifdef FLY_TEXTURES
   vec3 normalTexel = vec3(0.5, 0.5, 1.0);
-  if ((uTextureSlots & 1u) != 0u) base *= texture(uBaseColorTexture, flyTextureUv(uUvRows[0], uUvRows[1]));
+  if ((uTextureSlots & 1u) != 0u) {
+    vec4 texel = texture(uBaseColorTexture, flyTextureUv(uUvRows[0], uUvRows[1]));
+    base *= texel;
+    if (m.diffuse.w > 0.5) {  // a metal's reflection of its base colour texture (RasterMaterial::reflectionTinted)
+      m.specular.rgb *= texel.rgb;
+      m.reflection.rgb *= texel.rgb;
+      m.environment.rgb *= texel.rgb;
+    }
+  }
   if ((uTextureSlots & 2u) != 0u) emission *= texture(uEmissionTexture, flyTextureUv(uUvRows[2], uUvRows[3])).rgb;
 #ifdef FLY_NORMAL_MAP
   if ((uTextureSlots & 4u) != 0u) normalTexel = texture(uNormalTexture, flyTextureUv(uUvRows[4], uUvRows[5])).xyz;

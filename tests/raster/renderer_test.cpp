@@ -572,6 +572,36 @@ TEST(Renderer, LightMapModeShowsAMetalAsARoughReflectorOfItsReflectance) {
   }
 }
 
+// A glTF metal reflects its base colour texture (sdb::Material::reflectionTextureSrgb): in light-map mode its
+// rough-reflector term is reflection × the decoded texel × E / π; without the tint it would be the factor
+// alone, (0.9, 0.8, 0.7) · E / π, 1.9–8.3× brighter than this texel allows.
+TEST(Renderer, AMetalsReflectionIsTintedByItsBaseColourTexture) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.diffuseColor = Rgb(0.0f);
+  m.reflectionColor = Rgb(0.9f, 0.8f, 0.7f);
+  m.reflectionModel = sdb::ReflectionModel::kUniform;
+  m.reflectionGlossiness = 0.2f;
+  m.engineReflection = sdb::EngineReflection::kNone;
+  m.diffuseTexture.texture = addTexture(s, 1, 1, 3, {188, 120, 60});
+  m.reflectionTexture = m.diffuseTexture;
+  m.reflectionTextureSrgb = true;
+  const sdb::MaterialId mat = s.addMaterial(m).id;
+  const sdb::MeshId meshId = s.addMesh(uvQuad(mat)).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {meshId}}).id;
+  rdb::LightMapStore store;
+  store.meshes.push_back({node.value, meshId.value, kFrontLux, {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  ASSERT_TRUE(r.materials.back().reflectionTinted);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  const Rgb rho = Rgb(0.9f, 0.8f, 0.7f) * srgbToLinear(Rgb(188, 120, 60) / 255.0f);
+  // GPUs may decode 8-bit sRGB up to about half a code value off (as above).
+  expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kFrontLux, rho), false), 1e-2f);
+}
+
 // glTF sampler wrap modes and filters: a 2 × 2 texture (red, green / blue, white from the top left) over the
 // quad with u from −1 to 2 (left to right) and v from −0.5 to 1.5 (top to bottom), magnified with NEAREST: a
 // pixel shows the texel that the wrap mode maps its UV into, computed here from the GL specification's
