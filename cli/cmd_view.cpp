@@ -16,6 +16,7 @@
 #include "base/image_io.h"
 #include "cli/command.h"
 #include "cli/environment_option.h"
+#include "cli/image_metadata.h"
 #include "cli/post_options.h"
 #include "cli/raster_scene.h"
 #include "cli/view_host.h"
@@ -153,12 +154,14 @@ int runView(const ViewOptions& o) {
 
   if (!o.screenshot.empty()) {
     if (r.frames == 0) throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
-    writePng(o.screenshot, int(r.widthPx), int(r.heightPx), 3, r.srgb8.data());
+    writePng(o.screenshot, int(r.widthPx), int(r.heightPx), 3, r.srgb8.data(),
+             imageMetadata("fly view", daylightSettings(scene.scene)));
   }
   if (!o.windowScreenshot.empty()) {
     if (r.windowSrgb8.empty())
       throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
-    writePng(o.windowScreenshot, int(r.windowWidthPx), int(r.windowHeightPx), 3, r.windowSrgb8.data());
+    writePng(o.windowScreenshot, int(r.windowWidthPx), int(r.windowHeightPx), 3, r.windowSrgb8.data(),
+             imageMetadata("fly view, the window", daylightSettings(scene.scene)));
   }
   char line[160];
   std::snprintf(line, sizeof line, "frames    %llu in %.2f s; last: mode %s, exposure EV100 %.2f\n",

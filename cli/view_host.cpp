@@ -7,6 +7,7 @@
 #include "base/error.h"
 #include "base/image_io.h"
 #include "base/log.h"
+#include "cli/image_metadata.h"
 #include "cli/scene_daylight.h"
 
 namespace fly::cli {
@@ -76,7 +77,8 @@ void SceneViewHost::saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t w
     name = b;
   } while (std::filesystem::exists(name));
   try {
-    writePng(name, int(widthPx), int(heightPx), 3, srgb8.data());
+    // The scene's daylight as the screenshot shows it: the time the keys or the panel set.
+    writePng(name, int(widthPx), int(heightPx), 3, srgb8.data(), imageMetadata("fly view", daylightSettings(s_.scene)));
     std::cout << "screenshot " << name.string() << " (" << widthPx << "×" << heightPx << ")" << std::endl;
   } catch (const std::exception& e) {  // a full disk or a read-only directory does not end the session
     log::error(std::string("screenshot not saved: ") + e.what());
