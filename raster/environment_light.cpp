@@ -47,12 +47,12 @@ std::vector<Rgb> readFace(GLuint texture, uint32_t level, uint32_t face, uint32_
 
 struct EnvironmentLight::Gpu {
   GLuint source = 0, radiance = 0, irradiance = 0, table = 0;
-  GLuint fromEquirect = 0, downsample = 0, prefilter = 0, irradianceProgram = 0, splitSum = 0;
+  GLuint fromEquirect = 0, downsample = 0, prefilter = 0, irradianceProgram = 0;
   uint32_t sourceLevels = 1;
   ~Gpu() {
     const GLuint textures[] = {source, radiance, irradiance, table};
     glDeleteTextures(4, textures);
-    for (GLuint p : {fromEquirect, downsample, prefilter, irradianceProgram, splitSum}) glDeleteProgram(p);
+    for (GLuint p : {fromEquirect, downsample, prefilter, irradianceProgram}) glDeleteProgram(p);
   }
 };
 
@@ -176,20 +176,27 @@ void EnvironmentLight::buildFromSource() {
   glBindImageTexture(0, g.irradiance, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   dispatchCube(s.irradiancePx);
   // The split-sum table depends on nothing but the settings: made once.
-  if (!g.table) {
-    glCreateTextures(GL_TEXTURE_2D, 1, &g.table);
-    glTextureStorage2D(g.table, 1, GL_RG32F, GLsizei(s.tablePx), GLsizei(s.tablePx));
-    glTextureParameteri(g.table, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(g.table, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(g.table, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(g.table, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    p = program(g.splitSum, "environment-split-sum", shaders::kEnvironmentSplitSum);
-    glUniform1i(glGetUniformLocation(p, "uSize"), GLint(s.tablePx));
-    glUniform1i(glGetUniformLocation(p, "uSamples"), GLint(s.tableSamples));
-    glBindImageTexture(0, g.table, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-    glDispatchCompute((s.tablePx + 7) / 8, (s.tablePx + 7) / 8, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  }
+  if (!g.table) g.table = makeSplitSumTable(compile_, s.tablePx, s.tableSamples);
+}
+
+unsigned makeSplitSumTable(const EnvironmentLight::Compile& compile, uint32_t tablePx, uint32_t tableSamples) {
+  GLuint table = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &table);
+  glTextureStorage2D(table, 1, GL_RG32F, GLsizei(tablePx), GLsizei(tablePx));
+  glTextureParameteri(table, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(table, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(table, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(table, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  const GLuint p = compile("environment-split-sum", std::string(shaders::kEnvironmentCommon),
+                           {{GL_COMPUTE_SHADER, shaders::kEnvironmentSplitSum}});
+  glUseProgram(p);
+  glUniform1i(glGetUniformLocation(p, "uSize"), GLint(tablePx));
+  glUniform1i(glGetUniformLocation(p, "uSamples"), GLint(tableSamples));
+  glBindImageTexture(0, table, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+  glDispatchCompute((tablePx + 7) / 8, (tablePx + 7) / 8, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glDeleteProgram(p);
+  return table;
 }
 
 unsigned EnvironmentLight::radianceCube() const { return gpu_->radiance; }

@@ -79,4 +79,10 @@ class EnvironmentLight {
   EnvironmentSettings settings_;
 };
 
+// The split sum's table alone, as EnvironmentLight makes it: (A, B)(cos θo, √α), tablePx² RG32F (linear
+// filtering, clamped to the edge), tableSamples GGX samples a texel — for passes that need a GGX lobe's
+// albedo without an environment (frosted glass's transmittance, raster/renderer.h). The caller owns the
+// texture. Ranges as EnvironmentSettings'.
+unsigned makeSplitSumTable(const EnvironmentLight::Compile& compile, uint32_t tablePx, uint32_t tableSamples);
+
 }  // namespace fly::raster

@@ -84,7 +84,7 @@ struct GpuLight {
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
   return {vec4(m.diffuse, m.reflectionTinted ? 1.0f : 0.0f),
           vec4(m.specular, m.phongExponent),
-          vec4(m.emissionCdM2, 0.0f),
+          vec4(m.emissionCdM2, m.transmissionAlpha),
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),
           vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
@@ -186,6 +186,9 @@ enum VariantBit : uint32_t {
   kVariantIbl = 1u << 19,
   // Simple mode's ambient term times the screen-space ambient occlusion (raster/ambient_occlusion.h).
   kVariantAmbientOcclusion = 1u << 21,
+  // Frosted glass (with kVariantGlass): its transmittance by the split sum's table, what lies behind it
+  // blurred by the lobe's width (rdb::RasterMaterial::transmissionAlpha).
+  kVariantFrosted = 1u << 22,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -317,7 +320,7 @@ struct Renderer::SceneProgram {
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
-        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1;
+        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, focalPx = -1;
 };
 
 struct NearProgram {
@@ -338,6 +341,10 @@ struct Renderer::Gpu {
   // Scenes with clear glass: a copy of the float image before the glass is drawn, which the glass shows
   // through itself (render). Made at the first such render of a size.
   GLuint behindColor = 0;
+  // Scenes with frosted glass: that copy decoded to RGBA32F with a box-filtered mip chain, which frosted panes
+  // read at the level of their lobe's width; the split sum's table for their transmittance (made once); the
+  // decoding pass.
+  GLuint behindBlurred = 0, frostTable = 0, behindDecode = 0;
   GLuint srgbFbo = 0, srgbColor = 0;
   // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
   // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges),
@@ -385,6 +392,9 @@ struct Renderer::Gpu {
     glDeleteTextures(1, &lightTextures);
     glDeleteTextures(1, &floatColor);
     glDeleteTextures(1, &behindColor);
+    glDeleteTextures(1, &behindBlurred);
+    glDeleteTextures(1, &frostTable);
+    glDeleteProgram(behindDecode);
     glDeleteTextures(1, &srgbColor);
     glDeleteRenderbuffers(1, &depth);
     glDeleteFramebuffers(1, &floatFbo);
@@ -513,7 +523,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantPlanarReflection, "planarreflection", "FLY_PLANAR_REFLECTION"},
                    {kVariantIbl, "ibl", "FLY_IBL"},
                    {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"},
-                   {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"}};
+                   {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"},
+                   {kVariantFrosted, "frosted", "FLY_FROSTED"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -558,6 +569,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.mirrorReflection = loc("uMirrorReflection");
   sp.mirrorF0 = loc("uMirrorF0");
   sp.radianceTopLevel = loc("uRadianceTopLevel");
+  sp.focalPx = loc("uFocalPx");
   sp.cubeReflector = loc("uCubeReflector");
   sp.program = p;
   return sp;
@@ -933,6 +945,34 @@ void Renderer::uploadSky() {
   ++stats_.skyUploads;
 }
 
+void Renderer::prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx) {
+  Gpu& g = *gpu_;
+  if (!g.frostTable) {
+    g.frostTable = makeSplitSumTable(compiler(), kSkyEnvironmentSettings.tablePx, kSkyEnvironmentSettings.tableSamples);
+  }
+  const uint32_t levels = uint32_t(std::floor(std::log2(double(std::max(widthPx, heightPx))))) + 1;
+  if (!g.behindBlurred) {
+    glCreateTextures(GL_TEXTURE_2D, 1, &g.behindBlurred);
+    glTextureStorage2D(g.behindBlurred, GLsizei(levels), GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
+    glTextureParameteri(g.behindBlurred, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(g.behindBlurred, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(g.behindBlurred, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(g.behindBlurred, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  if (!g.behindDecode) {
+    g.behindDecode = compileProgram("behind-decode", shaders::kLuminanceEncoding,
+                                    {{GL_COMPUTE_SHADER, shaders::kBehindDecode}});
+  }
+  glUseProgram(g.behindDecode);
+  glBindImageTexture(0, g.behindColor, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
+  glBindImageTexture(1, g.behindBlurred, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchPerPixel(widthPx, heightPx);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glGenerateTextureMipmap(g.behindBlurred);
+  glBindTextureUnit(3, g.behindBlurred);
+  glBindTextureUnit(14, g.frostTable);
+}
+
 void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   if (widthPx == width_ && heightPx == height_ && gpu_->floatFbo) return;
   glDeleteFramebuffers(1, &gpu_->floatFbo);
@@ -941,6 +981,8 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   glDeleteTextures(1, &gpu_->srgbColor);
   glDeleteTextures(1, &gpu_->behindColor);
   gpu_->behindColor = 0;
+  glDeleteTextures(1, &gpu_->behindBlurred);
+  gpu_->behindBlurred = 0;
   const GLuint nearTextures[] = {gpu_->nearData, gpu_->nearLight};
   glDeleteTextures(2, nearTextures);
   gpu_->nearData = gpu_->nearLight = 0;
@@ -1151,7 +1193,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         ++stats_.sunGlassBuilds;
       if (!sunGlass_->empty()) sunGlass = kVariantSunGlass;
     }
-    const uint32_t variant = shared | sunGlass | (v.glass ? kVariantGlass : 0u);
+    const uint32_t variant =
+        shared | sunGlass | (v.glass ? kVariantGlass : 0u) | (v.glass && v.frostedGlass ? kVariantFrosted : 0u);
     const uint32_t surfaceVariant =
         shared | sunGlass | kVariantPerFragment | (v.measuredBrdf ? kVariantMeasured : 0u) |
         (v.measuredBrdf && v.goniometric ? kVariantGonio : 0u) |
@@ -1214,6 +1257,12 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       }
       if (programVariant & kVariantIbl) {
         glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
+      }
+      if (programVariant & kVariantFrosted) {
+        // Pixels per unit of tan(angle from the view axis) at the image's centre; orthographic: as at 90°.
+        const float focalPx =
+            0.5f * float(heightPx) / (view.orthographic ? 1.0f : std::tan(0.5f * view.yfovRad));
+        glUniform1f(p.focalPx, focalPx);
       }
       if (programVariant & kVariantSunGlass) {
         glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);
@@ -1367,6 +1416,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0,
                          0, 0, w, h, 1);
       glBindTextureUnit(4, gpu_->behindColor);
+      if (variant & kVariantFrosted) prepareFrostedGlass(widthPx, heightPx);
       const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
       draw(0, gpu_->perVertexIndexCount);

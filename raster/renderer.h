@@ -130,12 +130,14 @@ struct RendererStats {
 inline constexpr float kMaxAnisotropy = 16.0f;
 
 // The sky's image-based light maps: a 64² source and radiance cube with 6 levels (α = 0, 0.04, … 1) of 256
-// GGX samples a texel, a 16² irradiance cube summed over the 32² level, a 32² split-sum table — a sky is
-// smooth, and a change of time rebuilds them in a few milliseconds on a GPU.
+// GGX samples a texel, a 16² irradiance cube summed over the 32² level, a 64² split-sum table (at 32² its
+// bilinear interpolation overstates a metal's albedo at 85° from the normal by 2 %: the table's steepest part
+// lies at grazing angles; tests/engines/material_albedo_test.cpp) — a sky is smooth, and a change of time
+// rebuilds them in a few milliseconds on a GPU.
 inline constexpr EnvironmentSettings kSkyEnvironmentSettings{.cubePx = 64, .radianceLevels = 6,
                                                              .prefilterSamples = 256, .irradiancePx = 16,
-                                                             .irradianceQuadPx = 32, .tablePx = 32,
-                                                             .tableSamples = 512};
+                                                             .irradianceQuadPx = 32, .tablePx = 64,
+                                                             .tableSamples = 4096};
 
 class Renderer {
  public:
@@ -251,6 +253,9 @@ class Renderer {
   void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass,
                   const CubePass* cubePass);
   void captureCubeReflectors(RenderMode mode);
+  // Before the glass pass of a scene with frosted glass: the copy of the image behind it decoded into a
+  // mipmapped texture (unit 3) and the split sum's table (unit 14; shaders::kSceneVertex, FLY_FROSTED).
+  void prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   void drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t heightPx);
   // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::

@@ -72,10 +72,14 @@ struct TextureTable {
   }
 };
 
-// The textures the engine reads are those of materials that are not clear glass (glass is shaded per
-// vertex, in its own pass).
+// Glass to the engine: a material that transmits (the energy rule's transmission at normal incidence), clear
+// or frosted, drawn as a thin pane in its own pass (RasterMaterial::transmission).
+bool engineGlass(const sdb::Material& m) { return maxComponent(m.effective().transmission) > 0.0f; }
+
+// The textures the engine reads are those of materials that are not glass (glass is shaded per vertex, in
+// its own pass).
 bool readsTextures(const sdb::Material& m) {
-  return !m.hasClearTransmission();
+  return !engineGlass(m);
 }
 
 RasterTextureRef lowerTextureRef(const sdb::TextureRef& ref, bool srgb, TextureTable& table) {
@@ -138,8 +142,10 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
                            : glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
   }
   r.emissionCdM2 = m.emissionLuminance;
-  if (m.hasClearTransmission()) {
+  if (engineGlass(m)) {
     r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
+    const float alphaT = m.transmissionGlossiness * m.transmissionGlossiness;
+    r.transmissionAlpha = alphaT < sdb::kSmoothAlpha ? 0.0f : alphaT;
     r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
     r.fresnelF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
   } else if (m.reflectionModel == sdb::ReflectionModel::kUniform) {
@@ -170,12 +176,12 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.alphaCutoff = std::clamp(m.alphaCutoff, 0.0f, 1.0f);
     r.opacity = std::clamp(m.opacity, 0.0f, 1.0f);
   }
-  if (m.showsPlanarReflection() && !m.hasClearTransmission() && !m.isMeasured()) {
+  if (m.showsPlanarReflection() && !engineGlass(m) && !m.isMeasured()) {
     r.mirrorLike = true;
     r.mirrorReflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
     r.mirrorF0 = m.reflectionModel == sdb::ReflectionModel::kFresnel ? sdb::fresnelF0(m.ior) : -1.0f;
   }
-  if (!m.hasClearTransmission() && !m.isMeasured()) {
+  if (!engineGlass(m) && !m.isMeasured()) {
     r.cubeMapAlways = m.showsCubeMapReflection(true);
     r.cubeMapOnCurved = m.showsCubeMapReflection(false);
   }
@@ -892,6 +898,10 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   rdb.variants.goniometric = f.goniometricLights && !rdb.goniometricCd.empty();
   rdb.variants.glass = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
     return maxComponent(rdb.materials[m.material].transmission) > 0.0f;
+  });
+  rdb.variants.frostedGlass = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
+    const RasterMaterial& x = rdb.materials[m.material];
+    return maxComponent(x.transmission) > 0.0f && x.transmissionAlpha > 0.0f;
   });
   RasterVariants& v = rdb.variants;
   v.textures = v.normalMaps = v.uv1 = v.vertexColors = v.alphaMask = v.alphaBlend = false;

@@ -86,11 +86,16 @@ struct RasterMaterial {
   // eq. 33 (s = 2/α² − 2), clamped to [1, 10⁴].
   float phongExponent = 1.0f;
   Rgb emissionCdM2{0.0f};  // emitted luminance, cd/m²
-  // Clear glass (sdb::Material::hasClearTransmission): a thin-walled pane that shows what lies behind it
-  // times T(θ) = transmission · (1 − reflection · F(θ)) — the energy rule's transmittance at the angle it is
-  // seen, as the baker's shadow rays cross it (raytracer/bsdf.h) — with F Schlick's of fresnelF0, or 1 for
-  // uniform reflection (fresnelF0 < 0). transmission is 0 for other materials.
+  // Glass (a material whose energy rule transmits at normal incidence): a thin-walled pane that shows what
+  // lies behind it. Clear glass (transmissionAlpha 0, sdb::Material::hasClearTransmission) times T(θ) =
+  // transmission · (1 − reflection · F(θ)) — the energy rule's transmittance at the angle it is seen, as the
+  // baker's shadow rays cross it (raytracer/bsdf.h) — with F Schlick's of fresnelF0, or 1 for uniform
+  // reflection (fresnelF0 < 0). Frosted glass (transmissionAlpha > 0) scatters into the baker's thin-surface
+  // GGX lobe of that α mirrored through the pane, whose albedo towards θo is transmission · ((A + B) −
+  // (F0 A + F90 B)) by the split sum's table at α (F0 = specular, F90 = environmentF90), and shows what lies
+  // behind it blurred by the lobe's width (raster/renderer.h). transmission is 0 for other materials.
   Rgb transmission{0.0f};  // transmissionColor, [0,1]
+  float transmissionAlpha = 0.0f;  // GGX α = transmission glossiness², [0, 1]; 0 (below kSmoothAlpha): clear
   // reflectionColor, [0,1], of clear glass and of uniform reflection (glTF metals, sdb/gltf_import.cpp); 0 for
   // other (Fresnel) reflection. The light-map modes show an opaque uniform reflector as a rough one:
   // (diffuse + reflection) · E / π (raster/renderer.h).
@@ -265,7 +270,8 @@ struct RasterVariants {
   bool sky = false;          // a sky dome (sunlight mode's background)
   bool sun = false;          // a sun disc (sunlight mode) and the sun as a directional light (both modes)
   bool goniometric = false;  // goniometric lights in the simple mode's Phong
-  bool glass = false;        // a mesh of clear glass: a second pass shows what lies behind it
+  bool glass = false;        // a mesh of glass: a second pass shows what lies behind it
+  bool frostedGlass = false;  // a mesh of frosted glass: what lies behind it is shown blurred (a mip chain)
   // Surfaces shaded per fragment (textures, COLOR_0, alpha coverage; RasterRdb::shadedPerFragment):
   bool textures = false;      // some material samples a texture (RasterRdb::textures is not empty)
   bool normalMaps = false;    // some material has a normal map: RasterRdb::tangents

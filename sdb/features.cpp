@@ -43,6 +43,7 @@ std::vector<std::string> SceneFeatures::names() const {
       {lightTexturedMeshes, "light-textured-meshes"},
       {measuredBrdfs, "measured-brdf"},
       {transmissiveMaterials, "transmissive-materials"},
+      {frostedGlass, "frosted-glass"},
       {anisotropicMaterials, "anisotropic-materials"},
       {texturedMaterials, "textured-materials"},
       {bumpMaps, "bump-maps"},
@@ -83,6 +84,8 @@ SceneFeatures computeFeatures(const Scene& scene) {
     f.lightTexturedMeshes |= mesh.lightTexture.enabled;
     f.measuredBrdfs |= m.isMeasured();
     f.transmissiveMaterials |= m.isTransmissive();
+    const bool glass = maxComponent(m.effective().transmission) > 0.0f;
+    f.frostedGlass |= glass && !m.hasClearTransmission();
     f.anisotropicMaterials |= m.isAnisotropic();
     f.texturedMaterials |= bool(m.diffuseTexture) || bool(m.reflectionTexture) || bool(m.transmissionTexture) ||
                            bool(m.reflectionGlossinessTexture) || bool(m.anisotropyTexture) ||
@@ -91,7 +94,7 @@ SceneFeatures computeFeatures(const Scene& scene) {
     f.vertexColors |= !mesh.colors.empty();
     const bool flat = isPlanar(mesh);
     const char* choice = nullptr;
-    if (m.isMeasured() || m.hasClearTransmission()) {
+    if (m.isMeasured() || glass) {
       // shown by their ball textures, or as glass
     } else if (m.showsPlanarReflection() && flat) {
       f.planarReflectors = true;

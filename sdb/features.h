@@ -20,6 +20,9 @@ struct SceneFeatures {
   bool lightTexturedMeshes = false;  // meshes that ask for light textures
   bool measuredBrdfs = false;        // materials with a measured BRDF table or a fitted car-paint BRDF
   bool transmissiveMaterials = false;  // glass and other materials that transmit light
+  // transmitting materials whose transmission is glossy (transmissionGlossiness² ≥ kSmoothAlpha): the OpenGL
+  // engine shows what lies behind them blurred
+  bool frostedGlass = false;
   bool anisotropicMaterials = false;
   bool texturedMaterials = false;    // any material reads a texture
   bool bumpMaps = false;
@@ -33,7 +36,7 @@ struct SceneFeatures {
 
   // The names of the features present, in the order above: "sun", "sky", "punctual-lights",
   // "goniometric-lights", "emissive-surfaces", "two-sided-surfaces", "light-textured-meshes", "measured-brdf",
-  // "transmissive-materials", "anisotropic-materials", "textured-materials", "bump-maps", "vertex-colors",
+  // "transmissive-materials", "frosted-glass", "anisotropic-materials", "textured-materials", "bump-maps", "vertex-colors",
   // "planar-reflectors", "curved-reflectors".
   std::vector<std::string> names() const;
 };

@@ -7,8 +7,10 @@
 //   FLY_GONIO      goniometric lights' tables
 //   FLY_LIGHT_TEXTURE  light textures (with FLY_LIGHT_MAP): L = albedo · E_texel / π per fragment, bilinear, for
 //                  meshes that have one
-//   FLY_GLASS      clear glass: drawn in a second pass over a copy of the first, adding T(θ) times what lies
+//   FLY_GLASS      glass: drawn in a second pass over a copy of the first, adding T(θ) times what lies
 //                  behind it (rdb/raster_rdb.h, RasterMaterial::transmission)
+//   FLY_FROSTED    frosted glass (with FLY_GLASS): T(θ) of its GGX transmission lobe by the split sum's table,
+//                  times what lies behind it blurred by the lobe's width (a mip level of the copy)
 //   FLY_SUN_DIRECT sunlight mode over light maps that keep the sun's direct part apart (with FLY_LIGHT_MAP):
 //                  L = albedo · (E − E_sunDirect) / π + the sun's direct term (flySunTerm) for the current sun
 //                  (FLY §3: baked indirect light, real-time sun)
@@ -45,7 +47,7 @@ inline constexpr const char* kSceneCommon = R"GLSL(
 struct Material {
   vec4 diffuse;       // rgb albedo, w 1 where the base colour texel tints the reflection (specular, reflection, F90)
   vec4 specular;      // rgb reflectance at normal incidence, w Blinn–Phong exponent
-  vec4 emission;      // rgb cd/m²
+  vec4 emission;      // rgb cd/m², w the GGX α of transmission (frosted glass; 0: clear)
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
   vec4 reflection;    // rgb reflection colour
   vec4 coverage;      // x opacity, y alpha cut-off, z normal scale, w alpha mode (0 opaque, 1 mask, 2 blend)
@@ -77,6 +79,32 @@ uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun; 0 where
 
 const float kPi = 3.14159265358979;
 const float kCornerGain = FLY_CORNER_GAIN;
+
+// The reflect input of the SDB's energy rule for light at cos θ from the normal (sdb::Material::reflectionAt):
+// R(θ) = F0 + (F90 − F0)(1 − cos θ)⁵, with F0 = m.specular (the reflection colour r times Schlick's F0 of the
+// ior, or r for uniform reflection) and F90 = m.environment.rgb (r; 0 where nothing is reflected).
+vec3 flyReflectAt(Material m, float cosTheta) {
+  float x = 1.0 - clamp(cosTheta, 0.0, 1.0);
+  float x2 = x * x;
+  return m.specular.rgb + (m.environment.rgb - m.specular.rgb) * (x2 * x2 * x);
+}
+// The diffuse albedo's factor for light leaving towards cos θo: the baker's coupled diffuse (raytracer/bsdf.h)
+// is f = k_d (1 − R(θi)) (1 − R(θo)) / ((1 − R̄) π), so under light from all sides alike (an environment, the
+// ambient term, a light map's irradiance) it reflects k_d (1 − R(θo)) = albedo · (1 − R(θo)) / (1 − R(0)):
+// the energy rule's diffuse share at θo, which falls to k_d (1 − r) at grazing angles.
+// Where R(0) = 1 the diffuse share is 0 at every angle, and the factor is 1 (it leaves the light-map modes'
+// rough-reflector stand-in of a perfect uniform reflector as it is).
+vec3 flyDiffuseTowards(Material m, float cosO) {
+  vec3 atNormal = vec3(1.0) - m.specular.rgb;
+  vec3 factor = (vec3(1.0) - flyReflectAt(m, cosO)) / max(atNormal, vec3(1e-6));
+  return mix(vec3(1.0), factor, greaterThan(atNormal, vec3(1e-6)));
+}
+// The same lobe's factor for light arriving from cos θi (with flyDiffuseTowards for the other direction):
+// (1 − R(θi)) / (1 − R̄), R̄ = F0 + (F90 − F0) / 21 the cosine-weighted mean of R over the hemisphere.
+vec3 flyDiffuseFrom(Material m, float cosI) {
+  vec3 meanR = m.specular.rgb + (m.environment.rgb - m.specular.rgb) / 21.0;
+  return (vec3(1.0) - flyReflectAt(m, cosI)) / max(vec3(1.0) - meanR, vec3(1e-6));
+}
 
 #ifdef FLY_GONIO
 // Bilinear in γ and C over the table at `offset` (rdb/raster_rdb.h: kRasterGonioGammaSteps ×
@@ -147,13 +175,15 @@ vec3 flyLightLux(Light l, vec3 p, out vec3 toLight) {
 #endif
 
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
-// Direct illuminance on the surface (lux) and the Blinn–Phong lobe towards `toEye`.
-void addLight(vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, float exponent, inout vec3 diffuseLux,
+// Direct illuminance on the surface (lux), weighted for material m's diffuse lobe (flyDiffuseFrom), and the
+// Blinn–Phong lobe towards `toEye`.
+void addLight(Material m, vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, inout vec3 diffuseLux,
               inout vec3 specularLux) {
   float cosSurface = dot(n, toLight);
   if (cosSurface <= 0.0) return;
-  diffuseLux += eLux * cosSurface;
+  diffuseLux += eLux * cosSurface * flyDiffuseFrom(m, cosSurface);
   vec3 h = normalize(toLight + toEye);
+  float exponent = m.specular.w;
   specularLux += eLux * cosSurface * (exponent + 8.0) / (8.0 * kPi) * pow(max(dot(n, h), 0.0), exponent);
 }
 #endif
@@ -173,6 +203,10 @@ float flySunHighlight() {
   return 1.0;
 #endif
 }
+
+#if defined(FLY_FROSTED) && !defined(FLY_IBL) && !defined(FLY_CUBE_REFLECTION)
+layout(binding = 14) uniform sampler2D uSplitSum;  // (A, B)(cos θo, √α), as below
+#endif
 
 #if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
 // Image-based light (raster/environment_light.h): the environment's irradiance cube (lux) for the diffuse
@@ -219,8 +253,9 @@ vec3 flySunLux(vec3 p) {
 vec3 flySunTerm(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye) {
   vec3 diffuseLux = vec3(0.0);
   vec3 specularLux = vec3(0.0);
-  addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, specularLux);
-  return albedo / kPi * diffuseLux + m.specular.rgb * specularLux * flySunHighlight();
+  addLight(m, p, n, toEye, uSunDirWorld, flySunLux(p), diffuseLux, specularLux);
+  return albedo * flyDiffuseTowards(m, dot(n, toEye)) / kPi * diffuseLux +
+         m.specular.rgb * specularLux * flySunHighlight();
 }
 #endif
 
@@ -233,11 +268,11 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   for (int i = 0; i < uLightCount; ++i) {
     vec3 toLight;
     vec3 eLux = flyLightLux(lights[i], p, toLight);
-    if (eLux != vec3(0.0)) addLight(p, n, toEye, toLight, eLux, m.specular.w, diffuseLux, specularLux);
+    if (eLux != vec3(0.0)) addLight(m, p, n, toEye, toLight, eLux, diffuseLux, specularLux);
   }
 #if defined(FLY_SUN) && (!defined(FLY_SUN_GLASS) || defined(FLY_PER_FRAGMENT))
   vec3 sunSpecularLux = vec3(0.0);
-  addLight(p, n, toEye, uSunDirWorld, flySunLux(p), m.specular.w, diffuseLux, sunSpecularLux);
+  addLight(m, p, n, toEye, uSunDirWorld, flySunLux(p), diffuseLux, sunSpecularLux);
   specularLux += sunSpecularLux * flySunHighlight();
 #endif
 #ifdef FLY_IBL
@@ -249,10 +284,11 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
                     (1.0 + kCornerGain * corner);
 #endif
+  vec3 diffuseOverPi = albedo * flyDiffuseTowards(m, dot(n, toEye)) / kPi;
 #ifdef FLY_SSAO
-  flyAmbientLuminance = albedo / kPi * ambientLux;
+  flyAmbientLuminance = diffuseOverPi * ambientLux;
 #endif
-  return albedo / kPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
+  return diffuseOverPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
 }
 #endif
 )GLSL";
@@ -294,6 +330,15 @@ flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying cost
 #ifdef FLY_GLASS
 out vec3 vTransmittance;  // T(θ) towards the eye
 flat out uint vGlass;
+#endif
+#ifdef FLY_FROSTED
+// Frosted glass: the mip level of the image behind it that blurs it by the lobe's width; < 0: clear glass.
+// A thin-surface GGX lobe of α sends half its light within tan θh < α of the straight-through direction's
+// half vector (its CDF in tan²θh is t² / (α² + t²)), i.e. within about 2α rad: a distant background seen
+// through the pane is blurred over a radius of 2α · uFocalPx pixels, and a box-filtered level k averages
+// 2^k pixels, so k = log2(4 α · uFocalPx).
+flat out float vBlurLod;
+uniform float uFocalPx;  // pixels per unit of tan(angle from the view axis) at the image's centre
 #endif
 #ifdef FLY_SUN_GLASS
 out vec3 vSunLuminance;  // the sun's direct term (cd/m²), not in vLuminance: the fragment applies the glass's T
@@ -352,13 +397,14 @@ void main() {
     vSunLuminance = sunTerm;
     sunTerm = vec3(0.0);
 #endif
-    l = flyLightMapReflectance(m.diffuse.rgb, m) * eLux / kPi + sunTerm;
+    l = flyLightMapReflectance(m.diffuse.rgb, m) * flyDiffuseTowards(m, dot(back ? -n : n, toEye)) * eLux / kPi +
+        sunTerm;
   }
 #endif
 #ifdef FLY_LIGHT_TEXTURE
   // The fragment shader adds albedo · E_texel / π in place of the vertex value.
   vLightMapUv = aLightMapUv;
-  vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) / kPi;
+  vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) * flyDiffuseTowards(m, dot(back ? -n : n, toEye)) / kPi;
   vLightSlot = 0xffffffffu;
   vBack = 0u;
   if (useLightMap && aLightSlot != 0xffffffffu) {
@@ -387,6 +433,9 @@ void main() {
   // t · (1 − clamp(r · F(θ))), F Schlick's, from either face.
   vGlass = 0u;
   vTransmittance = vec3(0.0);
+#ifdef FLY_FROSTED
+  vBlurLod = -1.0;
+#endif
   if (max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0) {
     float f = 1.0;
     if (m.transmission.w >= 0.0) {
@@ -396,6 +445,18 @@ void main() {
     }
     vTransmittance = m.transmission.rgb * (vec3(1.0) - clamp(m.reflection.rgb * f, 0.0, 1.0));
     vGlass = 1u;
+#ifdef FLY_FROSTED
+    float alphaT = m.emission.w;
+    if (alphaT > 0.0) {
+      // The baker's thin-surface lobe (raytracer/bsdf.h), f = t (1 − R(ωo·h)) D G2 / (4 cos θo cos θi) about
+      // the straight-through direction, reflects ∫ f cos θi dωi = t ((A + B) − (F0 A + F90 B)) towards θo:
+      // the split sum's table at α (R's F0 and F90 as flyReflectAt's).
+      vec2 ab = textureLod(uSplitSum, vec2(clamp(abs(dot(n, toEye)), 0.0, 1.0), sqrt(alphaT)), 0.0).rg;
+      vTransmittance = m.transmission.rgb *
+                       max(vec3(ab.x + ab.y) - (m.specular.rgb * ab.x + m.environment.rgb * ab.y), vec3(0.0));
+      vBlurLod = log2(max(4.0 * alphaT * uFocalPx, 1.0));
+    }
+#endif
   }
 #endif
 }
@@ -519,6 +580,10 @@ flat in uint vGlass;
 uniform int uGlassPass;                         // 0: all but the glass; 1: the glass alone
 layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLuminanceEncoding)
 #endif
+#ifdef FLY_FROSTED
+flat in float vBlurLod;
+layout(binding = 3) uniform sampler2D uBehindBlurred;  // uBehind decoded, with a box-filtered mip chain
+#endif
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
 flat in uint vLightSlot;
@@ -558,7 +623,15 @@ void main() {
 #endif
 #ifdef FLY_GLASS
   // Either face of a pane passes light.
-  if (vGlass != 0u) l += vTransmittance * flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
+  if (vGlass != 0u) {
+    vec3 behind = flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
+#ifdef FLY_FROSTED
+    if (vBlurLod >= 0.0) {
+      behind = textureLod(uBehindBlurred, gl_FragCoord.xy / vec2(textureSize(uBehindBlurred, 0)), vBlurLod).rgb;
+    }
+#endif
+    l += vTransmittance * behind;
+  }
 #endif
   oLuminance = flyEncodeLuminance(l);
 }
@@ -605,7 +678,7 @@ out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -628,7 +701,7 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -676,7 +749,7 @@ void main() {
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -893,8 +966,9 @@ void main() {
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
-  // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms.
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
+  // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms and
+  // the diffuse share towards the eye (flyDiffuseTowards).
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
   vec3 n = normalize(vNormal);
 #ifdef FLY_NORMAL_MAP
@@ -945,7 +1019,7 @@ void main() {
 #ifdef FLY_CUBE_REFLECTION
     if (uCubeReflector >= 0) reflectance = base.rgb;  // its cube map shows what it reflects
 #endif
-    l = reflectance * eLux / kPi;
+    l = reflectance * flyDiffuseTowards(m, dot(n, toEye)) * eLux / kPi;
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
 #endif
@@ -1070,6 +1144,20 @@ void main() {
   if (b.a >= 1.0) return;  // no blended surface in this pixel
   vec3 behind = flyDecodeLuminance(imageLoad(uLuminance, p).xy);
   imageStore(uLuminance, p, uvec4(flyEncodeLuminance(b.rgb + b.a * behind), 0u, 0u));
+}
+)GLSL";
+
+// What lies behind frosted glass, decoded (kLuminanceEncoding) into a float image whose mip chain the panes
+// read blurred (raster/renderer.h, FLY_FROSTED).
+inline constexpr const char* kBehindDecode = R"GLSL(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rg32ui) uniform readonly uimage2D uBehind;
+layout(binding = 1, rgba32f) uniform writeonly image2D uOut;
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = imageSize(uOut);
+  if (p.x >= size.x || p.y >= size.y) return;
+  imageStore(uOut, p, vec4(flyDecodeLuminance(imageLoad(uBehind, p).xy), 1.0));
 }
 )GLSL";
 

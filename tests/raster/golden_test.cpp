@@ -196,6 +196,76 @@ TEST(RasterGolden, ChromeSphereSunlightMode) {
   checkGolden(RenderMode::kSunlight, r, 13.0, "chrome-sphere");
 }
 
+// The realistic material per pixel in the yard at sunset, one golden each (sunlight mode: the sky's image-based
+// light, the sun, planar reflections):
+// a mirror (uniform reflection 0.9, glossiness 0) standing behind the box — a planar reflector showing the box,
+// the fence and the sky;
+TEST(RasterGolden, MirrorSunlightMode) {
+  context();
+  Yard y = yard();
+  sdb::Material mirror;
+  mirror.name = "mirror";
+  mirror.diffuseColor = Rgb(0.0f);
+  mirror.reflectionColor = Rgb(0.9f);
+  mirror.reflectionModel = sdb::ReflectionModel::kUniform;
+  mirror.reflectionGlossiness = 0.0f;
+  const sdb::MaterialId id = y.scene.addMaterial(mirror).id;
+  y.scene.addNode({.name = "mirror",
+                   .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0.2f, 0.6f, -1.0f)),
+                   .meshes = {y.scene.addMesh(test::quadXY(id)).id}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(y.scene);
+  ASSERT_EQ(r.planarReflectors.size(), 1u);
+  checkGolden(RenderMode::kSunlight, r, 13.0, "mirror");
+}
+
+// a polished floor (the tiles preset, 4 % at normal incidence by Fresnel, glossiness 0.1, marked "planar") —
+// the box and the fence mirrored in it, weak near the camera and stronger at grazing angles;
+TEST(RasterGolden, PolishedFloorSunlightMode) {
+  context();
+  Yard y = yard();
+  sdb::Material tiles = sdb::findMaterialPreset("tiles")->material;
+  tiles.name = "ground";
+  tiles.engineReflection = sdb::EngineReflection::kPlanar;
+  y.scene.setMaterial(y.ground, tiles);
+  const rdb::RasterRdb r = rdb::buildRasterRdb(y.scene);
+  ASSERT_EQ(r.planarReflectors.size(), 1u);
+  checkGolden(RenderMode::kSunlight, r, 13.0, "polished-floor");
+}
+
+// a frosted-glass pane (the preset: transmission glossiness 0.6) between the camera and the box — the box and
+// the ground behind it blurred, neither hidden nor sharp;
+TEST(RasterGolden, FrostedGlassSunlightMode) {
+  context();
+  Yard y = yard();
+  sdb::Material frosted = sdb::findMaterialPreset("frosted-glass")->material;
+  frosted.name = "frosted";
+  const sdb::MaterialId id = y.scene.addMaterial(frosted).id;
+  sdb::Mesh pane = test::quadXY(id);
+  pane.twoSided = true;
+  y.scene.addNode(
+      {.name = "pane",
+       .parentFromLocal = frameTransform(vec3(0.8f, 0, 0.6f), vec3(0, 1, 0), vec3(-0.6f, 0, 0.8f), vec3(-0.5f, 0.55f, 1.2f)),
+       .meshes = {y.scene.addMesh(pane).id}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(y.scene);
+  ASSERT_TRUE(r.variants.frostedGlass);
+  checkGolden(RenderMode::kSunlight, r, 13.0, "frosted-glass");
+}
+
+// a brushed-metal plate (the preset: aluminium, glossiness 0.35, anisotropy 0.6 / 0.1) lying on the ground in
+// front of the box — the sky and the sun's highlight reflected by its GGX lobe.
+TEST(RasterGolden, BrushedMetalSunlightMode) {
+  context();
+  Yard y = yard();
+  sdb::Material brushed = sdb::findMaterialPreset("brushed-metal")->material;
+  brushed.name = "brushed";
+  const sdb::MaterialId id = y.scene.addMaterial(brushed).id;
+  y.scene.addNode(
+      {.name = "plate",
+       .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 0, -1), vec3(0, 1, 0), vec3(-0.6f, 0.02f, 1.1f)),
+       .meshes = {y.scene.addMesh(test::quadXY(id)).id}});
+  checkGolden(RenderMode::kSunlight, rdb::buildRasterRdb(y.scene), 13.0, "brushed-metal");
+}
+
 // Small textures made here (the repository owns them as code): 8-bit RGB or RGBA, row-major from the top.
 sdb::TextureId addTexture(sdb::Scene& s, const std::string& name, int w, int h, int channels,
                           const std::function<std::array<uint8_t, 4>(int x, int y)>& texel) {

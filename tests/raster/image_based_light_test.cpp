@@ -132,8 +132,9 @@ TEST(ImageBasedLight, DiffuseSphereUnderTwoHemispheres) {
 }
 
 // Glossy spheres under a uniform environment of L: L_pre = L at every level, so each pixel shows
-// L · (F0 A + F90 B)(cos θo, α) (Karis's split sum) — against the quadrature of fly's GGX at the analytic
-// normal. A dielectric (Fresnel, ior 1.5: F0 = 0.04 · reflection colour, F90 = the reflection colour) over a
+// L · (D(θo) + F0 A + F90 B)(cos θo, α) (Karis's split sum; D(θo) the SDB's energy rule's diffuse share at
+// the angle the pixel is seen, sdb::Material::effectiveAt) — against the quadrature of fly's GGX at the
+// analytic normal. A dielectric (Fresnel, ior 1.5: F0 = 0.04 · reflection colour, F90 = the reflection colour) over a
 // diffuse base, and a metal (uniform reflection: F0 = F90 = its colour).
 TEST(ImageBasedLight, GlossySpheresAgainstTheSplitSumByQuadrature) {
   const Rgb l(2000.0f);
@@ -164,7 +165,7 @@ TEST(ImageBasedLight, GlossySpheresAgainstTheSplitSumByQuadrature) {
       const float x = std::clamp(glm::dot(n, toEye), 0.0f, 1.0f) * kNodes;
       const int i = std::min(int(x), kNodes - 1);
       const vec2 ab = glm::mix(nodes[size_t(i)], nodes[size_t(i) + 1], x - float(i));
-      return l * (block.diffuse + block.specular * ab.x + block.environmentF90 * ab.y);
+      return l * (m.effectiveAt(glm::dot(n, toEye)).diffuse + block.specular * ab.x + block.environmentF90 * ab.y);
     });
     std::printf("%s sphere (α = %.2f), uniform environment: worst relative error %.4f at %d pixels against the "
                 "split sum by quadrature\n", k.name, alpha, c.worst, c.pixels);

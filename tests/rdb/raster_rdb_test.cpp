@@ -275,10 +275,11 @@ TEST(RasterRdbUpdate, MaterialEditReMakesOneBlock) {
   EXPECT_TRUE(r == buildRasterRdb(c.scene));
 }
 
-// Clear glass (sdb::Material::hasClearTransmission) lowers to its transmission, reflection and Fresnel F0,
-// and calls for the glass pass; a frosted pane (transmission glossiness 0.5) is not clear glass. Editing a
-// material into glass re-makes its block and the variants, as a rebuild does.
-TEST(RasterRdbUpdate, AMaterialEditedIntoClearGlassCallsForTheGlassPass) {
+// Glass lowers to its transmission, reflection and Fresnel F0, and calls for the glass pass: a frosted pane
+// (transmission glossiness 0.5) with its transmission lobe's GGX α (0.25) and the frosted variant, clear glass
+// (sdb::Material::hasClearTransmission) with α 0. Editing a material into glass re-makes its block and the
+// variants, as a rebuild does.
+TEST(RasterRdbUpdate, AMaterialEditedIntoGlassCallsForTheGlassPass) {
   Corner c = corner();
   RasterRdb r = buildRasterRdb(c.scene);
   EXPECT_FALSE(r.variants.glass);
@@ -286,15 +287,20 @@ TEST(RasterRdbUpdate, AMaterialEditedIntoClearGlassCallsForTheGlassPass) {
   paint.transmissionColor = Rgb(0.9f);
   paint.transmissionGlossiness = 0.5f;
   updateRasterRdb(r, c.scene, c.scene.setMaterial(c.paint, paint));
-  EXPECT_FALSE(r.variants.glass);
-  EXPECT_EQ(r.materials[2].transmission, Rgb(0.0f));
+  EXPECT_TRUE(r.variants.glass);
+  EXPECT_TRUE(r.variants.frostedGlass);
+  EXPECT_EQ(r.materials[2].transmission, Rgb(0.9f));
+  EXPECT_FLOAT_EQ(r.materials[2].transmissionAlpha, 0.25f);
+  EXPECT_TRUE(r == buildRasterRdb(c.scene));
   paint.transmissionGlossiness = 0.0f;
   paint.reflectionColor = Rgb(1.0f);
   paint.ior = 1.5f;
   const RasterRdbChanges ch = updateRasterRdb(r, c.scene, c.scene.setMaterial(c.paint, paint));
   EXPECT_EQ(ch.materialBlocks, std::vector<uint32_t>{2});
   EXPECT_TRUE(r.variants.glass);
+  EXPECT_FALSE(r.variants.frostedGlass);
   EXPECT_EQ(r.materials[2].transmission, Rgb(0.9f));
+  EXPECT_EQ(r.materials[2].transmissionAlpha, 0.0f);
   EXPECT_EQ(r.materials[2].reflection, Rgb(1.0f));
   EXPECT_NEAR(r.materials[2].fresnelF0, 0.04f, 1e-6f);
   EXPECT_TRUE(r == buildRasterRdb(c.scene));
