@@ -320,7 +320,7 @@ struct Renderer::SceneProgram {
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
-        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, focalPx = -1;
+        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1;
 };
 
 struct NearProgram {
@@ -342,9 +342,9 @@ struct Renderer::Gpu {
   // through itself (render). Made at the first such render of a size.
   GLuint behindColor = 0;
   // Scenes with frosted glass: that copy decoded to RGBA32F with a box-filtered mip chain, which frosted panes
-  // read at the level of their lobe's width; the split sum's table for their transmittance (made once); the
-  // decoding pass.
-  GLuint behindBlurred = 0, frostTable = 0, behindDecode = 0;
+  // read at the level of their lobe's width, and a copy of the depth buffer, which says how far behind a pane
+  // what it shows lies; the split sum's table for their transmittance (made once); the decoding pass.
+  GLuint behindBlurred = 0, behindDepth = 0, frostTable = 0, behindDecode = 0;
   GLuint srgbFbo = 0, srgbColor = 0;
   // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
   // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges),
@@ -393,6 +393,7 @@ struct Renderer::Gpu {
     glDeleteTextures(1, &floatColor);
     glDeleteTextures(1, &behindColor);
     glDeleteTextures(1, &behindBlurred);
+    glDeleteTextures(1, &behindDepth);
     glDeleteTextures(1, &frostTable);
     glDeleteProgram(behindDecode);
     glDeleteTextures(1, &srgbColor);
@@ -569,7 +570,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.mirrorReflection = loc("uMirrorReflection");
   sp.mirrorF0 = loc("uMirrorF0");
   sp.radianceTopLevel = loc("uRadianceTopLevel");
-  sp.focalPx = loc("uFocalPx");
+  sp.worldFromClip = loc("uWorldFromClip");
+  sp.blurView = loc("uBlurView");
   sp.cubeReflector = loc("uCubeReflector");
   sp.program = p;
   return sp;
@@ -958,7 +960,15 @@ void Renderer::prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx) {
     glTextureParameteri(g.behindBlurred, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(g.behindBlurred, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(g.behindBlurred, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glCreateTextures(GL_TEXTURE_2D, 1, &g.behindDepth);
+    glTextureStorage2D(g.behindDepth, 1, GL_DEPTH24_STENCIL8, GLsizei(widthPx), GLsizei(heightPx));
+    glTextureParameteri(g.behindDepth, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+    glTextureParameteri(g.behindDepth, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(g.behindDepth, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
+  glCopyImageSubData(g.depth, GL_RENDERBUFFER, 0, 0, 0, 0, g.behindDepth, GL_TEXTURE_2D, 0, 0, 0, 0,
+                     GLsizei(widthPx), GLsizei(heightPx), 1);
+  glBindTextureUnit(1, g.behindDepth);
   if (!g.behindDecode) {
     g.behindDecode = compileProgram("behind-decode", shaders::kLuminanceEncoding,
                                     {{GL_COMPUTE_SHADER, shaders::kBehindDecode}});
@@ -983,6 +993,8 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   gpu_->behindColor = 0;
   glDeleteTextures(1, &gpu_->behindBlurred);
   gpu_->behindBlurred = 0;
+  glDeleteTextures(1, &gpu_->behindDepth);
+  gpu_->behindDepth = 0;
   const GLuint nearTextures[] = {gpu_->nearData, gpu_->nearLight};
   glDeleteTextures(2, nearTextures);
   gpu_->nearData = gpu_->nearLight = 0;
@@ -1259,10 +1271,13 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
       }
       if (programVariant & kVariantFrosted) {
-        // Pixels per unit of tan(angle from the view axis) at the image's centre; orthographic: as at 90°.
-        const float focalPx =
-            0.5f * float(heightPx) / (view.orthographic ? 1.0f : std::tan(0.5f * view.yfovRad));
-        glUniform1f(p.focalPx, focalPx);
+        const mat4 worldFromClip = glm::inverse(clipFromWorld);
+        glUniformMatrix4fv(p.worldFromClip, 1, GL_FALSE, &worldFromClip[0][0]);
+        // Pixels per unit of tan(angle from the view axis) at the image's centre, or −pixels per metre.
+        const float scale = view.orthographic ? -0.5f * float(heightPx) / view.ymagM
+                                              : 0.5f * float(heightPx) / std::tan(0.5f * view.yfovRad);
+        const vec4 blurView(eye, scale);
+        glUniform4fv(p.blurView, 1, &blurView[0]);
       }
       if (programVariant & kVariantSunGlass) {
         glUniformMatrix4fv(p.sunGlassFromWorld, 1, GL_FALSE, &sunGlass_->mapFromWorld()[0][0]);

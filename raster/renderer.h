@@ -254,7 +254,8 @@ class Renderer {
                   const CubePass* cubePass);
   void captureCubeReflectors(RenderMode mode);
   // Before the glass pass of a scene with frosted glass: the copy of the image behind it decoded into a
-  // mipmapped texture (unit 3) and the split sum's table (unit 14; shaders::kSceneVertex, FLY_FROSTED).
+  // mipmapped texture (unit 3), a copy of the depth buffer (unit 1) and the split sum's table (unit 14;
+  // shaders::kSceneVertex, kSceneFragment, FLY_FROSTED).
   void prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   void drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t heightPx);

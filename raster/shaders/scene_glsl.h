@@ -10,7 +10,8 @@
 //   FLY_GLASS      glass: drawn in a second pass over a copy of the first, adding T(θ) times what lies
 //                  behind it (rdb/raster_rdb.h, RasterMaterial::transmission)
 //   FLY_FROSTED    frosted glass (with FLY_GLASS): T(θ) of its GGX transmission lobe by the split sum's table,
-//                  times what lies behind it blurred by the lobe's width (a mip level of the copy)
+//                  times what lies behind it blurred by the lobe's width at its distance behind the pane (a mip
+//                  level of the copy, chosen by the copy's depth)
 //   FLY_SUN_DIRECT sunlight mode over light maps that keep the sun's direct part apart (with FLY_LIGHT_MAP):
 //                  L = albedo · (E − E_sunDirect) / π + the sun's direct term (flySunTerm) for the current sun
 //                  (FLY §3: baked indirect light, real-time sun)
@@ -332,13 +333,7 @@ out vec3 vTransmittance;  // T(θ) towards the eye
 flat out uint vGlass;
 #endif
 #ifdef FLY_FROSTED
-// Frosted glass: the mip level of the image behind it that blurs it by the lobe's width; < 0: clear glass.
-// A thin-surface GGX lobe of α sends half its light within tan θh < α of the straight-through direction's
-// half vector (its CDF in tan²θh is t² / (α² + t²)), i.e. within about 2α rad: a distant background seen
-// through the pane is blurred over a radius of 2α · uFocalPx pixels, and a box-filtered level k averages
-// 2^k pixels, so k = log2(4 α · uFocalPx).
-flat out float vBlurLod;
-uniform float uFocalPx;  // pixels per unit of tan(angle from the view axis) at the image's centre
+flat out float vAlphaT;  // frosted glass: its transmission lobe's GGX α (kSceneFragment blurs by it); < 0: clear
 #endif
 #ifdef FLY_SUN_GLASS
 out vec3 vSunLuminance;  // the sun's direct term (cd/m²), not in vLuminance: the fragment applies the glass's T
@@ -434,7 +429,7 @@ void main() {
   vGlass = 0u;
   vTransmittance = vec3(0.0);
 #ifdef FLY_FROSTED
-  vBlurLod = -1.0;
+  vAlphaT = -1.0;
 #endif
   if (max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0) {
     float f = 1.0;
@@ -454,7 +449,7 @@ void main() {
       vec2 ab = textureLod(uSplitSum, vec2(clamp(abs(dot(n, toEye)), 0.0, 1.0), sqrt(alphaT)), 0.0).rg;
       vTransmittance = m.transmission.rgb *
                        max(vec3(ab.x + ab.y) - (m.specular.rgb * ab.x + m.environment.rgb * ab.y), vec3(0.0));
-      vBlurLod = log2(max(4.0 * alphaT * uFocalPx, 1.0));
+      vAlphaT = alphaT;
     }
 #endif
   }
@@ -581,8 +576,37 @@ uniform int uGlassPass;                         // 0: all but the glass; 1: the 
 layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLuminanceEncoding)
 #endif
 #ifdef FLY_FROSTED
-flat in float vBlurLod;
+flat in float vAlphaT;
 layout(binding = 3) uniform sampler2D uBehindBlurred;  // uBehind decoded, with a box-filtered mip chain
+layout(binding = 1) uniform sampler2D uBehindDepth;    // the first pass's window depth
+uniform mat4 uWorldFromClip;
+// xyz the eye (world, m); w > 0: pixels per unit of tan(angle from the view axis) at the image's centre
+// (perspective), w < 0: −pixels per metre (orthographic).
+uniform vec4 uBlurView;
+vec3 flyUnproject(vec2 fragCoord, float windowZ, vec2 sizePx) {
+  vec4 p = uWorldFromClip * vec4(fragCoord / sizePx * 2.0 - 1.0, windowZ * 2.0 - 1.0, 1.0);
+  return p.xyz / p.w;
+}
+// The mip level of the image behind that blurs it as a frosted pane of GGX α does. A thin-surface GGX lobe
+// sends half its light within tan θh < α of the straight-through direction's half vector (its CDF in tan²θh
+// is t² / (α² + t²)), i.e. within about 2α rad of the ray: a point at distance D behind the pane along the
+// ray, seen from the eye at distance E, is spread over a radius of 2α · D / E in tan units (2α · D metres
+// orthographically) — the lobe's full angular width for the sky (D / E → 1), sharp where the scene touches
+// the pane. A box-filtered level k averages 2^k pixels: k = log2(2 · radius in pixels).
+float flyBlurLod(float alphaT) {
+  vec2 sizePx = vec2(textureSize(uBehindBlurred, 0));
+  float behindZ = texelFetch(uBehindDepth, ivec2(gl_FragCoord.xy), 0).r;
+  float radiusPx = 1e9;  // nothing behind (the sky): the lobe's full width, or the coarsest level
+  if (uBlurView.w > 0.0) radiusPx = 2.0 * alphaT * uBlurView.w;
+  if (behindZ < 1.0) {
+    vec3 pane = flyUnproject(gl_FragCoord.xy, gl_FragCoord.z, sizePx);
+    vec3 behind = flyUnproject(gl_FragCoord.xy, behindZ, sizePx);
+    float d = distance(behind, pane);
+    radiusPx = uBlurView.w > 0.0 ? 2.0 * alphaT * uBlurView.w * clamp(d / max(distance(behind, uBlurView.xyz), 1e-6), 0.0, 1.0)
+                                 : -2.0 * alphaT * d * uBlurView.w;
+  }
+  return log2(max(2.0 * radiusPx, 1.0));
+}
 #endif
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
@@ -626,8 +650,8 @@ void main() {
   if (vGlass != 0u) {
     vec3 behind = flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
 #ifdef FLY_FROSTED
-    if (vBlurLod >= 0.0) {
-      behind = textureLod(uBehindBlurred, gl_FragCoord.xy / vec2(textureSize(uBehindBlurred, 0)), vBlurLod).rgb;
+    if (vAlphaT > 0.0) {
+      behind = textureLod(uBehindBlurred, gl_FragCoord.xy / vec2(textureSize(uBehindBlurred, 0)), flyBlurLod(vAlphaT)).rgb;
     }
 #endif
     l += vTransmittance * behind;
