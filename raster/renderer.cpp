@@ -152,6 +152,10 @@ mat4 obliqueNearPlane(mat4 clipFromCamera, const vec4& planeCamera) {
   return clipFromCamera;
 }
 
+// GGX α from which a planar reflector's image is blurred (flyMirrorImage): the baker's bound between a delta
+// lobe and a glossy one (raytracer/bsdf.h, kSmoothAlpha).
+constexpr float kGlossyMirrorAlpha = 1e-3f;
+
 // The scene program's shader variant, one bit per #define (Renderer::sceneProgram).
 enum VariantBit : uint32_t {
   kVariantLightMap = 1u << 0,
@@ -320,7 +324,8 @@ struct Renderer::SceneProgram {
         ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
-        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1;
+        mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
+        mirrorAlpha = -1, mirrorWorldFromClip = -1;
 };
 
 struct NearProgram {
@@ -345,6 +350,7 @@ struct Renderer::Gpu {
   // read at the level of their lobe's width, and a copy of the depth buffer, which says how far behind a pane
   // what it shows lies; the split sum's table for their transmittance (made once); the decoding pass.
   GLuint behindBlurred = 0, behindDepth = 0, frostTable = 0, behindDecode = 0;
+  GLint behindDecodeRect = -1;
   GLuint srgbFbo = 0, srgbColor = 0;
   // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
   // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges),
@@ -370,6 +376,10 @@ struct Renderer::Gpu {
   // The planar reflectors' images (RG32UI, kLuminanceEncoding, the target's size) and which this frame made.
   std::vector<GLuint> reflectionColor;
   std::vector<char> reflectionShown;
+  // Glossy reflectors' images decoded with a mip chain, their passes' depth and worldFromClip
+  // (drawReflections; shaders::kSurfaceFragment, flyMirrorImage); 0 for sharp mirrors.
+  std::vector<GLuint> reflectionBlurred, reflectionDepth;
+  std::vector<mat4> reflectionWorldFromClip;
   std::map<bool, NearProgram> nearPrograms;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
@@ -409,6 +419,8 @@ struct Renderer::Gpu {
     glDeleteBuffers(1, &nearLists);
     for (const auto& [withGonio, p] : nearPrograms) glDeleteProgram(p.program);
     glDeleteTextures(GLsizei(reflectionColor.size()), reflectionColor.data());
+    glDeleteTextures(GLsizei(reflectionBlurred.size()), reflectionBlurred.data());
+    glDeleteTextures(GLsizei(reflectionDepth.size()), reflectionDepth.data());
   }
 };
 
@@ -572,6 +584,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.radianceTopLevel = loc("uRadianceTopLevel");
   sp.worldFromClip = loc("uWorldFromClip");
   sp.blurView = loc("uBlurView");
+  sp.mirrorAlpha = loc("uMirrorAlpha");
+  sp.mirrorWorldFromClip = loc("uMirrorWorldFromClip");
   sp.cubeReflector = loc("uCubeReflector");
   sp.program = p;
   return sp;
@@ -947,39 +961,51 @@ void Renderer::uploadSky() {
   ++stats_.skyUploads;
 }
 
+void Renderer::decodeBlurred(unsigned source, unsigned& target, int x, int y, int width, int height) {
+  Gpu& g = *gpu_;
+  if (!target) {
+    const uint32_t levels = uint32_t(std::floor(std::log2(double(std::max(width_, height_))))) + 1;
+    glCreateTextures(GL_TEXTURE_2D, 1, &target);
+    glTextureStorage2D(target, GLsizei(levels), GL_RGBA32F, GLsizei(width_), GLsizei(height_));
+    glTextureParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  if (!g.behindDecode) {
+    g.behindDecode = compileProgram("behind-decode", shaders::kLuminanceEncoding,
+                                    {{GL_COMPUTE_SHADER, shaders::kBehindDecode}});
+    g.behindDecodeRect = glGetUniformLocation(g.behindDecode, "uRect");
+  }
+  glUseProgram(g.behindDecode);
+  glUniform4i(g.behindDecodeRect, x, y, width, height);
+  glBindImageTexture(0, source, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
+  glBindImageTexture(1, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchPerPixel(width_, height_);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glGenerateTextureMipmap(target);
+}
+
+void Renderer::copyDepth(unsigned& target, int x, int y, int width, int height) {
+  if (!target) {
+    glCreateTextures(GL_TEXTURE_2D, 1, &target);
+    glTextureStorage2D(target, 1, GL_DEPTH24_STENCIL8, GLsizei(width_), GLsizei(height_));
+    glTextureParameteri(target, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+    glTextureParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  glCopyImageSubData(gpu_->depth, GL_RENDERBUFFER, 0, x, y, 0, target, GL_TEXTURE_2D, 0, x, y, 0, width, height, 1);
+}
+
 void Renderer::prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx) {
   Gpu& g = *gpu_;
   if (!g.frostTable) {
     g.frostTable = makeSplitSumTable(compiler(), kSkyEnvironmentSettings.tablePx, kSkyEnvironmentSettings.tableSamples);
   }
-  const uint32_t levels = uint32_t(std::floor(std::log2(double(std::max(widthPx, heightPx))))) + 1;
-  if (!g.behindBlurred) {
-    glCreateTextures(GL_TEXTURE_2D, 1, &g.behindBlurred);
-    glTextureStorage2D(g.behindBlurred, GLsizei(levels), GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
-    glTextureParameteri(g.behindBlurred, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(g.behindBlurred, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(g.behindBlurred, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(g.behindBlurred, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glCreateTextures(GL_TEXTURE_2D, 1, &g.behindDepth);
-    glTextureStorage2D(g.behindDepth, 1, GL_DEPTH24_STENCIL8, GLsizei(widthPx), GLsizei(heightPx));
-    glTextureParameteri(g.behindDepth, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
-    glTextureParameteri(g.behindDepth, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(g.behindDepth, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  }
-  glCopyImageSubData(g.depth, GL_RENDERBUFFER, 0, 0, 0, 0, g.behindDepth, GL_TEXTURE_2D, 0, 0, 0, 0,
-                     GLsizei(widthPx), GLsizei(heightPx), 1);
-  glBindTextureUnit(1, g.behindDepth);
-  if (!g.behindDecode) {
-    g.behindDecode = compileProgram("behind-decode", shaders::kLuminanceEncoding,
-                                    {{GL_COMPUTE_SHADER, shaders::kBehindDecode}});
-  }
-  glUseProgram(g.behindDecode);
-  glBindImageTexture(0, g.behindColor, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
-  glBindImageTexture(1, g.behindBlurred, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  dispatchPerPixel(widthPx, heightPx);
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  glGenerateTextureMipmap(g.behindBlurred);
+  decodeBlurred(g.behindColor, g.behindBlurred, 0, 0, int(widthPx), int(heightPx));
+  copyDepth(g.behindDepth, 0, 0, int(widthPx), int(heightPx));
   glBindTextureUnit(3, g.behindBlurred);
+  glBindTextureUnit(1, g.behindDepth);
   glBindTextureUnit(14, g.frostTable);
 }
 
@@ -1000,6 +1026,10 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   gpu_->nearData = gpu_->nearLight = 0;
   glDeleteTextures(GLsizei(gpu_->reflectionColor.size()), gpu_->reflectionColor.data());
   gpu_->reflectionColor.clear();
+  glDeleteTextures(GLsizei(gpu_->reflectionBlurred.size()), gpu_->reflectionBlurred.data());
+  gpu_->reflectionBlurred.clear();
+  glDeleteTextures(GLsizei(gpu_->reflectionDepth.size()), gpu_->reflectionDepth.data());
+  gpu_->reflectionDepth.clear();
   glDeleteTextures(1, &gpu_->blendColor);
   glDeleteFramebuffers(1, &gpu_->blendFbo);
   gpu_->blendColor = gpu_->blendFbo = 0;
@@ -1091,6 +1121,9 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
   gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
   gpu_->reflectionColor.resize(r.planarReflectors.size(), 0);
+  gpu_->reflectionBlurred.resize(r.planarReflectors.size(), 0);
+  gpu_->reflectionDepth.resize(r.planarReflectors.size(), 0);
+  gpu_->reflectionWorldFromClip.resize(r.planarReflectors.size(), mat4(1.0f));
   const mat4 clipFromWorld = projection(view, float(widthPx) / float(heightPx)) * glm::inverse(view.worldFromCamera);
   for (uint32_t k = 0; k < r.planarReflectors.size(); ++k) {
     const rdb::RasterPlanarReflector& pr = r.planarReflectors[k];
@@ -1120,6 +1153,14 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     }
     glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x, rect.y,
                        0, rect.width, rect.height, 1);
+    if (r.materials[pr.material].ggxAlpha >= kGlossyMirrorAlpha) {
+      decodeBlurred(image, gpu_->reflectionBlurred[k], rect.x, rect.y, rect.width, rect.height);
+      copyDepth(gpu_->reflectionDepth[k], rect.x, rect.y, rect.width, rect.height);
+      const float aspect = float(widthPx) / float(heightPx);
+      const vec4 planeCamera = glm::transpose(mirrored.worldFromCamera) * pass.planeWorld;
+      gpu_->reflectionWorldFromClip[k] =
+          glm::inverse(obliqueNearPlane(projection(mirrored, aspect), planeCamera) * glm::inverse(mirrored.worldFromCamera));
+    }
     gpu_->reflectionShown[k] = 1;
     ++stats_.reflectionPasses;
   }
@@ -1270,9 +1311,11 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       if (programVariant & kVariantIbl) {
         glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
       }
-      if (programVariant & kVariantFrosted) {
-        const mat4 worldFromClip = glm::inverse(clipFromWorld);
-        glUniformMatrix4fv(p.worldFromClip, 1, GL_FALSE, &worldFromClip[0][0]);
+      if (programVariant & (kVariantFrosted | kVariantPlanarReflection)) {
+        if (programVariant & kVariantFrosted) {
+          const mat4 worldFromClip = glm::inverse(clipFromWorld);
+          glUniformMatrix4fv(p.worldFromClip, 1, GL_FALSE, &worldFromClip[0][0]);
+        }
         // Pixels per unit of tan(angle from the view axis) at the image's centre, or −pixels per metre.
         const float scale = view.orthographic ? -0.5f * float(heightPx) / view.ymagM
                                               : 0.5f * float(heightPx) / std::tan(0.5f * view.yfovRad);
@@ -1338,6 +1381,13 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glUniform3fv(p.mirrorReflection, 1, &m.mirrorReflection[0]);
           glUniform1f(p.mirrorF0, m.mirrorF0);
           glUniform1i(p.sunInReflection, sky && v.sun ? 1 : 0);
+          const bool glossy = m.ggxAlpha >= kGlossyMirrorAlpha;
+          glUniform1f(p.mirrorAlpha, glossy ? m.ggxAlpha : 0.0f);
+          if (glossy) {
+            glBindTextureUnit(3, gpu_->reflectionBlurred[d.reflector]);
+            glBindTextureUnit(1, gpu_->reflectionDepth[d.reflector]);
+            glUniformMatrix4fv(p.mirrorWorldFromClip, 1, GL_FALSE, &gpu_->reflectionWorldFromClip[d.reflector][0][0]);
+          }
         }
       }
     };

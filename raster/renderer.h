@@ -257,6 +257,11 @@ class Renderer {
   // mipmapped texture (unit 3), a copy of the depth buffer (unit 1) and the split sum's table (unit 14;
   // shaders::kSceneVertex, kSceneFragment, FLY_FROSTED).
   void prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx);
+  // The rectangle (x, y, width, height) of an RG32UI luminance image (kLuminanceEncoding) decoded into
+  // `target` (RGBA32F of the target's size with a box-filtered mip chain, made at the first call; outside the
+  // rectangle its edge repeated), and the depth buffer's rectangle copied into `target` (made likewise).
+  void decodeBlurred(unsigned source, unsigned& target, int x, int y, int width, int height);
+  void copyDepth(unsigned& target, int x, int y, int width, int height);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   void drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t heightPx);
   // The measured materials' near lamps evaluated once per pixel after the opaque draws (shaders::

@@ -830,6 +830,48 @@ in vec4 vTangent;
 layout(binding = 11) uniform usampler2D uReflection;
 uniform vec3 uMirrorReflection;
 uniform float uMirrorF0;
+// A glossy reflector (GGX α = uMirrorAlpha > 0) shows its image blurred as its lobe spreads it: the image
+// decoded with a box-filtered mip chain, and the mirrored pass's depth and worldFromClip, which say how far
+// behind the mirror what it shows lies. uBlurView: xyz the eye (world, m); w > 0: pixels per unit of
+// tan(angle from the view axis) at the image's centre (perspective), w < 0: −pixels per metre (orthographic).
+uniform float uMirrorAlpha;
+layout(binding = 3) uniform sampler2D uReflectionBlurred;
+layout(binding = 1) uniform sampler2D uReflectionDepth;
+uniform mat4 uMirrorWorldFromClip;
+uniform vec4 uBlurView;
+// The reflected radiance at this pixel. A GGX lobe of α reflects half its light within about 2α rad of the
+// mirror direction (kSceneFragment's flyBlurLod uses the same bound): a point at distance D behind the mirror
+// along the reflected ray, E from the eye to the mirror, is spread over a radius of 2α · D / (E + D) in tan
+// units (2α · D metres orthographically); a box-filtered level k averages 2^k pixels. D is the nearest of
+// what the pixel and 24 pixels around it within the lobe's full width show (3 rings of 8): a pixel that
+// reflects the empty sky beside a near object receives that object's light spread by the object's distance,
+// not by the sky's (a gather blurs by the receiver's depth, light spreads by the source's).
+float flyMirrorDistance(vec2 fragCoord, vec3 p, vec2 sizePx) {
+  float z = texelFetch(uReflectionDepth, ivec2(clamp(fragCoord, vec2(0.0), sizePx - 1.0)), 0).r;
+  if (z >= 1.0) return 1e30;
+  vec4 q = uMirrorWorldFromClip * vec4(fragCoord / sizePx * 2.0 - 1.0, z * 2.0 - 1.0, 1.0);
+  return distance(q.xyz / q.w, p);
+}
+vec3 flyMirrorImage(vec3 p) {
+  vec3 sharp = flyDecodeLuminance(texelFetch(uReflection, ivec2(gl_FragCoord.xy), 0).xy);
+  if (uMirrorAlpha <= 0.0) return sharp;
+  vec2 sizePx = vec2(textureSize(uReflectionBlurred, 0));
+  // The sky's radius (perspective), or a quarter of the image (orthographic), bounds the search.
+  float widest = uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w : 0.25 * sizePx.y;
+  float d = flyMirrorDistance(gl_FragCoord.xy, p, sizePx);
+  for (int ring = 1; ring <= 3; ++ring) {
+    for (int k = 0; k < 8; ++k) {
+      float a = (float(k) + 0.5 * float(ring)) * (kPi / 4.0);
+      d = min(d, flyMirrorDistance(gl_FragCoord.xy + widest * float(ring) / 3.0 * vec2(cos(a), sin(a)), p, sizePx));
+    }
+  }
+  float radiusPx = widest;
+  if (d < 1e29) {
+    radiusPx = uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w * d / max(distance(uBlurView.xyz, p) + d, 1e-6)
+                                 : -2.0 * uMirrorAlpha * d * uBlurView.w;
+  }
+  return textureLod(uReflectionBlurred, gl_FragCoord.xy / sizePx, log2(max(2.0 * radiusPx, 1.0))).rgb;
+}
 #endif
 #ifdef FLY_BLEND_PASS
 layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", back to front
@@ -1084,11 +1126,12 @@ void main() {
   if (environmentReflects) l += flyEnvironmentSpecular(m, n, toEye);
 #endif
 #ifdef FLY_PLANAR_REFLECTION
-  // What the mirror reflects: the mirrored pass's image at this pixel (renderer.cpp, render) times R(θ).
+  // What the mirror reflects: the mirrored pass's image at this pixel (renderer.cpp, render), blurred by a
+  // glossy mirror's lobe, times R(θ).
   if (uReflector >= 0 && !back) {
     float x = 1.0 - clamp(dot(n, toEye), 0.0, 1.0);
     float fresnel = uMirrorF0 < 0.0 ? 1.0 : uMirrorF0 + (1.0 - uMirrorF0) * x * x * x * x * x;
-    l += uMirrorReflection * fresnel * flyDecodeLuminance(texelFetch(uReflection, ivec2(gl_FragCoord.xy), 0).xy);
+    l += uMirrorReflection * fresnel * flyMirrorImage(vPositionM);
   }
 #endif
   l += emission;
@@ -1171,17 +1214,22 @@ void main() {
 }
 )GLSL";
 
-// What lies behind frosted glass, decoded (kLuminanceEncoding) into a float image whose mip chain the panes
-// read blurred (raster/renderer.h, FLY_FROSTED).
+// What lies behind frosted glass, or a glossy planar reflector's image, decoded (kLuminanceEncoding) into a
+// float image whose mip chain the panes and reflectors read blurred (raster/renderer.h, FLY_FROSTED,
+// FLY_PLANAR_REFLECTION).
 inline constexpr const char* kBehindDecode = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rg32ui) uniform readonly uimage2D uBehind;
 layout(binding = 1, rgba32f) uniform writeonly image2D uOut;
+// The pixels that hold the image (x, y, width, height); outside them the nearest of its edge is repeated,
+// so that the coarse levels average no stale pixels (a planar reflector's pass draws its screen rectangle).
+uniform ivec4 uRect;
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = imageSize(uOut);
   if (p.x >= size.x || p.y >= size.y) return;
-  imageStore(uOut, p, vec4(flyDecodeLuminance(imageLoad(uBehind, p).xy), 1.0));
+  ivec2 from = clamp(p, uRect.xy, uRect.xy + uRect.zw - 1);
+  imageStore(uOut, p, vec4(flyDecodeLuminance(imageLoad(uBehind, from).xy), 1.0));
 }
 )GLSL";
 

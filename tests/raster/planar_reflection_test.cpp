@@ -31,14 +31,15 @@ struct MirrorScene {
   rdb::RasterRdb rdb;
 };
 
-MirrorScene mirrorScene(sdb::ReflectionModel model, sdb::EngineReflection engine = sdb::EngineReflection::kAuto) {
+MirrorScene mirrorScene(sdb::ReflectionModel model, sdb::EngineReflection engine = sdb::EngineReflection::kAuto,
+                        float glossiness = 0.0f) {
   MirrorScene s;
   sdb::Material mirror;
   mirror.name = "mirror";
   mirror.diffuseColor = Rgb(0.0f);
   mirror.reflectionColor = Rgb(kReflection);
   mirror.reflectionModel = model;
-  mirror.reflectionGlossiness = 0.0f;
+  mirror.reflectionGlossiness = glossiness;
   mirror.engineReflection = engine;
   const sdb::MaterialId mirrorId = s.scene.addMaterial(mirror).id;
   sdb::Material lamp;
@@ -180,6 +181,66 @@ TEST(PlanarReflection, PolishedFloorMarkedPlanarReflectsByFresnel) {
   EXPECT_GE(double(c.maskAgrees), 0.999 * double(c.compared));
   EXPECT_LT(c.worstReflected, 0.01);
   EXPECT_TRUE(mirrorScene(sdb::ReflectionModel::kUniform, sdb::EngineReflection::kNone).rdb.planarReflectors.empty());
+}
+
+// A glossy mirror (glossiness 0.4, GGX α 0.16, marked "planar") shows the emitter blurred by its lobe: about
+// 2α · D / (E + D) in tan units, D ≈ 0.5–1 m the emitter's height above the mirror, E ≈ 4.5 m from the eye,
+// i.e. 5–9 px here; a box-filtered mip level read trilinearly reaches up to twice its radius, 18 px. The light
+// spills onto mirror pixels where the sharp mirror shows nothing, no farther than that, and the reflected light
+// summed over the mirror stays what the sharp mirror shows within 8 % (a blur moves light; a gather whose
+// radius varies from pixel to pixel does not conserve it exactly).
+TEST(PlanarReflection, GlossyMirrorBlursItsImageByItsLobe) {
+  context();
+  constexpr uint32_t kPx = 128;
+  const View view = test::lookAtView(vec3(0.3f, 2.0f, 4.0f), vec3(0.0f, 0.3f, 0.0f), 50.0f);
+  const vec3 eye(view.worldFromCamera[3]);
+  const float tanY = std::tan(0.5f * view.yfovRad);
+  struct Look {
+    double summedCdM2 = 0.0;  // over the pixels that see the mirror
+    size_t spill = 0;         // pixels that see the mirror where it reflects nothing, brighter than 5 % of R · L
+    size_t farSpill = 0;      // those of them farther than 18 px from every pixel that reflects the emitter
+  };
+  auto look = [&](float glossiness) {
+    MirrorScene s = mirrorScene(sdb::ReflectionModel::kUniform, sdb::EngineReflection::kPlanar, glossiness);
+    Renderer renderer;
+    renderer.upload(s.rdb);
+    renderer.render(view, RenderMode::kSimple, kPx, kPx);
+    const std::vector<float> rgb = renderer.luminanceRgb();
+    std::vector<int> cls(size_t(kPx) * kPx);
+    for (uint32_t y = 0; y < kPx; ++y) {
+      for (uint32_t x = 0; x < kPx; ++x) {
+        const vec3 cam(((x + 0.5f) / kPx * 2.0f - 1.0f) * tanY, (1.0f - (y + 0.5f) / kPx * 2.0f) * tanY, -1.0f);
+        cls[y * kPx + x] = classify(eye, glm::normalize(mat3(view.worldFromCamera) * cam));
+      }
+    }
+    Look l;
+    for (int y = 0; y < int(kPx); ++y) {
+      for (int x = 0; x < int(kPx); ++x) {
+        const int k = cls[size_t(y) * kPx + size_t(x)];
+        if (k < 2) continue;
+        const float g = rgb[3 * (size_t(y) * kPx + size_t(x)) + 1];
+        l.summedCdM2 += g;
+        if (k != 3 || g <= 0.05f * kReflection * kEmissionCdM2) continue;
+        ++l.spill;
+        bool near = false;
+        for (int dy = -18; dy <= 18 && !near; ++dy)
+          for (int dx = -18; dx <= 18 && !near; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            near = xx >= 0 && yy >= 0 && xx < int(kPx) && yy < int(kPx) && cls[size_t(yy) * kPx + size_t(xx)] == 2;
+          }
+        l.farSpill += !near;
+      }
+    }
+    return l;
+  };
+  const Look sharp = look(0.0f), glossy = look(0.4f);
+  std::printf("glossy mirror: %zu pixels of spilled light, %zu of them farther than 18 px (sharp: %zu); reflected "
+              "light summed over the mirror %.4g cd/m² (sharp: %.4g)\n",
+              glossy.spill, glossy.farSpill, sharp.spill, glossy.summedCdM2, sharp.summedCdM2);
+  EXPECT_EQ(sharp.spill, 0u);
+  EXPECT_GT(glossy.spill, 100u);
+  EXPECT_EQ(glossy.farSpill, 0u);
+  EXPECT_NEAR(glossy.summedCdM2, sharp.summedCdM2, 0.08 * sharp.summedCdM2);
 }
 
 // Seen from below (its back), or out of the view, the mirror reflects nothing and no mirrored pass is drawn.
