@@ -205,16 +205,17 @@ sdb::Scene makeScene(uint32_t cells, bool textured = false) {
 
 // Two flat reflectors in makeScene's scene: a 40 × 8 m wall at z = −20.5 facing the camera and an 8 × 6 m pool
 // on the ground, and a curved one: a 1.5 m sphere (48 × 96 quads) on the ground between them; mirrors (uniform
-// reflection 0.9, glossiness 0: two planar reflectors and one cube map) or, for the baseline, the same meshes
-// of a plain grey.
-void addReflectors(sdb::Scene& s, bool mirrors) {
+// reflection 0.9, glossiness 0: two planar reflectors and one cube map; or glossiness 0.2, the widest lobe the
+// automatic choice takes for a mirror: the planar images blurred by it, docs/reflections.md) or, for the
+// baseline, the same meshes of a plain grey.
+void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f) {
   sdb::Material m;
   m.name = mirrors ? "mirror" : "grey";
   m.diffuseColor = Rgb(mirrors ? 0.05f : 0.5f);
   if (mirrors) {
     m.reflectionColor = Rgb(0.9f);
     m.reflectionModel = sdb::ReflectionModel::kUniform;
-    m.reflectionGlossiness = 0.0f;
+    m.reflectionGlossiness = glossiness;
   }
   const sdb::MaterialId id = s.addMaterial(m).id;
   auto quad = [&](const vec3& corner, const vec3& u, const vec3& v) {
@@ -685,14 +686,16 @@ int run(int argc, char** argv) {
     // The 300k-triangle scene with two mirrors against the same quads in grey, mode by mode.
     constexpr RenderMode kAll[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
     FrameTimes grey[3];
-    for (const bool mirrors : {false, true}) {
+    // Grey, mirrors, glossy mirrors (glossiness 0.2).
+    for (const int kind : {0, 1, 2}) {
+      const bool mirrors = kind > 0;
       sdb::Scene scene = makeScene(quick ? 221 : 387);
-      addReflectors(scene, mirrors);
+      addReflectors(scene, mirrors, kind == 2 ? 0.2f : 0.0f);
       const rdb::RasterRdb r = lightMapped(scene);
       Renderer renderer;
       renderer.upload(r);
       const View view = viewOfCamera(r.cameras.at(0));
-      const std::string name = std::to_string(r.triangleCount()) + (mirrors ? "m" : "g");
+      const std::string name = std::to_string(r.triangleCount()) + (kind == 0 ? "g" : kind == 1 ? "m" : "gm");
       for (int m = 0; m < 3; ++m) {
         const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
         if (!mirrors) grey[m] = t;
@@ -717,7 +720,7 @@ int run(int argc, char** argv) {
                       "", changed - still, changed, still);
         }
       }
-      if (mirrors) {
+      if (kind == 1) {
         // Sunlight mode's image-based light (the sky's irradiance and split sum) against the directional
         // ambient term, in the mirrors' scene.
         renderer.setImageBasedLight(false);
