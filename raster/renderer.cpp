@@ -83,7 +83,7 @@ struct GpuLight {
 
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
   return {vec4(m.diffuse, m.reflectionTinted ? 1.0f : 0.0f),
-          vec4(m.specular, m.phongExponent),
+          vec4(m.specular, 0.0f),
           vec4(m.emissionCdM2, m.transmissionAlpha),
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),

@@ -133,8 +133,6 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   RasterMaterial r;
   r.diffuse = m.effective().diffuse;
   r.specular = glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f));
-  const double alpha = std::max(1e-4, double(m.reflectionGlossiness) * m.reflectionGlossiness);
-  r.phongExponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
   r.ggxAlpha = m.reflectionGlossiness * m.reflectionGlossiness;
   if (std::max({r.specular.r, r.specular.g, r.specular.b}) > 0.0f) {
     r.environmentF90 = m.reflectionModel == sdb::ReflectionModel::kUniform

@@ -82,9 +82,6 @@ enum class RasterAlphaMode : uint32_t { kOpaque = 0, kMask = 1, kBlend = 2 };
 struct RasterMaterial {
   Rgb diffuse{0.8f};   // Lambertian albedo after the energy rule (sdb::Material::effective()), [0,1]
   Rgb specular{0.0f};  // reflect input of the energy rule at normal incidence (reflectionAt(1)), [0,1]
-  // Blinn–Phong exponent of the reflection lobe, from the GGX width α = glossiness² by Walter et al. 2007,
-  // eq. 33 (s = 2/α² − 2), clamped to [1, 10⁴].
-  float phongExponent = 1.0f;
   Rgb emissionCdM2{0.0f};  // emitted luminance, cd/m²
   // Glass (a material whose energy rule transmits at normal incidence): a thin-walled pane that shows what
   // lies behind it. Clear glass (transmissionAlpha 0, sdb::Material::hasClearTransmission) times T(θ) =

@@ -47,7 +47,7 @@ namespace fly::raster::shaders {
 inline constexpr const char* kSceneCommon = R"GLSL(
 struct Material {
   vec4 diffuse;       // rgb albedo, w 1 where the base colour texel tints the reflection (specular, reflection, F90)
-  vec4 specular;      // rgb reflectance at normal incidence, w Blinn–Phong exponent
+  vec4 specular;      // rgb reflectance at normal incidence (the reflect input of the energy rule)
   vec4 emission;      // rgb cd/m², w the GGX α of transmission (frosted glass; 0: clear)
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
   vec4 reflection;    // rgb reflection colour
@@ -176,16 +176,31 @@ vec3 flyLightLux(Light l, vec3 p, out vec3 toLight) {
 #endif
 
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT)
+// Smith's Λ for GGX at cos θ > 0, a2 = α² (base/ggx.h, Heitz 2014 eq. 72).
+float flyLambda(float cosTheta, float a2) {
+  float c2 = cosTheta * cosTheta;
+  return c2 >= 1.0 ? 0.0 : 0.5 * (sqrt(1.0 + a2 * (1.0 - c2) / max(c2, 1e-12)) - 1.0);
+}
 // Direct illuminance on the surface (lux), weighted for material m's diffuse lobe (flyDiffuseFrom), and the
-// Blinn–Phong lobe towards `toEye`.
+// luminance (cd/m²) its reflection lobe sends towards `toEye`: the baker's glossy lobe (raytracer/bsdf.h),
+// f = R(ωo·h) D(h) G2 / (4 cos θo cos θi) with GGX D of α = m.environment.w, Smith's height-correlated G2 and
+// the energy rule's R (flyReflectAt), times E cos θi. α is at least 10⁻³ (the baker's bound of a delta lobe,
+// which reflects no punctual light: here a highlight too small to see).
 void addLight(Material m, vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, inout vec3 diffuseLux,
-              inout vec3 specularLux) {
+              inout vec3 specularCdM2) {
   float cosSurface = dot(n, toLight);
   if (cosSurface <= 0.0) return;
   diffuseLux += eLux * cosSurface * flyDiffuseFrom(m, cosSurface);
+  float cosO = dot(n, toEye);
+  if (cosO <= 0.0) return;
   vec3 h = normalize(toLight + toEye);
-  float exponent = m.specular.w;
-  specularLux += eLux * cosSurface * (exponent + 8.0) / (8.0 * kPi) * pow(max(dot(n, h), 0.0), exponent);
+  float alpha = max(m.environment.w, 1e-3);
+  float a2 = alpha * alpha;
+  float nh = max(dot(n, h), 0.0);
+  float den = nh * nh * (a2 - 1.0) + 1.0;
+  float d = a2 / (kPi * den * den);
+  float g2 = 1.0 / (1.0 + flyLambda(cosO, a2) + flyLambda(cosSurface, a2));
+  specularCdM2 += eLux * flyReflectAt(m, dot(toEye, h)) * (d * g2 / (4.0 * cosO));
 }
 #endif
 
@@ -255,8 +270,7 @@ vec3 flySunTerm(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye) {
   vec3 diffuseLux = vec3(0.0);
   vec3 specularLux = vec3(0.0);
   addLight(m, p, n, toEye, uSunDirWorld, flySunLux(p), diffuseLux, specularLux);
-  return albedo * flyDiffuseTowards(m, dot(n, toEye)) / kPi * diffuseLux +
-         m.specular.rgb * specularLux * flySunHighlight();
+  return albedo * flyDiffuseTowards(m, dot(n, toEye)) / kPi * diffuseLux + specularLux * flySunHighlight();
 }
 #endif
 
@@ -289,7 +303,7 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
 #ifdef FLY_SSAO
   flyAmbientLuminance = diffuseOverPi * ambientLux;
 #endif
-  return diffuseOverPi * (diffuseLux + ambientLux) + m.specular.rgb * specularLux;
+  return diffuseOverPi * (diffuseLux + ambientLux) + specularLux;
 }
 #endif
 )GLSL";

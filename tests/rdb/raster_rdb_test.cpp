@@ -115,8 +115,8 @@ TEST(RasterRdbBuild, MaterialsLightsCamerasAndVariants) {
   // Wood: white Fresnel reflection takes F0(1.5) = 4 % first (the energy rule), diffuse 0.96 · 0.4.
   EXPECT_NEAR(r.materials[1].diffuse.r, 0.96f * 0.4f, 1e-5f);
   EXPECT_NEAR(r.materials[1].specular.r, 0.04f, 1e-5f);
-  // Glossiness 0.3: α = 0.09, s = 2/α² − 2.
-  EXPECT_NEAR(r.materials[1].phongExponent, 2.0f / (0.09f * 0.09f) - 2.0f, 0.05f);
+  // Glossiness 0.3: GGX α = 0.09.
+  EXPECT_NEAR(r.materials[1].ggxAlpha, 0.09f, 1e-6f);
   ASSERT_EQ(r.lights.size(), 1u);
   EXPECT_EQ(r.lights[0].positionM, vec3(0.5f, 0.8f, 0.5f));
   ASSERT_EQ(r.cameras.size(), 1u);
