@@ -193,7 +193,7 @@ PlanSheet planSheet(const PlanImageOptions& o, const GridSensors& sensors, const
     sheet.path = p.parent_path() / (p.stem().string() + "-storey" + std::to_string(k) + p.extension().string());
   }
   sheet.line = "plan of " + std::to_string(shown.size()) + " of " + std::to_string(t.positionsM.size()) +
-               " sensors" + (several ? " (" + storeyName + ")" : std::string()) + ", section at y = " +
+               " sensors" + (several ? ", " + storeyName : std::string()) + ", section at y = " +
                number(sectionY) + " m -> " + sheet.path.string();
   return sheet;
 }

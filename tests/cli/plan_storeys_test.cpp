@@ -155,7 +155,7 @@ TEST_F(TwoStoreys, EachStoreysPlanShowsItsOwnSensors) {
   EXPECT_NEAR(storeys.all[1].mainFloorM, 3.0, 1e-6);
   const std::vector<std::string> lines = writePlanImage(o, sensors_, content_, storeys, rdb_, scene_);
   ASSERT_EQ(lines.size(), 2u);
-  EXPECT_NE(lines[1].find("storey 1 of 2 (floor at y = 3 m), section at y = 3.85 m"), std::string::npos)
+  EXPECT_NE(lines[1].find("plan of 16 of 40 sensors, storey 1 of 2 (floor at y = 3 m), section at y = 3.85 m"), std::string::npos)
       << lines[1];
   EXPECT_FALSE(fs::exists(dir_ / "plan.png"));
   // The ground floor's plan shows all 24 ground sensors, the ones under the first floor included; the first
