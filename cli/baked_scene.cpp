@@ -508,7 +508,8 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
   writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history, maps.hasSunDirect()));
   ImageSettings plotSettings = d.imageSettings;
   plotSettings.emplace_back("fly:scene", d.scenePath);
-  plotSettings.emplace_back("fly:quantity", "95th percentile of the relative standard error against run time");
+  plotSettings.emplace_back("fly:quantity",
+                            "95th percentile of the relative standard error against run time");
   drawConvergencePlot(maps.history, dir / "convergence.png",
                       {.targetRelativeError = d.targetRelativeError,
                        .metadata = imageMetadata("Bake convergence", plotSettings, d.dotsPerInch)});
@@ -536,7 +537,8 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
           const std::string quantity = std::string(stdError ? "standard error of " : "") +
                                        (sun ? "irradiance straight from the sun's disc" : "irradiance");
           // Data, not a picture: the daylight it was baked under, no print resolution.
-          ExrAttributes attributes = exrAttributes(imageMetadata("Light texture: " + quantity, d.imageSettings));
+          ExrAttributes attributes =
+              exrAttributes(imageMetadata("Light texture: " + quantity, d.imageSettings));
           attributes.insert(
               attributes.end(),
               {{"units", "lux"},

@@ -63,10 +63,11 @@ void PlanImageOptions::add(CLI::App& sub, const std::string& quantity) {
       "--print-width", printWidthMm,
       "the plan's printed width in millimetres (with --dpi: pixels = mm / 25.4 × dpi); default 1600 "
       "pixels");
-  sub.add_option("--storey", storeyM,
-                 "draw only the storey whose floors lie at this height (y, metres; floors less than 2 m above "
-                 "a storey's lowest are on it); default: one plan per storey, PLAN-storeyK.png (K from 0, "
-                 "the lowest) when the grid has several")
+  sub.add_option(
+         "--storey", storeyM,
+         "draw only the storey whose floors lie at this height (y, metres; floors less than 2 m above "
+         "a storey's lowest are on it); default: one plan per storey, PLAN-storeyK.png (K from 0, "
+         "the lowest) when the grid has several")
       ->type_name("HEIGHT");
 }
 
@@ -190,11 +191,12 @@ PlanSheet planSheet(const PlanImageOptions& o, const GridSensors& sensors, const
   sheet.path = o.path;
   if (storeys.drawn.size() > 1) {
     const std::filesystem::path p(o.path);
-    sheet.path = p.parent_path() / (p.stem().string() + "-storey" + std::to_string(k) + p.extension().string());
+    sheet.path =
+        p.parent_path() / (p.stem().string() + "-storey" + std::to_string(k) + p.extension().string());
   }
   sheet.line = "plan of " + std::to_string(shown.size()) + " of " + std::to_string(t.positionsM.size()) +
-               " sensors" + (several ? ", " + storeyName : std::string()) + ", section at y = " +
-               number(sectionY) + " m -> " + sheet.path.string();
+               " sensors" + (several ? ", " + storeyName : std::string()) +
+               ", section at y = " + number(sectionY) + " m -> " + sheet.path.string();
   return sheet;
 }
 

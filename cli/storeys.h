@@ -20,9 +20,9 @@ inline constexpr double kMinStoreyHeightM = 2.0;
 inline constexpr double kMinStoreyShare = 0.1;
 
 struct Storey {
-  double lowestFloorM = 0.0;   // its floors' heights (y, metres, world) lie in [lowestFloorM, highestFloorM]
+  double lowestFloorM = 0.0;  // its floors' heights (y, metres, world) lie in [lowestFloorM, highestFloorM]
   double highestFloorM = 0.0;
-  double mainFloorM = 0.0;     // the floor height (to 1 cm) that carries most of its sensors
+  double mainFloorM = 0.0;      // the floor height (to 1 cm) that carries most of its sensors
   std::vector<size_t> sensors;  // indices into the grid's sensors, in their order
 };
 

@@ -29,11 +29,12 @@ class SceneViewHost : public raster::ViewerHost {
   std::optional<rdb::RasterRdbChanges> setLocalClock(const raster::LocalClock& clock,
                                                      std::string& message) override;
   // fly-view-NNNN.png in the current directory (the first free number); a failure is logged, not thrown.
-  void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx, raster::RenderMode mode,
-                      const ToneMapSettings& tone) override;
+  void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx,
+                      raster::RenderMode mode, const ToneMapSettings& tone) override;
   // A screenshot's metadata (cli/image_metadata.h): the scene's daylight at the time shown (the keys or the
   // panel may have changed it), the scene, the mode, the exposure and the print resolution.
-  PngMetadata screenshotMetadata(const std::string& title, raster::RenderMode mode, const ToneMapSettings& tone) const;
+  PngMetadata screenshotMetadata(const std::string& title, raster::RenderMode mode,
+                                 const ToneMapSettings& tone) const;
 
  private:
   // Why the scene has no time to change ("" when it has one).

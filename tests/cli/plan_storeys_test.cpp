@@ -25,13 +25,13 @@ TEST(Storeys, FloorsLessThanTwoMetresAboveAStoreysLowestStayOnIt) {
   // tops 0.75 (2); a roof terrace 6.1 (6) and a chimney top 9.0 (1 sensor), in no particular order.
   std::vector<float> heights;
   auto add = [&](float h, int n) { heights.insert(heights.end(), size_t(n), h); };
-  add(3.0f, 8);    // 0–7
-  add(0.0f, 12);   // 8–19
-  add(9.0f, 1);    // 20
-  add(0.3f, 6);    // 21–26
-  add(6.1f, 6);    // 27–32
-  add(0.75f, 2);   // 33, 34
-  add(3.4f, 1);    // 35
+  add(3.0f, 8);   // 0–7
+  add(0.0f, 12);  // 8–19
+  add(9.0f, 1);   // 20
+  add(0.3f, 6);   // 21–26
+  add(6.1f, 6);   // 27–32
+  add(0.75f, 2);  // 33, 34
+  add(3.4f, 1);   // 35
   auto range = [](size_t from, size_t to) {
     std::vector<size_t> v;
     for (size_t i = from; i <= to; ++i) v.push_back(i);
@@ -59,8 +59,8 @@ TEST(Storeys, FloorsLessThanTwoMetresAboveAStoreysLowestStayOnIt) {
   EXPECT_NEAR(s[2].highestFloorM, 9.0, 1e-6);
   EXPECT_TRUE(gridStoreys({}).empty());
   // A lone small group at the bottom (a sunken court's few sensors) joins the storey above it.
-  const std::vector<Storey> sunken = gridStoreys({-2.5f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,
-                                                  0.0f, 0.0f});
+  const std::vector<Storey> sunken =
+      gridStoreys({-2.5f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
   ASSERT_EQ(sunken.size(), 1u);
   EXPECT_NEAR(sunken[0].lowestFloorM, -2.5, 1e-6);
   EXPECT_NEAR(sunken[0].mainFloorM, 0.0, 1e-9);
@@ -108,8 +108,9 @@ class TwoStoreys : public ::testing::Test {
     const ImageU8 image = readPng(sheet.path);
     EXPECT_EQ(image.width, l.widthPx);
     auto pixelAt = [&](dvec2 px) {
-      const uint8_t* p = &image.pixels[(size_t(std::floor(px.y)) * size_t(image.width) + size_t(std::floor(px.x))) *
-                                       size_t(image.channels)];
+      const uint8_t* p =
+          &image.pixels[(size_t(std::floor(px.y)) * size_t(image.width) + size_t(std::floor(px.x))) *
+                        size_t(image.channels)];
       return Rgb8{p[0], p[1], p[2]};
     };
     auto distance = [](const Rgb8& a, const Rgb8& b) {
@@ -155,7 +156,9 @@ TEST_F(TwoStoreys, EachStoreysPlanShowsItsOwnSensors) {
   EXPECT_NEAR(storeys.all[1].mainFloorM, 3.0, 1e-6);
   const std::vector<std::string> lines = writePlanImage(o, sensors_, content_, storeys, rdb_, scene_);
   ASSERT_EQ(lines.size(), 2u);
-  EXPECT_NE(lines[1].find("plan of 16 of 40 sensors, storey 1 of 2 (floor at y = 3 m), section at y = 3.85 m"), std::string::npos)
+  EXPECT_NE(
+      lines[1].find("plan of 16 of 40 sensors, storey 1 of 2 (floor at y = 3 m), section at y = 3.85 m"),
+      std::string::npos)
       << lines[1];
   EXPECT_FALSE(fs::exists(dir_ / "plan.png"));
   // The ground floor's plan shows all 24 ground sensors, the ones under the first floor included; the first
@@ -167,7 +170,8 @@ TEST_F(TwoStoreys, EachStoreysPlanShowsItsOwnSensors) {
   bool storeyKey = false;
   for (const auto& [key, value] : m.text) {
     if (key == "Title") EXPECT_EQ(value, "Illuminance, lux, storey 1 of 2 (floor at y = 3 m)");
-    storeyKey = storeyKey || (key == "fly:storey" && value.find("floors from y = 3 to 3 m") != std::string::npos);
+    storeyKey =
+        storeyKey || (key == "fly:storey" && value.find("floors from y = 3 to 3 m") != std::string::npos);
   }
   EXPECT_TRUE(storeyKey);
 }

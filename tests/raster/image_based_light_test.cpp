@@ -272,8 +272,10 @@ TEST(ImageBasedLight, LightMappedSurfacesReflectTheEnvironmentTheirLightMapSees)
         const int ch = int(i % 3);
         worst = std::max(worst, std::abs(double(withIbl[i] - without[i]) - expected[ch]) / unoccluded[ch]);
       }
-      std::printf("%s, E_baked = %.1f π L: environment specular %.4f of the unoccluded (want %.1f), worst error "
-                  "%.4f of it\n", name, f, (withIbl[1] - without[1]) / unoccluded[1], std::min(f, 1.0f), worst);
+      std::printf(
+          "%s, E_baked = %.1f π L: environment specular %.4f of the unoccluded (want %.1f), worst error "
+          "%.4f of it\n",
+          name, f, (withIbl[1] - without[1]) / unoccluded[1], std::min(f, 1.0f), worst);
       EXPECT_LT(worst, 0.02) << name << ", f = " << f;
     }
   }
