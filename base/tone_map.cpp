@@ -117,6 +117,18 @@ double ev100FromLog2Average(double log2Average) {
 
 }  // namespace
 
+const char* toneOperatorName(ToneOperator op) {
+  switch (op) {
+    case ToneOperator::kLinear:
+      return "linear";
+    case ToneOperator::kReinhard:
+      return "reinhard";
+    case ToneOperator::kFilmic:
+      return "filmic";
+  }
+  return "?";
+}
+
 float exposureScale(double ev100) {
   return float(1.0 / (kLmaxPerTwoToEv * std::exp2(ev100)));
 }

@@ -40,6 +40,9 @@ inline constexpr HableFilmicConstants kHableFilmic{};
 // (Reinhard without white point: 1 − 1e-6), and no intermediate overflows a float.
 inline constexpr float kMaxExposedValue = 1.0e6f;
 
+// "linear", "reinhard" or "filmic": the operator's name as the command line and the viewer give it.
+const char* toneOperatorName(ToneOperator op);
+
 struct ToneMapSettings {
   ToneOperator op = ToneOperator::kReinhard;
   double ev100 = 0.0;  // exposure value at ISO 100; Lmax = 1.2 · 2^EV100 cd/m² is exposed as x = 1

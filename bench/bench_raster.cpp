@@ -700,9 +700,18 @@ int run(int argc, char** argv) {
         const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
         if (!mirrors) grey[m] = t;
         printRow(name.c_str(), renderModeName(kAll[m]), t, baseline.pipelinedMs);
-        if (mirrors) std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, cube maps %zu, × grey %.2f\n", "", "",
-                                 r.planarReflectors.size(), double(renderer.stats().reflectionPasses) / double(renderer.stats().scenePasses - renderer.stats().reflectionPasses),
-                                 r.cubeReflectors.size(), t.pipelinedMs / grey[m].pipelinedMs);
+        if (mirrors) {
+          std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, cube maps %zu, × grey %.2f\n", "", "",
+                      r.planarReflectors.size(), double(renderer.stats().reflectionPasses) / double(renderer.stats().scenePasses - renderer.stats().reflectionPasses),
+                      r.cubeReflectors.size(), t.pipelinedMs / grey[m].pipelinedMs);
+          // The per-vertex triangles one frame draws, over all its passes, the chunks no pass can see left out
+          // (raster/draw_chunks.h).
+          const int64_t before = renderer.stats().perVertexTrianglesDrawn;
+          renderer.render(view, kAll[m], w, h);
+          std::printf("%-9s %-9s per-vertex triangles drawn a frame %lld (3 passes × all %lld triangles: %lld)\n", "", "",
+                      static_cast<long long>(renderer.stats().perVertexTrianglesDrawn - before),
+                      static_cast<long long>(r.triangleCount()), static_cast<long long>(3 * r.triangleCount()));
+        }
         if (mirrors && !r.cubeReflectors.empty()) {
           // The cube map's capture (six 64² views and its prefiltering), which runs only when the scene or its
           // light changes: one frame after a change against one without.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <random>
 #include <span>
@@ -318,6 +319,11 @@ std::vector<std::string> writeExportGltf(const fs::path& dir, const rdb::TraceRd
     }
   }
   const double ev100 = autoExposureEv100(allLuminances);
+  // The export's light-texture PNGs are textures (no print resolution): the daylight and the exposure.
+  ImageSettings exportSettings = d.imageSettings;
+  char exposure[64];
+  std::snprintf(exposure, sizeof exposure, "EV100 %.2f (auto), tone operator reinhard", ev100);
+  exportSettings.emplace_back("fly:exposure", exposure);
   fs::create_directory(dir);
 
   GltfBuilder b;
@@ -373,7 +379,9 @@ std::vector<std::string> writeExportGltf(const fs::path& dir, const rdb::TraceRd
         const std::string file = lightTextureFile(i, back, false, ".png");
         fs::create_directories(dir / "lightmaps");
         writePng(dir / file, int(tex.width), int(tex.height), 3,
-                 toneMapToSrgb8(rgb, ev100, ToneOperator::kReinhard).data());
+                 toneMapToSrgb8(rgb, ev100, ToneOperator::kReinhard).data(),
+                 imageMetadata("Light texture for glTF viewers: tone-mapped albedo · E / π + emission",
+                               exportSettings));
         pngs.push_back(file);
         images.push_back({{"uri", file}});
         textureMaterial[back] = int(materials.size());
@@ -498,9 +506,13 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
 
   writeBakedGltf(dir, rdb, maps, d);
   writeFileAtomic(dir / "convergence.csv", convergenceCsv(maps.history, maps.hasSunDirect()));
-  drawConvergencePlot(
-      maps.history, dir / "convergence.png",
-      {.targetRelativeError = d.targetRelativeError, .metadata = imageMetadata("Bake convergence", {})});
+  ImageSettings plotSettings = d.imageSettings;
+  plotSettings.emplace_back("fly:scene", d.scenePath);
+  plotSettings.emplace_back("fly:quantity",
+                            "95th percentile of the relative standard error against run time");
+  drawConvergencePlot(maps.history, dir / "convergence.png",
+                      {.targetRelativeError = d.targetRelativeError,
+                       .metadata = imageMetadata("Bake convergence", plotSettings, d.dotsPerInch)});
   std::vector<std::string> files = {"scene.gltf", "scene.bin", "convergence.csv", "convergence.png"};
   if (maps.lightTextures.size() != rdb.lightTextures.size()) {
     throw std::invalid_argument("writeBakedScene: the light textures do not match the TraceRdb's");
@@ -524,7 +536,9 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
           const std::string file = lightTextureFile(lt.mesh, back, stdError, ".exr", sun);
           const std::string quantity = std::string(stdError ? "standard error of " : "") +
                                        (sun ? "irradiance straight from the sun's disc" : "irradiance");
-          ExrAttributes attributes = exrAttributes(imageMetadata("Light texture: " + quantity, {}));
+          // Data, not a picture: the daylight it was baked under, no print resolution.
+          ExrAttributes attributes =
+              exrAttributes(imageMetadata("Light texture: " + quantity, d.imageSettings));
           attributes.insert(
               attributes.end(),
               {{"units", "lux"},

@@ -37,6 +37,8 @@
 // convergence.csv: seconds,samples,estimated_error,rays_per_second, one row per pass (under the sun also
 //   sun_direct_estimated_error: raytracer::ConvergencePoint::sunDirectRelativeErrorP95).
 // convergence.png: the estimated error against run time, log-log (cli/convergence_plot.h).
+// Every image carries the bake's site, time and sky and the command line in its metadata (PNG text chunks,
+//   EXR header attributes; cli/image_metadata.h), and with `fly bake --dpi N` its print resolution.
 // export/scene.gltf + scene.bin (optional), for any glTF viewer: COLOR_0 = the tone-mapped luminance
 //   albedo·E/π, KHR_materials_unlit; two-sided meshes twice, the back with reversed winding. Light-textured
 //   meshes instead use export/lightmaps/objectN_front.png (and _back): 8-bit sRGB of the same tone-mapped
@@ -54,6 +56,7 @@
 #include <vector>
 
 #include "cli/baked_manifest.h"
+#include "cli/image_metadata.h"
 #include "raytracer/baker.h"
 #include "rdb/trace_rdb.h"
 
@@ -67,6 +70,10 @@ struct BakeDescription {
   // without one.
   nlohmann::json bounceCapBias;
   nlohmann::json daylight;                 // the site, time and sky baked with (cli/scene_daylight.h)
+  // The same as the images' metadata (cli/image_metadata.h, daylightSettings), and their print resolution
+  // (dots per inch; 0 = none): in convergence.png, the light textures' EXR headers and export's PNGs.
+  ImageSettings imageSettings;
+  double dotsPerInch = 0.0;
   float targetRelativeError = 0.0f;        // drawn in convergence.png; 0 = none
   std::vector<std::string> meshNames;      // per TraceMesh (rdb.meshes order); "" = unnamed
   std::vector<std::string> nodeNames;      // per TraceMesh

@@ -18,6 +18,7 @@
 #include "cli/bounce_cap_warning.h"
 #include "cli/baked_scene.h"
 #include "cli/command.h"
+#include "cli/image_metadata.h"
 #include "cli/scene_daylight.h"
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
@@ -36,10 +37,11 @@ struct BakeOptions {
   std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
   std::string lightPaths = "off";  // on or off: raytracer::LightPathBakeSettings::enabled
   DaylightOptions daylight;
+  double dotsPerInch = 0.0;  // --dpi: convergence.png's print resolution; 0 = none
 };
 
-// The job from the command line, or for --resume from the checkpoint (with --threads and --checkpoint
-// allowed to change: neither changes the result).
+// The job from the command line, or for --resume from the checkpoint (with --threads, --checkpoint and --dpi
+// allowed to change: none changes the result).
 BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<LoadedCheckpoint>& loaded) {
   if (o.resume.empty()) {
     if (o.scene.empty() || o.out.empty()) {
@@ -61,7 +63,7 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     if (sub.count(name) > 0) {
       throw UsageError(
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
-          " cannot change them (only --threads and --checkpoint can be given)");
+          " cannot change them (only --threads, --checkpoint and --dpi can be given)");
     }
   }
   if (const std::vector<std::string> given = o.daylight.given(); !given.empty()) {
@@ -210,6 +212,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
         rdb, embree, settings.integrator, settings.estimate.threads, settings.estimate.seed));
   }
   d.daylight = job.daylight;
+  d.imageSettings = daylightSettings(scene);
+  d.dotsPerInch = o.dotsPerInch;
   const raytracer::EstimateSettings& e = settings.estimate;
   d.settings = {
       {"max_samples", e.maxSamples},
@@ -330,6 +334,7 @@ Command addBakeCommand(CLI::App& app) {
                   "on: light paths from the sun combined with the gathering estimate of every vertex "
                   "(docs/light-paths.md); off (the default): gathering alone");
   o->daylight.add(*sub, &o->sampling.time);
+  addDpiOption(*sub, &o->dotsPerInch);
   sub->add_option("--resume", o->resume,
                   "continue the interrupted bake into DIR from DIR.checkpoint/ with its saved settings; the "
                   "result equals an uninterrupted bake with the same samples");

@@ -62,6 +62,7 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
   const raytracer::EmbreeScene embree(rdb);
   const GridSensors gridded = loadSensors(o.points, o.grid, grid, o.scene, rdb, embree);
   const SensorTable& sensors = gridded.table;
+  const PlanStoreys storeys = o.image.path.empty() ? PlanStoreys{} : planStoreys(o.image, gridded);
   const raytracer::IntegratorSettings integratorOptions =
       integratorSettings(o.sampling, scene.bakeSettings());
   const raytracer::Integrator integrator(rdb, embree, integratorOptions);
@@ -100,7 +101,8 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
                                "horizontal illuminance " +
                                    number(outsideLux) + " lux");
     plan.settings.emplace_back("fly:quantity", "daylight factor, %");
-    std::fprintf(stderr, "image: %s\n", writePlanImage(o.image, gridded, plan, rdb, scene).c_str());
+    for (const std::string& line : writePlanImage(o.image, gridded, plan, storeys, rdb, scene))
+      std::fprintf(stderr, "image: %s\n", line.c_str());
   }
   writeFileAtomic(o.out, csv);
   std::fprintf(stderr, "daylight factor: %zu sensors, %u samples each, %s; %.1f s -> %s\n",

@@ -58,6 +58,7 @@ int runIlluminance(const IlluminanceOptions& o) {
   const raytracer::EmbreeScene embree(rdb);
   const GridSensors gridded = loadSensors(o.points, o.grid, grid, o.scene, rdb, embree);
   const SensorTable& sensors = gridded.table;
+  const PlanStoreys storeys = o.image.path.empty() ? PlanStoreys{} : planStoreys(o.image, gridded);
   const raytracer::IntegratorSettings integratorOptions = integratorSettings(o.sampling, scene.bakeSettings());
   const raytracer::Integrator integrator(rdb, embree, integratorOptions);
   const raytracer::EstimateResult result =
@@ -89,7 +90,8 @@ int runIlluminance(const IlluminanceOptions& o) {
       plan.subtitle += "  ·  " + std::to_string(n) + (n == 1 ? " lamp" : " lamps");
     }
     plan.settings.emplace_back("fly:quantity", "illuminance on a horizontal work plane, lux");
-    std::fprintf(stderr, "image: %s\n", writePlanImage(o.image, gridded, plan, rdb, scene).c_str());
+    for (const std::string& line : writePlanImage(o.image, gridded, plan, storeys, rdb, scene))
+      std::fprintf(stderr, "image: %s\n", line.c_str());
   }
   writeFileAtomic(o.out, csv);
   std::fprintf(

@@ -49,6 +49,7 @@ struct ViewOptions {
   std::string windowScreenshot;
   bool noPanel = false;
   std::string probe;
+  double dotsPerInch = 0.0;  // --dpi: the screenshots' print resolution; 0 = none
 };
 
 // --probe X,Y: a window point in pixels from the top left, inside the window.
@@ -149,24 +150,24 @@ int runView(const ViewOptions& o) {
             << window->info().major << "." << window->info().minor << " core, " << window->info().renderer
             << " (" << window->info().platform << ")\n"
             << std::flush;
-  SceneViewHost host(scene, rdb, environment.has_value());
+  SceneViewHost host(scene, rdb, environment.has_value(), o.dotsPerInch);
   const raster::ViewerResult r = raster::runViewer(*window, rdb, host, v);
 
   if (!o.screenshot.empty()) {
     if (r.frames == 0) throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
     writePng(o.screenshot, int(r.widthPx), int(r.heightPx), 3, r.srgb8.data(),
-             imageMetadata("fly view", daylightSettings(scene.scene)));
+             host.screenshotMetadata("fly view", r.mode, r.tone));
   }
   if (!o.windowScreenshot.empty()) {
     if (r.windowSrgb8.empty())
       throw std::runtime_error("the window closed before a frame was drawn; no screenshot");
     writePng(o.windowScreenshot, int(r.windowWidthPx), int(r.windowHeightPx), 3, r.windowSrgb8.data(),
-             imageMetadata("fly view, the window", daylightSettings(scene.scene)));
+             host.screenshotMetadata("fly view, the window", r.mode, r.tone));
   }
   char line[160];
   std::snprintf(line, sizeof line, "frames    %llu in %.2f s; last: mode %s, exposure EV100 %.2f\n",
                 static_cast<unsigned long long>(r.frames), r.seconds, raster::renderModeName(r.mode),
-                r.ev100);
+                r.tone.ev100);
   std::cout << line;
   if (const std::string t = host.timeLabel(); !t.empty()) std::cout << "time      " << t << "\n";
   if (!o.screenshot.empty())
@@ -210,6 +211,7 @@ Command addViewCommand(CLI::App& app) {
                   "save the last frame (without the overlay) to this PNG on closing");
   sub->add_option("--window-screenshot", o->windowScreenshot,
                   "save the last frame as the window shows it (overlay and panel included) to this PNG");
+  addDpiOption(*sub, &o->dotsPerInch);
   sub->add_flag("--no-panel", o->noPanel, "start with the panel hidden (F1 shows it)");
   sub->add_option("--probe", o->probe,
                   "read the baked illuminance under the window point X,Y (pixels from the top left) at the "

@@ -63,15 +63,22 @@ void PlanImageOptions::add(CLI::App& sub, const std::string& quantity) {
       "--print-width", printWidthMm,
       "the plan's printed width in millimetres (with --dpi: pixels = mm / 25.4 × dpi); default 1600 "
       "pixels");
+  sub.add_option(
+         "--storey", storeyM,
+         "draw only the storey whose floors lie at this height (y, metres; floors less than 2 m above "
+         "a storey's lowest are on it); default: one plan per storey, PLAN-storeyK.png (K from 0, "
+         "the lowest) when the grid has several")
+      ->type_name("HEIGHT");
 }
 
 void PlanImageOptions::check(bool hasGrid) const {
   if (path.empty()) {
-    if (!range.empty() || printWidthMm != 0.0) {
-      throw UsageError("--range and --print-width set the plan image: give --image plan.png too");
+    if (!range.empty() || printWidthMm != 0.0 || storeyM) {
+      throw UsageError("--range, --print-width and --storey set the plan image: give --image plan.png too");
     }
     return;
   }
+  if (storeyM && !std::isfinite(*storeyM)) throw UsageError("--storey must be a finite height in metres");
   if (!hasGrid)
     throw UsageError("--image " + path + ": a plan needs sensors on a grid; give --grid HEIGHT,SPACING");
   if (std::filesystem::path(path).extension() != ".png") {
@@ -89,20 +96,33 @@ void PlanImageOptions::check(bool hasGrid) const {
   }
 }
 
-std::string writePlanImage(const PlanImageOptions& o, const GridSensors& sensors, const PlanContent& content,
-                           const rdb::TraceRdb& rdb, const sdb::Scene& scene) {
+PlanStoreys planStoreys(const PlanImageOptions& o, const GridSensors& sensors) {
+  PlanStoreys p;
+  p.all = gridStoreys(sensors.floorHeightsM);
+  if (o.storeyM) {
+    p.drawn.push_back(storeyAt(p.all, *o.storeyM));
+  } else {
+    for (size_t k = 0; k < p.all.size(); ++k) p.drawn.push_back(k);
+  }
+  return p;
+}
+
+PlanSheet planSheet(const PlanImageOptions& o, const GridSensors& sensors, const PlanContent& content,
+                    const PlanStoreys& storeys, size_t k, const rdb::TraceRdb& rdb, const sdb::Scene& scene) {
   // The lattice (shared by every storey, raytracer/sensor_grid.h): columns and rows counted from the
-  // sensors' smallest x and z. Each cell shows its lowest sensor, so a building's ground floor and the ground
-  // around it form one plan, and upper storeys and furniture tops show only where nothing lies below them.
+  // storey's sensors' smallest x and z. Each cell shows the storey's lowest sensor there.
   const SensorTable& t = sensors.table;
+  const Storey& storey = storeys.all.at(k);
   const double spacing = sensors.spacingM;
   dvec2 lo(INFINITY);
-  for (const vec3& p : t.positionsM) lo = glm::min(lo, dvec2(p.x, p.z));
-  PlanGrid grid;
+  for (const size_t i : storey.sensors) lo = glm::min(lo, dvec2(t.positionsM[i].x, t.positionsM[i].z));
+  PlanSheet sheet;
+  PlanGrid& grid = sheet.grid;
   grid.originM = lo;
   grid.spacingM = spacing;
   std::vector<std::pair<int, int>> cells;
-  for (const vec3& p : t.positionsM) {
+  for (const size_t i : storey.sensors) {
+    const vec3& p = t.positionsM[i];
     cells.emplace_back(int(std::lround((p.x - lo.x) / spacing)), int(std::lround((p.z - lo.y) / spacing)));
     grid.values.columns = std::max(grid.values.columns, cells.back().first + 1);
     grid.values.rows = std::max(grid.values.rows, cells.back().second + 1);
@@ -110,8 +130,9 @@ std::string writePlanImage(const PlanImageOptions& o, const GridSensors& sensors
   const size_t cellCount = size_t(grid.values.columns) * size_t(grid.values.rows);
   grid.values.values.assign(cellCount, NAN);
   std::vector<size_t> shownSensor(cellCount, SIZE_MAX);
-  for (size_t i = 0; i < cells.size(); ++i) {
-    const size_t cell = size_t(cells[i].second) * size_t(grid.values.columns) + size_t(cells[i].first);
+  for (size_t j = 0; j < cells.size(); ++j) {
+    const size_t i = storey.sensors[j];
+    const size_t cell = size_t(cells[j].second) * size_t(grid.values.columns) + size_t(cells[j].first);
     if (shownSensor[cell] == SIZE_MAX || t.positionsM[i].y < t.positionsM[shownSensor[cell]].y) {
       shownSensor[cell] = i;
       grid.values.values[cell] = content.values[i];
@@ -126,8 +147,11 @@ std::string writePlanImage(const PlanImageOptions& o, const GridSensors& sensors
   }
 
   const bool logarithmic = o.scale == "log";
-  PlanDrawing d;
-  d.title = content.title;
+  const bool several = storeys.all.size() > 1;
+  const std::string storeyName = "storey " + std::to_string(k) + " of " + std::to_string(storeys.all.size()) +
+                                 " (floor at y = " + number(storey.mainFloorM) + " m)";
+  PlanDrawing& d = sheet.drawing;
+  d.title = several ? content.title + ", " + storeyName : content.title;
   d.subtitle = content.subtitle;
   d.unit = content.unit;
   std::optional<std::pair<double, double>> range = parseRange(o.range, logarithmic);
@@ -156,13 +180,36 @@ std::string writePlanImage(const PlanImageOptions& o, const GridSensors& sensors
               (mean > 0.0 ? quantity(minimum / mean) : std::string("–")) + "  ·  " +
               std::to_string(shown.size()) + " sensors, " + number(spacing) + " m apart";
   ImageSettings settings = content.settings;
+  if (several) {
+    settings.emplace_back("fly:storey", storeyName + ", floors from y = " + number(storey.lowestFloorM) +
+                                            " to " + number(storey.highestFloorM) + " m");
+  }
   settings.emplace_back("fly:scale", std::string(logarithmic ? "log" : "linear") + ", " +
                                          number(d.scale.minValue) + " to " + number(d.scale.maxValue) + " " +
                                          content.unit);
-  d.metadata = imageMetadata(content.title, settings, o.dotsPerInch);
-  drawFalseColourPlan(grid, d, o.path);
-  return "plan of " + std::to_string(shown.size()) + " of " + std::to_string(t.positionsM.size()) +
-         " sensors (the lowest in each place), section at y = " + number(sectionY) + " m -> " + o.path;
+  d.metadata = imageMetadata(d.title, settings, o.dotsPerInch);
+  sheet.path = o.path;
+  if (storeys.drawn.size() > 1) {
+    const std::filesystem::path p(o.path);
+    sheet.path =
+        p.parent_path() / (p.stem().string() + "-storey" + std::to_string(k) + p.extension().string());
+  }
+  sheet.line = "plan of " + std::to_string(shown.size()) + " of " + std::to_string(t.positionsM.size()) +
+               " sensors" + (several ? ", " + storeyName : std::string()) +
+               ", section at y = " + number(sectionY) + " m -> " + sheet.path.string();
+  return sheet;
+}
+
+std::vector<std::string> writePlanImage(const PlanImageOptions& o, const GridSensors& sensors,
+                                        const PlanContent& content, const PlanStoreys& storeys,
+                                        const rdb::TraceRdb& rdb, const sdb::Scene& scene) {
+  std::vector<std::string> lines;
+  for (const size_t k : storeys.drawn) {
+    const PlanSheet sheet = planSheet(o, sensors, content, storeys, k, rdb, scene);
+    drawFalseColourPlan(sheet.grid, sheet.drawing, sheet.path);
+    lines.push_back(sheet.line);
+  }
+  return lines;
 }
 
 }  // namespace fly::cli

@@ -69,7 +69,20 @@ std::string SceneViewHost::timeLabel() const {
   return label;
 }
 
-void SceneViewHost::saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) {
+PngMetadata SceneViewHost::screenshotMetadata(const std::string& title, raster::RenderMode mode,
+                                              const ToneMapSettings& tone) const {
+  ImageSettings settings = daylightSettings(s_.scene);
+  char exposure[96];
+  std::snprintf(exposure, sizeof exposure, "EV100 %.2f, white point %.2f, tone operator %s", tone.ev100,
+                double(tone.whitePoint), toneOperatorName(tone.op));
+  settings.insert(settings.end(), {{"fly:scene", s_.scenePath.string()},
+                                   {"fly:mode", raster::renderModeName(mode)},
+                                   {"fly:exposure", exposure}});
+  return imageMetadata(title, settings, dotsPerInch_);
+}
+
+void SceneViewHost::saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx,
+                                   raster::RenderMode mode, const ToneMapSettings& tone) {
   std::filesystem::path name;
   do {
     char b[32];
@@ -77,8 +90,7 @@ void SceneViewHost::saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t w
     name = b;
   } while (std::filesystem::exists(name));
   try {
-    // The scene's daylight as the screenshot shows it: the time the keys or the panel set.
-    writePng(name, int(widthPx), int(heightPx), 3, srgb8.data(), imageMetadata("fly view", daylightSettings(s_.scene)));
+    writePng(name, int(widthPx), int(heightPx), 3, srgb8.data(), screenshotMetadata("fly view", mode, tone));
     std::cout << "screenshot " << name.string() << " (" << widthPx << "×" << heightPx << ")" << std::endl;
   } catch (const std::exception& e) {  // a full disk or a read-only directory does not end the session
     log::error(std::string("screenshot not saved: ") + e.what());

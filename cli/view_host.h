@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "base/png_metadata.h"
+#include "base/tone_map.h"
 #include "cli/raster_scene.h"
 #include "raster/viewer.h"
 #include "rdb/raster_rdb.h"
@@ -17,8 +19,9 @@ class SceneViewHost : public raster::ViewerHost {
  public:
   // `rdb` was built from scene.scene (with scene.lightMaps); both outlive the host. environment: an
   // --environment stands in for the sky and the sun, so the time of day has nothing to change.
-  SceneViewHost(RasterScene& scene, rdb::RasterRdb& rdb, bool environment = false)
-      : s_(scene), rdb_(rdb), environment_(environment) {}
+  // dotsPerInch: the screenshots' print resolution (--dpi; 0 = none).
+  SceneViewHost(RasterScene& scene, rdb::RasterRdb& rdb, bool environment = false, double dotsPerInch = 0.0)
+      : s_(scene), rdb_(rdb), environment_(environment), dotsPerInch_(dotsPerInch) {}
 
   std::optional<rdb::RasterRdbChanges> stepTime(int minutes, std::string& message) override;
   std::string timeLabel() const override;
@@ -26,7 +29,12 @@ class SceneViewHost : public raster::ViewerHost {
   std::optional<rdb::RasterRdbChanges> setLocalClock(const raster::LocalClock& clock,
                                                      std::string& message) override;
   // fly-view-NNNN.png in the current directory (the first free number); a failure is logged, not thrown.
-  void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) override;
+  void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx,
+                      raster::RenderMode mode, const ToneMapSettings& tone) override;
+  // A screenshot's metadata (cli/image_metadata.h): the scene's daylight at the time shown (the keys or the
+  // panel may have changed it), the scene, the mode, the exposure and the print resolution.
+  PngMetadata screenshotMetadata(const std::string& title, raster::RenderMode mode,
+                                 const ToneMapSettings& tone) const;
 
  private:
   // Why the scene has no time to change ("" when it has one).
@@ -38,6 +46,7 @@ class SceneViewHost : public raster::ViewerHost {
   RasterScene& s_;
   rdb::RasterRdb& rdb_;
   bool environment_;
+  double dotsPerInch_;
   int counter_ = 0;
 };
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "raster/cube_reflections.h"
+#include "raster/draw_chunks.h"
 #include "raster/gl_program.h"
 #include "raster/shaders/ambient_occlusion_glsl.h"
 #include "raster/shaders/ball_texture_glsl.h"
@@ -364,6 +365,11 @@ struct Renderer::Gpu {
   std::vector<SurfaceDraw> surfaceDraws;  // opaque and cut-out first (by material), then blended
   std::vector<size_t> blendOrder;         // per frame: the blended draws back to front
   GLsizei perVertexIndexCount = 0;        // the first range of the element buffer: per-vertex meshes
+  // That range in chunks with their boxes (raster/draw_chunks.h), and per pass the chunks it draws.
+  std::vector<DrawChunk> perVertexChunks;
+  std::vector<IndexRange> visibleChunks;
+  std::vector<GLsizei> drawCounts;
+  std::vector<const void*> drawOffsets;
   float maxAnisotropy = 1.0f;             // the textures' (setMaxAnisotropy); 1 without anisotropic filtering
   float driverMaxAnisotropy = 1.0f;       // min(kMaxAnisotropy, the driver's), 1 without
   std::map<uint32_t, SceneProgram> scene;  // by variant (VariantBit)
@@ -646,7 +652,6 @@ void Renderer::uploadGeometry() {
   storeBuffer(gpu_->positions, r.positionsM);
   storeBuffer(gpu_->normals, r.normals);
   storeBuffer(gpu_->corners, r.cornerFactor);
-  storeBuffer(gpu_->indices, r.indices);
   const GLuint vao = gpu_->vao;
   auto attrib = [&](GLuint index, GLuint buffer, GLint components, GLsizei stride) {
     glVertexArrayVertexBuffer(vao, index, buffer, 0, stride);
@@ -684,9 +689,7 @@ void Renderer::uploadGeometry() {
   optional(9, gpu_->uv1, r.uv1, 2);
   optional(10, gpu_->colors, r.colors, 4);
   optional(11, gpu_->tangents, r.tangents, 4);
-  glVertexArrayElementBuffer(vao, gpu_->indices);
-  // The meshes' index ranges follow each other (rdb/raster_rdb.h), so one draw covers them all (uploadDraws
-  // reorders them where some are drawn per fragment).
+  // The element buffer is uploadDraws': the meshes' indices in draw order.
   gpu_->indexCount = GLsizei(r.indices.size());
   gpu_->everyMeshLightMapped =
       std::all_of(r.meshes.begin(), r.meshes.end(), [](const rdb::RasterMesh& m) { return m.hasLightMap; });
@@ -820,20 +823,15 @@ void Renderer::uploadMaterials() {
   ++stats_.materialTableUploads;
 }
 
-// The draws of a scene with per-fragment surfaces (rdb::RasterRdb::shadedPerFragment): the per-vertex meshes'
-// indices first (one draw, as in a scene without such surfaces), then per material its opaque or cut-out
-// meshes (one draw each: a draw binds one material's textures), then each blended mesh. Without per-fragment
-// surfaces the element buffer stays the scene's indices in mesh order.
+// The element buffer in draw order: the per-vertex meshes' indices first (one draw of their visible chunks,
+// each mesh's triangles in the chunks' spatial order: raster/draw_chunks.h), then for the surfaces drawn per
+// fragment (rdb::RasterRdb::shadedPerFragment) per material its opaque or cut-out meshes (one draw each: a draw
+// binds one material's textures), then each blended mesh.
 void Renderer::uploadDraws() {
   const rdb::RasterRdb& r = *rdb_;
   gpu_->surfaceDraws.clear();
   gpu_->perVertexIndexCount = gpu_->indexCount;
-  const bool any = std::any_of(r.meshes.begin(), r.meshes.end(),
-                               [&](const rdb::RasterMesh& m) { return r.shadedPerFragment(m); });
-  if (!any) {
-    glVertexArrayElementBuffer(gpu_->vao, gpu_->indices);
-    return;
-  }
+  gpu_->perVertexChunks.clear();
   std::vector<uint32_t> ordered;
   ordered.reserve(r.indices.size());
   auto append = [&](const rdb::RasterMesh& m) {
@@ -841,7 +839,10 @@ void Renderer::uploadDraws() {
                    r.indices.begin() + std::ptrdiff_t(m.firstIndex + m.indexCount));
   };
   for (const rdb::RasterMesh& m : r.meshes) {
-    if (!r.shadedPerFragment(m)) append(m);
+    if (r.shadedPerFragment(m)) continue;
+    const uint32_t first = uint32_t(ordered.size());
+    append(m);
+    appendDrawChunks(ordered, first, m.indexCount, r.positionsM, gpu_->perVertexChunks);
   }
   gpu_->perVertexIndexCount = GLsizei(ordered.size());
   // Opaque, then cut-out materials (a program with discard after those without), each material's meshes in
@@ -1139,7 +1140,10 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     mirror[3] = vec4(2.0f * pr.offsetM * pr.normal, 1.0f);
     View mirrored = view;
     mirrored.worldFromCamera = mirror * view.worldFromCamera;
-    const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k};
+    const NdcRect ndc{2.0f * float(rect.x) / float(widthPx) - 1.0f, 2.0f * float(rect.y) / float(heightPx) - 1.0f,
+                      2.0f * float(rect.x + rect.width) / float(widthPx) - 1.0f,
+                      2.0f * float(rect.y + rect.height) / float(heightPx) - 1.0f};
+    const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k, ndc};
     glScissor(rect.x, rect.y, rect.width, rect.height);
     glEnable(GL_SCISSOR_TEST);
     renderPass(mirrored, mode, widthPx, heightPx, &pass, nullptr);
@@ -1166,6 +1170,20 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   }
 }
 
+// The per-vertex meshes' chunks in gpu_->visibleChunks, in one multi-draw.
+void Renderer::drawVisibleChunks() {
+  std::vector<GLsizei>& counts = gpu_->drawCounts;
+  std::vector<const void*>& offsets = gpu_->drawOffsets;
+  counts.clear();
+  offsets.clear();
+  for (const IndexRange& r : gpu_->visibleChunks) {
+    counts.push_back(GLsizei(r.indexCount));
+    offsets.push_back(reinterpret_cast<const void*>(size_t(r.firstIndex) * sizeof(uint32_t)));
+    stats_.perVertexTrianglesDrawn += r.indexCount / 3;
+  }
+  if (!counts.empty()) glMultiDrawElements(GL_TRIANGLES, counts.data(), GL_UNSIGNED_INT, offsets.data(), GLsizei(counts.size()));
+}
+
 void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx,
                           const MirrorPass* mirrorPass, const CubePass* cubePass) {
   const rdb::RasterRdb& r = *rdb_;
@@ -1176,6 +1194,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
   if (mirrorPass) clipFromCamera = obliqueNearPlane(clipFromCamera, glm::transpose(view.worldFromCamera) * mirrorPass->planeWorld);
   const mat4 clipFromWorld = clipFromCamera * glm::inverse(view.worldFromCamera);
   glFrontFace(mirrorPass ? GL_CW : GL_CCW);
+  // The per-vertex meshes' chunks this pass can see (a mirrored pass: through its mirror, in front of it).
+  visibleRanges(gpu_->perVertexChunks, clipFromWorld, mirrorPass ? mirrorPass->rect : NdcRect{}, gpu_->visibleChunks);
 
   // The background in every pixel (black, or in sunlight mode the sky and the sun), in place of a colour
   // clear; the scene is drawn over it.
@@ -1395,6 +1415,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(firstIndex * sizeof(uint32_t)));
     };
+    auto drawPerVertex = [&] { drawVisibleChunks(); };
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     auto bindScene = [&] {
@@ -1425,7 +1446,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       if (gpu_->perVertexIndexCount > 0) {
         const SceneProgram& p = use(variant);
         if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
-        draw(0, gpu_->perVertexIndexCount);
+        drawPerVertex();
       }
       uint32_t current = ~0u;
       const SceneProgram* program = nullptr;
@@ -1484,7 +1505,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       if (variant & kVariantFrosted) prepareFrostedGlass(widthPx, heightPx);
       const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
-      draw(0, gpu_->perVertexIndexCount);
+      drawPerVertex();
     }
     if (v.alphaBlend) {
       // Blended surfaces, after everything else, back to front by their meshes' centres' view depth, without
@@ -1753,7 +1774,11 @@ void Renderer::drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t
                              glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
                                             reinterpret_cast<const void*>(firstIndex * sizeof(uint32_t)));
                            };
-                           if (gpu_->perVertexIndexCount > 0) draw(0, gpu_->perVertexIndexCount);
+                           if (gpu_->perVertexIndexCount > 0) {
+                             visibleRanges(gpu_->perVertexChunks, clipFromCamera * glm::inverse(view.worldFromCamera),
+                                           NdcRect{}, gpu_->visibleChunks);
+                             drawVisibleChunks();
+                           }
                            for (const SurfaceDraw& d : gpu_->surfaceDraws) {
                              if (!d.blend) draw(d.firstIndex, d.indexCount);
                            }

@@ -68,6 +68,7 @@
 #include "raster/ball_texture.h"
 #include "raster/environment_light.h"
 #include "raster/bloom.h"
+#include "raster/draw_chunks.h"
 #include "raster/sun_glass.h"
 #include "raster/sun_shadows.h"
 #include "rdb/raster_rdb.h"
@@ -120,6 +121,9 @@ struct RendererStats {
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
   int reflectionPasses = 0;  // mirrored passes drawn for planar reflectors (RasterRdb::planarReflectors)
+  // The per-vertex meshes' triangles drawn, summed over passes: the chunks a pass cannot see are left out
+  // (raster/draw_chunks.h).
+  int64_t perVertexTrianglesDrawn = 0;
   int cubeCaptures = 0;  // cube reflectors' maps captured (six views each): a new scene, light or mode
   int environmentBuilds = 0;  // the sky's image-based light maps (re)built: a new sky or sun (EnvironmentLight)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
@@ -245,6 +249,7 @@ class Renderer {
   struct MirrorPass {
     vec4 planeWorld;
     uint32_t reflector;
+    NdcRect rect;  // the mirror's scissor rectangle: the pass draws nothing outside it
   };
   // A face of a cube reflector's capture (captureCubeReflectors) leaves out the reflector.
   struct CubePass {
@@ -252,6 +257,7 @@ class Renderer {
   };
   void renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx, const MirrorPass* mirrorPass,
                   const CubePass* cubePass);
+  void drawVisibleChunks();
   void captureCubeReflectors(RenderMode mode);
   // Before the glass pass of a scene with frosted glass: the copy of the image behind it decoded into a
   // mipmapped texture (unit 3), a copy of the depth buffer (unit 1) and the split sum's table (unit 14;

@@ -239,18 +239,6 @@ class Overlay {
   uint32_t scale_ = 0;
 };
 
-const char* operatorName(ToneOperator op) {
-  switch (op) {
-    case ToneOperator::kLinear:
-      return "linear";
-    case ToneOperator::kReinhard:
-      return "reinhard";
-    case ToneOperator::kFilmic:
-      return "filmic";
-  }
-  return "?";
-}
-
 // What the viewer is looking through: one of the scene's cameras (index < rdb.cameras.size()) or the view
 // framing the scene (index = rdb.cameras.size()).
 struct ViewSource {
@@ -538,7 +526,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
       tone.ev100 = autoExposureEv100Histogram(lum);
     }
     renderer.toneMap(tone);
-    if (screenshot) host.saveScreenshot(renderer.srgb8(), renderer.width(), renderer.height());
+    if (screenshot) host.saveScreenshot(renderer.srgb8(), renderer.width(), renderer.height(), mode, tone);
     renderer.present(uint32_t(fbW), uint32_t(fbH));
 
     ++fpsFrames;
@@ -551,7 +539,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
     char line[160];
     std::snprintf(line, sizeof line, "%s FPS  %s  EV100 %.1f%s  %s",
                   fps > 0.0 ? std::to_string(std::lround(fps)).c_str() : "--", renderModeName(mode),
-                  tone.ev100, autoExposure ? " AUTO" : "", operatorName(tone.op));
+                  tone.ev100, autoExposure ? " AUTO" : "", toneOperatorName(tone.op));
     std::string text = line;
     const std::string time = host.timeLabel();
     if (!time.empty()) text += "  " + time;
@@ -584,7 +572,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
     result.heightPx = renderer.height();
   }
   result.mode = mode;
-  result.ev100 = tone.ev100;
+  result.tone = tone;
   glfwSetKeyCallback(w, nullptr);
   glfwSetCharCallback(w, nullptr);
   glfwSetMouseButtonCallback(w, nullptr);

@@ -68,8 +68,10 @@ class ViewerHost {
   // change, a time the weather file does not cover), or is empty.
   virtual std::optional<rdb::RasterRdbChanges> setLocalClock(const LocalClock& clock,
                                                              std::string& message) = 0;
-  // The P key: the tone-mapped image without the overlay, sRGB-encoded RGB8, rows from the top.
-  virtual void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx) = 0;
+  // The P key: the tone-mapped image without the overlay, sRGB-encoded RGB8, rows from the top, and the mode
+  // and tone mapping (the exposure this frame used) it was drawn with.
+  virtual void saveScreenshot(const std::vector<uint8_t>& srgb8, uint32_t widthPx, uint32_t heightPx,
+                              RenderMode mode, const ToneMapSettings& tone) = 0;
 };
 
 struct ViewerOptions {
@@ -102,7 +104,7 @@ struct ViewerResult {
   std::vector<uint8_t> srgb8;  // the last frame as saveScreenshot gets it
   uint32_t widthPx = 0, heightPx = 0;
   RenderMode mode = RenderMode::kSimple;
-  double ev100 = 0.0;
+  ToneMapSettings tone;             // the last frame's tone mapping (its exposure, automatic or set)
   std::optional<LuxReading> probe;  // the lux probe's last reading
   std::string probeText;            // … as the panel shows it, or why there is none ("" without a probe)
   // With ViewerOptions::captureWindow: the last frame as the window showed it, sRGB RGB8, rows from the top.

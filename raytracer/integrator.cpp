@@ -246,6 +246,16 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     deltaLightMaterialLobe_.push_back(deltaLightLobe);
   }
 
+  // Materials whose triangles carry vertex colours other than white (1, 1, 1, 1), which multiply the base
+  // colour and coverage (materialAt): only these vary for their colours; white ones are the constant material.
+  std::vector<uint8_t> coloured(rdb.materials.size(), 0);
+  if (!rdb.colors.empty()) {
+    for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
+      for (uint32_t c = 0; c < 3; ++c) {
+        if (rdb.colors[rdb.indices[3 * size_t{t} + c]] != vec4(1.0f)) coloured[rdb.triangleMaterial[t]] = 1;
+      }
+    }
+  }
   frontBsdfs_.reserve(rdb.materials.size());
   backBsdfs_.reserve(rdb.materials.size());
   for (uint32_t mi = 0; mi < rdb.materials.size(); ++mi) {
@@ -254,7 +264,7 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     const float coverage = m.alpha == rdb::TraceAlpha::kBlend ? m.opacity : 1.0f;
     frontBsdfs_.emplace_back(m, true, coverage, materialLobe_[mi]);
     backBsdfs_.emplace_back(m, m.doubleSided, coverage, materialLobe_[mi]);
-    varies_.push_back(m.hasTextures() || !rdb.colors.empty() ? 1 : 0);
+    varies_.push_back(m.hasTextures() || coloured[mi] ? 1 : 0);
     hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().hasClearTransmission();
     passesStraight_ =
         passesStraight_ || frontBsdfs_.back().passesStraight() || m.alpha == rdb::TraceAlpha::kBlend;

@@ -221,12 +221,32 @@ class Builder {
   }
 
   TraceRdb build() {
+    // First the materials (in the order the meshes meet them, as addMesh would), which per-vertex attributes
+    // they read and the sizes, so that addMesh appends only those attributes into arrays reserved once.
+    size_t vertices = 0;
+    size_t triangles = 0;
+    scene_.forEachNode([&](sdb::NodeId id, const mat4&) {
+      for (sdb::MeshId meshId : scene_.node(id).meshes) {
+        const sdb::Mesh& mesh = scene_.mesh(meshId);
+        needTangents_ = needTangents_ || bool(rdb_.materials[materialIndex(mesh.material)].normalTexture);
+        anyColors_ = anyColors_ || !mesh.colors.empty();
+        vertices += mesh.vertexCount();
+        triangles += mesh.triangleCount();
+      }
+    });
+    rdb_.positionsM.reserve(vertices);
+    rdb_.normals.reserve(vertices);
+    if (needUv_[0]) rdb_.uv0.reserve(vertices);
+    if (needUv_[1]) rdb_.uv1.reserve(vertices);
+    if (anyColors_) rdb_.colors.reserve(vertices);
+    if (needTangents_) rdb_.tangents.reserve(vertices);
+    rdb_.indices.reserve(3 * triangles);
+    rdb_.triangleMaterial.reserve(triangles);
     scene_.forEachNode([&](sdb::NodeId id, const mat4& worldFromLocal) {
       const sdb::Node& node = scene_.node(id);
       for (sdb::MeshId mesh : node.meshes) addMesh(id, mesh, worldFromLocal);
       if (node.light) addLight(node, worldFromLocal);
     });
-    keepNeededAttributes();
     addDaylight();
     return std::move(rdb_);
   }
@@ -266,16 +286,6 @@ class Builder {
     return t;
   }
 
-  // Drops the per-vertex attributes that no material reads (TraceRdb).
-  void keepNeededAttributes() {
-    bool tangents = false;
-    for (const TraceMaterial& m : rdb_.materials) tangents = tangents || bool(m.normalTexture);
-    if (!needUv_[0]) rdb_.uv0.clear();
-    if (!needUv_[1]) rdb_.uv1.clear();
-    if (!anyColors_) rdb_.colors.clear();
-    if (!tangents) rdb_.tangents.clear();
-  }
-
   void addMesh(sdb::NodeId nodeId, sdb::MeshId meshId, const mat4& worldFromLocal) {
     const sdb::Mesh& mesh = scene_.mesh(meshId);
     const uint32_t material = materialIndex(mesh.material);
@@ -295,18 +305,18 @@ class Builder {
     }
     rdb_.normals.insert(rdb_.normals.end(), placed.normals.begin(), placed.normals.end());
     rdb_.skippedTriangles += placed.skippedTriangles;
-    // Per-vertex attributes for the materials (keepNeededAttributes drops the unused ones).
-    auto append = [](auto& to, const auto& from, size_t count, const auto& fallback) {
+    // The per-vertex attributes that some material reads (build() found which), for every vertex.
+    auto append = [](bool needed, auto& to, const auto& from, size_t count, const auto& fallback) {
+      if (!needed) return;
       if (from.size() == count) {
         to.insert(to.end(), from.begin(), from.end());
       } else {
         to.insert(to.end(), count, fallback);
       }
     };
-    append(rdb_.uv0, mesh.uv0, mesh.vertexCount(), vec2(0.0f));
-    append(rdb_.uv1, mesh.uv1, mesh.vertexCount(), vec2(0.0f));
-    append(rdb_.colors, mesh.colors, mesh.vertexCount(), vec4(1.0f));
-    anyColors_ = anyColors_ || !mesh.colors.empty();
+    append(needUv_[0], rdb_.uv0, mesh.uv0, mesh.vertexCount(), vec2(0.0f));
+    append(needUv_[1], rdb_.uv1, mesh.uv1, mesh.vertexCount(), vec2(0.0f));
+    append(anyColors_, rdb_.colors, mesh.colors, mesh.vertexCount(), vec4(1.0f));
     const TraceMaterial& tmat = rdb_.materials[material];
     if (tmat.normalTexture) {
       std::vector<vec4> tangents;
@@ -335,7 +345,7 @@ class Builder {
         }
       }
       rdb_.tangents.insert(rdb_.tangents.end(), tangents.begin(), tangents.end());
-    } else {
+    } else if (needTangents_) {
       rdb_.tangents.insert(rdb_.tangents.end(), mesh.vertexCount(), vec4(1.0f, 0.0f, 0.0f, 1.0f));
     }
     for (size_t k = 0; k < placed.sdbTriangle.size(); ++k) {
@@ -482,6 +492,7 @@ class Builder {
   std::map<std::string, uint32_t> brdfTableIndex_;  // measured BRDF file (or table) → index into rdb_.brdfTables
   bool needUv_[2] = {false, false};             // some texture slot reads TEXCOORD_0 / TEXCOORD_1
   bool anyColors_ = false;                      // some placed mesh has COLOR_0
+  bool needTangents_ = false;                   // some placed mesh's material has a normal map
 };
 
 }  // namespace

@@ -53,7 +53,9 @@ const int kAoSamples = 16;
 const float kTwoPi = 6.28318530718;
 // The camera-space step to the neighbour along `axis` on the side that continues the pixel's own plane:
 // window depth is affine over a plane, so the side whose next two pixels extrapolate the pixel's depth best
-// (the smaller second difference) lies on its surface, not across a crease or a silhouette.
+// (the smaller second difference) lies on its surface, not across a crease or a silhouette. A side whose two
+// pixels are not both inside the image is never taken: its clamped reads repeat the pixel itself, a zero step
+// and so an undefined normal at the image's border.
 float flyDepthAt(ivec2 px) { return texelFetch(uDepth, clamp(px, ivec2(0), uSizePx - 1), 0).r; }
 // Window depth at a window point, bilinear between the four nearest pixels in full float precision: the
 // texture unit's own filter weighs with a few bits of sub-texel position (8 on NVIDIA), which on a floor seen
@@ -66,10 +68,13 @@ float flyBilinearDepth(vec2 windowPx) {
              mix(flyDepthAt(i + ivec2(0, 1)), flyDepthAt(i + ivec2(1, 1)), w.x), w.y);
 }
 vec3 flyPlanarStep(ivec2 px, float depth, ivec2 axis) {
+  bool plusInside = all(lessThan(px + 2 * axis, uSizePx));
+  bool minusInside = all(greaterThanEqual(px - 2 * axis, ivec2(0)));
   float plus = abs(2.0 * flyDepthAt(px + axis) - flyDepthAt(px + 2 * axis) - depth);
   float minus = abs(2.0 * flyDepthAt(px - axis) - flyDepthAt(px - 2 * axis) - depth);
   vec3 p = flyPixelPoint(px);
-  return plus <= minus ? flyPixelPoint(px + axis) - p : p - flyPixelPoint(px - axis);
+  bool takePlus = plusInside && (!minusInside || plus <= minus);
+  return takePlus ? flyPixelPoint(px + axis) - p : p - flyPixelPoint(px - axis);
 }
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -80,7 +85,12 @@ void main() {
     return;
   }
   vec3 p = flyPixelPoint(px);
-  vec3 n = normalize(cross(flyPlanarStep(px, depth, ivec2(1, 0)), flyPlanarStep(px, depth, ivec2(0, 1))));
+  vec3 normal = cross(flyPlanarStep(px, depth, ivec2(1, 0)), flyPlanarStep(px, depth, ivec2(0, 1)));
+  if (!(dot(normal, normal) > 0.0)) {  // an image under 3 pixels across: no plane to read, left open
+    imageStore(uRawAo, px, vec4(1.0));
+    return;
+  }
+  vec3 n = normalize(normal);
   vec3 toEye = uOrthographic != 0 ? vec3(0.0, 0.0, 1.0) : -p;
   if (dot(n, toEye) < 0.0) n = -n;
   vec3 t = normalize(cross(abs(n.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0), n));

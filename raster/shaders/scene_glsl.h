@@ -17,7 +17,9 @@
 //                  (FLY §3: baked indirect light, real-time sun)
 //   FLY_IBL        sunlight mode's image-based light (raster/environment_light.h): the sky's irradiance in place
 //                  of the directional ambient term, and its prefiltered radiance by the split sum for the
-//                  specular part of every material, per fragment (flyEnvironmentSpecular)
+//                  specular part of every material, per fragment (flyEnvironmentSpecular), on light-mapped
+//                  surfaces times the share of the environment's light their light map shows
+//                  (flySpecularOcclusion)
 //   FLY_CUBE_REFLECTION  curved reflectors (per fragment): a draw with uCubeReflector ≥ 0 adds the split sum of
 //                  its own cube map (raster/cube_reflections.h) in every mode
 //   FLY_SUN_GLASS  scenes with clear glass and a sun (with FLY_SUN): the sun's direct term times the T of the
@@ -250,6 +252,18 @@ vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
 }
 #endif
 
+#if defined(FLY_IBL) && defined(FLY_LIGHT_MAP)
+// Specular occlusion of a light-mapped surface (docs/environment-light.md): the share of the environment's
+// light that reaches it, Y(E_baked) / Y(E_env(n)) clamped to [0, 1] — E_baked the light map's irradiance
+// without the sun's direct part (lux: the sky it sees and the interreflections), E_env(n) the unoccluded
+// environment's on the bake's normal n. 1 under open sky, 0 where no light reaches (a closed room).
+float flySpecularOcclusion(vec3 bakedLux, vec3 n) {
+  const vec3 kY = vec3(0.2126, 0.7152, 0.0722);
+  float open = dot(flyIrradianceLux(n), kY);
+  return clamp(dot(bakedLux, kY) / max(open, 1e-20), 0.0, 1.0);
+}
+#endif
+
 #ifdef FLY_SUN
 // The sun's illuminance on a surface at p facing it (lux): per fragment with FLY_SUN_GLASS, times the T of the
 // clear glass between p and the sun; per vertex the fragment stage applies that T to the sun's term, which the
@@ -359,6 +373,7 @@ out vec3 vPositionM;
 out vec3 vIblNormal;
 out vec3 vToEye;
 flat out uint vMaterial;
+out float vSpecularOcclusion;  // flySpecularOcclusion of a light-mapped mesh's vertex, 1 without a light map
 #endif
 
 void main() {
@@ -377,6 +392,7 @@ void main() {
   vIblNormal = back ? -n : n;
   vToEye = uOrthographic != 0 ? -uViewDirWorld : uEyeM - aPositionM;
   vMaterial = aSurface & 0x3fffffffu;
+  vSpecularOcclusion = 1.0;
 #endif
 #ifdef FLY_SUN_GLASS
   vSunLuminance = vec3(0.0);
@@ -401,6 +417,9 @@ void main() {
 #ifdef FLY_SUN
     sunTerm = flySunTerm(m.diffuse.rgb, m, aPositionM, back ? -n : n, toEye);
 #endif
+#endif
+#ifdef FLY_IBL
+    vSpecularOcclusion = flySpecularOcclusion(eLux, back ? -n : n);
 #endif
 #ifdef FLY_SUN_GLASS
     vSunLuminance = sunTerm;
@@ -632,6 +651,7 @@ flat in vec3 vAlbedoOverPi;
 in vec3 vIblNormal;
 in vec3 vToEye;
 flat in uint vMaterial;
+in float vSpecularOcclusion;
 #endif
 void main() {
 #ifdef FLY_GLASS
@@ -639,7 +659,19 @@ void main() {
 #endif
   vec3 l = vLuminance;
 #ifdef FLY_IBL
-  l += flyEnvironmentSpecular(materials[vMaterial], normalize(vIblNormal), normalize(vToEye));
+  float specularOcclusion = vSpecularOcclusion;
+#endif
+#ifdef FLY_LIGHT_TEXTURE
+  if (vLightSlot != 0xffffffffu) {
+    vec3 eTexelLux = flyLightTexel(vLightSlot, vBack != 0u, vLightMapUv);
+    l += vAlbedoOverPi * eTexelLux;
+#ifdef FLY_IBL
+    specularOcclusion = flySpecularOcclusion(eTexelLux, normalize(vIblNormal));
+#endif
+  }
+#endif
+#ifdef FLY_IBL
+  l += specularOcclusion * flyEnvironmentSpecular(materials[vMaterial], normalize(vIblNormal), normalize(vToEye));
 #endif
 #ifdef FLY_SSAO
   l -= (1.0 - flyAmbientOcclusion()) * vAmbientLuminance;
@@ -648,11 +680,6 @@ void main() {
   // A pane's own sun term (its reflection) is not behind it (raster/sun_glass.h). The renderer compiles
   // FLY_SUN_GLASS only for scenes with clear glass, so FLY_GLASS (vGlass) is defined with it.
   l += vGlass != 0u ? vSunLuminance : vSunLuminance * flySunGlass(vPositionM);
-#endif
-#ifdef FLY_LIGHT_TEXTURE
-  if (vLightSlot != 0xffffffffu) {
-    l += vAlbedoOverPi * flyLightTexel(vLightSlot, vBack != 0u, vLightMapUv);
-  }
 #endif
 #ifdef FLY_TWO_SIDED
   l = (gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0);
@@ -1069,6 +1096,9 @@ void main() {
   if (back && twoSided) n = -n;
 #endif
   bool useLightMap = false;
+#if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
+  float specularOcclusion = 1.0;  // flySpecularOcclusion on a light-mapped surface under the sky's light
+#endif
 #ifdef FLY_LIGHT_MAP
 #ifdef FLY_PHONG
   useLightMap = (vSurface & 0x80000000u) != 0u;
@@ -1091,6 +1121,13 @@ void main() {
 #endif
 #ifdef FLY_LIGHT_TEXTURE
     if (vLightSlot != 0xffffffffu) eLux = flyLightTexel(vLightSlot, back, vLightMapUv);
+#endif
+#ifdef FLY_IBL
+    // On the normal the light map was baked for (the interpolated one, not the normal map's).
+    specularOcclusion = flySpecularOcclusion(eLux, (back && twoSided) ? -normalize(vNormal) : normalize(vNormal));
+#ifdef FLY_CUBE_REFLECTION
+    if (uCubeReflector >= 0) specularOcclusion = 1.0;  // its cube map shows what it sees
+#endif
 #endif
     vec3 reflectance = flyLightMapReflectance(base.rgb, m);
 #ifdef FLY_PLANAR_REFLECTION
@@ -1137,7 +1174,7 @@ void main() {
 #ifdef FLY_MEASURED
   environmentReflects = environmentReflects && uBallLayer < 0;
 #endif
-  if (environmentReflects) l += flyEnvironmentSpecular(m, n, toEye);
+  if (environmentReflects) l += specularOcclusion * flyEnvironmentSpecular(m, n, toEye);
 #endif
 #ifdef FLY_PLANAR_REFLECTION
   // What the mirror reflects: the mirrored pass's image at this pixel (renderer.cpp, render), blurred by a

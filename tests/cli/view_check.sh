@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # fly view in a window (run it under xvfb-run): scripted runs save screenshots of the asked size that are not
 # uniform; replayed keys switch the mode, step the exposure and save a numbered screenshot; stepping the time
-# of day with T / Shift+T in the window gives the image that building the scene at that time gives.
-#   view_check.sh FLY PNG_CHECK SCENES_DIR OUTDIR
+# of day with T / Shift+T in the window gives the image that building the scene at that time gives; the
+# screenshots (--screenshot, --window-screenshot and P's) carry the scene's daylight, mode and exposure and
+# --dpi's print resolution in their metadata.
+#   view_check.sh FLY PNG_CHECK SCENES_DIR OUTDIR PNG_TEXT_CHECK
 # Scenes: box-room (a site, a clear sky and sun, no lamps; 2026-09-15T17:30 Europe/Helsinki) and house (also
 # a lamp, so that simple mode shows something).
 set -u
@@ -10,6 +12,7 @@ fly=$1
 check=$2
 scenes=$(realpath "$3")
 out=$4
+text=$5
 rm -rf "$out"
 mkdir -p "$out"
 cd "$out" || exit 1
@@ -36,6 +39,17 @@ grep -q "last: mode simple" keys.log || fail "key 1 did not switch to simple mod
 grep -q "screenshot fly-view-0001.png (320×180)" keys.log || fail "key P did not save fly-view-0001.png"
 "$check" fly-view-0001.png 320 180 || fail "fly-view-0001.png"
 "$check" keys.png 320 180 differs house.png || fail "keys.png"
+
+# 2b. Metadata: the daylight at the time shown (two steps back), the mode, the exposure set, --dpi.
+view box-room meta.log --exposure 13.5 --keys shift+T,shift+T,P --dpi 200 --screenshot meta.png \
+  --window-screenshot meta-window.png
+shot=$(sed -n 's/^screenshot \(fly-view-[0-9]*\.png\) .*/\1/p' meta.log)
+[ -n "$shot" ] || fail "key P saved no screenshot"
+for f in meta.png meta-window.png "$shot"; do
+  "$text" "$f" 200 "fly:time=2026-09-15T16:30" "fly:site=latitude 60.1700" "fly:sky=clear" "fly:mode=sunlight" \
+    "fly:exposure=EV100 13.50" "fly:exposure=tone operator filmic" "fly:scene=box-room.json" ||
+    fail "$f's metadata"
+done
 
 # 3. Time of day: four steps back from 17:30 with a fixed exposure equal the scene built at 15:30; the
 #    17:30 image differs.

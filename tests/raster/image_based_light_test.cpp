@@ -13,7 +13,9 @@
 
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
+#include "rdb/light_map_store.h"
 #include "rdb/raster_rdb.h"
+#include "sdb/camera.h"
 #include "sdb/material.h"
 #include "sdb/scene.h"
 #include "split_sum_reference.h"
@@ -171,6 +173,112 @@ TEST(ImageBasedLight, GlossySpheresAgainstTheSplitSumByQuadrature) {
                 "split sum by quadrature\n", k.name, alpha, c.worst, c.pixels);
     EXPECT_GT(c.pixels, 2000);
     EXPECT_LT(c.worst, 0.03) << k.name;
+  }
+}
+
+// Specular occlusion of light-mapped surfaces (docs/environment-light.md): the environment's specular part
+// times clamp(Y(E_baked) / Y(E_env(n)), 0, 1), E_baked the light map's irradiance without the sun's direct part.
+// A polished light-mapped floor (a Fresnel dielectric, ior 1.5, α = 0.09, over a 0.4 diffuse base) facing +Y
+// under a uniform environment of L (E_env = π L on every normal) whose light map holds E_baked = f · π L: f = 0
+// is a floor in a closed room (no light reaches it: it must show no environment specular), f = 1 one under the
+// open sky (the whole specular part), 0.5 half of it, 3 (lamps and interreflections brighter than the sky) the
+// whole, clamped. Seen orthographically at 60° from the normal (cos θo = 0.5 at every pixel), the image minus
+// the image with the image-based light off (albedo · E / π alone: the dielectric has no stand-in reflection)
+// must be min(f, 1) · L (F0 A + F90 B), (A, B) by quadrature. Every path: per vertex, a light texture (per
+// texel), a per-fragment surface (COLOR_0), and a light map that keeps the sun's direct part apart (E_baked =
+// E − E_sunDirect: the sun patch's light is not the sky's).
+TEST(ImageBasedLight, LightMappedSurfacesReflectTheEnvironmentTheirLightMapSees) {
+  context();
+  const Rgb l(2000.0f, 1800.0f, 1500.0f);
+  sdb::Material floorMaterial;
+  floorMaterial.name = "polished floor";
+  floorMaterial.diffuseColor = Rgb(0.4f);
+  floorMaterial.reflectionColor = Rgb(1.0f);
+  floorMaterial.reflectionModel = sdb::ReflectionModel::kFresnel;
+  floorMaterial.ior = 1.5f;
+  floorMaterial.reflectionGlossiness = 0.3f;
+  const float alpha = 0.09f;
+  const vec3 toEye(0.0f, 0.5f, std::sqrt(0.75f));
+  View view;
+  view.orthographic = true;
+  view.worldFromCamera = sdb::lookAtTransform(5.0f * toEye, vec3(0.0f), vec3(0, 1, 0));
+  view.znearM = 0.1f;
+  view.zfarM = 20.0f;
+  constexpr uint32_t kSize = 32;
+  const vec2 ab = test::splitSumByQuadrature(0.5f, alpha, 1024, 256);
+
+  enum class Path { kVertex, kLightTexture, kFragment, kSunDirect };
+  for (const Path path : {Path::kVertex, Path::kLightTexture, Path::kFragment, Path::kSunDirect}) {
+    const char* name = path == Path::kVertex         ? "per vertex"
+                       : path == Path::kLightTexture ? "light texture"
+                       : path == Path::kFragment     ? "per fragment"
+                                                     : "sun kept apart";
+    for (const float f : {0.0f, 0.5f, 1.0f, 3.0f}) {
+      sdb::Scene scene;
+      const sdb::MaterialId id = scene.addMaterial(floorMaterial).id;
+      sdb::Mesh floor;
+      floor.name = "floor";
+      floor.positions = {{-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5}};
+      floor.normals.assign(4, vec3(0, 1, 0));
+      floor.indices = {0, 2, 1, 0, 3, 2};  // counter-clockwise seen from +Y
+      floor.material = id;
+      if (path == Path::kFragment) floor.colors.assign(4, vec4(1.0f));
+      const sdb::MeshId mesh = scene.addMesh(floor).id;
+      const sdb::NodeId node = scene.addNode({.name = "floor", .meshes = {mesh}}).id;
+      Rgb sunDirect(0.0f);
+      if (path == Path::kSunDirect) {
+        scene.setSky({.model = sdb::SkyModel::kClear, .sun = true});
+        scene.setTime({.sunDirection = sdb::SunDirection{180.0, 30.0}});
+        const rdb::RasterSky& sky = *rdb::buildRasterRdb(scene).sky;
+        sunDirect = sky.sunRadianceCdM2 * float(2.0 * kPi * (1.0 - std::cos(double(sky.sunHalfAngleRad)))) *
+                    sky.sunDirWorld.y;
+      }
+      const Rgb baked = f * float(kPi) * l;
+      rdb::LightMapStore store;
+      rdb::MeshLightMap map{node.value, mesh.value, std::vector<Rgb>(4, baked + sunDirect), {}};
+      if (path == Path::kSunDirect) {
+        store.sun = rdb::BakedSun{vec3(0, 1, 0), sunDirect};
+        map.frontSunDirectLux.assign(4, sunDirect);
+      }
+      if (path == Path::kLightTexture) {
+        rdb::MeshLightTexture t;
+        t.width = t.height = 2;
+        t.frontLux.assign(4, baked);
+        t.cornerUv = {{0, 0}, {1, 1}, {1, 0}, {0, 0}, {0, 1}, {1, 1}};
+        map.lightTexture = t;
+      }
+      store.meshes.push_back(map);
+      rdb::RasterRdb r = rdb::buildRasterRdb(scene, &store);
+      ASSERT_EQ(r.variants.lightTexture, path == Path::kLightTexture);
+      ASSERT_EQ(r.variants.sunDirect, path == Path::kSunDirect);
+      ASSERT_EQ(r.variants.vertexColors, path == Path::kFragment);
+      if (!r.sky) r.sky = rdb::RasterSky{};
+      r.sky->width = 64;
+      r.sky->height = 32;
+      r.sky->radianceCdM2.assign(64 * 32, l);
+      r.variants.sky = true;
+      const rdb::RasterMaterial& block = r.materials.back();
+      const Rgb unoccluded = l * (block.specular * ab.x + block.environmentF90 * ab.y);
+      const Rgb expected = std::min(f, 1.0f) * unoccluded;
+
+      Renderer on, off;
+      off.setImageBasedLight(false);
+      on.upload(r);
+      off.upload(r);
+      on.render(view, RenderMode::kSunlight, kSize, kSize);
+      off.render(view, RenderMode::kSunlight, kSize, kSize);
+      const std::vector<float> withIbl = on.luminanceRgb(), without = off.luminanceRgb();
+      double worst = 0.0;
+      for (size_t i = 0; i < withIbl.size(); ++i) {
+        const int ch = int(i % 3);
+        worst = std::max(worst, std::abs(double(withIbl[i] - without[i]) - expected[ch]) / unoccluded[ch]);
+      }
+      std::printf(
+          "%s, E_baked = %.1f π L: environment specular %.4f of the unoccluded (want %.1f), worst error "
+          "%.4f of it\n",
+          name, f, (withIbl[1] - without[1]) / unoccluded[1], std::min(f, 1.0f), worst);
+      EXPECT_LT(worst, 0.02) << name << ", f = " << f;
+    }
   }
 }
 

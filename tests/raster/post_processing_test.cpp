@@ -107,6 +107,23 @@ AoImage aoImage(const rdb::RasterRdb& r, const View& view) {
   return img;
 }
 
+// On a failed check, the AO image as an 8-bit PNG in the working directory (grey = AO, 1 white; the
+// background red; pixels below `flagBelow` blue), to see where the estimate goes wrong.
+void writeAoImageOnFailure(const AoImage& img, const std::string& name, float flagBelow) {
+  if (!::testing::Test::HasFailure()) return;
+  std::vector<uint8_t> px(size_t(kAoW) * kAoH * 3);
+  for (size_t i = 0; i < img.ratio.size(); ++i) {
+    const float r = img.ratio[i];
+    const uint8_t g = uint8_t(std::clamp(r, 0.0f, 1.0f) * 255.0f + 0.5f);
+    px[i * 3 + 0] = r < 0.0f ? 255 : (r < flagBelow ? 0 : g);
+    px[i * 3 + 1] = r < 0.0f ? 0 : (r < flagBelow ? 0 : g);
+    px[i * 3 + 2] = r < 0.0f ? 0 : (r < flagBelow ? 255 : g);
+  }
+  const std::filesystem::path out = std::filesystem::absolute("ao-" + name + ".png");
+  writePng(out, int(kAoW), int(kAoH), 3, px.data());
+  ADD_FAILURE() << "the AO image is in " << out;
+}
+
 // An open floor, nothing within the radius: every floor point sees its whole hemisphere, AO = 1 (the
 // estimate's points all lie above the plane; the bilinear depth read makes a plane exact, up to R16F's 2⁻¹¹).
 TEST(PostProcessing, AmbientOcclusionOfAnOpenFloorIsOne) {
@@ -121,6 +138,7 @@ TEST(PostProcessing, AmbientOcclusionOfAnOpenFloorIsOne) {
   }
   EXPECT_GT(floorPixels, int(kAoW * kAoH / 3));
   EXPECT_GT(lowest, 0.995f);
+  writeAoImageOnFailure(img, "open-floor", 0.995f);
 }
 
 // A 90° inner corner: for a point on the edge line the wall fills half of the hemisphere by symmetry, and the
@@ -146,6 +164,7 @@ TEST(PostProcessing, AmbientOcclusionInAnInnerCornerIsOneHalf) {
     EXPECT_GT(img.ratio[i], 0.995f) << "floor point " << p.x << ", " << p.z;
   }
   EXPECT_GT(open, 1000);
+  writeAoImageOnFailure(img, "inner-corner", 0.995f);
 }
 
 // Off (the default), or on in a mode other than simple: the same image to the bit, and no pass compiled.

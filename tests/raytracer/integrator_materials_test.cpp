@@ -220,6 +220,42 @@ TEST(IntegratorMaterials, AlphaMaskCutsOutAndBlendPassesOneMinusCoverage) {
   }
 }
 
+// Two half-planes of albedo ρ meeting under a sensor 1 m up facing down, lit from straight above by E: the
+// sensor sees each half over half of its cosine kernel, so E_sensor = E ρ (c_A + c_B) / 2 per channel, c the
+// vertex colour (COLOR_0, which multiplies the base colour). Half A is tinted, half B white: the white half is
+// the constant material, and with every vertex white the estimate is the very same as without colours.
+TEST(IntegratorMaterials, VertexColoursTintOnlyTheTrianglesThatCarryThem) {
+  const float rho = 0.6f;
+  const Rgb lightLux(1000.0f);
+  const vec4 tint(0.5f, 0.25f, 1.0f, 1.0f);
+  auto scene = [&](bool colours, const vec4& colourA) {
+    rdb::TraceRdbBuilder b;
+    const uint32_t a = b.material(Rgb(rho));
+    const uint32_t white = b.material(Rgb(rho));
+    b.grid(vec3(-kHalfM, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(kHalfM, 0, 0), 1, a);
+    const size_t verticesA = b.rdb.positionsM.size();
+    b.grid(vec3(0, 0, -kHalfM), vec3(0, 0, 2 * kHalfM), vec3(kHalfM, 0, 0), 1, white);
+    if (colours) {
+      b.rdb.colors.assign(b.rdb.positionsM.size(), vec4(1.0f));
+      std::fill(b.rdb.colors.begin(), b.rdb.colors.begin() + std::ptrdiff_t(verticesA), colourA);
+    }
+    b.directionalLight(vec3(0, 1, 0), lightLux);
+    return b.rdb;
+  };
+  Sensors s;
+  s.add(vec3(0.0f, 1.0f, 0.0f), vec3(0, -1, 0), lightLux * rho * (Rgb(tint) + Rgb(1.0f)) * 0.5f);
+  expectAgrees("tinted and white halves", run(scene(true, tint), s, 4096), s, 0.01f);
+
+  s.exact[0] = lightLux * rho;
+  const EstimateResult white = run(scene(true, vec4(1.0f)), s, 4096);
+  expectAgrees("white vertex colours", white, s, 0.01f);
+  const EstimateResult none = run(scene(false, vec4(1.0f)), s, 4096);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(white.points[0].meanLux[c], none.points[0].meanLux[c]) << c;
+    EXPECT_EQ(white.points[0].stdErrorLux[c], none.points[0].stdErrorLux[c]) << c;
+  }
+}
+
 // A plane whose normal map tilts every shading normal by α = 30° towards +x, under a directional light from
 // 45° elevation in the x–y plane and no sky. It reflects as a plane tilted by α would: radiance ρ E cos(15°)
 // / π everywhere (an untilted plane: ρ E cos 45° / π). A sensor facing the tilted normal's opposite −n_s at
