@@ -11,17 +11,23 @@
 // paths per vertex side per gathering sample; --pilot-fraction: the pilot's light paths as a fraction of the
 // bake's).
 //
-// fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [SCENE]: the gathering estimator
-// as it was before next-event estimation to lit patches (IntegratorSettings::litPatches and
-// rouletteAfterLight off) against the default estimator (both on; docs/lit-patches.md), each a bake of
-// SECONDS (passes that would end later do not start), in one run: the bake's p95 (its history: vertex sides
-// and light-texture texels) against time per pass, the
-// time at which p95 reaches 2 % extrapolated from the last pass by p95² × time = constant (the 1/√time of
-// Monte Carlo; quasi-Monte Carlo and settled groups only make it sooner) and the ratio of the two; the mean
-// over the interior's vertex sides (sensor within the house's rooms: scenes/house) of the reported relative
-// error and of the measured one against a reference bake of the default estimator with N samples and another
-// seed (its own error subtracted in quadrature); honesty as above. --plot writes both convergence curves in
-// one PNG.
+// fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [--allocation F] [SCENE]: three
+// bakes of SECONDS each (passes that would end later do not start), in one run: the gathering estimator as
+// it was before next-event estimation to lit patches (IntegratorSettings::litPatches and rouletteAfterLight
+// off, every point taking every pass), the lit patches (both on; docs/lit-patches.md) with every point
+// taking every pass, and the lit patches with sample allocation by error (EstimateSettings::
+// allocationFraction = F, default kBakeAllocationFraction: `fly bake`'s default estimator). Per bake: the
+// bake's p95 (its history: vertex sides and light-texture texels) against time per pass, the process's CPU
+// time of the bake (getrusage: user + system, the lit patches' training included; steadier than wall time
+// on a shared machine), the time at which p95 reaches 2 % extrapolated from the last pass by p95² × time =
+// constant (the 1/√time of Monte Carlo; quasi-Monte Carlo and settled groups only make it sooner), in wall
+// and CPU seconds, and the ratios against the first bake; the mean over the interior's vertex sides (sensor
+// within the house's rooms: scenes/house) of the reported relative error and of the measured one against a
+// reference bake of the lit patches (every point every pass) with N samples and another seed (its own error
+// subtracted in quadrature); honesty as above; the share of the samples the allocation saved. --plot writes
+// the three convergence curves in one PNG.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -140,22 +146,42 @@ InteriorError interiorError(const rdb::TraceRdb& rdb, const raytracer::VertexLig
   return out;
 }
 
+// The process's CPU time so far (user + system), seconds.
+double cpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto s = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+  return s(usage.ru_utime) + s(usage.ru_stime);
+}
+
+// The share of the samples the front vertex sides took against every one taking every pass.
+double sampleShare(const raytracer::VertexLightMaps& m) {
+  double taken = 0.0, full = 0.0;
+  for (uint32_t samples : m.frontSamples) {
+    if (samples == 0) continue;
+    taken += samples;
+    full += m.samplesPerVertex;
+  }
+  return full > 0.0 ? taken / full : 1.0;
+}
+
 int runLitPatches(const std::string& scenePath, double seconds, uint32_t referenceSamples,
-                  const std::string& plotPath) {
+                  const std::string& plotPath, float allocation) {
   const cli::LitScene lit = cli::loadLitScene(scenePath, cli::DaylightOptions{});
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(lit.scene);
   const raytracer::EmbreeScene scene(rdb);
   std::printf("%s: %zu vertices, %zu triangles; %s; bakes of %.0f s\n", scenePath.c_str(),
               rdb.positionsM.size(), rdb.triangleCount(), lit.light.c_str(), seconds);
-  auto settingsOf = [](bool patches) {
+  auto settingsOf = [](bool patches, float allocationFraction) {
     raytracer::BakeSettings s;
     s.integrator.litPatches = patches;
     s.integrator.rouletteAfterLight = patches;
     s.estimate.firstPassSamples = 16;
     s.estimate.maxSamples = 1u << 20;
+    s.estimate.allocationFraction = allocationFraction;
     return s;
   };
-  raytracer::BakeSettings refSettings = settingsOf(true);
+  raytracer::BakeSettings refSettings = settingsOf(true, 0.0f);
   refSettings.estimate.maxSamples = referenceSamples;
   refSettings.estimate.seed = 1000;
   const auto refStart = std::chrono::steady_clock::now();
@@ -163,20 +189,26 @@ int runLitPatches(const std::string& scenePath, double seconds, uint32_t referen
   std::printf("reference: lit patches, %u samples, seed 1000: %.1f s, p95 %.2f %%\n", referenceSamples,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - refStart).count(),
               100.0 * relativeErrorP95(reference));
+  constexpr int kBakes = 3;
   struct Result {
     raytracer::VertexLightMaps maps;
     double secondsTo2Percent = 0.0;
+    double cpuSecondsTo2Percent = 0.0;
   };
-  Result results[2];
-  const char* names[2] = {"gathering (before lit patches)", "lit patches (default)"};
-  for (int k = 0; k < 2; ++k) {
-    raytracer::BakeSettings s = settingsOf(k == 1);
+  Result results[kBakes];
+  const std::string names[kBakes] = {
+      "gathering (before lit patches)", "lit patches, every point every pass",
+      "lit patches, allocation by error " + std::to_string(allocation).substr(0, 4) + " (default)"};
+  for (int k = 0; k < kBakes; ++k) {
+    raytracer::BakeSettings s = settingsOf(k >= 1, k == 2 ? allocation : 0.0f);
     s.estimate.timeLimitS = seconds;
     s.estimate.seed = 1;
+    const double cpuStart = cpuSeconds();
     results[k].maps = raytracer::bakeVertexLightMaps(rdb, scene, s);
+    const double cpu = cpuSeconds() - cpuStart;
     const raytracer::VertexLightMaps& m = results[k].maps;
-    std::printf("\n%s%s:\n| samples | time (s) | p95 | p95² × time (s) |\n|---|---|---|---|\n", names[k],
-                k == 1 ? (" (" + std::to_string(m.litPatchCells) + " regions, trained in " +
+    std::printf("\n%s%s:\n| samples | time (s) | p95 | p95² × time (s) |\n|---|---|---|---|\n", names[k].c_str(),
+                k >= 1 ? (" (" + std::to_string(m.litPatchCells) + " regions, trained in " +
                           std::to_string(m.litPatchSeconds).substr(0, 4) + " s, not in the times)")
                              .c_str()
                        : "");
@@ -186,25 +218,35 @@ int runLitPatches(const std::string& scenePath, double seconds, uint32_t referen
     }
     const raytracer::ConvergencePoint& last = m.history.back();
     const double p95 = last.relativeErrorP95;
-    results[k].secondsTo2Percent = last.seconds * (p95 / 0.02) * (p95 / 0.02);
+    const double scale = (p95 / 0.02) * (p95 / 0.02);
+    results[k].secondsTo2Percent = last.seconds * scale;
+    results[k].cpuSecondsTo2Percent = cpu * scale;
     const InteriorError ie = interiorError(rdb, m, reference);
     std::printf(
-        "p95 2 %% extrapolated at %.0f s; interior (%zu vertex sides) at %.0f s: mean relative error reported "
-        "%.2f %%, measured %.2f %%; honesty %.2f\n",
-        results[k].secondsTo2Percent, ie.sides, last.seconds, 100.0 * ie.reported, 100.0 * ie.measured,
-        honesty(m, reference));
+        "CPU %.1f s (p95² × CPU s %.3f); p95 2 %% extrapolated at %.0f s (%.0f CPU s); interior (%zu vertex "
+        "sides) at %.0f s: mean relative error reported %.2f %%, measured %.2f %%; honesty %.2f; samples "
+        "taken %.0f %% of every point every pass\n",
+        cpu, p95 * p95 * cpu, results[k].secondsTo2Percent, results[k].cpuSecondsTo2Percent, ie.sides,
+        last.seconds, 100.0 * ie.reported, 100.0 * ie.measured, honesty(m, reference), 100.0 * sampleShare(m));
     std::fflush(stdout);
   }
-  std::printf("\ntime to p95 = 2 %%: %.1f times sooner with lit patches\n",
-              results[0].secondsTo2Percent / results[1].secondsTo2Percent);
+  std::printf("\ntime to p95 = 2 %% against the gathering (wall / CPU): lit patches %.1f / %.1f times sooner, "
+              "with allocation by error %.1f / %.1f times sooner (allocation alone: %.2f / %.2f)\n",
+              results[0].secondsTo2Percent / results[1].secondsTo2Percent,
+              results[0].cpuSecondsTo2Percent / results[1].cpuSecondsTo2Percent,
+              results[0].secondsTo2Percent / results[2].secondsTo2Percent,
+              results[0].cpuSecondsTo2Percent / results[2].cpuSecondsTo2Percent,
+              results[1].secondsTo2Percent / results[2].secondsTo2Percent,
+              results[1].cpuSecondsTo2Percent / results[2].cpuSecondsTo2Percent);
   if (!plotPath.empty()) {
-    const cli::ConvergenceCurve curves[2] = {
+    const cli::ConvergenceCurve curves[kBakes] = {
         {results[0].maps.history, names[0], {214, 39, 40}},
-        {results[1].maps.history, names[1], cli::kConvergencePointRgb}};
+        {results[1].maps.history, names[1], {255, 127, 14}},
+        {results[2].maps.history, names[2], cli::kConvergencePointRgb}};
     cli::ConvergencePlotRequest request;
     request.targetRelativeError = 0.02f;
-    cli::drawConvergencePlot(curves, "The house: gathering against lit patches (p95 over vertex sides)",
-                             plotPath, request);
+    cli::drawConvergencePlot(curves, "The house: gathering, lit patches, allocation by error (p95)", plotPath,
+                             request);
     std::printf("wrote %s\n", plotPath.c_str());
   }
   return 0;
@@ -217,6 +259,7 @@ int run(int argc, char** argv) {
   double pathsPerSample = 8.0;
   double pilotFraction = 0.125;
   double litPatchSeconds = 0.0;
+  float allocation = raytracer::kBakeAllocationFraction;
   std::string plotPath;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -226,6 +269,15 @@ int run(int argc, char** argv) {
     }
     if (a == "--plot" && i + 1 < argc) {
       plotPath = argv[++i];
+      continue;
+    }
+    if (a == "--allocation" && i + 1 < argc) {
+      allocation = std::strtof(argv[++i], nullptr);
+      if (!(allocation > 0.0f && allocation <= 1.0f)) {
+        std::fprintf(stderr, "fly-bench-light-paths: --allocation %s: expected a fraction in (0, 1]\n",
+                     argv[i]);
+        return 2;
+      }
       continue;
     }
     if (a == "--samples" && i + 1 < argc) {
@@ -242,11 +294,12 @@ int run(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
                    "[--paths-per-sample X] [--pilot-fraction F]\n"
-                   "       fly-bench-light-paths [SCENE] --lit-patches SECONDS [--reference N] [--plot PNG]\n");
+                   "       fly-bench-light-paths [SCENE] --lit-patches SECONDS [--reference N] [--plot PNG] "
+                   "[--allocation F]\n");
       return 2;
     }
   }
-  if (litPatchSeconds > 0.0) return runLitPatches(scenePath, litPatchSeconds, referenceSamples, plotPath);
+  if (litPatchSeconds > 0.0) return runLitPatches(scenePath, litPatchSeconds, referenceSamples, plotPath, allocation);
   const cli::LitScene lit = cli::loadLitScene(scenePath, cli::DaylightOptions{});
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(lit.scene);
   const raytracer::EmbreeScene scene(rdb);

@@ -35,6 +35,7 @@ struct BakeOptions {
   std::string checkpoint;  // a duration; "" = no checkpoints
   std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
   std::string lightPaths = "off";  // on or off: raytracer::LightPathBakeSettings::enabled
+  bool noErrorAllocation = false;  // EstimateSettings::allocationFraction = 0
   DaylightOptions daylight;
 };
 
@@ -150,6 +151,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
     job.settings.estimate = estimateSettings(o.sampling, scene.bakeSettings());
     job.settings.integrator = integratorSettings(o.sampling, scene.bakeSettings());
     job.settings.lightPaths.enabled = o.lightPaths == "on";
+    job.settings.estimate.allocationFraction = o.noErrorAllocation ? 0.0f : raytracer::kBakeAllocationFraction;
   }
   const raytracer::BakeSettings& settings = job.settings;
   checkBakeOutput(o.out);  // before the bake, so that an hour's work is not refused at the end
@@ -226,7 +228,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"lit_patches", settings.integrator.litPatches},
       {"roulette_after_light", settings.integrator.rouletteAfterLight},
       {"lit_patch_sky", settings.integrator.litPatchSky},
-      {"light_paths", settings.lightPaths.enabled}};
+      {"light_paths", settings.lightPaths.enabled},
+      {"error_allocation", e.allocationFraction}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
     d.meshNames.push_back(scene.mesh(sdb::MeshId{m.sdbMeshId}).name);
@@ -254,7 +257,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   const std::string settledText = settled == 0
                                       ? ""
                                       : " (fewer for " + std::to_string(settled) +
-                                            " objects and light textures that met the target earlier)";
+                                            " objects and light textures whose error was already low)";
   // Under the sun, the error of the part kept apart for sunlight mode (docs/mixed-lighting.md).
   char sunText[96] = "";
   if (maps.hasSunDirect() && !maps.history.empty()) {
@@ -326,6 +329,10 @@ Command addBakeCommand(CLI::App& app) {
       "--checkpoint", o->checkpoint,
       "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
       "can continue with --resume DIR; deleted when the bake completes");
+  sub->add_flag("--no-error-allocation", o->noErrorAllocation,
+                "every vertex and texel takes every pass; by default, points whose neighbours' error is far "
+                "below the 95th percentile skip passes, so that the time goes where the error is "
+                "(docs/lit-patches.md, \"Sample allocation by error\")");
   sub->add_option("--light-paths", o->lightPaths,
                   "on: light paths from the sun combined with the gathering estimate of every vertex "
                   "(docs/light-paths.md); off (the default): gathering alone");
