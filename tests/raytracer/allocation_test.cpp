@@ -266,7 +266,9 @@ TEST(AllocationTest, PointsThatSkipStayUnbiasedAndHonest) {
     std::cout << "[ allocate ] kind " << kind << ": " << skipped << " of " << n
               << " points skipped; mean error " << mean << " (" << mean / standardError
               << " standard errors); RMS error / RMS reported error " << honesty << "\n";
-    if (kind < 2) EXPECT_GT(skipped, n / 4) << "kind " << kind;
+    if (kind < 2) {
+      EXPECT_GT(skipped, n / 4) << "kind " << kind;
+    }
     EXPECT_LT(std::abs(mean), 4.0 * standardError) << "kind " << kind;
     EXPECT_GT(honesty, 0.85) << "kind " << kind;
     EXPECT_LT(honesty, 1.18) << "kind " << kind;
