@@ -223,17 +223,28 @@ int runLitPatches(const std::string& scenePath, const LitPatchRun& run) {
     raytracer::BakeSettings s = settingsOf(bake.patches, bake.allocation);
     s.estimate.seed = 1;
     const double cpuStart = cpuSeconds();
-    bake.maps = raytracer::bakeVertexLightMaps(rdb, scene, s);
+    std::vector<double> passCpu;  // CPU seconds at the end of each pass, since the bake started
+    bake.maps = raytracer::bakeVertexLightMaps(rdb, scene, s, [&](const raytracer::ConvergencePoint&, uint32_t) {
+      passCpu.push_back(cpuSeconds() - cpuStart);
+      return true;
+    });
     const double cpu = cpuSeconds() - cpuStart;
     const raytracer::VertexLightMaps& m = bake.maps;
-    std::printf("\n%s%s:\n| samples | time (s) | p95 | p95² × time (s) |\n|---|---|---|---|\n", bake.name.c_str(),
+    std::printf("\n%s%s:\n| samples | time (s) | CPU (s) | p95 | p95² × time (s) | p95² × 2 × CPU s of the pass |\n"
+                "|---|---|---|---|---|---|\n",
+                bake.name.c_str(),
                 bake.patches ? (" (" + std::to_string(m.litPatchCells) + " regions, trained in " +
                                 std::to_string(m.litPatchSeconds).substr(0, 4) + " s, not in the times)")
                                    .c_str()
                              : "");
-    for (const raytracer::ConvergencePoint& p : m.history) {
-      std::printf("| %u | %.1f | %.2f %% | %.3f |\n", p.samples, p.seconds, 100.0 * p.relativeErrorP95,
-                  double(p.relativeErrorP95) * p.relativeErrorP95 * p.seconds);
+    // The last column: the pass's own CPU time against the error it reached, which tends to the bake's
+    // p95² × CPU s as passes double (each costs as much as all before it).
+    for (size_t j = 0; j < m.history.size(); ++j) {
+      const raytracer::ConvergencePoint& p = m.history[j];
+      const double e2 = double(p.relativeErrorP95) * p.relativeErrorP95;
+      const double passCpuS = passCpu[j] - (j > 0 ? passCpu[j - 1] : 0.0);
+      std::printf("| %u | %.1f | %.1f | %.2f %% | %.3f | %.3f |\n", p.samples, p.seconds, passCpu[j],
+                  100.0 * p.relativeErrorP95, e2 * p.seconds, e2 * passCpuS * 2.0);
     }
     const raytracer::ConvergencePoint& last = m.history.back();
     const double p95 = last.relativeErrorP95;

@@ -332,7 +332,7 @@ Command addBakeCommand(CLI::App& app) {
   sub->add_flag("--no-error-allocation", o->noErrorAllocation,
                 "every vertex and texel takes every pass; by default, points whose neighbours' error is far "
                 "below the 95th percentile skip passes, so that the time goes where the error is "
-                "(docs/lit-patches.md, \"Sample allocation by error\")");
+                "(docs/sample-allocation.md)");
   sub->add_option("--light-paths", o->lightPaths,
                   "on: light paths from the sun combined with the gathering estimate of every vertex "
                   "(docs/light-paths.md); off (the default): gathering alone");

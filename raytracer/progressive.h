@@ -68,9 +68,11 @@ inline constexpr double kSettledPercentile = 0.99;
 // only on (seed, point, replicate, sample index) and are independent of other points' samples, so the
 // number of samples it takes is independent of their values, and its mean stays an unbiased average with an
 // honest standard error (up to the p95's dependence on the point, one rank among all points). Stopping a
-// point on its own estimate would stop it preferentially where its mean and error happen to be low (rare
-// bright samples, a sun patch found by chance, not yet drawn): a bias of up to half its standard error, and
-// errors reported too small (settled groups, kSettledPercentile, say why they are decided per group). The
+// point on its own estimate would stop it preferentially where its samples happen to hold more of its rare
+// bright ones (a sun patch found by chance): a higher mean with a lower relative error, kept — a bias of up
+// to half its standard error per decision (36 standard errors over the points of a test,
+// tests/raytracer/allocation_test.cpp), and errors reported too small (settled groups, kSettledPercentile,
+// say why they are decided per group). The
 // minimum samples keep blocks whose rare bright samples have not yet shown up from looking converged; a
 // neighbour whose mean is 0 (no light seen yet) keeps the block sampling, its relative error undefined. The
 // decision is made between passes from the estimates, so it is the same for any thread count, and a
@@ -105,9 +107,9 @@ struct EstimateSettings {
   // 17 % lower than with 8 replicates: docs/benchmarks.md), else 8.
   uint32_t replicates = 0;
   uint64_t seed = 0;  // point i's samplers are seeded from seed + i
-  // Sample allocation by error (kAllocationMinSamples): blocks whose every point's relative error is below
-  // this fraction of max(p95, targetRelativeError) skip the next pass; 0 = off (every point takes every pass),
-  // in (0, 1]. `fly bake` uses kBakeAllocationFraction.
+  // Sample allocation by error (kAllocationMinSamples, docs/sample-allocation.md): a point whose block
+  // neighbours all have a relative error below this fraction of max(p95, targetRelativeError) skips the next
+  // pass; 0 = off (every point takes every pass), else in (0, 1]. `fly bake` uses kBakeAllocationFraction.
   float allocationFraction = 0.0f;
 };
 
