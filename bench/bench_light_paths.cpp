@@ -25,7 +25,10 @@
 // within the house's rooms: scenes/house) of the reported relative error and of the measured one against a
 // reference bake of the lit patches (every point every pass) with N samples and another seed (its own error
 // subtracted in quadrature); honesty as above; the share of the samples the allocation saved. --plot writes
-// the three convergence curves in one PNG.
+// the convergence curves in one PNG. --allocation F1,F2,… bakes the lit patches with each fraction;
+// --samples N bakes N samples each instead of SECONDS (then SECONDS is ignored: the CPU time is the measure,
+// steadier than a time limit on a loaded machine); --no-gathering leaves out the first bake (the ratios are
+// then against the lit patches with every point every pass).
 #include <sys/resource.h>
 
 #include <algorithm>

@@ -115,7 +115,7 @@ struct EstimateSettings {
 
 // The allocation fraction of `fly bake` (EstimateSettings::allocationFraction), measured on the house
 // (docs/benchmarks.md, "Sample allocation by error").
-inline constexpr float kBakeAllocationFraction = 0.5f;
+inline constexpr float kBakeAllocationFraction = 0.7f;
 
 // The allocation's rule (EstimateSettings::allocationFraction, kAllocationMinSamples): per point, whether it
 // takes the next pass (1) or skips it (0), given every point's estimate after the last pass, its group
