@@ -417,6 +417,11 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
         if (acc.settled(i)) takes[i] = 0;
         if (takes[i]) passPointSamples += total + passSamples - state.pointSamples[i];
       }
+      // A pass without points ends the estimate: every group settled, or (with the allocation) every point
+      // not settled far below a p95 that settled groups' points set. The allocation alone cannot empty a
+      // pass: a point skips only when the others of its block are below f × max(p95, target) < p95 (the
+      // estimate stops before the p95 reaches the target), a block never spans two groups, and one point in
+      // 20 is at the p95 or above it.
       if (passPointSamples == 0 && pointCount > 0) break;
       if (total > 0 && state.lastPassPointSamples > 0 &&
           elapsed() + state.lastPassS * static_cast<double>(passPointSamples) /
