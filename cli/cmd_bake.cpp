@@ -58,7 +58,8 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     return job;
   }
   for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
-                           "--max-bounces", "--export-gltf", "--light-paths", "--no-lit-patches"}) {
+                           "--max-bounces", "--export-gltf", "--light-paths", "--no-lit-patches",
+                           "--no-error-allocation"}) {
     if (sub.count(name) > 0) {
       throw UsageError(
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
