@@ -11,19 +11,30 @@
 // paths per vertex side per gathering sample; --pilot-fraction: the pilot's light paths as a fraction of the
 // bake's).
 //
-// fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [SCENE]: the gathering estimator
-// as it was before next-event estimation to lit patches (IntegratorSettings::litPatches and
-// rouletteAfterLight off) against the default estimator (both on; docs/lit-patches.md), each a bake of
-// SECONDS (passes that would end later do not start), in one run: the bake's p95 (its history: vertex sides
-// and light-texture texels) against time per pass, the
-// time at which p95 reaches 2 % extrapolated from the last pass by p95² × time = constant (the 1/√time of
-// Monte Carlo; quasi-Monte Carlo and settled groups only make it sooner) and the ratio of the two; the mean
-// over the interior's vertex sides (sensor within the house's rooms: scenes/house) of the reported relative
-// error and of the measured one against a reference bake of the default estimator with N samples and another
-// seed (its own error subtracted in quadrature); honesty as above. --plot writes both convergence curves in
-// one PNG.
+// fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [--allocation F] [SCENE]: three
+// bakes of SECONDS each (passes that would end later do not start), in one run: the gathering estimator as
+// it was before next-event estimation to lit patches (IntegratorSettings::litPatches and rouletteAfterLight
+// off, every point taking every pass), the lit patches (both on; docs/lit-patches.md) with every point
+// taking every pass, and the lit patches with sample allocation by error (EstimateSettings::
+// allocationFraction = F, default kBakeAllocationFraction: `fly bake`'s default estimator). Per bake: the
+// bake's p95 (its history: vertex sides and light-texture texels) against time per pass, the process's CPU
+// time of the bake (getrusage: user + system, the lit patches' training included; steadier than wall time
+// on a shared machine), the time at which p95 reaches 2 % extrapolated from the last pass by p95² × time =
+// constant (the 1/√time of Monte Carlo; quasi-Monte Carlo and settled groups only make it sooner), in wall
+// and CPU seconds, and the ratios against the first bake; the mean over the interior's vertex sides (sensor
+// within the house's rooms: scenes/house) of the reported relative error and of the measured one against a
+// reference bake of the lit patches (every point every pass) with N samples and another seed (its own error
+// subtracted in quadrature); honesty as above; the share of the samples the allocation saved. --plot writes
+// the convergence curves in one PNG. --allocation F1,F2,… bakes the lit patches with each fraction;
+// --samples N bakes N samples each instead of SECONDS (then SECONDS is ignored: the CPU time is the measure,
+// steadier than a time limit on a loaded machine); --no-gathering leaves out the first bake (the ratios are
+// then against the lit patches with every point every pass).
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -140,72 +151,137 @@ InteriorError interiorError(const rdb::TraceRdb& rdb, const raytracer::VertexLig
   return out;
 }
 
-int runLitPatches(const std::string& scenePath, double seconds, uint32_t referenceSamples,
-                  const std::string& plotPath) {
+// The process's CPU time so far (user + system), seconds.
+double cpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto s = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+  return s(usage.ru_utime) + s(usage.ru_stime);
+}
+
+// The share of the samples the front vertex sides took against every one taking every pass.
+double sampleShare(const raytracer::VertexLightMaps& m) {
+  double taken = 0.0, full = 0.0;
+  for (uint32_t samples : m.frontSamples) {
+    if (samples == 0) continue;
+    taken += samples;
+    full += m.samplesPerVertex;
+  }
+  return full > 0.0 ? taken / full : 1.0;
+}
+
+struct LitPatchRun {
+  double seconds = 0.0;         // per bake; 0: samples instead
+  uint32_t samples = 0;         // per bake when seconds is 0
+  uint32_t referenceSamples = 0;
+  std::vector<float> allocations;  // a bake of the lit patches with each allocation fraction
+  bool gathering = true;           // the bake before lit patches, the baseline of the ratios
+  std::string plotPath;
+};
+
+int runLitPatches(const std::string& scenePath, const LitPatchRun& run) {
   const cli::LitScene lit = cli::loadLitScene(scenePath, cli::DaylightOptions{});
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(lit.scene);
   const raytracer::EmbreeScene scene(rdb);
-  std::printf("%s: %zu vertices, %zu triangles; %s; bakes of %.0f s\n", scenePath.c_str(),
-              rdb.positionsM.size(), rdb.triangleCount(), lit.light.c_str(), seconds);
-  auto settingsOf = [](bool patches) {
+  std::printf("%s: %zu vertices, %zu triangles; %s; bakes of %s\n", scenePath.c_str(), rdb.positionsM.size(),
+              rdb.triangleCount(), lit.light.c_str(),
+              run.seconds > 0.0 ? (std::to_string(run.seconds).substr(0, 5) + " s").c_str()
+                                : (std::to_string(run.samples) + " samples").c_str());
+  auto settingsOf = [&](bool patches, float allocationFraction) {
     raytracer::BakeSettings s;
     s.integrator.litPatches = patches;
     s.integrator.rouletteAfterLight = patches;
     s.estimate.firstPassSamples = 16;
-    s.estimate.maxSamples = 1u << 20;
+    s.estimate.maxSamples = run.seconds > 0.0 ? 1u << 20 : run.samples;
+    if (run.seconds > 0.0) s.estimate.timeLimitS = run.seconds;
+    s.estimate.allocationFraction = allocationFraction;
     return s;
   };
-  raytracer::BakeSettings refSettings = settingsOf(true);
-  refSettings.estimate.maxSamples = referenceSamples;
+  raytracer::BakeSettings refSettings = settingsOf(true, 0.0f);
+  refSettings.estimate.maxSamples = run.referenceSamples;
+  refSettings.estimate.timeLimitS = std::numeric_limits<double>::infinity();
   refSettings.estimate.seed = 1000;
   const auto refStart = std::chrono::steady_clock::now();
   const raytracer::VertexLightMaps reference = raytracer::bakeVertexLightMaps(rdb, scene, refSettings);
-  std::printf("reference: lit patches, %u samples, seed 1000: %.1f s, p95 %.2f %%\n", referenceSamples,
+  std::printf("reference: lit patches, %u samples, seed 1000: %.1f s, p95 %.2f %%\n", run.referenceSamples,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - refStart).count(),
               100.0 * relativeErrorP95(reference));
-  struct Result {
+  struct Bake {
+    std::string name;
+    bool patches = true;
+    float allocation = 0.0f;
     raytracer::VertexLightMaps maps;
     double secondsTo2Percent = 0.0;
+    double cpuSecondsTo2Percent = 0.0;
   };
-  Result results[2];
-  const char* names[2] = {"gathering (before lit patches)", "lit patches (default)"};
-  for (int k = 0; k < 2; ++k) {
-    raytracer::BakeSettings s = settingsOf(k == 1);
-    s.estimate.timeLimitS = seconds;
+  std::vector<Bake> bakes;
+  if (run.gathering) bakes.push_back({"gathering (before lit patches)", false, 0.0f, {}, 0.0, 0.0});
+  bakes.push_back({"lit patches, every point every pass", true, 0.0f, {}, 0.0, 0.0});
+  for (float f : run.allocations) {
+    bakes.push_back({"lit patches, allocation by error " + std::to_string(f).substr(0, 4) +
+                         (f == raytracer::kBakeAllocationFraction ? " (default)" : ""),
+                     true, f, {}, 0.0, 0.0});
+  }
+  for (Bake& bake : bakes) {
+    raytracer::BakeSettings s = settingsOf(bake.patches, bake.allocation);
     s.estimate.seed = 1;
-    results[k].maps = raytracer::bakeVertexLightMaps(rdb, scene, s);
-    const raytracer::VertexLightMaps& m = results[k].maps;
-    std::printf("\n%s%s:\n| samples | time (s) | p95 | p95² × time (s) |\n|---|---|---|---|\n", names[k],
-                k == 1 ? (" (" + std::to_string(m.litPatchCells) + " regions, trained in " +
-                          std::to_string(m.litPatchSeconds).substr(0, 4) + " s, not in the times)")
-                             .c_str()
-                       : "");
-    for (const raytracer::ConvergencePoint& p : m.history) {
-      std::printf("| %u | %.1f | %.2f %% | %.3f |\n", p.samples, p.seconds, 100.0 * p.relativeErrorP95,
-                  double(p.relativeErrorP95) * p.relativeErrorP95 * p.seconds);
+    const double cpuStart = cpuSeconds();
+    std::vector<double> passCpu;  // CPU seconds at the end of each pass, since the bake started
+    bake.maps = raytracer::bakeVertexLightMaps(rdb, scene, s, [&](const raytracer::ConvergencePoint&, uint32_t) {
+      passCpu.push_back(cpuSeconds() - cpuStart);
+      return true;
+    });
+    const double cpu = cpuSeconds() - cpuStart;
+    const raytracer::VertexLightMaps& m = bake.maps;
+    std::printf("\n%s%s:\n| samples | time (s) | CPU (s) | p95 | p95² × time (s) | p95² × 2 × CPU s of the pass |\n"
+                "|---|---|---|---|---|---|\n",
+                bake.name.c_str(),
+                bake.patches ? (" (" + std::to_string(m.litPatchCells) + " regions, trained in " +
+                                std::to_string(m.litPatchSeconds).substr(0, 4) + " s, not in the times)")
+                                   .c_str()
+                             : "");
+    // The last column: the pass's own CPU time against the error it reached, which tends to the bake's
+    // p95² × CPU s as passes double (each costs as much as all before it).
+    for (size_t j = 0; j < m.history.size(); ++j) {
+      const raytracer::ConvergencePoint& p = m.history[j];
+      const double e2 = double(p.relativeErrorP95) * p.relativeErrorP95;
+      const double passCpuS = passCpu[j] - (j > 0 ? passCpu[j - 1] : 0.0);
+      std::printf("| %u | %.1f | %.1f | %.2f %% | %.3f | %.3f |\n", p.samples, p.seconds, passCpu[j],
+                  100.0 * p.relativeErrorP95, e2 * p.seconds, e2 * passCpuS * 2.0);
     }
     const raytracer::ConvergencePoint& last = m.history.back();
     const double p95 = last.relativeErrorP95;
-    results[k].secondsTo2Percent = last.seconds * (p95 / 0.02) * (p95 / 0.02);
+    const double scale = (p95 / 0.02) * (p95 / 0.02);
+    bake.secondsTo2Percent = last.seconds * scale;
+    bake.cpuSecondsTo2Percent = cpu * scale;
     const InteriorError ie = interiorError(rdb, m, reference);
     std::printf(
-        "p95 2 %% extrapolated at %.0f s; interior (%zu vertex sides) at %.0f s: mean relative error reported "
-        "%.2f %%, measured %.2f %%; honesty %.2f\n",
-        results[k].secondsTo2Percent, ie.sides, last.seconds, 100.0 * ie.reported, 100.0 * ie.measured,
-        honesty(m, reference));
+        "CPU %.1f s (p95² × CPU s %.3f); p95 2 %% extrapolated at %.0f s (%.0f CPU s); interior (%zu vertex "
+        "sides) at %.0f s: mean relative error reported %.2f %%, measured %.2f %%; honesty %.2f; samples "
+        "taken %.0f %% of every point every pass\n",
+        cpu, p95 * p95 * cpu, bake.secondsTo2Percent, bake.cpuSecondsTo2Percent, ie.sides, last.seconds,
+        100.0 * ie.reported, 100.0 * ie.measured, honesty(m, reference), 100.0 * sampleShare(m));
     std::fflush(stdout);
   }
-  std::printf("\ntime to p95 = 2 %%: %.1f times sooner with lit patches\n",
-              results[0].secondsTo2Percent / results[1].secondsTo2Percent);
-  if (!plotPath.empty()) {
-    const cli::ConvergenceCurve curves[2] = {
-        {results[0].maps.history, names[0], {214, 39, 40}},
-        {results[1].maps.history, names[1], cli::kConvergencePointRgb}};
+  std::printf("\ntime to p95 = 2 %%, times sooner than %s (wall / CPU):\n", bakes[0].name.c_str());
+  for (size_t k = 1; k < bakes.size(); ++k) {
+    std::printf("  %s: %.2f / %.2f\n", bakes[k].name.c_str(),
+                bakes[0].secondsTo2Percent / bakes[k].secondsTo2Percent,
+                bakes[0].cpuSecondsTo2Percent / bakes[k].cpuSecondsTo2Percent);
+  }
+  if (!run.plotPath.empty()) {
+    static constexpr std::array<uint8_t, 3> kColours[] = {
+        {214, 39, 40}, {255, 127, 14}, {31, 119, 180}, {44, 160, 44}, {148, 103, 189}, {140, 86, 75}};
+    std::vector<cli::ConvergenceCurve> curves;
+    for (size_t k = 0; k < bakes.size(); ++k) {
+      curves.push_back({bakes[k].maps.history, bakes[k].name,
+                        kColours[(k + (run.gathering ? 0 : 1)) % std::size(kColours)]});
+    }
     cli::ConvergencePlotRequest request;
     request.targetRelativeError = 0.02f;
-    cli::drawConvergencePlot(curves, "The house: gathering against lit patches (p95 over vertex sides)",
-                             plotPath, request);
-    std::printf("wrote %s\n", plotPath.c_str());
+    cli::drawConvergencePlot(curves, "The house: gathering, lit patches, allocation by error (p95)",
+                             run.plotPath, request);
+    std::printf("wrote %s\n", run.plotPath.c_str());
   }
   return 0;
 }
@@ -217,19 +293,44 @@ int run(int argc, char** argv) {
   double pathsPerSample = 8.0;
   double pilotFraction = 0.125;
   double litPatchSeconds = 0.0;
+  bool litPatches = false;
+  LitPatchRun litRun;
+  litRun.allocations = {raytracer::kBakeAllocationFraction};
+  bool samplesGiven = false;
   std::string plotPath;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lit-patches" && i + 1 < argc) {
       litPatchSeconds = std::strtod(argv[++i], nullptr);
+      litPatches = true;
+      continue;
+    }
+    if (a == "--no-gathering") {
+      litRun.gathering = false;
       continue;
     }
     if (a == "--plot" && i + 1 < argc) {
       plotPath = argv[++i];
       continue;
     }
+    if (a == "--allocation" && i + 1 < argc) {
+      litRun.allocations.clear();
+      for (const char* p = argv[++i]; *p;) {
+        char* end = nullptr;
+        const float f = std::strtof(p, &end);
+        if (end == p || !(f > 0.0f && f <= 1.0f)) {
+          std::fprintf(stderr, "fly-bench-light-paths: --allocation %s: expected fractions in (0, 1]\n",
+                       argv[i]);
+          return 2;
+        }
+        litRun.allocations.push_back(f);
+        p = *end == ',' ? end + 1 : end;
+      }
+      continue;
+    }
     if (a == "--samples" && i + 1 < argc) {
       samples = parseList(argv[++i]);
+      samplesGiven = true;
     } else if (a == "--reference" && i + 1 < argc) {
       referenceSamples = static_cast<uint32_t>(std::strtoul(argv[++i], nullptr, 10));
     } else if (a == "--paths-per-sample" && i + 1 < argc) {
@@ -242,11 +343,18 @@ int run(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
                    "[--paths-per-sample X] [--pilot-fraction F]\n"
-                   "       fly-bench-light-paths [SCENE] --lit-patches SECONDS [--reference N] [--plot PNG]\n");
+                   "       fly-bench-light-paths [SCENE] --lit-patches SECONDS [--reference N] [--plot PNG] "
+                   "[--allocation F,...] [--samples N] [--no-gathering]\n");
       return 2;
     }
   }
-  if (litPatchSeconds > 0.0) return runLitPatches(scenePath, litPatchSeconds, referenceSamples, plotPath);
+  if (litPatches) {
+    litRun.seconds = samplesGiven ? 0.0 : litPatchSeconds;
+    litRun.samples = samples.empty() ? 256 : samples.front();
+    litRun.referenceSamples = referenceSamples;
+    litRun.plotPath = plotPath;
+    return runLitPatches(scenePath, litRun);
+  }
   const cli::LitScene lit = cli::loadLitScene(scenePath, cli::DaylightOptions{});
   const rdb::TraceRdb rdb = rdb::buildTraceRdb(lit.scene);
   const raytracer::EmbreeScene scene(rdb);

@@ -201,6 +201,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"roulette_after_light", job.settings.integrator.rouletteAfterLight},
         {"lit_patch_sky", job.settings.integrator.litPatchSky},
         {"light_paths", job.settings.lightPaths.enabled},
+        {"error_allocation", e.allocationFraction},
         {"export_gltf", job.exportGltf},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
       {"daylight", job.daylight},
@@ -271,6 +272,9 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.settings.integrator.litPatchSky = s.value("lit_patch_sky", true);
     // ... and without light paths.
     c.job.settings.lightPaths.enabled = s.value("light_paths", false);
+    // ... and with every point taking every pass.
+    e.allocationFraction = s.value("error_allocation", 0.0f);
+    if (!(e.allocationFraction >= 0.0f && e.allocationFraction <= 1.0f)) throw bad("error_allocation is not in [0, 1]");
     c.job.exportGltf = s.at("export_gltf").get<bool>();
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);

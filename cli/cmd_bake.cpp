@@ -36,6 +36,7 @@ struct BakeOptions {
   std::string checkpoint;  // a duration; "" = no checkpoints
   std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
   std::string lightPaths = "off";  // on or off: raytracer::LightPathBakeSettings::enabled
+  bool noErrorAllocation = false;  // EstimateSettings::allocationFraction = 0
   DaylightOptions daylight;
   double dotsPerInch = 0.0;  // --dpi: convergence.png's print resolution; 0 = none
 };
@@ -59,7 +60,8 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     return job;
   }
   for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
-                           "--max-bounces", "--export-gltf", "--light-paths", "--no-lit-patches"}) {
+                           "--max-bounces", "--export-gltf", "--light-paths", "--no-lit-patches",
+                           "--no-error-allocation"}) {
     if (sub.count(name) > 0) {
       throw UsageError(
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
@@ -152,6 +154,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
     job.settings.estimate = estimateSettings(o.sampling, scene.bakeSettings());
     job.settings.integrator = integratorSettings(o.sampling, scene.bakeSettings());
     job.settings.lightPaths.enabled = o.lightPaths == "on";
+    job.settings.estimate.allocationFraction = o.noErrorAllocation ? 0.0f : raytracer::kBakeAllocationFraction;
   }
   const raytracer::BakeSettings& settings = job.settings;
   checkBakeOutput(o.out);  // before the bake, so that an hour's work is not refused at the end
@@ -230,7 +233,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"lit_patches", settings.integrator.litPatches},
       {"roulette_after_light", settings.integrator.rouletteAfterLight},
       {"lit_patch_sky", settings.integrator.litPatchSky},
-      {"light_paths", settings.lightPaths.enabled}};
+      {"light_paths", settings.lightPaths.enabled},
+      {"error_allocation", e.allocationFraction}};
   d.targetRelativeError = e.targetRelativeError;
   for (const rdb::TraceMesh& m : rdb.meshes) {
     d.meshNames.push_back(scene.mesh(sdb::MeshId{m.sdbMeshId}).name);
@@ -258,7 +262,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   const std::string settledText = settled == 0
                                       ? ""
                                       : " (fewer for " + std::to_string(settled) +
-                                            " objects and light textures that met the target earlier)";
+                                            " objects and light textures whose error was already low)";
   // Under the sun, the error of the part kept apart for sunlight mode (docs/mixed-lighting.md).
   char sunText[96] = "";
   if (maps.hasSunDirect() && !maps.history.empty()) {
@@ -330,6 +334,10 @@ Command addBakeCommand(CLI::App& app) {
       "--checkpoint", o->checkpoint,
       "save progress every SECONDS (e.g. 60, 5m) into DIR.checkpoint/, so that an interrupted bake "
       "can continue with --resume DIR; deleted when the bake completes");
+  sub->add_flag("--no-error-allocation", o->noErrorAllocation,
+                "every vertex and texel takes every pass; by default, points whose neighbours' error is far "
+                "below the 95th percentile skip passes, so that the time goes where the error is "
+                "(docs/sample-allocation.md)");
   sub->add_option("--light-paths", o->lightPaths,
                   "on: light paths from the sun combined with the gathering estimate of every vertex "
                   "(docs/light-paths.md); off (the default): gathering alone");

@@ -34,15 +34,15 @@ class Accumulators {
   uint32_t replicates() const { return state_.replicates; }
   uint32_t channels() const { return state_.channels; }
 
-  // Whether the point's group is settled (it takes no more samples), and the samples it has when the others
-  // have `total`.
+  // Whether the point's group is settled (it takes no more samples), and the samples in its sums.
   bool settled(size_t point) const {
     const uint32_t g = groupOf(point);
     return g < state_.settledSamples.size() && state_.settledSamples[g] > 0;
   }
-  uint32_t samplesOf(size_t point, uint32_t total) const {
-    return settled(point) ? state_.settledSamples[groupOf(point)] : total;
-  }
+  uint32_t samplesOf(size_t point) const { return state_.pointSamples[point]; }
+  // Whether the point takes the pass in progress, and its samples after it.
+  bool takes(size_t point) const { return state_.passTakes[point] != 0; }
+  void setSamples(size_t point, uint32_t samples) { state_.pointSamples[point] = samples; }
 
   // Welford's update of the point's channel with its count-th sample (count ≥ 1).
   void addWelford(size_t point, uint32_t channel, uint32_t count, const Rgb& x) {
@@ -81,7 +81,7 @@ class Accumulators {
     return v;
   }
 
-  // Every point's estimate after `samples` samples (all replicates together), of every channel.
+  // Every point's estimate from all its samples (all replicates together), of every channel.
   //
   // replicates = 1: the standard error is the naive one, honest for plain Monte Carlo only.
   //
@@ -102,9 +102,9 @@ class Accumulators {
   // freedom), and leaves 8 or more to themselves: pooling assumes that all points gain alike from the nets,
   // which holds only roughly (a point in smooth light gains more than one on a shadow edge), so it is used no
   // more than the replicates need. The sun's direct part (channel 1) has its own η², pooled alike.
-  void estimates(uint32_t samples, std::vector<IrradianceEstimate>& out) const {
+  void estimates(std::vector<IrradianceEstimate>& out) const {
     out.assign(state_.pointCount, IrradianceEstimate{});
-    for (uint32_t c = 0; c < state_.channels; ++c) estimatesOf(c, samples, out);
+    for (uint32_t c = 0; c < state_.channels; ++c) estimatesOf(c, out);
   }
 
  private:
@@ -117,7 +117,7 @@ class Accumulators {
     return &state_.sums[(point * state_.channels + channel) * perPoint];
   }
 
-  void estimatesOf(uint32_t channel, uint32_t samples, std::vector<IrradianceEstimate>& out) const {
+  void estimatesOf(uint32_t channel, std::vector<IrradianceEstimate>& out) const {
     const size_t count = state_.pointCount;
     const uint32_t k = state_.replicates;
     // Per group (SampleSource::groupOf), and the last entry over all points.
@@ -127,7 +127,7 @@ class Accumulators {
     std::vector<size_t> members(groups + 1, 0);
     if (k > 1 && k - 1 < kModeratedDegreesOfFreedom) {
       for (size_t i = 0; i < count; ++i) {
-        const Variances v = variances(i, channel, samplesOf(i, samples));
+        const Variances v = variances(i, channel, samplesOf(i));
         for (size_t g : {size_t{groupOf(i)}, groups}) {
           sumNaive[g] += v.naive;
           sumReplicate[g] += v.replicate;
@@ -145,9 +145,9 @@ class Accumulators {
     const double dof = static_cast<double>(k - 1);
     const double priorDof = std::max(0.0, kModeratedDegreesOfFreedom - dof);
     for (size_t i = 0; i < count; ++i) {
-      const Variances v = variances(i, channel, samplesOf(i, samples));
+      const Variances v = variances(i, channel, samplesOf(i));
       IrradianceEstimate& e = out[i];
-      e.samples = samplesOf(i, samples);
+      e.samples = samplesOf(i);
       const dvec3 variance =
           k == 1 ? v.naive : (priorDof * eta2[groupOf(i)] * v.naive + dof * v.replicate) / (priorDof + dof);
       (channel == 0 ? e.meanLux : e.sunDirectMeanLux) = Rgb(v.mean);
@@ -158,6 +158,7 @@ class Accumulators {
  public:
   uint32_t groupOf(size_t point) const { return groups_.empty() ? 0 : groups_[point]; }
   uint32_t groupCount() const { return groupCount_; }
+  const std::vector<uint32_t>& groups() const { return groups_; }
 
  private:
   ProgressState& state_;
@@ -189,11 +190,11 @@ float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
   return nearestRankQuantile(rel, 0.95);
 }
 
-// Samples firstSample … firstSample + sampleCount − 1 of points [pointBegin, pointEnd) (split evenly over the
-// replicates).
+// The samples of points [pointBegin, pointEnd) that take the pass, from the samples each has up to
+// `total` (split evenly over the replicates).
 template <class S>
 void runPass(const SampleSource& source, const EstimateSettings& settings, size_t pointBegin, size_t pointEnd,
-             uint32_t firstSample, uint32_t sampleCount, Accumulators& acc, uint64_t& rays) {
+             uint32_t total, Accumulators& acc, uint64_t& rays) {
   std::atomic<size_t> next{pointBegin};
   std::atomic<uint64_t> totalRays{0};
   const uint32_t k = acc.replicates();
@@ -203,10 +204,12 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
     uint64_t threadRays = 0;
     for (size_t begin = next.fetch_add(kChunk); begin < pointEnd; begin = next.fetch_add(kChunk)) {
       for (size_t i = begin; i < std::min(begin + kChunk, pointEnd); ++i) {
-        if (acc.settled(i)) continue;
+        if (!acc.takes(i)) continue;
+        const uint32_t firstSample = acc.samplesOf(i);
+        acc.setSamples(i, total);
         if (k == 1) {
           S sampler(settings.seed + i);
-          for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
+          for (uint32_t s = firstSample; s < total; ++s) {
             sampler.startSample(s);
             const PointSample x = source.sample(i, sampler, threadRays);
             acc.addWelford(i, 0, s + 1, x.lux);
@@ -220,7 +223,7 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
         for (uint32_t r = 0; r < k; ++r) {
           // An independent randomisation per replicate.
           S sampler(detail::mix64(settings.seed + i) + r);
-          for (uint32_t s = firstSample / k; s < (firstSample + sampleCount) / k; ++s) {
+          for (uint32_t s = firstSample / k; s < total / k; ++s) {
             sampler.startSample(s);
             const PointSample x = source.sample(i, sampler, threadRays);
             acc.replicateSum(i, 0, r) += dvec3(x.lux);
@@ -267,6 +270,39 @@ bool isPowerOfTwo(uint32_t x) {
 
 }  // namespace
 
+std::vector<uint8_t> pointsTakingNextPass(const std::vector<IrradianceEstimate>& estimates,
+                                          const std::vector<uint32_t>& groups, float relativeErrorP95,
+                                          const EstimateSettings& settings) {
+  const size_t count = estimates.size();
+  std::vector<uint8_t> takes(count, 1);
+  if (!(settings.allocationFraction > 0.0f)) return takes;
+  const float threshold =
+      settings.allocationFraction * std::max(relativeErrorP95, settings.targetRelativeError);
+  auto groupOf = [&](size_t i) { return groups.empty() ? 0u : groups[i]; };
+  // Whether a point could let its neighbours skip: enough samples, light seen, an error far below the p95.
+  auto low = [&](size_t i) {
+    const IrradianceEstimate& e = estimates[i];
+    if (e.samples < kAllocationMinSamples || !(luminance(e.meanLux) > 0.0f)) return false;
+    return relativeErrorOf(e) < threshold;
+  };
+  for (size_t begin = 0; begin < count;) {
+    size_t end = begin + 1;
+    while (end < count && end - begin < kAllocationBlockPoints && groupOf(end) == groupOf(begin)) ++end;
+    size_t lowCount = 0;
+    for (size_t i = begin; i < end; ++i) lowCount += low(i) ? 1 : 0;
+    for (size_t i = begin; i < end; ++i) {
+      // Every other point of the block low, whatever the point itself shows (its own estimate stays out of
+      // its decision).
+      const size_t lowOthers = lowCount - (low(i) ? 1 : 0);
+      const bool skip =
+          end - begin >= 2 && lowOthers == end - begin - 1 && estimates[i].samples >= kAllocationMinSamples;
+      takes[i] = skip ? 0 : 1;
+    }
+    begin = end;
+  }
+  return takes;
+}
+
 uint32_t replicatesFor(const EstimateSettings& settings, size_t pointCount) {
   if (settings.replicates != 0) return settings.replicates;
   return std::min(settings.firstPassSamples, pointCount >= kMinPointsToPool ? 2u : 8u);
@@ -298,9 +334,12 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     state.replicates = replicates;
     state.channels = channels;
     state.sums.assign(pointCount * perPoint, dvec3(0.0));
+    state.pointSamples.assign(pointCount, 0);
   } else if (state.pointCount != pointCount || state.replicates != replicates || state.channels != channels ||
              state.sums.size() != pointCount * perPoint || state.passPointsDone > pointCount ||
-             state.settledSamples.size() > source.groupCount()) {
+             state.settledSamples.size() > source.groupCount() ||
+             (!state.pointSamples.empty() && state.pointSamples.size() != pointCount) ||
+             (!state.passTakes.empty() && state.passTakes.size() != pointCount)) {
     throw std::invalid_argument(
         "estimateProgressively: the state to continue has " + std::to_string(state.pointCount) + " points, " +
         std::to_string(state.replicates) + " replicates and " + std::to_string(state.channels) +
@@ -325,11 +364,25 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     }
   }
   Accumulators acc(state, std::move(groups), source.groupCount());
+  if (state.pointSamples.empty()) {
+    // A state of a format before 5: every point took every pass but its settled group's.
+    state.pointSamples.resize(pointCount);
+    for (size_t i = 0; i < pointCount; ++i) {
+      state.pointSamples[i] = acc.settled(i) ? state.settledSamples[acc.groupOf(i)]
+                              : state.passSamples > 0 && i < state.passPointsDone
+                                  ? state.samplesPerPoint + state.passSamples
+                                  : state.samplesPerPoint;
+    }
+  }
+  if (state.passSamples > 0 && state.passTakes.empty()) {
+    state.passTakes.resize(pointCount);
+    for (size_t i = 0; i < pointCount; ++i) state.passTakes[i] = acc.settled(i) ? 0 : 1;
+  }
   EstimateResult result;
   result.rays = state.rays;
   result.replicates = replicates;
   auto fillResult = [&](uint32_t total) {
-    acc.estimates(total, result.points);
+    acc.estimates(result.points);
     result.relativeErrorP95 = relativeErrorP95(result.points);
     result.samplesPerPoint = total;
   };
@@ -354,19 +407,29 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       const uint32_t total = state.samplesPerPoint;
       const uint32_t passSamples = total == 0 ? settings.firstPassSamples : total;
       if (uint64_t{total} + passSamples > settings.maxSamples) break;
-      // The points it will sample, against those of the last pass (fewer once groups are settled).
-      size_t active = 0;
-      for (size_t i = 0; i < pointCount; ++i) active += acc.settled(i) ? 0 : 1;
-      if (active == 0 && pointCount > 0) break;
-      const double pointShare = state.lastPassPoints > 0
-                                    ? static_cast<double>(active) / static_cast<double>(state.lastPassPoints)
-                                    : 1.0;
-      if (total > 0 && state.lastPassSamples > 0 &&
-          elapsed() +
-                  state.lastPassS * pointShare * passSamples / static_cast<double>(state.lastPassSamples) >
+      // The points it will sample (not those of settled groups, nor those the allocation by error lets
+      // skip it), and their samples against those of the last pass.
+      std::vector<uint8_t> takes =
+          total == 0 ? std::vector<uint8_t>(pointCount, 1)
+                     : pointsTakingNextPass(result.points, acc.groups(), result.relativeErrorP95, settings);
+      uint64_t passPointSamples = 0;
+      for (size_t i = 0; i < pointCount; ++i) {
+        if (acc.settled(i)) takes[i] = 0;
+        if (takes[i]) passPointSamples += total + passSamples - state.pointSamples[i];
+      }
+      // A pass without points ends the estimate: every group settled, or (with the allocation) every point
+      // not settled far below a p95 that settled groups' points set. The allocation alone cannot empty a
+      // pass: a point skips only when the others of its block are below f × max(p95, target) < p95 (the
+      // estimate stops before the p95 reaches the target), a block never spans two groups, and one point in
+      // 20 is at the p95 or above it.
+      if (passPointSamples == 0 && pointCount > 0) break;
+      if (total > 0 && state.lastPassPointSamples > 0 &&
+          elapsed() + state.lastPassS * static_cast<double>(passPointSamples) /
+                          static_cast<double>(state.lastPassPointSamples) >
               settings.timeLimitS)
         break;
-      state.lastPassPoints = active;
+      state.lastPassPointSamples = passPointSamples;
+      state.passTakes = std::move(takes);
       state.passSamples = passSamples;
       state.passPointsDone = 0;
       state.passRays = 0;
@@ -378,10 +441,10 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       const size_t end = std::min<size_t>(pointCount, state.passPointsDone + block);
       uint64_t blockRays = 0;
       if (settings.sampler == SamplerKind::kSobol) {
-        runPass<SobolSampler>(source, settings, state.passPointsDone, end, total, state.passSamples, acc,
+        runPass<SobolSampler>(source, settings, state.passPointsDone, end, total + state.passSamples, acc,
                               blockRays);
       } else {
-        runPass<RandomSampler>(source, settings, state.passPointsDone, end, total, state.passSamples, acc,
+        runPass<RandomSampler>(source, settings, state.passPointsDone, end, total + state.passSamples, acc,
                                blockRays);
       }
       state.passPointsDone = end;
@@ -398,6 +461,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     state.passPointsDone = 0;
     state.passRays = 0;
     state.passSeconds = 0.0;
+    state.passTakes.clear();
     ++state.passes;
     fillResult(state.samplesPerPoint);
     if (settings.targetRelativeError > 0.0f && acc.groupCount() > 1)
@@ -428,9 +492,12 @@ uint64_t fnv1a(const std::string& bytes, size_t count) {
   return h;
 }
 
-// Version 4 adds the channel count (the sun's direct part); version 3 added the settled groups and the last
-// pass's point count. Versions 2 and 3 are still read, as one channel.
-constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '4'};
+// Version 5 adds every point's samples and the points of the pass in progress (allocation by error), and
+// counts the last pass in samples rather than points; version 4 added the channel count (the sun's direct
+// part); version 3 the settled groups and the last pass's point count. Versions 2 to 4 are still read, 2 and
+// 3 as one channel.
+constexpr char kStateTag[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '5'};
+constexpr char kStateTagV4[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '4'};
 constexpr char kStateTagV3[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '3'};
 constexpr char kStateTagV2[8] = {'F', 'L', 'Y', 'P', 'R', 'O', 'G', '2'};
 
@@ -466,7 +533,11 @@ std::string serializeProgressState(const ProgressState& s) {
   }
   put(out, static_cast<uint64_t>(s.settledSamples.size()));
   for (uint32_t v : s.settledSamples) put(out, v);
-  put(out, s.lastPassPoints);
+  put(out, s.lastPassPointSamples);
+  put(out, static_cast<uint64_t>(s.pointSamples.size()));
+  for (uint32_t v : s.pointSamples) put(out, v);
+  put(out, static_cast<uint64_t>(s.passTakes.size()));
+  out.append(reinterpret_cast<const char*>(s.passTakes.data()), s.passTakes.size());
   put(out, fnv1a(out, out.size()));
   return out;
 }
@@ -481,7 +552,8 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
   };
   const bool version2 = tagged(kStateTagV2);
   const bool version3 = tagged(kStateTagV3);
-  if (bytes.size() < sizeof kStateTag + 8 || (!version2 && !version3 && !tagged(kStateTag)))
+  const bool version4 = tagged(kStateTagV4);
+  if (bytes.size() < sizeof kStateTag + 8 || (!version2 && !version3 && !version4 && !tagged(kStateTag)))
     throw bad("it does not start with the fly progress-state tag");
   uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
@@ -526,7 +598,28 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
     if (groups > (bytes.size() - at) / 4) throw bad("its sizes do not agree");
     s.settledSamples.resize(groups);
     for (uint32_t& v : s.settledSamples) get(v);
-    get(s.lastPassPoints);
+    if (version3 || version4) {
+      uint64_t lastPassPoints = 0;
+      get(lastPassPoints);
+      s.lastPassPointSamples = lastPassPoints * s.lastPassSamples;
+    } else {
+      get(s.lastPassPointSamples);
+      uint64_t points = 0;
+      get(points);
+      if (points != 0 && points != s.pointCount) throw bad("its sizes do not agree");
+      s.pointSamples.resize(points);
+      for (uint32_t& v : s.pointSamples) {
+        get(v);
+        if (uint64_t{v} > uint64_t{s.samplesPerPoint} + s.passSamples) throw bad("a point's samples exceed its passes'");
+      }
+      get(points);
+      if (points != 0 && points != s.pointCount) throw bad("its sizes do not agree");
+      s.passTakes.resize(points);
+      for (uint8_t& v : s.passTakes) {
+        get(v);
+        if (v > 1) throw bad("a point's pass flag is not 0 or 1");
+      }
+    }
   }
   if (at != bytes.size() - 8) throw bad("it has trailing bytes");
   return s;

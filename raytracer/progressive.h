@@ -1,7 +1,7 @@
 // The progressive driver of every Monte-Carlo estimate (`fly illuminance`'s sensors, the baker's vertex sides
-// and texels): passes that double the samples of every point, a mean and a standard error per point after
-// each, and the stopping rules (samples, time, target error). Independent of what a sample computes
-// (SampleSource).
+// and texels): passes that double the samples of every point (of those that still need them: settled groups,
+// allocation by error), a mean and a standard error per point after each, and the stopping rules (samples,
+// time, target error). Independent of what a sample computes (SampleSource).
 #pragma once
 
 #include <cstdint>
@@ -55,6 +55,31 @@ inline constexpr size_t kMinPointsToPool = 64;
 // session 3 reported errors 2.4× too small on shadow edges that way).
 inline constexpr double kSettledPercentile = 0.99;
 
+// Sample allocation by error (EstimateSettings::allocationFraction > 0): after a pass, a point skips the next
+// pass when it has at least kAllocationMinSamples samples and every other point of its block
+// (kAllocationBlockPoints consecutive points of one group: neighbouring vertices of an object, neighbouring
+// texels of a row) has at least as many, a mean above 0 and a relative standard error of luminance below
+// allocationFraction × max(p95, target) (p95: the 95th percentile over all points after that pass). A
+// skipped point takes a later pass again once the p95 has fallen far enough; it then catches up to that
+// pass's total (its samples stay a prefix of its sequence, a power of two × firstPassSamples). The time goes
+// to the points whose error sets the p95 (a bake's shaded interior), not to those far below it (the sunlit
+// outside): the error ends more even for the same time.
+// The decision for a point looks at its neighbours' estimates, never at its own: a point's samples depend
+// only on (seed, point, replicate, sample index) and are independent of other points' samples, so the
+// number of samples it takes is independent of their values, and its mean stays an unbiased average with an
+// honest standard error (up to the p95's dependence on the point, one rank among all points). Stopping a
+// point on its own estimate would stop it preferentially where its samples happen to hold more of its rare
+// bright ones (a sun patch found by chance): a higher mean with a lower relative error, kept — a bias of up
+// to half its standard error per decision (36 standard errors over the points of a test,
+// tests/raytracer/allocation_test.cpp), and errors reported too small (settled groups, kSettledPercentile,
+// say why they are decided per group). The
+// minimum samples keep blocks whose rare bright samples have not yet shown up from looking converged; a
+// neighbour whose mean is 0 (no light seen yet) keeps the block sampling, its relative error undefined. The
+// decision is made between passes from the estimates, so it is the same for any thread count, and a
+// checkpoint keeps every point's samples and the points of the pass in progress.
+inline constexpr uint32_t kAllocationMinSamples = 64;
+inline constexpr size_t kAllocationBlockPoints = 16;
+
 // With fewer than 8 replicates, a point's variance is moderated with the variance pooled over all points up
 // to this many degrees of freedom, those of 8 replicates (EstimateSettings::replicates).
 inline constexpr double kModeratedDegreesOfFreedom = 7.0;
@@ -82,7 +107,23 @@ struct EstimateSettings {
   // 17 % lower than with 8 replicates: docs/benchmarks.md), else 8.
   uint32_t replicates = 0;
   uint64_t seed = 0;  // point i's samplers are seeded from seed + i
+  // Sample allocation by error (kAllocationMinSamples, docs/sample-allocation.md): a point whose block
+  // neighbours all have a relative error below this fraction of max(p95, targetRelativeError) skips the next
+  // pass; 0 = off (every point takes every pass), else in (0, 1]. `fly bake` uses kBakeAllocationFraction.
+  float allocationFraction = 0.0f;
 };
+
+// The allocation fraction of `fly bake` (EstimateSettings::allocationFraction), measured on the house
+// (docs/benchmarks.md, "Sample allocation by error").
+inline constexpr float kBakeAllocationFraction = 0.7f;
+
+// The allocation's rule (EstimateSettings::allocationFraction, kAllocationMinSamples): per point, whether it
+// takes the next pass (1) or skips it (0), given every point's estimate after the last pass, its group
+// (SampleSource::groupOf; empty: one group) and the p95 of their relative errors. Settled groups are the
+// caller's to leave out. All points take it when settings.allocationFraction is 0.
+std::vector<uint8_t> pointsTakingNextPass(const std::vector<IrradianceEstimate>& estimates,
+                                          const std::vector<uint32_t>& groups, float relativeErrorP95,
+                                          const EstimateSettings& settings);
 
 // The replicates an estimate of pointCount points takes with these settings (settings.replicates unless 0),
 // at most settings.firstPassSamples.
@@ -142,16 +183,17 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
                                      const PassCallback& afterPass = {});
 
 // Everything the driver needs to continue an estimate where it stopped (a checkpoint): every point's running
-// sums, bit for bit, and where in its passes it was. A pass may stop between blocks of points: points
-// [0, passPointsDone) then have samplesPerPoint + passSamples samples, the others samplesPerPoint. Because a
-// point's samples depend only on (seed, point, replicate, sample index) and its sums are added in sample
-// order, an estimate continued from a state ends bit-identical to one that never stopped.
+// sums and samples, bit for bit, and where in its passes it was. A pass may stop between blocks of points:
+// the points of [0, passPointsDone) that take it (passTakes) then have samplesPerPoint + passSamples samples,
+// the others what they had. Because a point's samples depend only on (seed, point, replicate, sample index),
+// its sums are added in sample order and which points take a pass is decided from the state alone, an
+// estimate continued from a state ends bit-identical to one that never stopped.
 struct ProgressState {
   uint64_t pointCount = 0;
   uint32_t replicates = 0;
   // Quantities per point: 1 (the irradiance), or 2 (also its sun-direct part: SampleSource::keepsSunDirect).
   uint32_t channels = 1;
-  uint32_t samplesPerPoint = 0;  // after the last complete pass, of the points not settled
+  uint32_t samplesPerPoint = 0;  // after the last complete pass, of the points that took it (the most any has)
   uint32_t passSamples = 0;      // samples per point of the pass in progress; 0 = none
   uint64_t passPointsDone = 0;   // points of the pass in progress that are done
   uint32_t passes = 0;           // complete passes
@@ -168,13 +210,22 @@ struct ProgressState {
   // Per group (SampleSource::groupOf): the samples per point at which it was settled
   // (kSettledFractionOfTarget), 0 while it is not; empty when none is.
   std::vector<uint32_t> settledSamples;
-  uint64_t lastPassPoints = 0;  // points the last complete pass sampled (predicts the next one's time)
+  // Samples the last complete pass took, over all points (predicts the next one's time).
+  uint64_t lastPassPointSamples = 0;
+  // Per point: the samples in its sums. Empty in states of format versions before 5, whose points all had
+  // samplesPerPoint (with the pass in progress, up to passPointsDone) or their settled group's samples.
+  std::vector<uint32_t> pointSamples;
+  // Per point: 1 when it takes the pass in progress, 0 when it skips it (settled group, allocation by
+  // error); empty when no pass is in progress, and in states before format version 5 (whose passes every
+  // point not settled took).
+  std::vector<uint8_t> passTakes;
 
   bool started() const { return samplesPerPoint > 0 || passPointsDone > 0; }
 };
 
-// A state as bytes (little-endian, with a format tag and an FNV-1a checksum at the end), and back. Format 4
-// (with the channel count); formats 2 and 3, written before the sun's direct part was kept apart, are read as
+// A state as bytes (little-endian, with a format tag and an FNV-1a checksum at the end), and back. Format 5
+// (with every point's samples and the pass in progress's points); format 4 (without them) is read with the
+// samples its passes gave; formats 2 and 3, written before the sun's direct part was kept apart, are read as
 // one channel. deserializeProgressState throws InputError naming `fileName` when the bytes are truncated,
 // corrupt or of another format version.
 std::string serializeProgressState(const ProgressState& state);

@@ -121,6 +121,21 @@ TEST_F(BakeCheckpointTest, LitPatchSkyIsKeptAndOlderCheckpointsResumeWithTheSkyA
   EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
 }
 
+// The allocation by error's fraction travels with the checkpoint (the resumed passes must skip the same
+// points); one written before the allocation existed resumes with every point taking every pass, and a
+// fraction outside [0, 1] is a damaged checkpoint.
+TEST_F(BakeCheckpointTest, ErrorAllocationIsKeptAndOlderCheckpointsResumeWithoutIt) {
+  EXPECT_EQ(loadBakeCheckpoint(job_.outDir).job.settings.estimate.allocationFraction, 0.0f);
+  job_.settings.estimate.allocationFraction = raytracer::kBakeAllocationFraction;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_EQ(loadBakeCheckpoint(job_.outDir).job.settings.estimate.allocationFraction,
+            raytracer::kBakeAllocationFraction);
+  editJson([](nlohmann::json& j) { j["settings"].erase("error_allocation"); });
+  EXPECT_EQ(loadBakeCheckpoint(job_.outDir).job.settings.estimate.allocationFraction, 0.0f);
+  editJson([](nlohmann::json& j) { j["settings"]["error_allocation"] = 2.0; });
+  EXPECT_NE(loadError().find("error_allocation is not in [0, 1]"), std::string::npos) << loadError();
+}
+
 // Counts that do not fit their type are a damaged checkpoint, not a float-to-integer conversion out of range
 // (undefined behaviour, found by fuzzing: tests/fuzz/corpus/bake_checkpoint/regression-*.json) or a
 // wrap-around of -1 to 4294967295 threads.

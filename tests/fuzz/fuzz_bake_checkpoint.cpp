@@ -39,7 +39,8 @@ std::string validState() {
   s.seconds = 0.5;
   s.lastPassS = 0.5;
   s.lastPassSamples = 8;
-  s.lastPassPoints = 2;
+  s.lastPassPointSamples = 16;
+  s.pointSamples = {8, 8};
   s.sums.assign(2 * (2 + 4), dvec3(1.0));
   return raytracer::serializeProgressState(s);
 }

@@ -245,13 +245,15 @@ TEST(SettledGroupsTest, ContinuingFromEveryCheckpointEqualsTheUninterruptedEstim
   }
 }
 
-// The bytes of a one-channel state in an older format version: 3 (no channel count: the 4 bytes after the
-// point count and replicates) or 2 (neither the settled-group count and list, 8 bytes for an empty one, nor
-// the last pass's point count, 8 bytes, before the FNV-1a checksum).
+// The bytes of a one-channel state without point samples or a pass in progress in an older format version:
+// 4 (neither the points' samples nor the pass's flags, two empty lists of 8 bytes each before the FNV-1a
+// checksum, and the last pass counted in points where format 5 counts samples), 3 (also no channel count: the
+// 4 bytes after the point count and replicates) or 2 (also neither the settled-group count and list, 8 bytes
+// for an empty one, nor the last pass's point count, 8 bytes).
 std::string olderFormat(const ProgressState& s, char version) {
   std::string bytes = serializeProgressState(s);
-  bytes.erase(8 + 8 + 4, 4);
-  bytes.resize(bytes.size() - (version == '2' ? 24 : 8));
+  if (version != '4') bytes.erase(8 + 8 + 4, 4);
+  bytes.resize(bytes.size() - (version == '2' ? 40 : 24));
   bytes[7] = version;
   uint64_t h = 0xcbf29ce484222325ull;
   for (const char c : bytes) {
@@ -262,26 +264,32 @@ std::string olderFormat(const ProgressState& s, char version) {
   return bytes;
 }
 
-// States of format versions 2 (before settled groups) and 3 (before the sun's direct part) still read, as one
-// channel.
-TEST(ProgressStateTest, ReadsVersion2And3StatesAsOneChannel) {
+// States of format versions 2 (before settled groups), 3 (before the sun's direct part) and 4 (before every
+// point's samples) still read, 2 and 3 as one channel; the last pass's points become its samples.
+TEST(ProgressStateTest, ReadsVersion2To4States) {
   ProgressState s;
   s.pointCount = 2;
   s.replicates = 1;
   s.samplesPerPoint = 16;
   s.passes = 1;
+  s.lastPassSamples = 16;
   s.sums.assign(4, dvec3(1.0, 2.0, 3.0));
-  s.lastPassPoints = 2;
+  s.lastPassPointSamples = 2;  // written where formats 3 and 4 keep the last pass's point count
   const ProgressState v2 = deserializeProgressState(olderFormat(s, '2'), "old.bin");
   EXPECT_EQ(v2.samplesPerPoint, 16u);
   EXPECT_EQ(v2.sums.size(), 4u);
   EXPECT_EQ(v2.channels, 1u);
   EXPECT_TRUE(v2.settledSamples.empty());
-  EXPECT_EQ(v2.lastPassPoints, 0u);
-  const ProgressState v3 = deserializeProgressState(olderFormat(s, '3'), "old.bin");
-  EXPECT_EQ(v3.channels, 1u);
-  EXPECT_EQ(v3.sums.size(), 4u);
-  EXPECT_EQ(v3.lastPassPoints, 2u);
+  EXPECT_EQ(v2.lastPassPointSamples, 0u);
+  EXPECT_TRUE(v2.pointSamples.empty());
+  for (const char version : {'3', '4'}) {
+    const ProgressState old = deserializeProgressState(olderFormat(s, version), "old.bin");
+    EXPECT_EQ(old.channels, 1u);
+    EXPECT_EQ(old.sums.size(), 4u);
+    EXPECT_EQ(old.lastPassPointSamples, 32u) << version;
+    EXPECT_TRUE(old.pointSamples.empty());
+    EXPECT_TRUE(old.passTakes.empty());
+  }
 }
 
 // A source that keeps a second quantity (the sun's direct part): its own smooth function of the same sample.
