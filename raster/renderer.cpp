@@ -995,6 +995,12 @@ void Renderer::copyDepth(unsigned& target, int x, int y, int width, int height) 
     glTextureParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
+  // Outside the copied rectangle (a planar reflector's pass draws its screen rectangle alone) the depth reads
+  // 1, nothing: not what an earlier frame or the driver's fresh memory left there.
+  if (x > 0 || y > 0 || width < int(width_) || height < int(height_)) {
+    const GLuint farDepthNoStencil = 0xffffff00u;  // GL_UNSIGNED_INT_24_8: depth in the high 24 bits
+    glClearTexImage(target, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, &farDepthNoStencil);
+  }
   glCopyImageSubData(gpu_->depth, GL_RENDERBUFFER, 0, x, y, 0, target, GL_TEXTURE_2D, 0, x, y, 0, width, height, 1);
 }
 

@@ -884,14 +884,20 @@ uniform vec4 uBlurView;
 // mirror direction (kSceneFragment's flyBlurLod uses the same bound): a point at distance D behind the mirror
 // along the reflected ray, E from the eye to the mirror, is spread over a radius of 2α · D / (E + D) in tan
 // units (2α · D metres orthographically); a box-filtered level k averages 2^k pixels. D is the nearest of
-// what the pixel and 24 pixels around it within the lobe's full width show (3 rings of 8): a pixel that
-// reflects the empty sky beside a near object receives that object's light spread by the object's distance,
-// not by the sky's (a gather blurs by the receiver's depth, light spreads by the source's).
+// what the pixel and 40 pixels around it within the lobe's full width show (5 rings of 8 at 1/16, 1/8, 1/4,
+// 1/2 and 1 of it) whose light reaches the pixel: a pixel that reflects the empty sky beside a near object
+// receives that object's light spread by the object's distance, not by the sky's (a gather blurs by the
+// receiver's depth, light spreads by the source's).
 float flyMirrorDistance(vec2 fragCoord, vec3 p, vec2 sizePx) {
   float z = texelFetch(uReflectionDepth, ivec2(clamp(fragCoord, vec2(0.0), sizePx - 1.0)), 0).r;
   if (z >= 1.0) return 1e30;
   vec4 q = uMirrorWorldFromClip * vec4(fragCoord / sizePx * 2.0 - 1.0, z * 2.0 - 1.0, 1.0);
   return distance(q.xyz / q.w, p);
+}
+// The radius (pixels) over which the lobe spreads the light of a point d metres behind the mirror at p.
+float flyMirrorSpreadPx(float d, vec3 p) {
+  return uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w * d / max(distance(uBlurView.xyz, p) + d, 1e-6)
+                           : -2.0 * uMirrorAlpha * d * uBlurView.w;
 }
 vec3 flyMirrorImage(vec3 p) {
   vec3 sharp = flyDecodeLuminance(texelFetch(uReflection, ivec2(gl_FragCoord.xy), 0).xy);
@@ -900,18 +906,20 @@ vec3 flyMirrorImage(vec3 p) {
   // The sky's radius (perspective), or a quarter of the image (orthographic), bounds the search.
   float widest = uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w : 0.25 * sizePx.y;
   float d = flyMirrorDistance(gl_FragCoord.xy, p, sizePx);
-  for (int ring = 1; ring <= 3; ++ring) {
+  // A point seen at a sample counts only where its own light reaches this pixel (its spread at least the
+  // sample's distance): light spreads by its source's depth, and a gather must not reach farther.
+  for (int ring = 0; ring < 5; ++ring) {
+    float offsetPx = widest * exp2(float(ring - 4));
     for (int k = 0; k < 8; ++k) {
       float a = (float(k) + 0.5 * float(ring)) * (kPi / 4.0);
-      d = min(d, flyMirrorDistance(gl_FragCoord.xy + widest * float(ring) / 3.0 * vec2(cos(a), sin(a)), p, sizePx));
+      float ds = flyMirrorDistance(gl_FragCoord.xy + offsetPx * vec2(cos(a), sin(a)), p, sizePx);
+      if (ds < 1e29 && flyMirrorSpreadPx(ds, p) >= offsetPx) d = min(d, ds);
     }
   }
-  float radiusPx = widest;
-  if (d < 1e29) {
-    radiusPx = uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w * d / max(distance(uBlurView.xyz, p) + d, 1e-6)
-                                 : -2.0 * uMirrorAlpha * d * uBlurView.w;
-  }
-  return textureLod(uReflectionBlurred, gl_FragCoord.xy / sizePx, log2(max(2.0 * radiusPx, 1.0))).rgb;
+  // Nothing whose light reaches here but the sky (or what lies outside the mirrored pass's rectangle), which
+  // is smooth: the image is read as it is.
+  if (d >= 1e29) return sharp;
+  return textureLod(uReflectionBlurred, gl_FragCoord.xy / sizePx, log2(max(2.0 * flyMirrorSpreadPx(d, p), 1.0))).rgb;
 }
 #endif
 #ifdef FLY_BLEND_PASS
