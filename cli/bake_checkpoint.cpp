@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "base/error.h"
+#include "base/fnv1a.h"
 #include "base/file_io.h"
 #include "cli/command.h"
 
@@ -23,11 +24,7 @@ constexpr int kVersion = 1;
 class Fnv1a {
  public:
   void bytes(const void* data, size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) {
-      hash_ ^= p[i];
-      hash_ *= 0x100000001b3ull;
-    }
+    hash_ = fnv1a(data, size, hash_);
   }
   template <class T>
   void value(const T& v) {
@@ -52,7 +49,7 @@ class Fnv1a {
   uint64_t hash() const { return hash_; }
 
  private:
-  uint64_t hash_ = 0xcbf29ce484222325ull;
+  uint64_t hash_ = kFnv1aOffsetBasis;
 };
 
 std::string hex(uint64_t x) {

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "base/error.h"
+#include "base/fnv1a.h"
 
 namespace fly::raytracer {
 namespace {
@@ -482,16 +483,6 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
 
 namespace {
 
-// FNV-1a, 64 bit (Fowler, Noll & Vo; IETF draft-eastlake-fnv).
-uint64_t fnv1a(const std::string& bytes, size_t count) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (size_t i = 0; i < count; ++i) {
-    h ^= static_cast<unsigned char>(bytes[i]);
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
 // Version 5 adds every point's samples and the points of the pass in progress (allocation by error), and
 // counts the last pass in samples rather than points; version 4 added the channel count (the sun's direct
 // part); version 3 the settled groups and the last pass's point count. Versions 2 to 4 are still read, 2 and
@@ -538,7 +529,7 @@ std::string serializeProgressState(const ProgressState& s) {
   for (uint32_t v : s.pointSamples) put(out, v);
   put(out, static_cast<uint64_t>(s.passTakes.size()));
   out.append(reinterpret_cast<const char*>(s.passTakes.data()), s.passTakes.size());
-  put(out, fnv1a(out, out.size()));
+  put(out, fnv1a(out));
   return out;
 }
 
@@ -557,7 +548,7 @@ ProgressState deserializeProgressState(const std::string& bytes, const std::stri
     throw bad("it does not start with the fly progress-state tag");
   uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes, bytes.size() - 8) != stored)
+  if (fnv1a(bytes.data(), bytes.size() - 8) != stored)
     throw bad("its checksum does not match (truncated or corrupt)");
   size_t at = sizeof kStateTag;
   auto get = [&](auto& value) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "base/fnv1a.h"
 #include "cli/bake_checkpoint.h"
 #include "raytracer/progressive.h"
 #include "tests/fuzz/fuzz_support.h"
@@ -18,15 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace fly;
-
-uint64_t fnv1a(std::string_view bytes) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
 
 // A state of 2 points with 4 replicates, one pass of 8 samples done.
 std::string validState() {

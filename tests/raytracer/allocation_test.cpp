@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "base/fnv1a.h"
 #include "raytracer/progressive.h"
 
 namespace fly::raytracer {
@@ -201,11 +202,7 @@ std::string asFormat4(ProgressState s) {
   std::string bytes = serializeProgressState(s);
   bytes.resize(bytes.size() - 8 - 16);  // the checksum and two empty lists
   bytes[7] = '4';
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ull;
-  }
+  const uint64_t h = fnv1a(bytes);
   bytes.append(reinterpret_cast<const char*>(&h), sizeof h);
   return bytes;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/fnv1a.h"
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/progressive.h"
@@ -255,11 +256,7 @@ std::string olderFormat(const ProgressState& s, char version) {
   if (version != '4') bytes.erase(8 + 8 + 4, 4);
   bytes.resize(bytes.size() - (version == '2' ? 40 : 24));
   bytes[7] = version;
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ull;
-  }
+  const uint64_t h = fnv1a(bytes);
   bytes.append(reinterpret_cast<const char*>(&h), sizeof h);
   return bytes;
 }
