@@ -1421,7 +1421,6 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(firstIndex * sizeof(uint32_t)));
     };
-    auto drawPerVertex = [&] { drawVisibleChunks(); };
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     auto bindScene = [&] {
@@ -1452,7 +1451,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       if (gpu_->perVertexIndexCount > 0) {
         const SceneProgram& p = use(variant);
         if (variant & kVariantGlass) glUniform1i(p.glassPass, 0);  // everything but the glass
-        drawPerVertex();
+        drawVisibleChunks();
       }
       uint32_t current = ~0u;
       const SceneProgram* program = nullptr;
@@ -1511,7 +1510,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       if (variant & kVariantFrosted) prepareFrostedGlass(widthPx, heightPx);
       const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
-      drawPerVertex();
+      drawVisibleChunks();
     }
     if (v.alphaBlend) {
       // Blended surfaces, after everything else, back to front by their meshes' centres' view depth, without
