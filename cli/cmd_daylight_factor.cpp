@@ -35,12 +35,6 @@ struct DaylightFactorOptions {
   SamplingOptions sampling;
 };
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 int runDaylightFactor(const DaylightFactorOptions& o) {
   const GridSpec grid = parseSensorOptions(o.points, o.grid, o.area);  // bad values fail before the load
   o.image.check(!o.grid.empty());
@@ -79,7 +73,7 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
     const raytracer::IrradianceEstimate& e = result.points[i];
     percent.push_back(100.0 * luminance(e.meanLux) / outsideLux);
     stdErrorPercent.push_back(100.0 * luminance(e.stdErrorLux) / outsideLux);
-    csv += sensors.lines[i] + "," + number(percent.back()) + "," + number(stdErrorPercent.back()) + "\n";
+    csv += sensors.lines[i] + "," + csvNumber(percent.back()) + "," + csvNumber(stdErrorPercent.back()) + "\n";
   }
   const DaylightFactorSummary s = summarizeDaylightFactors(percent, stdErrorPercent);
   char summary[160];
@@ -87,9 +81,9 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
                 s.meanPercent, s.meanStdErrorPercent, s.minPercent, s.uniformity);
   if (!o.image.path.empty()) {
     PlanContent plan;
-    plan.title = "Daylight factor, %, on a work plane " + number(grid.heightM) + " m above the floor";
+    plan.title = "Daylight factor, %, on a work plane " + csvNumber(grid.heightM) + " m above the floor";
     plan.subtitle =
-        o.scene + "  ·  CIE overcast sky, no sun, unobstructed horizontal " + number(outsideLux) + " lx";
+        o.scene + "  ·  CIE overcast sky, no sun, unobstructed horizontal " + csvNumber(outsideLux) + " lx";
     plan.unit = "%";
     plan.values = percent;
     plan.defaultMax = 100.0;  // an unobstructed point; above it only noise (and light reflected up)
@@ -99,7 +93,7 @@ int runDaylightFactor(const DaylightFactorOptions& o) {
     plan.settings.emplace_back("fly:sky",
                                "CIE overcast sky, L = Lz (1 + 2 cos θ)/3, no sun; unobstructed "
                                "horizontal illuminance " +
-                                   number(outsideLux) + " lux");
+                                   csvNumber(outsideLux) + " lux");
     plan.settings.emplace_back("fly:quantity", "daylight factor, %");
     for (const std::string& line : writePlanImage(o.image, gridded, plan, storeys, rdb, scene))
       std::fprintf(stderr, "image: %s\n", line.c_str());

@@ -37,12 +37,6 @@ struct IlluminanceOptions {
   DaylightOptions daylight;
 };
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 int runIlluminance(const IlluminanceOptions& o) {
   const GridSpec grid = parseSensorOptions(o.points, o.grid, o.area);  // bad values fail before the load
   o.image.check(!o.grid.empty());
@@ -74,11 +68,11 @@ int runIlluminance(const IlluminanceOptions& o) {
     // The luminance of the per-channel standard errors: exact when the channels' errors are fully correlated
     // (as they are for white light), otherwise a slight overestimate.
     csv +=
-        sensors.lines[i] + "," + number(luminance(e.meanLux)) + "," + number(luminance(e.stdErrorLux)) + "\n";
+        sensors.lines[i] + "," + csvNumber(luminance(e.meanLux)) + "," + csvNumber(luminance(e.stdErrorLux)) + "\n";
   }
   if (!o.image.path.empty()) {
     PlanContent plan;
-    plan.title = "Illuminance, lux, on a work plane " + number(grid.heightM) + " m above the floor";
+    plan.title = "Illuminance, lux, on a work plane " + csvNumber(grid.heightM) + " m above the floor";
     plan.unit = "lx";
     for (const raytracer::IrradianceEstimate& e : result.points) plan.values.push_back(luminance(e.meanLux));
     plan.settings = daylightSettings(scene);

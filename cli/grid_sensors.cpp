@@ -12,12 +12,6 @@ namespace fly::cli {
 
 namespace {
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 // The most sensors --grid may place: beyond this a spacing is surely a slip (10^6 sensors take minutes).
 constexpr double kMaxGridSensors = 1e6;
 
@@ -61,9 +55,9 @@ GridSensors gridSensors(const std::string& spec, const GridSpec& g, const std::s
                         const rdb::TraceRdb& rdb, const raytracer::EmbreeScene& embree) {
   const double columns = raytracer::floorGridColumnCount(rdb, g.spacingM);
   if (columns > kMaxGridSensors) {
-    throw UsageError("--grid " + spec + ": a spacing of " + number(g.spacingM) + " m gives " +
-                     number(columns) + " grid columns over the scene's " + number(rdb.boundsM.size().x) +
-                     " m × " + number(rdb.boundsM.size().z) +
+    throw UsageError("--grid " + spec + ": a spacing of " + csvNumber(g.spacingM) + " m gives " +
+                     csvNumber(columns) + " grid columns over the scene's " + csvNumber(rdb.boundsM.size().x) +
+                     " m × " + csvNumber(rdb.boundsM.size().z) +
                      " m, more than the limit of 10^6 sensors; give a larger spacing");
   }
   std::vector<raytracer::GridSensor> grid = raytracer::floorSensorGrid(rdb, embree, g.heightM, g.spacingM);
@@ -80,7 +74,7 @@ GridSensors gridSensors(const std::string& spec, const GridSpec& g, const std::s
   if (grid.empty()) {
     throw InputError(
         {scenePath},
-        "--grid " + spec + ": the scene has no floor with " + number(g.heightM) +
+        "--grid " + spec + ": the scene has no floor with " + csvNumber(g.heightM) +
             " m of free space above it" + (g.areaM ? " within --area" : ""),
         "a floor is a surface facing up (within 25.8° of +Y); give a smaller height or use --points");
   }
@@ -89,8 +83,8 @@ GridSensors gridSensors(const std::string& spec, const GridSpec& g, const std::s
   SensorTable& t = out.table;
   t.header = "x,y,z,nx,ny,nz";
   for (const raytracer::GridSensor& s : grid) {
-    t.lines.push_back(number(s.positionM.x) + "," + number(s.positionM.y) + "," + number(s.positionM.z) +
-                      "," + number(s.normal.x) + "," + number(s.normal.y) + "," + number(s.normal.z));
+    t.lines.push_back(csvNumber(s.positionM.x) + "," + csvNumber(s.positionM.y) + "," + csvNumber(s.positionM.z) +
+                      "," + csvNumber(s.normal.x) + "," + csvNumber(s.normal.y) + "," + csvNumber(s.normal.z));
     t.positionsM.push_back(s.positionM);
     t.normals.push_back(s.normal);
     out.floorHeightsM.push_back(s.floorHeightM);

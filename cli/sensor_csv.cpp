@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "base/error.h"
@@ -15,6 +16,12 @@ std::vector<std::string> splitCsvFields(const std::string& line) {
   while (std::getline(s, field, ',')) fields.push_back(field);
   if (!line.empty() && line.back() == ',') fields.emplace_back();
   return fields;
+}
+
+std::string csvNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 std::string trimBlanks(const std::string& s) {

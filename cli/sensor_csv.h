@@ -21,6 +21,9 @@ struct SensorTable {
 // The comma-separated fields of one line, as written (an empty last field after a trailing comma included).
 std::vector<std::string> splitCsvFields(const std::string& line);
 
+// `v` as the sensor files and fly's sensor outputs write numbers: 6 significant digits (%.6g).
+std::string csvNumber(double v);
+
 // `s` without leading and trailing blanks (space, tab, carriage return).
 std::string trimBlanks(const std::string& s);
 
