@@ -50,4 +50,17 @@ inline float ggxVisibleReflectionPdf(const vec3& wo, const vec3& h, float a2) {
   return ggxD(h.z, a2) * ggxSmithG1(wo.z, a2) / (4.0f * wo.z);
 }
 
+// The GGX widths (α along the tangent, α along the bitangent) of a lobe of isotropic width α (= glossiness²)
+// and the SDB's anisotropy values u, v ∈ [0, 1] (sdb/material.h: the larger, the wider the lobe along that
+// axis; equal values are isotropic). Burley's aspect ratio ("Physically-based shading at Disney", SIGGRAPH
+// 2012 course notes, §5.4), aspect = √(1 − 0.9 |u − v|): the wider axis gets α / aspect, the narrower
+// α · aspect, so α_t α_b = α² (the lobe's solid angle stays about that of the isotropic lobe) and the
+// ratio of the widths reaches 1/0.1 = 10 at |u − v| = 1. Shared by the baker (raytracer/bsdf.h) and the GL
+// engine's shaders (raster/shaders), which must agree.
+inline vec2 ggxAnisotropicAlphas(float alpha, float anisotropyU, float anisotropyV) {
+  const float d = std::clamp(anisotropyU - anisotropyV, -1.0f, 1.0f);
+  const float aspect = std::sqrt(1.0f - 0.9f * std::abs(d));
+  return d >= 0.0f ? vec2(alpha / aspect, alpha * aspect) : vec2(alpha * aspect, alpha / aspect);
+}
+
 }  // namespace fly
