@@ -665,6 +665,58 @@ Model openSurfaces() {
   return m;
 }
 
+// 5. two-storey: a two-storey block 6 m (x) × 8 m (z), 5.8 m high, of inward-facing surfaces without
+// thickness (as box-room): a ground floor (floor y = 0, ceiling 2.8 m) and an upper floor (floor 3.0 m,
+// ceiling 5.8 m) with windows south (+Z) and west (−X) on both storeys. The scene for per-storey plans.
+Model twoStorey() {
+  Model m{.name = "two-storey"};
+  m.materials = {
+      {.name = "Floor", .baseColor = {0.45f, 0.32f, 0.20f}, .roughness = 0.5f},
+      {.name = "Wall", .baseColor = {0.80f, 0.80f, 0.78f}},
+      {.name = "Ceiling", .baseColor = {0.85f, 0.85f, 0.85f}},
+      {.name = "Glass",
+       .baseColor = {1.0f, 1.0f, 1.0f},
+       .roughness = 0.0f,
+       .doubleSided = true,
+       .transmission = 1.0f,
+       .ior = 1.52f},
+  };
+  constexpr double kCell = 0.4;
+  constexpr double kGroundCeilingY = 2.8, kUpperFloorY = 3.0;
+  const dvec3 lo{-3.0, 0.0, -4.0}, hi{3.0, 5.8, 4.0};
+  // Openings in each facade's panel coordinates (boxFace: south u = x, west u = z; v = y).
+  const std::vector<Rect> south{{-2.0, -0.5, 0.9, 2.3}, {0.5, 2.0, 0.9, 2.3}, {-2.0, 2.0, 3.9, 5.3}};
+  const std::vector<Rect> west{{-2.0, 0.0, 0.9, 2.3}, {0.0, 2.0, 3.9, 5.3}};
+  const int building = m.addNode({.name = "Building"});
+  const auto inward = [&](dvec3 boxLo, dvec3 boxHi, Face f, std::vector<Rect> holes = {}) {
+    Panel p = boxFace(boxLo, boxHi, f);
+    p.back = true;
+    p.holes = std::move(holes);
+    p.vBreaks = {kGroundCeilingY, kUpperFloorY};
+    return p;
+  };
+  const int floors = m.meshOf(m.addMeshNode("Floors", building));
+  addPanel(m.prim(floors, "Floor"), inward(lo, hi, Face::kNegY), kCell);
+  addPanel(m.prim(floors, "Floor"), inward({lo.x, kUpperFloorY, lo.z}, hi, Face::kNegY), kCell);
+  const int ceilings = m.meshOf(m.addMeshNode("Ceilings", building));
+  addPanel(m.prim(ceilings, "Ceiling"), inward(lo, {hi.x, kGroundCeilingY, hi.z}, Face::kPosY), kCell);
+  addPanel(m.prim(ceilings, "Ceiling"), inward(lo, hi, Face::kPosY), kCell);
+  const int walls = m.meshOf(m.addMeshNode("Walls", building));
+  addPanel(m.prim(walls, "Wall"), inward(lo, hi, Face::kPosZ, south), kCell);
+  addPanel(m.prim(walls, "Wall"), inward(lo, hi, Face::kNegX, west), kCell);
+  for (Face f : {Face::kPosX, Face::kNegZ}) addPanel(m.prim(walls, "Wall"), inward(lo, hi, f), kCell);
+  // The panes fill the openings in the walls' planes; their fronts face out.
+  Primitive& panes = m.prim(m.meshOf(m.addMeshNode("Windows", building)), "Glass");
+  for (const auto& [face, openings] : {std::pair{Face::kPosZ, south}, std::pair{Face::kNegX, west}}) {
+    for (const Rect& o : openings) {
+      Panel pane = boxFace(lo, hi, face);
+      std::tie(pane.u0, pane.u1, pane.v0, pane.v1) = std::tuple{o.u0, o.u1, o.v0, o.v1};
+      addPanel(panes, pane, kCell);
+    }
+  }
+  return m;
+}
+
 // -----------------------------------------------------------------------------------------------------------
 // glTF writing
 
@@ -948,7 +1000,7 @@ int main(int argc, char** argv) {
   }
   try {
     const fs::path outDir = argv[1];
-    for (const Model& model : {boxRoom(), cornellBox(), house(), openSurfaces()}) {
+    for (const Model& model : {boxRoom(), cornellBox(), house(), openSurfaces(), twoStorey()}) {
       const Counts c = check(writeModel(model, outDir / model.name));
       std::printf("%-14s %5zu triangles %6zu vertices %3zu materials %3zu nodes\n", model.name.c_str(),
                   c.triangles, c.vertices, model.materials.size(), model.nodes.size());
