@@ -143,6 +143,17 @@ class Bsdf {
   float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
   bool covered() const { return coverage_ >= 1.0f; }
+  // The glossy reflection lobe's D G2 / (4 cos θo cos θi) and its sampling density per steradian (ωo, ωi
+  // above the surface), isotropic or anisotropic; h receives the half vector.
+  float reflectionLobe(const vec3& wo, const vec3& wi, vec3& h, float& pdf) const;
+  // A local direction in the anisotropy's frame, whose +x is the U axis (the local +x turned by the rotation
+  // towards +y), and back.
+  vec3 toLobe(const vec3& v) const {
+    return vec3(rotationCos_ * v.x + rotationSin_ * v.y, rotationCos_ * v.y - rotationSin_ * v.x, v.z);
+  }
+  vec3 fromLobe(const vec3& v) const {
+    return vec3(rotationCos_ * v.x - rotationSin_ * v.y, rotationSin_ * v.x + rotationCos_ * v.y, v.z);
+  }
   // Lobe choice probabilities at cos θo: diffuse (or the measured lobe), reflection, transmission, passing
   // uncovered (sum 1 unless black).
   vec4 lobeProbabilities(float cosO) const;
@@ -154,6 +165,13 @@ class Bsdf {
   float f0_ = 0.0f;
   bool fresnel_ = true;
   float alphaR_ = 0.0f;  // GGX α of reflection, 0 = mirror
+  // Anisotropic reflection (α_R > 0 and unequal widths): the GGX widths along the U and V axes
+  // (ggxAnisotropicAlphas), and the rotation of U from the local +x towards +y.
+  bool anisotropic_ = false;
+  float alphaU_ = 0.0f;
+  float alphaV_ = 0.0f;
+  float rotationCos_ = 1.0f;
+  float rotationSin_ = 0.0f;
   float alphaT_ = 0.0f;  // GGX α of transmission, 0 = clear
   bool hasDiffuse_ = false;
   bool hasReflection_ = false;

@@ -250,7 +250,7 @@ class Integrator {
     // For light sampling of the sun and punctual lights: bsdf, or without caustics its regularised twin
     // (IntegratorSettings::caustics); null at the sensor.
     const Bsdf* deltaLightBsdf;
-    Onb frame;     // around n (surface vertices)
+    Onb frame;     // around n (surface vertices; shadingFrameAt)
     vec3 woLocal;  // towards the previous vertex, in frame (surface vertices)
   };
 
