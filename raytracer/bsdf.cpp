@@ -62,8 +62,8 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const Me
   f0_ = q * q;
   alphaR_ = alphaOf(m.reflectionGlossiness);
   if (alphaR_ > 0.0f && m.anisotropyU != m.anisotropyV) {
-    const vec2 widths =
-        ggxAnisotropicAlphas(alphaR_, std::clamp(m.anisotropyU, 0.0f, 1.0f), std::clamp(m.anisotropyV, 0.0f, 1.0f));
+    const vec2 widths = ggxAnisotropicAlphas(alphaR_, std::clamp(m.anisotropyU, 0.0f, 1.0f),
+                                             std::clamp(m.anisotropyV, 0.0f, 1.0f));
     anisotropic_ = widths.x != widths.y;
     alphaU_ = widths.x;
     alphaV_ = widths.y;

@@ -23,6 +23,14 @@
 //     (4 cos θo cos θi); its albedo is close to R(θ) for smooth lobes and below it for rough ones (single
 //     scattering loses energy), sampled by the distribution of visible normals (Heitz, "Sampling the GGX
 //     distribution of visible normals", JCGT 7(4), 2018).
+//     Anisotropic (anisotropyU ≠ anisotropyV, sdb/material.h): the same lobe with the GGX widths α_U, α_V of
+//     ggxAnisotropicAlphas (base/ggx.h: α / a and α a, a = √(1 − 0.9 |u − v|), so α_U α_V = α²) along the
+//     axes U, V: the local +x (the surface's tangent, when the integrator builds the frame from the tangents:
+//     surface_point.h, shadingFrameAt) turned by anisotropyRotationRad towards +y (the bitangent), and V a
+//     further quarter turn. D and Λ are the anisotropic ones (Λ with the width projected on a direction's
+//     azimuth), the visible normals are sampled by Heitz 2018's stretch by (α_U, α_V); eval, pdf and sample
+//     stay consistent and reciprocal, and equal values are the isotropic lobe exactly. A mirror (α below
+//     kSmoothAlpha) stays a mirror, and frosted transmission stays isotropic.
 //   - Transmission: thin-walled, as daylighting tools model a window pane (Radiance's `glass` material:
 //     Ward, "The RADIANCE lighting simulation and rendering system", SIGGRAPH 1994): light passes straight
 //     through with no refraction offset, transmittance T(θ) = t (1 − r F(θ)) (the energy rule; for a preset
@@ -54,7 +62,7 @@
 // applies as above.
 //
 // A Bsdf holds one point's colours: the integrator builds one per material, or per ray hit for materials that
-// vary over their surface (raytracer/surface_point.h). Anisotropy is not modelled.
+// vary over their surface (raytracer/surface_point.h: textured anisotropy and rotation included).
 #pragma once
 
 #include <algorithm>

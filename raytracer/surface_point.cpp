@@ -142,9 +142,9 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
     out.anisotropyV = uv.g;
   }
   if (m.anisotropyRotationTexture) {
-    out.anisotropyRotationRad =
-        2.0f * kPiF *
-        sampleTexture(rdb, m.anisotropyRotationTexture, slotUv(rdb, m.anisotropyRotationTexture, at), false).r;
+    const vec4 turns =
+        sampleTexture(rdb, m.anisotropyRotationTexture, slotUv(rdb, m.anisotropyRotationTexture, at), false);
+    out.anisotropyRotationRad = 2.0f * kPiF * turns.r;
   }
   out.emissionCdM2 = emissionAt(rdb, m, at);
   out.diffuseColor = glm::clamp(diffuse, 0.0f, 1.0f);

@@ -1,8 +1,9 @@
 // A material at a point of a surface: texture lookups (bilinear, glTF wrap modes, KHR_texture_transform, sRGB
 // decoding), COLOR_0, alpha coverage, the TraceMaterial whose colours are those of the point (the realistic
 // material's energy rule applied to them there), the shading normal (interpolated vertex normals and
-// normal maps) and the shading frame (the tangents of anisotropic materials). What the integrator evaluates at a ray hit on a material that varies over its surface, and
-// what the Embree filter asks of an alpha cut-out.
+// normal maps) and the shading frame (the tangents of anisotropic materials). What the integrator evaluates
+// at a ray hit on a material that varies over its surface, and what the Embree filter asks of an alpha
+// cut-out.
 #pragma once
 
 #include <cstdint>

@@ -71,8 +71,8 @@ struct TraceMaterial {
   float reflectionGlossiness = 0.5f;    // [0,1], GGX α = glossiness²
   // Anisotropy of the glossy reflection (sdb::Material), each in [0,1]: the lobe's GGX widths along the U and
   // V axes are ggxAnisotropicAlphas(α, anisotropyU, anisotropyV) (base/ggx.h); U is the surface's tangent
-  // turned about the normal by anisotropyRotationRad towards the bitangent (TraceRdb::tangents), V is U turned
-  // by a further quarter turn. Equal values: isotropic.
+  // turned about the normal by anisotropyRotationRad towards the bitangent (TraceRdb::tangents), V is U
+  // turned by a further quarter turn. Equal values: isotropic.
   float anisotropyU = 0.0f;
   float anisotropyV = 0.0f;
   float anisotropyRotationRad = 0.0f;

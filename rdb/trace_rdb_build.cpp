@@ -351,12 +351,15 @@ class Builder {
                                                                 : tmat.anisotropyRotationTexture;
       const std::vector<vec2>& uv = uvSlot.texCoord == 1 ? mesh.uv1 : mesh.uv0;
       if (tangents.empty() && uv.size() != mesh.vertexCount() && tmat.isAnisotropic()) {
-        log::warn("mesh \"" + mesh.name + "\": its material \"" + scene_.material(mesh.material).name +
-                  "\" reflects anisotropically along the surface's tangent, but the mesh has neither tangents "
-                  "nor TEXCOORD_" + std::to_string(uvSlot.texCoord == 1 ? 1 : 0) +
-                  " to give its direction; the baker uses an arbitrary tangent (add UVs or tangents)");
+        log::warn(
+            "mesh \"" + mesh.name + "\": its material \"" + scene_.material(mesh.material).name +
+            "\" reflects anisotropically along the surface's tangent, but the mesh has neither tangents "
+            "nor TEXCOORD_" +
+            std::to_string(uvSlot.texCoord == 1 ? 1 : 0) +
+            " to give its direction; the baker uses an arbitrary tangent (add UVs or tangents)");
       }
-      const std::vector<vec4> generated = generateTangents(placed.positionsM, placed.normals, uv, placed.indices);
+      const std::vector<vec4> generated =
+          generateTangents(placed.positionsM, placed.normals, uv, placed.indices);
       if (tangents.empty()) {
         tangents = generated;
       } else {

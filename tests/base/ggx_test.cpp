@@ -74,12 +74,13 @@ TEST(Ggx, EqualWidthsReduceToTheIsotropicFunctions) {
         const vec3 w = direction(thetaDeg * kPi / 180.0, phiDeg * kPi / 180.0);
         EXPECT_NEAR(ggxDAnisotropic(w, alpha, alpha), ggxD(w.z, a2), rel * ggxD(w.z, a2) + 1e-6f)
             << alpha << " " << thetaDeg;
-        EXPECT_NEAR(ggxLambdaAnisotropic(w, alpha, alpha), ggxLambda(w.z, a2), 2e-5f * ggxLambda(w.z, a2) + 1e-6f)
+        EXPECT_NEAR(ggxLambdaAnisotropic(w, alpha, alpha), ggxLambda(w.z, a2),
+                    2e-5f * ggxLambda(w.z, a2) + 1e-6f)
             << alpha << " " << thetaDeg;
         const vec3 h = direction(0.3 * thetaDeg * kPi / 180.0, (phiDeg + 17.0) * kPi / 180.0);
         if (w.z > 0.05f) {
-          EXPECT_NEAR(ggxVisibleReflectionPdfAnisotropic(w, h, alpha, alpha), ggxVisibleReflectionPdf(w, h, a2),
-                      rel * ggxVisibleReflectionPdf(w, h, a2));
+          EXPECT_NEAR(ggxVisibleReflectionPdfAnisotropic(w, h, alpha, alpha),
+                      ggxVisibleReflectionPdf(w, h, a2), rel * ggxVisibleReflectionPdf(w, h, a2));
         }
       }
     }
@@ -104,8 +105,10 @@ TEST(Ggx, AnisotropicDIsTheIsotropicDAlongEachAxis) {
                 1e-4f * ggxD(float(std::cos(t)), ax * ax) * ax / ay);
     EXPECT_NEAR(ggxDAnisotropic(direction(t, kPi / 2), ax, ay), ggxD(float(std::cos(t)), ay * ay) * ay / ax,
                 1e-4f * ggxD(float(std::cos(t)), ay * ay) * ay / ax);
-    EXPECT_NEAR(ggxLambdaAnisotropic(direction(t, 0.0), ax, ay), ggxLambda(float(std::cos(t)), ax * ax), 1e-5f);
-    EXPECT_NEAR(ggxLambdaAnisotropic(direction(t, kPi / 2), ax, ay), ggxLambda(float(std::cos(t)), ay * ay), 1e-5f);
+    EXPECT_NEAR(ggxLambdaAnisotropic(direction(t, 0.0), ax, ay), ggxLambda(float(std::cos(t)), ax * ax),
+                1e-5f);
+    EXPECT_NEAR(ggxLambdaAnisotropic(direction(t, kPi / 2), ax, ay), ggxLambda(float(std::cos(t)), ay * ay),
+                1e-5f);
   }
 }
 
@@ -117,16 +120,20 @@ TEST(Ggx, AnisotropicDensitiesIntegrateToOne) {
   };
   const std::vector<Widths> cases = {{0.1652f, 0.0908f}, {0.5f, 0.05f}, {0.05f, 0.3f}, {1.2f, 0.4f}};
   for (const Widths& c : cases) {
-    const double projected = hemisphereIntegral([&](const vec3& h) { return ggxDAnisotropic(h, c.ax, c.ay) * h.z; });
+    const double projected =
+        hemisphereIntegral([&](const vec3& h) { return ggxDAnisotropic(h, c.ax, c.ay) * h.z; });
     EXPECT_NEAR(projected, 1.0, 2e-3) << c.ax << " × " << c.ay;
     for (double thetaDeg : {0.0, 40.0, 75.0, 88.0}) {
       for (double phiDeg : {0.0, 30.0, 90.0}) {
         const vec3 wo = direction(thetaDeg * kPi / 180.0, phiDeg * kPi / 180.0);
         const float g1 = 1.0f / (1.0f + ggxLambdaAnisotropic(wo, c.ax, c.ay));
         const double visible = hemisphereIntegral(
-            [&](const vec3& h) { return g1 * std::max(0.0f, glm::dot(wo, h)) * ggxDAnisotropic(h, c.ax, c.ay) / wo.z; },
+            [&](const vec3& h) {
+              return g1 * std::max(0.0f, glm::dot(wo, h)) * ggxDAnisotropic(h, c.ax, c.ay) / wo.z;
+            },
             2000, 256);
-        EXPECT_NEAR(visible, 1.0, 4e-3) << c.ax << " × " << c.ay << ", θo " << thetaDeg << "°, φo " << phiDeg << "°";
+        EXPECT_NEAR(visible, 1.0, 4e-3)
+            << c.ax << " × " << c.ay << ", θo " << thetaDeg << "°, φo " << phiDeg << "°";
       }
     }
   }
@@ -135,7 +142,8 @@ TEST(Ggx, AnisotropicDensitiesIntegrateToOne) {
 // Extreme widths and directions give finite, non-negative values.
 TEST(Ggx, AnisotropicFunctionsStayFinite) {
   for (const vec2& a : {vec2(1e-3f, 3.2e-4f), vec2(3.2f, 0.32f), vec2(1e-3f, 3.2f)}) {
-    for (const vec3& w : {vec3(0, 0, 1), glm::normalize(vec3(1, 0, 1e-6f)), glm::normalize(vec3(1, 1, 1e-3f))}) {
+    for (const vec3& w :
+         {vec3(0, 0, 1), glm::normalize(vec3(1, 0, 1e-6f)), glm::normalize(vec3(1, 1, 1e-3f))}) {
       EXPECT_TRUE(std::isfinite(ggxDAnisotropic(w, a.x, a.y)));
       EXPECT_GE(ggxDAnisotropic(w, a.x, a.y), 0.0f);
       EXPECT_TRUE(std::isfinite(ggxLambdaAnisotropic(w, a.x, a.y)));

@@ -373,7 +373,8 @@ TEST(Bsdf, AnisotropyRotationTurnsTheLobe) {
     if (wo.z < 1e-3f || wi.z < 1e-3f) continue;
     const float f = straight.eval(wo, wi).g;
     EXPECT_NEAR(rotated.eval(turned(wo, theta), turned(wi, theta)).g, f, 2e-4f * f + 1e-6f) << i;
-    EXPECT_NEAR(rotated.pdf(turned(wo, theta), turned(wi, theta)), straight.pdf(wo, wi), 2e-4f * straight.pdf(wo, wi) + 1e-6f);
+    EXPECT_NEAR(rotated.pdf(turned(wo, theta), turned(wi, theta)), straight.pdf(wo, wi),
+                2e-4f * straight.pdf(wo, wi) + 1e-6f);
     const float g = swapped.eval(wo, wi).g;
     EXPECT_NEAR(quarter.eval(wo, wi).g, g, 2e-4f * g + 1e-6f) << i;
   }
@@ -412,7 +413,8 @@ TEST(Bsdf, AnisotropicLobeIsWiderAlongTheLargerValue) {
     float lo = 0.0f, hi = 0.7f;
     for (int k = 0; k < 60; ++k) {
       const float mid = 0.5f * (lo + hi);
-      const vec3 wi(std::sin(2.0f * mid) * std::cos(phi), std::sin(2.0f * mid) * std::sin(phi), std::cos(2.0f * mid));
+      const vec3 wi(std::sin(2.0f * mid) * std::cos(phi), std::sin(2.0f * mid) * std::sin(phi),
+                    std::cos(2.0f * mid));
       (b.eval(wo, wi).g > 0.5f * peak ? lo : hi) = mid;
     }
     return std::tan(0.5f * (lo + hi));
@@ -486,10 +488,11 @@ TEST(Bsdf, AnisotropicAlbedoAgreesWithQuadratureAndTheIsotropicLobe) {
         const vec3 wo = turned(outgoing(cosO), phiO);
         const SampledAlbedo s = sampledAlbedo(b, wo);
         const double q = halfVectorQuadratureAlbedo(b, wo, narrowest);
-        std::cout << "[ albedo   ] " << c.name << ", cos θo " << cosO << ", φo " << phiO << ": sampled " << s.mean.g
-                  << " ± " << s.stdError.g << ", quadrature " << q << "\n";
+        std::cout << "[ albedo   ] " << c.name << ", cos θo " << cosO << ", φo " << phiO << ": sampled "
+                  << s.mean.g << " ± " << s.stdError.g << ", quadrature " << q << "\n";
         EXPECT_LE(s.mean.g, 1.0 + 4.0 * s.stdError.g) << c.name;
-        EXPECT_NEAR(s.mean.g, q, 4.0 * s.stdError.g + 2e-3 * q) << c.name << " cos θo " << cosO << " φo " << phiO;
+        EXPECT_NEAR(s.mean.g, q, 4.0 * s.stdError.g + 2e-3 * q)
+            << c.name << " cos θo " << cosO << " φo " << phiO;
         if (std::string(c.name).starts_with("brushed")) {
           const double iso = halfVectorQuadratureAlbedo(isotropicBrushed, wo, alpha);
           std::cout << "[ albedo   ]   isotropic of the same α_U α_V: " << iso << ", loss ratio "

@@ -1,6 +1,6 @@
 // Texture lookups against hand-computed texel values: wrap modes, bilinear weights, sRGB decoding,
-// KHR_texture_transform, channel layouts; coverage, shading normals, anisotropy textures and the tangent frame
-// at points.
+// KHR_texture_transform, channel layouts; coverage, shading normals, anisotropy textures and the tangent
+// frame at points.
 #include "raytracer/surface_point.h"
 
 #include <gtest/gtest.h>
@@ -212,10 +212,12 @@ TEST(SurfacePoint, AnisotropyTexturesAndTangentFrame) {
   EXPECT_FLOAT_EQ(l.material.anisotropyRotationRad, 0.3f);  // no rotation texture: the constant
   EXPECT_FALSE(l.material.hasTextures());
   m.anisotropyRotationTexture.texture = rotationTexture;
-  EXPECT_NEAR(materialAt(b.rdb, m, right).material.anisotropyRotationRad, 2.0f * kPiF * 64.0f / 255.0f, 1e-6f);
+  EXPECT_NEAR(materialAt(b.rdb, m, right).material.anisotropyRotationRad, 2.0f * kPiF * 64.0f / 255.0f,
+              1e-6f);
   // The points' Bsdfs differ as their texels say: at the left point the lobe is ten times wider along U than
   // along V, at the right one narrower.
-  const vec3 wo(0.0f, 0.0f, 1.0f), alongU(std::sin(0.2f), 0.0f, std::cos(0.2f)), alongV(0.0f, std::sin(0.2f), std::cos(0.2f));
+  const vec3 wo(0.0f, 0.0f, 1.0f), alongU(std::sin(0.2f), 0.0f, std::cos(0.2f)),
+      alongV(0.0f, std::sin(0.2f), std::cos(0.2f));
   rdb::TraceMaterial unrotated = l.material;
   unrotated.anisotropyRotationRad = 0.0f;
   const Bsdf bu(unrotated, true);
