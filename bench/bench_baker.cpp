@@ -11,14 +11,16 @@
 //   4. Memory: peak resident set size after the largest bake.
 //   5. Textures: the baker's rays/s on the scene of part 1 with textured ground and boxes (base colour
 //      textures, one box an alpha cut-out) against the same scene untextured.
-//   6. Measured BRDFs: nanoseconds per eval + pdf and per sample of a tabulated table's lobe and of the car-
-//      paint lobe against the analytic glossy Bsdf (diffuse + GGX), one thread; and the baker's rays/s on the
-//      scene of part 1 with a measured ground and car-paint boxes against the same scene with analytic ones.
+//   6. Measured BRDFs and anisotropy: nanoseconds per eval + pdf and per sample of a tabulated table's lobe,
+//      of the car-paint lobe and of the anisotropic GGX lobe against the analytic glossy Bsdf (diffuse +
+//      isotropic GGX), one thread; and the baker's rays/s on the scene of part 1 with a measured ground and
+//      car-paint boxes, and with anisotropic glossy materials (shaded in the tangent frame), against the same
+//      scene with isotropic glossy ones.
 //   7. Scaling in a sunlit interior (--part scaling-room): the room of part 1 tessellated to 20k and 1M
 //      triangles, 1 thread against all, with rays/s and peak memory.
 //
-// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|scaling-room|textures|measured]...   (--quick:
-// 10k triangles only (part 7: 20k), a smaller QMC reference; --part: only the parts named)
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|scaling-room|textures|measured]...
+// (--quick: 10k triangles only (part 7: 20k), a smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -48,6 +50,7 @@
 #include "raytracer/tabulated_lobe.h"
 #include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
+#include "rdb/trace_rdb_build.h"
 #include "rdb/trace_rdb_builder.h"
 
 namespace fly::raytracer {
@@ -372,7 +375,12 @@ void benchMeasured(uint32_t maxThreads) {
   measured.brdfTable = 0;
   rdb::TraceMaterial painted = glossy;
   painted.carPaint = paint;
+  rdb::TraceMaterial brushed = glossy;  // the brushed-metal preset's anisotropy, turned
+  brushed.anisotropyU = 0.6f;
+  brushed.anisotropyV = 0.1f;
+  brushed.anisotropyRotationRad = 0.3f;
   const Bsdf analytic(glossy, true);
+  const Bsdf anisotropicBsdf(brushed, true);
   const Bsdf tabulatedBsdf(measured, true, 1.0f, &tabulated);
   const Bsdf carPaintBsdf(painted, true, 1.0f, &carPaint);
 
@@ -391,9 +399,9 @@ void benchMeasured(uint32_t maxThreads) {
       "call, one thread, best of 3\n",
       1e3 * tabulatedBuildS, 1e3 * regulariseS, 1e3 * carPaintBuildS);
   double analyticEval = 0.0, analyticSample = 0.0;
-  for (const auto& [name, bsdf] : {std::pair{"analytic (diffuse + GGX)", &analytic},
-                                   std::pair{"measured table", &tabulatedBsdf},
-                                   std::pair{"car paint", &carPaintBsdf}}) {
+  for (const auto& [name, bsdf] :
+       {std::pair{"analytic (diffuse + GGX)", &analytic}, std::pair{"measured table", &tabulatedBsdf},
+        std::pair{"car paint", &carPaintBsdf}, std::pair{"anisotropic GGX", &anisotropicBsdf}}) {
     double evalNs = std::numeric_limits<double>::infinity(), sampleNs = evalNs;
     float sink = 0.0f;
     for (int r = 0; r < 3; ++r) {
@@ -424,8 +432,26 @@ void benchMeasured(uint32_t maxThreads) {
   withMeasured.materials[0].brdfTable = 0;
   withMeasured.materials[1].carPaint = paint;
   withMeasured.materials[2].carPaint = paint;
+  // Glossy materials (diffuse + GGX, glossiness 0.5) everywhere, isotropic and anisotropic: the second reads
+  // tangents (generated from the UVs) and shades in their frame.
+  rdb::TraceRdb withGlossy = plain;
+  for (rdb::TraceMaterial& m : withGlossy.materials) {
+    m.reflection = glossy.reflection;
+    m.reflectionGlossiness = glossy.reflectionGlossiness;
+    m.diffuse = normalIncidenceDiffuse(m);
+  }
+  rdb::TraceRdb withAnisotropic = withGlossy;
+  for (rdb::TraceMaterial& m : withAnisotropic.materials) {
+    m.anisotropyU = brushed.anisotropyU;
+    m.anisotropyV = brushed.anisotropyV;
+    m.anisotropyRotationRad = brushed.anisotropyRotationRad;
+  }
+  withAnisotropic.tangents = rdb::generateTangents(withAnisotropic.positionsM, withAnisotropic.normals,
+                                                   withAnisotropic.uv0, withAnisotropic.indices);
   const EmbreeScene plainScene(plain);
   const EmbreeScene measuredScene(withMeasured);
+  const EmbreeScene glossyScene(withGlossy);
+  const EmbreeScene anisotropicScene(withAnisotropic);
   std::printf("   baker, %zu triangles, %u samples per vertex, best of %d:\n", plain.triangleCount(), kSamples,
               kRepetitions);
   for (uint32_t threads : maxThreads > 1 ? std::vector<uint32_t>{1, maxThreads} : std::vector<uint32_t>{1}) {
@@ -438,6 +464,15 @@ void benchMeasured(uint32_t maxThreads) {
     }
     std::printf("   threads %u: analytic %.3g rays/s, measured %.3g rays/s: ratio %.2f\n", threads, plainRate,
                 measuredRate, measuredRate / plainRate);
+    double glossyRate = 0.0, anisotropicRate = 0.0;
+    for (int r = 0; r < kRepetitions; ++r) {
+      const VertexLightMaps g = bake(withGlossy, glossyScene, kSamples, threads);
+      const VertexLightMaps a = bake(withAnisotropic, anisotropicScene, kSamples, threads);
+      glossyRate = std::max(glossyRate, static_cast<double>(g.rays) / g.seconds);
+      anisotropicRate = std::max(anisotropicRate, static_cast<double>(a.rays) / a.seconds);
+    }
+    std::printf("   threads %u: isotropic glossy %.3g rays/s, anisotropic glossy %.3g rays/s: ratio %.2f\n",
+                threads, glossyRate, anisotropicRate, anisotropicRate / glossyRate);
   }
 }
 

@@ -101,6 +101,12 @@ uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb) {
     h.value(m.ior);
     h.value(m.reflectionGlossiness);
     h.value(m.transmissionGlossiness);
+    if (m.isAnisotropic()) {
+      // Only for anisotropic materials, so that isotropic scenes keep their fingerprints.
+      h.value(m.anisotropyU);
+      h.value(m.anisotropyV);
+      h.value(m.anisotropyRotationRad);
+    }
     h.value(m.doubleSided);
     h.value(m.brdfTable);
     h.value(m.carPaint.has_value());

@@ -20,6 +20,16 @@ float ggxReflection(const vec3& wo, const vec3& wi, float alpha, vec3& h, float&
   return d / ((1.0f + lambdaO + ggxLambda(wi.z, a2)) * 4.0f * wo.z * wi.z);
 }
 
+// The same for the anisotropic lobe of widths ax (along +x) and ay (along +y): wo, wi and h in the lobe's
+// frame.
+float ggxReflectionAnisotropic(const vec3& wo, const vec3& wi, float ax, float ay, vec3& h, float& pdf) {
+  h = glm::normalize(wo + wi);
+  const float d = ggxDAnisotropic(h, ax, ay);
+  const float lambdaO = ggxLambdaAnisotropic(wo, ax, ay);
+  pdf = d / ((1.0f + lambdaO) * 4.0f * wo.z);
+  return d / ((1.0f + lambdaO + ggxLambdaAnisotropic(wi, ax, ay)) * 4.0f * wo.z * wi.z);
+}
+
 float mean(const Rgb& c) {
   return (c.r + c.g + c.b) / 3.0f;
 }
@@ -51,6 +61,16 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const Me
   const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
   f0_ = q * q;
   alphaR_ = alphaOf(m.reflectionGlossiness);
+  if (alphaR_ > 0.0f && m.anisotropyU != m.anisotropyV) {
+    const vec2 widths = ggxAnisotropicAlphas(alphaR_, std::clamp(m.anisotropyU, 0.0f, 1.0f),
+                                             std::clamp(m.anisotropyV, 0.0f, 1.0f));
+    anisotropic_ = widths.x != widths.y;
+    alphaU_ = widths.x;
+    alphaV_ = widths.y;
+    const float rotationRad = std::isfinite(m.anisotropyRotationRad) ? m.anisotropyRotationRad : 0.0f;
+    rotationCos_ = std::cos(rotationRad);
+    rotationSin_ = std::sin(rotationRad);
+  }
   alphaT_ = alphaOf(m.transmissionGlossiness);
   // F is smallest at normal incidence (F0), so T(θ) > 0 somewhere iff t (1 − r F0) > 0.
   hasTransmission_ = maxComponent(transmission_ * (Rgb(1.0f) - reflection_ * fresnel(1.0f))) > 0.0f;
@@ -70,6 +90,14 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const Me
     }
   }
   hasDiffuse_ = maxComponent(diffuseKd_) > 0.0f;
+}
+
+float Bsdf::reflectionLobe(const vec3& wo, const vec3& wi, vec3& h, float& pdf) const {
+  if (!anisotropic_) return ggxReflection(wo, wi, alphaR_, h, pdf);
+  vec3 hLobe;
+  const float g = ggxReflectionAnisotropic(toLobe(wo), toLobe(wi), alphaU_, alphaV_, hLobe, pdf);
+  h = fromLobe(hLobe);
+  return g;
 }
 
 Rgb Bsdf::albedo(float cosO) const {
@@ -110,7 +138,7 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
     if (hasReflection_ && alphaR_ > 0.0f) {
       vec3 h;
       float pdfUnused;
-      const float g = ggxReflection(wo, wi, alphaR_, h, pdfUnused);
+      const float g = reflectionLobe(wo, wi, h, pdfUnused);
       f += reflection_ * (fresnel(glm::dot(wo, h)) * g);
     }
   } else if (wi.z < 0.0f && frostedTransmission()) {
@@ -131,7 +159,7 @@ float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
   if (wi.z > 0.0f) {
     if (hasDiffuse_) sum += p.x * wi.z / kPiF;
     if (hasReflection_ && alphaR_ > 0.0f) {
-      ggxReflection(wo, wi, alphaR_, h, lobePdf);
+      reflectionLobe(wo, wi, h, lobePdf);
       sum += p.y * lobePdf;
     }
   } else if (wi.z < 0.0f && frostedTransmission()) {
@@ -170,7 +198,8 @@ bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const
       out.lobe = Lobe::kMirror;
       return true;
     }
-    const vec3 h = sampleGgxVisibleNormal(wo, alphaR_, u);
+    const vec3 h = anisotropic_ ? fromLobe(sampleGgxVisibleNormal(toLobe(wo), alphaU_, alphaV_, u))
+                                : sampleGgxVisibleNormal(wo, alphaR_, u);
     out.wi = 2.0f * glm::dot(wo, h) * h - wo;
     if (out.wi.z <= 0.0f) return false;
   } else {

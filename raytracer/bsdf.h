@@ -23,6 +23,14 @@
 //     (4 cos θo cos θi); its albedo is close to R(θ) for smooth lobes and below it for rough ones (single
 //     scattering loses energy), sampled by the distribution of visible normals (Heitz, "Sampling the GGX
 //     distribution of visible normals", JCGT 7(4), 2018).
+//     Anisotropic (anisotropyU ≠ anisotropyV, sdb/material.h): the same lobe with the GGX widths α_U, α_V of
+//     ggxAnisotropicAlphas (base/ggx.h: α / a and α a, a = √(1 − 0.9 |u − v|), so α_U α_V = α²) along the
+//     axes U, V: the local +x (the surface's tangent, when the integrator builds the frame from the tangents:
+//     surface_point.h, shadingFrameAt) turned by anisotropyRotationRad towards +y (the bitangent), and V a
+//     further quarter turn. D and Λ are the anisotropic ones (Λ with the width projected on a direction's
+//     azimuth), the visible normals are sampled by Heitz 2018's stretch by (α_U, α_V); eval, pdf and sample
+//     stay consistent and reciprocal, and equal values are the isotropic lobe exactly. A mirror (α below
+//     kSmoothAlpha) stays a mirror, and frosted transmission stays isotropic.
 //   - Transmission: thin-walled, as daylighting tools model a window pane (Radiance's `glass` material:
 //     Ward, "The RADIANCE lighting simulation and rendering system", SIGGRAPH 1994): light passes straight
 //     through with no refraction offset, transmittance T(θ) = t (1 − r F(θ)) (the energy rule; for a preset
@@ -54,7 +62,7 @@
 // applies as above.
 //
 // A Bsdf holds one point's colours: the integrator builds one per material, or per ray hit for materials that
-// vary over their surface (raytracer/surface_point.h). Anisotropy is not modelled.
+// vary over their surface (raytracer/surface_point.h: textured anisotropy and rotation included).
 #pragma once
 
 #include <algorithm>
@@ -143,6 +151,17 @@ class Bsdf {
   float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
   bool covered() const { return coverage_ >= 1.0f; }
+  // The glossy reflection lobe's D G2 / (4 cos θo cos θi) and its sampling density per steradian (ωo, ωi
+  // above the surface), isotropic or anisotropic; h receives the half vector.
+  float reflectionLobe(const vec3& wo, const vec3& wi, vec3& h, float& pdf) const;
+  // A local direction in the anisotropy's frame, whose +x is the U axis (the local +x turned by the rotation
+  // towards +y), and back.
+  vec3 toLobe(const vec3& v) const {
+    return vec3(rotationCos_ * v.x + rotationSin_ * v.y, rotationCos_ * v.y - rotationSin_ * v.x, v.z);
+  }
+  vec3 fromLobe(const vec3& v) const {
+    return vec3(rotationCos_ * v.x - rotationSin_ * v.y, rotationSin_ * v.x + rotationCos_ * v.y, v.z);
+  }
   // Lobe choice probabilities at cos θo: diffuse (or the measured lobe), reflection, transmission, passing
   // uncovered (sum 1 unless black).
   vec4 lobeProbabilities(float cosO) const;
@@ -154,6 +173,13 @@ class Bsdf {
   float f0_ = 0.0f;
   bool fresnel_ = true;
   float alphaR_ = 0.0f;  // GGX α of reflection, 0 = mirror
+  // Anisotropic reflection (α_R > 0 and unequal widths): the GGX widths along the U and V axes
+  // (ggxAnisotropicAlphas), and the rotation of U from the local +x towards +y.
+  bool anisotropic_ = false;
+  float alphaU_ = 0.0f;
+  float alphaV_ = 0.0f;
+  float rotationCos_ = 1.0f;
+  float rotationSin_ = 0.0f;
   float alphaT_ = 0.0f;  // GGX α of transmission, 0 = clear
   bool hasDiffuse_ = false;
   bool hasReflection_ = false;

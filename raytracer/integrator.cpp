@@ -160,8 +160,9 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
   bool readsUv[2] = {false, false};
   bool readsTangents = false;
   for (const rdb::TraceMaterial& m : rdb.materials) {
-    for (const rdb::TraceTextureSlot* slot : {&m.diffuseTexture, &m.reflectionTexture, &m.glossinessTexture,
-                                              &m.transmissionTexture, &m.emissionTexture, &m.normalTexture}) {
+    for (const rdb::TraceTextureSlot* slot :
+         {&m.diffuseTexture, &m.reflectionTexture, &m.glossinessTexture, &m.transmissionTexture,
+          &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture, &m.anisotropyRotationTexture}) {
       if (!*slot) continue;
       if (slot->texture >= rdb.textures.size()) {
         throw std::invalid_argument("Integrator: texture " + std::to_string(slot->texture) + " of " +
@@ -169,7 +170,7 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
       }
       readsUv[slot->texCoord == 1 ? 1 : 0] = true;
     }
-    readsTangents = readsTangents || bool(m.normalTexture);
+    readsTangents = readsTangents || bool(m.normalTexture) || m.isAnisotropic();
   }
   for (const rdb::TraceTexture& tex : rdb.textures) {
     if (tex.width < 1 || tex.height < 1 || tex.channels < 1 || tex.channels > 4 ||
@@ -845,7 +846,7 @@ std::optional<Integrator::Vertex> Integrator::vertexAt(const vec3& x, const Tria
   if (cosShading < kMinShadingCos) {
     ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
   }
-  const Onb frame = onb(ns);
+  const Onb frame = shadingFrameAt(rdb_, rdb_.materials[mi], at, ns, front);
   const vec3 wo = frame.toLocal(-d);
   if (!(wo.z > 0.0f)) return std::nullopt;
   return Vertex{x, ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), bsdfs.bsdf, bsdfs.deltaLight,

@@ -65,10 +65,10 @@
 // variance.)
 //
 // Materials at a hit (raytracer/surface_point.h): textures of every slot (base colour × COLOR_0, reflection,
-// glossiness, transmission, emission; bilinear, glTF wrap modes, KHR_texture_transform), with the energy rule
-// applied to the point's colours. Emissive triangles with an emission texture are chosen by area × the
-// material's mean emission over the texture's texels, and the texture is evaluated at the sampled point (and
-// where a path hits), so emitter sampling stays unbiased.
+// glossiness, transmission, emission, anisotropy and its rotation; bilinear, glTF wrap modes,
+// KHR_texture_transform), with the energy rule applied to the point's colours. Emissive triangles with an
+// emission texture are chosen by area × the material's mean emission over the texture's texels, and the
+// texture is evaluated at the sampled point (and where a path hits), so emitter sampling stays unbiased.
 //
 // Alpha coverage: cut-outs (TraceAlpha::kMask) are left out by Embree's filter functions where coverage <
 // alphaCutoff, for path rays and shadow rays alike (raytracer/embree_scene.h). Partial coverage (kBlend) is a
@@ -102,7 +102,14 @@
 // after a mirror). The weights of every path sum to one: unbiased whatever the distribution (Veach & Guibas
 // 1995). The patch sample uses two sampler groups of its own per path vertex (kPatchGroupBase).
 //
-// Not modelled: anisotropy, refraction through thick glass.
+// Anisotropic reflection (Bsdf): materials whose lobe has an orientation on the surface are shaded in the
+// frame of the interpolated vertex tangents (TraceRdb::tangents, made perpendicular to the shading normal;
+// surface_point.h, shadingFrameAt), every other material in any frame around the shading normal. The light
+// paths from the sun (light_paths.h) use the same frames. Light sampling regularises an anisotropic lobe
+// through its isotropic α (IntegratorSettings::caustics): its widths keep α_U α_V = α², so its peak density
+// 1 / (π α_U α_V) is bounded as an isotropic lobe's of that α is.
+//
+// Not modelled: refraction through thick glass.
 //
 // Sides: the sensor integrates the hemisphere of n (pass −n for the back side of a two-sided surface). The
 // back face of a one-sided material only transmits (Bsdf); without transmission it ends a path: it blocks
@@ -250,7 +257,7 @@ class Integrator {
     // For light sampling of the sun and punctual lights: bsdf, or without caustics its regularised twin
     // (IntegratorSettings::caustics); null at the sensor.
     const Bsdf* deltaLightBsdf;
-    Onb frame;     // around n (surface vertices)
+    Onb frame;     // around n (surface vertices; shadingFrameAt)
     vec3 woLocal;  // towards the previous vertex, in frame (surface vertices)
   };
 

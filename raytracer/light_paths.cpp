@@ -211,7 +211,7 @@ void SunLightPaths::tracePath(uint64_t batchSeed, uint32_t index, float areaPerP
     const float cosShading = -glm::dot(ns, dir);
     if (cosShading < kMinShadingCos)
       ns = glm::normalize(ns + ((kMinShadingCos - cosShading) / cosGeometric) * side);
-    const Onb frame = onb(ns);
+    const Onb frame = shadingFrameAt(rdb_, m, at, ns, front);
     // ωo points back towards where the light came from; the sampled ωi is where it goes.
     const vec3 wo = frame.toLocal(-dir);
     if (!(wo.z > 0.0f)) break;

@@ -136,11 +136,22 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
     out.transmission *=
         Rgb(sampleTexture(rdb, m.transmissionTexture, slotUv(rdb, m.transmissionTexture, at), false));
   }
+  if (m.anisotropyTexture) {
+    const vec4 uv = sampleTexture(rdb, m.anisotropyTexture, slotUv(rdb, m.anisotropyTexture, at), false);
+    out.anisotropyU = uv.r;
+    out.anisotropyV = uv.g;
+  }
+  if (m.anisotropyRotationTexture) {
+    const vec4 turns =
+        sampleTexture(rdb, m.anisotropyRotationTexture, slotUv(rdb, m.anisotropyRotationTexture, at), false);
+    out.anisotropyRotationRad = 2.0f * kPiF * turns.r;
+  }
   out.emissionCdM2 = emissionAt(rdb, m, at);
   out.diffuseColor = glm::clamp(diffuse, 0.0f, 1.0f);
   out.diffuse = normalIncidenceDiffuse(out);
   out.diffuseTexture = out.reflectionTexture = out.glossinessTexture = out.transmissionTexture =
-      out.emissionTexture = out.normalTexture = rdb::TraceTextureSlot{};
+      out.emissionTexture = out.normalTexture = out.anisotropyTexture = out.anisotropyRotationTexture =
+          rdb::TraceTextureSlot{};
   p.coverage = std::clamp(coverage, 0.0f, 1.0f);
   return p;
 }
@@ -176,6 +187,20 @@ vec3 shadingNormalAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, cons
     }
   }
   return glm::dot(n, geometricNormal) > 0.0f ? n : geometricNormal;
+}
+
+Onb shadingFrameAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at,
+                   const vec3& n, bool front) {
+  if (!m.isAnisotropic() || rdb.tangents.empty()) return onb(n);
+  const uint32_t* v = corners(rdb, at.triangle);
+  const vec3 t4 = vec3(interpolate(rdb.tangents, v, at.barycentric));
+  const vec3 t = t4 - glm::dot(t4, n) * n;
+  const float tl = glm::length(t);
+  if (!(tl > 1e-6f) || !std::isfinite(tl)) return onb(n);
+  const vec3 tangent = t / tl;
+  // B = w · N × T with N the front face's normal: n on the front, −n on the back.
+  const float w = (rdb.tangents[v[0]].w < 0.0f ? -1.0f : 1.0f) * (front ? 1.0f : -1.0f);
+  return Onb{tangent, w * glm::cross(n, tangent), n};
 }
 
 }  // namespace fly::raytracer

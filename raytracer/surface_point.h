@@ -1,14 +1,16 @@
 // A material at a point of a surface: texture lookups (bilinear, glTF wrap modes, KHR_texture_transform, sRGB
 // decoding), COLOR_0, alpha coverage, the TraceMaterial whose colours are those of the point (the realistic
-// material's energy rule applied to them there), and the shading normal (interpolated vertex normals and
-// normal maps). What the integrator evaluates at a ray hit on a material that varies over its surface, and
-// what the Embree filter asks of an alpha cut-out.
+// material's energy rule applied to them there), the shading normal (interpolated vertex normals and
+// normal maps) and the shading frame (the tangents of anisotropic materials). What the integrator evaluates
+// at a ray hit on a material that varies over its surface, and what the Embree filter asks of an alpha
+// cut-out.
 #pragma once
 
 #include <cstdint>
 
 #include "base/color.h"
 #include "base/math.h"
+#include "raytracer/warp.h"
 #include "rdb/trace_rdb.h"
 
 namespace fly::raytracer {
@@ -55,5 +57,14 @@ Rgb emissionAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const Tria
 // it is degenerate or points to the back of the surface.
 vec3 shadingNormalAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at,
                      const vec3& geometricNormal);
+
+// The local frame in which a Bsdf of material m shades the point, around the unit shading normal n of the
+// side being lit (front: the front face's side). For anisotropic materials (TraceMaterial::isAnisotropic),
+// whose lobe's axes follow the surface: +x the interpolated vertex tangent made perpendicular to n, +y the
+// bitangent w · N × T of the front face (N = n on the front, −n on the back, so that both faces turn the
+// anisotropy the same way on the surface); any basis around n where that tangent is degenerate. For all
+// others, whose lobes are symmetric about the normal: any basis around n (onb).
+Onb shadingFrameAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, const TrianglePoint& at,
+                   const vec3& n, bool front);
 
 }  // namespace fly::raytracer

@@ -69,6 +69,13 @@ struct TraceMaterial {
   bool fresnel = true;      // Fresnel (Schlick) or uniform reflection
   float ior = 1.5f;         // [1, 4]
   float reflectionGlossiness = 0.5f;    // [0,1], GGX α = glossiness²
+  // Anisotropy of the glossy reflection (sdb::Material), each in [0,1]: the lobe's GGX widths along the U and
+  // V axes are ggxAnisotropicAlphas(α, anisotropyU, anisotropyV) (base/ggx.h); U is the surface's tangent
+  // turned about the normal by anisotropyRotationRad towards the bitangent (TraceRdb::tangents), V is U
+  // turned by a further quarter turn. Equal values: isotropic.
+  float anisotropyU = 0.0f;
+  float anisotropyV = 0.0f;
+  float anisotropyRotationRad = 0.0f;
   float transmissionGlossiness = 0.0f;  // [0,1]
   Rgb emissionCdM2{0.0f};   // emitted luminance, cd/m²
   bool doubleSided = false; // emits from both faces (glTF doubleSided)
@@ -83,6 +90,8 @@ struct TraceMaterial {
   TraceTextureSlot emissionTexture;      // sRGB colour × emissionCdM2
   TraceTextureSlot normalTexture;        // tangent-space normal map (glTF normalTexture), linear
   float normalScale = 1.0f;              // scales the map's x and y (glTF normalTexture.scale), ≥ 0
+  TraceTextureSlot anisotropyTexture;    // linear; red = anisotropyU, green = anisotropyV (replaces them)
+  TraceTextureSlot anisotropyRotationTexture;  // linear; red × 2π = anisotropyRotationRad (replaces it)
 
   // Coverage = opacity × the diffuse texture's alpha × COLOR_0's alpha, used as `alpha` says.
   TraceAlpha alpha = TraceAlpha::kOpaque;
@@ -96,9 +105,13 @@ struct TraceMaterial {
   std::optional<CarPaintBrdf> carPaint;
 
   bool isMeasured() const { return brdfTable != kNoBrdfTable || carPaint.has_value(); }
+  // The glossy reflection is anisotropic somewhere (sdb::Material::isAnisotropic): then the integrator shades
+  // it in the frame of TraceRdb::tangents.
+  bool isAnisotropic() const { return anisotropyU != anisotropyV || bool(anisotropyTexture); }
   bool hasTextures() const {
     return bool(diffuseTexture) || bool(reflectionTexture) || bool(glossinessTexture) ||
-           bool(transmissionTexture) || bool(emissionTexture) || bool(normalTexture);
+           bool(transmissionTexture) || bool(emissionTexture) || bool(normalTexture) ||
+           bool(anisotropyTexture) || bool(anisotropyRotationTexture);
   }
 };
 
@@ -191,8 +204,8 @@ struct TraceRdb {
   // Per-vertex attributes that materials read, each empty when no material needs it (otherwise one per
   // vertex, with the default where a mesh has none): texture coordinates of the sets that texture slots use
   // (default 0, 0); COLOR_0, linear RGBA, when some mesh has it (default 1); unit world tangents (w = ±1, the
-  // bitangent's sign: B = w · N × T) when some material has a normal map, from the file or else generated
-  // per vertex from the UV derivatives of its triangles (rdb/trace_rdb_build.h).
+  // bitangent's sign: B = w · N × T) when some material has a normal map or anisotropic reflection, from the
+  // file or else generated per vertex from the UV derivatives of its triangles (rdb/trace_rdb_build.h).
   std::vector<vec2> uv0;
   std::vector<vec2> uv1;
   std::vector<vec4> colors;

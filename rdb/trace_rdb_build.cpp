@@ -25,6 +25,9 @@ TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   t.fresnel = m.reflectionModel == sdb::ReflectionModel::kFresnel;
   t.ior = m.ior;
   t.reflectionGlossiness = m.reflectionGlossiness;
+  t.anisotropyU = m.anisotropyU;
+  t.anisotropyV = m.anisotropyV;
+  t.anisotropyRotationRad = m.anisotropyRotationRad;
   t.transmissionGlossiness = m.transmissionGlossiness;
   t.emissionCdM2 = m.emissionLuminance;
   t.doubleSided = m.doubleSided;
@@ -212,7 +215,11 @@ TraceSky tabulateSky(const sunsky::Sky& sky, const sunsky::SiteFrame& frame, uin
 
 namespace {
 
-// Unit vector along `v`, or nullopt when it has no direction (zero, denormal or not finite).
+// Whether a material reads the per-vertex tangents: for its normal map or its anisotropy's axes.
+bool readsTangents(const TraceMaterial& m) {
+  return bool(m.normalTexture) || m.isAnisotropic();
+}
+
 class Builder {
  public:
   Builder(const sdb::Scene& scene, const TraceBuildOptions& options) : scene_(scene), options_(options) {
@@ -228,7 +235,7 @@ class Builder {
     scene_.forEachNode([&](sdb::NodeId id, const mat4&) {
       for (sdb::MeshId meshId : scene_.node(id).meshes) {
         const sdb::Mesh& mesh = scene_.mesh(meshId);
-        needTangents_ = needTangents_ || bool(rdb_.materials[materialIndex(mesh.material)].normalTexture);
+        needTangents_ = needTangents_ || readsTangents(rdb_.materials[materialIndex(mesh.material)]);
         anyColors_ = anyColors_ || !mesh.colors.empty();
         vertices += mesh.vertexCount();
         triangles += mesh.triangleCount();
@@ -274,6 +281,10 @@ class Builder {
     t.transmissionTexture = slot(m.transmissionTexture);
     t.emissionTexture = slot(m.emissionTexture);
     t.normalTexture = slot(m.bumpTexture);
+    if (m.isAnisotropic()) {
+      t.anisotropyTexture = slot(m.anisotropyTexture);
+      t.anisotropyRotationTexture = slot(m.anisotropyRotationTexture);
+    }
     if (m.measuredBrdf) {
       // One table per file (materials that name it read it each), or per table where the SDB has no file.
       const std::string key = m.measuredBrdfPath.empty()
@@ -318,7 +329,7 @@ class Builder {
     append(needUv_[1], rdb_.uv1, mesh.uv1, mesh.vertexCount(), vec2(0.0f));
     append(anyColors_, rdb_.colors, mesh.colors, mesh.vertexCount(), vec4(1.0f));
     const TraceMaterial& tmat = rdb_.materials[material];
-    if (tmat.normalTexture) {
+    if (readsTangents(tmat)) {
       std::vector<vec4> tangents;
       if (mesh.tangents.size() == mesh.vertexCount()) {
         // Tangents are directions: the linear part of worldFromLocal, and a mirroring transform flips the
@@ -334,9 +345,21 @@ class Builder {
                                   : vec4(0.0f));
         }
       }
+      // The UV set whose directions the tangents follow: the normal map's, else the anisotropy textures'.
+      const TraceTextureSlot& uvSlot = tmat.normalTexture       ? tmat.normalTexture
+                                       : tmat.anisotropyTexture ? tmat.anisotropyTexture
+                                                                : tmat.anisotropyRotationTexture;
+      const std::vector<vec2>& uv = uvSlot.texCoord == 1 ? mesh.uv1 : mesh.uv0;
+      if (tangents.empty() && uv.size() != mesh.vertexCount() && tmat.isAnisotropic()) {
+        log::warn(
+            "mesh \"" + mesh.name + "\": its material \"" + scene_.material(mesh.material).name +
+            "\" reflects anisotropically along the surface's tangent, but the mesh has neither tangents "
+            "nor TEXCOORD_" +
+            std::to_string(uvSlot.texCoord == 1 ? 1 : 0) +
+            " to give its direction; the baker uses an arbitrary tangent (add UVs or tangents)");
+      }
       const std::vector<vec4> generated =
-          generateTangents(placed.positionsM, placed.normals,
-                           tmat.normalTexture.texCoord == 1 ? mesh.uv1 : mesh.uv0, placed.indices);
+          generateTangents(placed.positionsM, placed.normals, uv, placed.indices);
       if (tangents.empty()) {
         tangents = generated;
       } else {
@@ -492,7 +515,7 @@ class Builder {
   std::map<std::string, uint32_t> brdfTableIndex_;  // measured BRDF file (or table) → index into rdb_.brdfTables
   bool needUv_[2] = {false, false};             // some texture slot reads TEXCOORD_0 / TEXCOORD_1
   bool anyColors_ = false;                      // some placed mesh has COLOR_0
-  bool needTangents_ = false;                   // some placed mesh's material has a normal map
+  bool needTangents_ = false;                   // some placed mesh's material reads tangents (readsTangents)
 };
 
 }  // namespace

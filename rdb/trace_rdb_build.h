@@ -73,7 +73,7 @@ TraceTextureSlot lowerTextureRef(const sdb::TextureRef& ref, uint32_t textureInd
 // An SDB texture as 8-bit texels (16-bit values rounded). std::invalid_argument when its sizes disagree.
 TraceTexture lowerTexture(const sdb::Texture& t);
 
-// Unit tangents per vertex for normal mapping when the file gives none: at each vertex the area-weighted sum
+// Unit tangents per vertex for normal mapping and the axes of anisotropic reflection when the file gives none: at each vertex the area-weighted sum
 // of its triangles' ∂p/∂u (from the UV derivatives), made perpendicular to the vertex normal, and w = ±1 the
 // sign that makes w · N × T point along the summed ∂p/∂v. This per-vertex method agrees with MikkTSpace
 // (which glTF names for files without tangents) on smooth, consistently mapped meshes; where the UVs give no

@@ -187,5 +187,22 @@ TEST(TraceRdbFingerprint, FollowsMeasuredBrdfs) {
   EXPECT_NE(traceRdbFingerprint(b.rdb), remeasured);
 }
 
+// It follows the anisotropy and its rotation; equal U and V (isotropic, whatever their value) leave it as it
+// was, so that checkpoints of isotropic scenes stay valid.
+TEST(TraceRdbFingerprint, FollowsAnisotropy) {
+  rdb::TraceRdbBuilder b;
+  const uint32_t mat = b.material(Rgb(0.5f));
+  b.rdb.materials[mat].reflection = Rgb(1.0f);
+  b.ground(1.0f, 1, mat);
+  const uint64_t isotropic = traceRdbFingerprint(b.rdb);
+  b.rdb.materials[mat].anisotropyU = b.rdb.materials[mat].anisotropyV = 0.4f;
+  EXPECT_EQ(traceRdbFingerprint(b.rdb), isotropic);
+  b.rdb.materials[mat].anisotropyU = 0.6f;
+  const uint64_t anisotropic = traceRdbFingerprint(b.rdb);
+  EXPECT_NE(anisotropic, isotropic);
+  b.rdb.materials[mat].anisotropyRotationRad = 0.5f;
+  EXPECT_NE(traceRdbFingerprint(b.rdb), anisotropic);
+}
+
 }  // namespace
 }  // namespace fly::cli

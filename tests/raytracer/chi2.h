@@ -25,8 +25,9 @@
 namespace fly::raytracer::test {
 
 // The chi-square tests of correct samplers in this binary (sampler_test 4, warp_test 8, distribution_test 3,
-// measured_brdf_test 4), for a Bonferroni-corrected significance: the probability that any of them fails by chance is at most 1 %.
-inline constexpr int kChi2TestCount = 21;
+// measured_brdf_test 4, bsdf_test 4), for a Bonferroni-corrected significance: the probability that any of them fails by
+// chance is at most 1 %.
+inline constexpr int kChi2TestCount = 23;
 inline constexpr double kChi2Significance = 0.01 / kChi2TestCount;
 
 // The regularised upper incomplete gamma function Q(a, x) = Γ(a, x) / Γ(a) for a > 0, x ≥ 0: by the series of

@@ -1,5 +1,6 @@
 // Texture lookups against hand-computed texel values: wrap modes, bilinear weights, sRGB decoding,
-// KHR_texture_transform, channel layouts; coverage and shading normals at points.
+// KHR_texture_transform, channel layouts; coverage, shading normals, anisotropy textures and the tangent
+// frame at points.
 #include "raytracer/surface_point.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,8 @@
 #include <limits>
 #include <vector>
 
+#include "raytracer/bsdf.h"
+#include "rdb/trace_rdb_build.h"
 #include "rdb/trace_rdb_builder.h"
 
 namespace fly::raytracer {
@@ -179,6 +182,74 @@ TEST(SurfacePoint, CoverageAndShadingNormal) {
   EXPECT_NEAR(glm::dot(n, glm::normalize(vec3(1, 1, 0))), 1.0f, 1e-6f);
   b.rdb.normals[0] = vec3(0, -1, 0);
   EXPECT_EQ(shadingNormalAt(b.rdb, m, {0, vec2(0.0f)}, vec3(0, 1, 0)), vec3(0, 1, 0));
+}
+
+// The anisotropy texture replaces U and V per point (red, green; linear), the rotation texture the rotation
+// (red × 2π); the point's material has no texture slots left. The frame of an anisotropic material follows
+// the tangents (here ∂p/∂u = +z, so T = +z and B = N × T = +x), the same on both faces.
+TEST(SurfacePoint, AnisotropyTexturesAndTangentFrame) {
+  rdb::TraceRdbBuilder b;
+  const uint32_t uvTexture = b.texture(2, 1, 3, {255, 0, 0, 51, 204, 0});  // (U, V) = (1, 0) | (0.2, 0.8)
+  const uint32_t rotationTexture = b.texture(1, 1, 1, {64});
+  const uint32_t mat = b.material(Rgb(0.0f));
+  rdb::TraceMaterial& m = b.rdb.materials[mat];
+  m.reflection = Rgb(1.0f);
+  m.reflectionGlossiness = 0.35f;
+  m.anisotropyU = 0.6f;
+  m.anisotropyV = 0.1f;
+  m.anisotropyRotationRad = 0.3f;
+  m.anisotropyTexture.texture = uvTexture;
+  m.anisotropyTexture.nearest = true;
+  b.ground(1.0f, 1, mat);  // uv0: u along +z, v along +x
+  // Triangle 0's corners have uv (0, 0), (1, 0), (1, 1): barycentrics (b1, b2) give u = b1 + b2.
+  const TrianglePoint left{0, vec2(0.1f, 0.1f)}, right{0, vec2(0.6f, 0.1f)};
+  const PointMaterial l = materialAt(b.rdb, m, left);
+  const PointMaterial r = materialAt(b.rdb, m, right);
+  EXPECT_FLOAT_EQ(l.material.anisotropyU, 1.0f);
+  EXPECT_FLOAT_EQ(l.material.anisotropyV, 0.0f);
+  EXPECT_FLOAT_EQ(r.material.anisotropyU, 0.2f);
+  EXPECT_FLOAT_EQ(r.material.anisotropyV, 0.8f);
+  EXPECT_FLOAT_EQ(l.material.anisotropyRotationRad, 0.3f);  // no rotation texture: the constant
+  EXPECT_FALSE(l.material.hasTextures());
+  m.anisotropyRotationTexture.texture = rotationTexture;
+  EXPECT_NEAR(materialAt(b.rdb, m, right).material.anisotropyRotationRad, 2.0f * kPiF * 64.0f / 255.0f,
+              1e-6f);
+  // The points' Bsdfs differ as their texels say: at the left point the lobe is ten times wider along U than
+  // along V, at the right one narrower.
+  const vec3 wo(0.0f, 0.0f, 1.0f), alongU(std::sin(0.2f), 0.0f, std::cos(0.2f)),
+      alongV(0.0f, std::sin(0.2f), std::cos(0.2f));
+  rdb::TraceMaterial unrotated = l.material;
+  unrotated.anisotropyRotationRad = 0.0f;
+  const Bsdf bu(unrotated, true);
+  EXPECT_GT(bu.eval(wo, alongU).g, 10.0f * bu.eval(wo, alongV).g);
+  rdb::TraceMaterial unrotatedRight = r.material;
+  unrotatedRight.anisotropyRotationRad = 0.0f;
+  const Bsdf bur(unrotatedRight, true);
+  EXPECT_LT(bur.eval(wo, alongU).g, bur.eval(wo, alongV).g);
+
+  b.rdb.tangents = rdb::generateTangents(b.rdb.positionsM, b.rdb.normals, b.rdb.uv0, b.rdb.indices);
+  const vec3 up(0, 1, 0);
+  const Onb front = shadingFrameAt(b.rdb, m, left, up, true);
+  EXPECT_NEAR(glm::distance(front.tangent, vec3(0, 0, 1)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(front.bitangent, vec3(1, 0, 0)), 0.0f, 1e-6f);
+  const Onb back = shadingFrameAt(b.rdb, m, left, -up, false);
+  EXPECT_NEAR(glm::distance(back.tangent, vec3(0, 0, 1)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(back.bitangent, vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_EQ(back.normal, -up);
+  // A tilted shading normal: the tangent made perpendicular to it, the frame orthonormal.
+  const vec3 tilted = glm::normalize(vec3(0.0f, 1.0f, 0.5f));
+  const Onb t = shadingFrameAt(b.rdb, m, left, tilted, true);
+  EXPECT_NEAR(glm::dot(t.tangent, tilted), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(t.tangent), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(t.bitangent, t.tangent), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(t.bitangent, vec3(1, 0, 0)), 1.0f, 1e-6f);
+  EXPECT_GT(t.tangent.z, 0.8f);
+  // Isotropic materials get the plain basis around the normal.
+  const rdb::TraceMaterial isotropic;
+  const Onb plain = shadingFrameAt(b.rdb, isotropic, left, up, true);
+  const Onb expected = onb(up);
+  EXPECT_EQ(plain.tangent, expected.tangent);
+  EXPECT_EQ(plain.bitangent, expected.bitangent);
 }
 
 }  // namespace

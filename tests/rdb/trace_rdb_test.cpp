@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "base/error.h"
+#include "base/log.h"
 #include "rdb/site_lowering.h"
 #include "sdb/material_presets.h"
 #include "sdb/scene_load.h"
@@ -282,6 +283,47 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
     EXPECT_EQ(tangent.w, -1.0f);
   }
   EXPECT_TRUE(withMap.colors.empty());
+
+  // Anisotropic reflection needs tangents too (from the UVs, as for the normal map), and its values and
+  // textures are lowered; a rotation texture is read only for an anisotropic material.
+  Scene a;
+  sdb::Material brushed = sdb::findMaterialPreset("brushed-metal")->material;
+  brushed.anisotropyRotationRad = 0.25f;
+  brushed.anisotropyRotationTexture.texture = a.addTexture(sixteen).id;
+  sdb::Mesh plate = quadXZ(a.addMaterial(brushed).id);
+  plate.uv0 = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  sdb::Material rotatedOnly;  // isotropic: its rotation texture is of no use
+  rotatedOnly.anisotropyRotationTexture.texture = brushed.anisotropyRotationTexture.texture;
+  a.addNode({.meshes = {a.addMesh(plate).id, a.addMesh(quadXZ(a.addMaterial(rotatedOnly).id)).id}});
+  const TraceRdb anisotropic = buildTraceRdb(a);
+  ASSERT_EQ(anisotropic.tangents.size(), 8u);
+  for (size_t i = 0; i < 4; ++i) {
+    expectVec(vec3(anisotropic.tangents[i]), vec3(1, 0, 0));
+    EXPECT_EQ(anisotropic.tangents[i].w, -1.0f);
+  }
+  ASSERT_EQ(anisotropic.materials.size(), 3u);
+  const TraceMaterial& lowered = anisotropic.materials[1];
+  EXPECT_TRUE(lowered.isAnisotropic());
+  EXPECT_FLOAT_EQ(lowered.anisotropyU, 0.6f);
+  EXPECT_FLOAT_EQ(lowered.anisotropyV, 0.1f);
+  EXPECT_FLOAT_EQ(lowered.anisotropyRotationRad, 0.25f);
+  EXPECT_TRUE(bool(lowered.anisotropyRotationTexture));
+  EXPECT_FALSE(bool(lowered.anisotropyTexture));
+  EXPECT_FALSE(anisotropic.materials[2].isAnisotropic());
+  EXPECT_FALSE(bool(anisotropic.materials[2].anisotropyRotationTexture));
+
+  // Without UVs or tangents the anisotropy has no direction on the surface: a warning names the mesh.
+  Scene noUv;
+  sdb::Mesh bareQuad = quadXZ(noUv.addMaterial(sdb::findMaterialPreset("brushed-metal")->material).id);
+  bareQuad.name = "plate";
+  noUv.addNode({.meshes = {noUv.addMesh(bareQuad).id}});
+  std::string warning;
+  const log::Sink previous = log::setSink([&](log::Level, std::string_view message) { warning += message; });
+  const TraceRdb arbitrary = buildTraceRdb(noUv);
+  log::setSink(previous);
+  EXPECT_EQ(arbitrary.tangents.size(), 4u);
+  EXPECT_NE(warning.find("mesh \"plate\""), std::string::npos) << warning;
+  EXPECT_NE(warning.find("TEXCOORD_0"), std::string::npos) << warning;
 
   // Nothing textured, nothing kept.
   Scene bare;
