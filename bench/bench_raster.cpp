@@ -64,6 +64,7 @@
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -206,9 +207,11 @@ sdb::Scene makeScene(uint32_t cells, bool textured = false) {
 // Two flat reflectors in makeScene's scene: a 40 × 8 m wall at z = −20.5 facing the camera and an 8 × 6 m pool
 // on the ground, and a curved one: a 1.5 m sphere (48 × 96 quads) on the ground between them; mirrors (uniform
 // reflection 0.9, glossiness 0: two planar reflectors and one cube map; or glossiness 0.2, the widest lobe the
-// automatic choice takes for a mirror: the planar images blurred by it, docs/reflections.md) or, for the
+// automatic choice takes for a mirror: the planar images blurred by it, docs/reflections.md; with a finite
+// fogDistanceM, sharp mirrors with reflection fog of that distance and a dark grey-green colour) or, for the
 // baseline, the same meshes of a plain grey.
-void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f) {
+void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f,
+                   float fogDistanceM = std::numeric_limits<float>::infinity()) {
   sdb::Material m;
   m.name = mirrors ? "mirror" : "grey";
   m.diffuseColor = Rgb(mirrors ? 0.05f : 0.5f);
@@ -216,6 +219,8 @@ void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f) {
     m.reflectionColor = Rgb(0.9f);
     m.reflectionModel = sdb::ReflectionModel::kUniform;
     m.reflectionGlossiness = glossiness;
+    m.reflectionFogDistanceM = fogDistanceM;
+    m.reflectionFogColor = Rgb(0.04f, 0.06f, 0.05f);
   }
   const sdb::MaterialId id = s.addMaterial(m).id;
   auto quad = [&](const vec3& corner, const vec3& u, const vec3& v) {
@@ -685,21 +690,27 @@ int run(int argc, char** argv) {
   if (reflectorsOnly) {
     // The 300k-triangle scene with two mirrors against the same quads in grey, mode by mode.
     constexpr RenderMode kAll[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
-    FrameTimes grey[3];
-    // Grey, mirrors, glossy mirrors (glossiness 0.2).
-    for (const int kind : {0, 1, 2}) {
+    FrameTimes grey[3], sharp[3];
+    // Grey, mirrors, glossy mirrors (glossiness 0.2), mirrors with reflection fog (20 m).
+    for (const int kind : {0, 1, 2, 3}) {
       const bool mirrors = kind > 0;
       sdb::Scene scene = makeScene(quick ? 221 : 387);
-      addReflectors(scene, mirrors, kind == 2 ? 0.2f : 0.0f);
+      addReflectors(scene, mirrors, kind == 2 ? 0.2f : 0.0f,
+                    kind == 3 ? 20.0f : std::numeric_limits<float>::infinity());
       const rdb::RasterRdb r = lightMapped(scene);
       Renderer renderer;
       renderer.upload(r);
       const View view = viewOfCamera(r.cameras.at(0));
-      const std::string name = std::to_string(r.triangleCount()) + (kind == 0 ? "g" : kind == 1 ? "m" : "gm");
+      const std::string name =
+          std::to_string(r.triangleCount()) + (kind == 0 ? "g" : kind == 1 ? "m" : kind == 2 ? "gm" : "fm");
       for (int m = 0; m < 3; ++m) {
         const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
         if (!mirrors) grey[m] = t;
+        if (kind == 1) sharp[m] = t;
         printRow(name.c_str(), renderModeName(kAll[m]), t, baseline.pipelinedMs);
+        if (kind == 3) {
+          std::printf("%-9s %-9s reflection fog: × sharp mirrors %.2f\n", "", "", t.pipelinedMs / sharp[m].pipelinedMs);
+        }
         if (mirrors) {
           std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, cube maps %zu, × grey %.2f\n", "", "",
                       r.planarReflectors.size(), double(renderer.stats().reflectionPasses) / double(renderer.stats().scenePasses - renderer.stats().reflectionPasses),

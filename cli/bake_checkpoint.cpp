@@ -108,6 +108,11 @@ uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb) {
       h.value(m.anisotropyRotationRad);
     }
     h.value(m.doubleSided);
+    // Only fogged materials add their fog: the fingerprints of scenes without fog stay as they were.
+    if (m.hasReflectionFog()) {
+      h.value(m.reflectionFogDistanceM);
+      h.rgb(m.reflectionFogColor);
+    }
     h.value(m.brdfTable);
     h.value(m.carPaint.has_value());
     if (m.carPaint) {

@@ -286,7 +286,11 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
                  static_cast<unsigned long long>(maps.lightPaths), double(maps.lightPathRays) * 1e-6,
                  maps.lightPathSeconds, maps.lightPathCombinedSides, maps.lightPathMeanWeight);
   } else if (settings.lightPaths.enabled) {
-    std::fprintf(stderr, "light paths: none (the scene has no sun that lights it)\n");
+    const bool fog = std::any_of(rdb.materials.begin(), rdb.materials.end(),
+                                 [](const rdb::TraceMaterial& m) { return m.hasReflectionFog(); });
+    std::fprintf(stderr, fog ? "light paths: none (the scene has reflection fog, which only the gathering "
+                               "estimate models: docs/light-paths.md)\n"
+                             : "light paths: none (the scene has no sun that lights it)\n");
   }
   for (const raytracer::LightTexture& tex : maps.lightTextures) {
     const rdb::TraceLightTexture& lt = rdb.lightTextures[size_t(&tex - maps.lightTextures.data())];

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <cmath>
 #include <string>
 
 #include "raster/shaders/scene_glsl.h"
@@ -9,17 +10,32 @@
 namespace fly::raster {
 namespace {
 
-// One face's luminance image (kLuminanceEncoding) into layer `uFace` of the source cube's level 0.
+// One face's luminance image (kLuminanceEncoding) into layer `uFace` of the source cube's level 0; alpha:
+// with reflection fog (uFogDistanceM > 0) its share t = min(d / D, 1) of the texel, d the distance from the
+// centre to what the texel shows (from the face's depth; nothing: t = 1), else 1 (not read).
 constexpr const char* kDecodeFace = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rg32ui) uniform readonly uimage2D uLuminance;
 layout(binding = 1, rgba32f) uniform writeonly imageCube uCube;
+layout(binding = 2) uniform sampler2D uDepth;
 uniform int uSize;
 uniform int uFace;
+uniform float uFogDistanceM;
+uniform mat4 uWorldFromClip;
+uniform vec3 uCentreM;
 void main() {
   ivec2 id = ivec2(gl_GlobalInvocationID.xy);
   if (id.x >= uSize || id.y >= uSize) return;
-  imageStore(uCube, ivec3(id, uFace), vec4(flyDecodeLuminance(imageLoad(uLuminance, id).xy), 1.0));
+  float a = 1.0;
+  if (uFogDistanceM > 0.0) {
+    float z = texelFetch(uDepth, id, 0).r;
+    a = 1.0;
+    if (z < 1.0) {
+      vec4 q = uWorldFromClip * vec4((vec2(id) + 0.5) / float(uSize) * 2.0 - 1.0, z * 2.0 - 1.0, 1.0);
+      a = min(distance(q.xyz / q.w, uCentreM) / uFogDistanceM, 1.0);
+    }
+  }
+  imageStore(uCube, ivec3(id, uFace), vec4(flyDecodeLuminance(imageLoad(uLuminance, id).xy), a));
 }
 )GLSL";
 
@@ -44,8 +60,8 @@ View CubeReflections::faceView(uint32_t face, const vec3& centreM, float nearM) 
   return v;
 }
 
-void CubeReflections::capture(uint32_t k, const vec3& centreM, float nearM,
-                              const std::function<unsigned(const View&)>& drawFace) {
+void CubeReflections::capture(uint32_t k, const vec3& centreM, float nearM, float fogDistanceM,
+                              const std::function<Face(const View&)>& drawFace) {
   if (maps_.size() <= k) maps_.resize(k + 1);
   if (!maps_[k]) maps_[k] = std::make_unique<EnvironmentLight>(compile_, settings_);
   EnvironmentLight& maps = *maps_[k];
@@ -55,11 +71,18 @@ void CubeReflections::capture(uint32_t k, const vec3& centreM, float nearM,
   }
   const GLuint cube = maps.sourceCube();
   for (uint32_t face = 0; face < 6; ++face) {
-    const GLuint luminance = drawFace(faceView(face, centreM, nearM));
+    const Face drawn = drawFace(faceView(face, centreM, nearM));
     glUseProgram(decode_);
     glUniform1i(glGetUniformLocation(decode_, "uSize"), GLint(settings_.cubePx));
     glUniform1i(glGetUniformLocation(decode_, "uFace"), GLint(face));
-    glBindImageTexture(0, luminance, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
+    const bool fog = std::isfinite(fogDistanceM) && drawn.depth != 0;
+    glUniform1f(glGetUniformLocation(decode_, "uFogDistanceM"), fog ? fogDistanceM : -1.0f);
+    if (fog) {
+      glUniformMatrix4fv(glGetUniformLocation(decode_, "uWorldFromClip"), 1, GL_FALSE, &drawn.worldFromClip[0][0]);
+      glUniform3fv(glGetUniformLocation(decode_, "uCentreM"), 1, &centreM[0]);
+      glBindTextureUnit(2, drawn.depth);
+    }
+    glBindImageTexture(0, drawn.luminance, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
     glBindImageTexture(1, cube, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute((settings_.cubePx + 7) / 8, (settings_.cubePx + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);

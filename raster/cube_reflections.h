@@ -3,7 +3,10 @@
 // shaders::kLuminanceEncoding) stored as a face of an EnvironmentLight's source cube, which then gets the
 // GGX-prefiltered levels its glossiness reads (raster/environment_light.h). The renderer draws the views
 // (Renderer::render: only when the scene, its light or the mode changed, not every frame) and shades the
-// reflector by the split sum with these maps in place of the sky's. Needs a current context.
+// reflector by the split sum with these maps in place of the sky's. A reflector with reflection fog
+// (rdb::RasterMaterial::reflectionFogDistanceM D) keeps per texel, in alpha, the fog's share t = min(d / D, 1)
+// of what the texel shows, d its distance from the centre (1 for the sky), prefiltered with the radiance; the
+// reflector's fragment fades what its lobe sees to the fog by it. Needs a current context.
 #pragma once
 
 #include <cstdint>
@@ -36,9 +39,18 @@ class CubeReflections {
   static View faceView(uint32_t face, const vec3& centreM, float nearM);
 
   uint32_t facePx() const { return settings_.cubePx; }
-  // Captures reflector k (made on first use): drawFace(view) draws one face into a facePx² target and returns
-  // its luminance texture (GL_RG32UI, kLuminanceEncoding), which becomes the face; then the maps are built.
-  void capture(uint32_t k, const vec3& centreM, float nearM, const std::function<unsigned(const View&)>& drawFace);
+  // A face drawn: its luminance texture (GL_RG32UI, kLuminanceEncoding) and, for reflection fog, its depth
+  // texture (a depth format read as depth, 1 = nothing) with the view's worldFromClip.
+  struct Face {
+    unsigned luminance = 0;
+    unsigned depth = 0;
+    mat4 worldFromClip{1.0f};
+  };
+  // Captures reflector k (made on first use): drawFace(view) draws one face into a facePx² target, which
+  // becomes the face; then the maps are built. fogDistanceM: the reflector's reflection fog distance (m; ∞:
+  // none, and drawFace need return no depth).
+  void capture(uint32_t k, const vec3& centreM, float nearM, float fogDistanceM,
+               const std::function<Face(const View&)>& drawFace);
   // Reflector k's maps (capture must have run for it).
   const EnvironmentLight& maps(uint32_t k) const { return *maps_.at(k); }
   size_t count() const { return maps_.size(); }

@@ -194,6 +194,9 @@ enum VariantBit : uint32_t {
   // Frosted glass (with kVariantGlass): its transmittance by the split sum's table, what lies behind it
   // blurred by the lobe's width (rdb::RasterMaterial::transmissionAlpha).
   kVariantFrosted = 1u << 22,
+  // Materials with reflection fog (per fragment): what they reflect fades to the fog's luminance with the
+  // reflected distance (rdb::RasterMaterial::reflectionFogDistanceM).
+  kVariantReflectionFog = 1u << 23,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -326,7 +329,7 @@ struct Renderer::SceneProgram {
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
         mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
-        mirrorAlpha = -1, mirrorWorldFromClip = -1;
+        mirrorAlpha = -1, mirrorWorldFromClip = -1, fogDistance = -1, fogColor = -1;
 };
 
 struct NearProgram {
@@ -383,9 +386,12 @@ struct Renderer::Gpu {
   std::vector<GLuint> reflectionColor;
   std::vector<char> reflectionShown;
   // Glossy reflectors' images decoded with a mip chain, their passes' depth and worldFromClip
-  // (drawReflections; shaders::kSurfaceFragment, flyMirrorImage); 0 for sharp mirrors.
+  // (drawReflections; shaders::kSurfaceFragment, flyMirrorImage); 0 for sharp mirrors. The depth and
+  // worldFromClip also for reflectors with reflection fog.
   std::vector<GLuint> reflectionBlurred, reflectionDepth;
   std::vector<mat4> reflectionWorldFromClip;
+  // A cube face's depth, for a cube reflector with reflection fog (captureCubeReflectors); 0 until one.
+  GLuint cubeFaceDepth = 0;
   std::map<bool, NearProgram> nearPrograms;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
@@ -427,6 +433,7 @@ struct Renderer::Gpu {
     glDeleteTextures(GLsizei(reflectionColor.size()), reflectionColor.data());
     glDeleteTextures(GLsizei(reflectionBlurred.size()), reflectionBlurred.data());
     glDeleteTextures(GLsizei(reflectionDepth.size()), reflectionDepth.data());
+    glDeleteTextures(1, &cubeFaceDepth);
   }
 };
 
@@ -543,7 +550,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantIbl, "ibl", "FLY_IBL"},
                    {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"},
                    {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"},
-                   {kVariantFrosted, "frosted", "FLY_FROSTED"}};
+                   {kVariantFrosted, "frosted", "FLY_FROSTED"},
+                   {kVariantReflectionFog, "fog", "FLY_REFLECTION_FOG"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -593,6 +601,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.mirrorAlpha = loc("uMirrorAlpha");
   sp.mirrorWorldFromClip = loc("uMirrorWorldFromClip");
   sp.cubeReflector = loc("uCubeReflector");
+  sp.fogDistance = loc("uFogDistanceM");
+  sp.fogColor = loc("uFogColor");
   sp.program = p;
   return sp;
 }
@@ -1037,6 +1047,8 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   gpu_->reflectionBlurred.clear();
   glDeleteTextures(GLsizei(gpu_->reflectionDepth.size()), gpu_->reflectionDepth.data());
   gpu_->reflectionDepth.clear();
+  glDeleteTextures(1, &gpu_->cubeFaceDepth);
+  gpu_->cubeFaceDepth = 0;
   glDeleteTextures(1, &gpu_->blendColor);
   glDeleteFramebuffers(1, &gpu_->blendFbo);
   gpu_->blendColor = gpu_->blendFbo = 0;
@@ -1106,10 +1118,18 @@ void Renderer::captureCubeReflectors(RenderMode mode) {
   gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
   for (uint32_t k = 0; k < r.cubeReflectors.size(); ++k) {
     const rdb::RasterCubeReflector& c = r.cubeReflectors[k];
-    cubes_->capture(k, c.centreM, std::max(1e-3f, 1e-3f * c.radiusM), [&](const View& face) {
+    const rdb::RasterMaterial& m = r.materials[c.material];
+    cubes_->capture(k, c.centreM, std::max(1e-3f, 1e-3f * c.radiusM), m.reflectionFogDistanceM, [&](const View& face) {
       const CubePass pass{k};
       renderPass(face, mode, n, n, nullptr, &pass);
-      return gpu_->floatColor;
+      CubeReflections::Face drawn{gpu_->floatColor};
+      if (m.hasReflectionFog()) {
+        // Reflection fog's distances (raster/cube_reflections.h): the face's depth and how to unproject it.
+        copyDepth(gpu_->cubeFaceDepth, 0, 0, int(n), int(n));
+        drawn.depth = gpu_->cubeFaceDepth;
+        drawn.worldFromClip = glm::inverse(projection(face, 1.0f) * glm::inverse(face.worldFromCamera));
+      }
+      return drawn;
     });
     ++stats_.cubeCaptures;
   }
@@ -1163,8 +1183,12 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     }
     glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x, rect.y,
                        0, rect.width, rect.height, 1);
-    if (r.materials[pr.material].ggxAlpha >= kGlossyMirrorAlpha) {
-      decodeBlurred(image, gpu_->reflectionBlurred[k], rect.x, rect.y, rect.width, rect.height);
+    // The depth says how far behind the mirror what it shows lies: a glossy reflector's blur and reflection
+    // fog read it.
+    const rdb::RasterMaterial& prMaterial = r.materials[pr.material];
+    const bool glossy = prMaterial.ggxAlpha >= kGlossyMirrorAlpha;
+    if (glossy) decodeBlurred(image, gpu_->reflectionBlurred[k], rect.x, rect.y, rect.width, rect.height);
+    if (glossy || prMaterial.hasReflectionFog()) {
       copyDepth(gpu_->reflectionDepth[k], rect.x, rect.y, rect.width, rect.height);
       const float aspect = float(widthPx) / float(heightPx);
       const vec4 planeCamera = glm::transpose(mirrored.worldFromCamera) * pass.planeWorld;
@@ -1280,7 +1304,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
-        (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u);
+        (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u) |
+        (v.reflectionFog ? kVariantReflectionFog : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
@@ -1397,6 +1422,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
         }
       }
+      if (v.reflectionFog) {
+        glUniform1f(p.fogDistance, m.hasReflectionFog() ? m.reflectionFogDistanceM : -1.0f);
+        glUniform3fv(p.fogColor, 1, &m.reflectionFogColor[0]);
+      }
       if (v.planarReflectors) {
         // A reflector shows its image in the real view; in a mirrored pass none does (one reflection deep).
         const bool shows = !mirrorPass && d.reflector != rdb::RasterTextureRef::kNone && !d.blend &&
@@ -1409,8 +1438,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glUniform1i(p.sunInReflection, sky && v.sun ? 1 : 0);
           const bool glossy = m.ggxAlpha >= kGlossyMirrorAlpha;
           glUniform1f(p.mirrorAlpha, glossy ? m.ggxAlpha : 0.0f);
-          if (glossy) {
-            glBindTextureUnit(3, gpu_->reflectionBlurred[d.reflector]);
+          if (glossy) glBindTextureUnit(3, gpu_->reflectionBlurred[d.reflector]);
+          if (glossy || m.hasReflectionFog()) {
             glBindTextureUnit(1, gpu_->reflectionDepth[d.reflector]);
             glUniformMatrix4fv(p.mirrorWorldFromClip, 1, GL_FALSE, &gpu_->reflectionWorldFromClip[d.reflector][0][0]);
           }

@@ -458,7 +458,9 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
   // bake computes them again alike.
   std::optional<LightPathMaps> lightPathMaps;
   std::vector<float> weights;
-  if (settings.lightPaths.enabled && integrator.hasSun()) {
+  // Reflection fog is gathered only: the light paths' scattering has no fog, so with it they would estimate
+  // another quantity than the gathering's sun part (docs/light-paths.md).
+  if (settings.lightPaths.enabled && integrator.hasSun() && !integrator.hasReflectionFog()) {
     const auto start = std::chrono::steady_clock::now();
     const SunLightPaths lightPaths(rdb, scene, integrator);
     weights = combinationWeights(vertexSource, lightPaths, settings, maps.lightPaths, maps.lightPathRays);

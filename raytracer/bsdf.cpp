@@ -135,12 +135,7 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
       const Rgb oneMinusRo = Rgb(1.0f) - reflection_ * fresnel(wo.z);
       f += diffuseKd_ * diffuseNorm_ * oneMinusRi * oneMinusRo / kPiF;
     }
-    if (hasReflection_ && alphaR_ > 0.0f) {
-      vec3 h;
-      float pdfUnused;
-      const float g = reflectionLobe(wo, wi, h, pdfUnused);
-      f += reflection_ * (fresnel(glm::dot(wo, h)) * g);
-    }
+    if (hasReflection_ && alphaR_ > 0.0f) f += glossyReflection(wo, wi);
   } else if (wi.z < 0.0f && frostedTransmission()) {
     vec3 h;
     float pdfUnused;
@@ -148,6 +143,18 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
     f += transmission_ * (Rgb(1.0f) - reflection_ * fresnel(glm::dot(wo, h))) * g;
   }
   return coverage_ * f;
+}
+
+Rgb Bsdf::glossyReflection(const vec3& wo, const vec3& wi) const {
+  vec3 h;
+  float pdfUnused;
+  const float g = reflectionLobe(wo, wi, h, pdfUnused);
+  return reflection_ * (fresnel(glm::dot(wo, h)) * g);
+}
+
+Rgb Bsdf::evalReflection(const vec3& wo, const vec3& wi) const {
+  if (measured_ || !hasReflection_ || !(alphaR_ > 0.0f) || !(wi.z > 0.0f)) return Rgb(0.0f);
+  return coverage_ * glossyReflection(wo, wi);
 }
 
 float Bsdf::pdf(const vec3& wo, const vec3& wi) const {

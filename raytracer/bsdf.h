@@ -110,6 +110,9 @@ class Bsdf {
 
   // f(ωo, ωi) of the non-delta lobes in 1/sr, local directions with wo.z > 0; ωi on either side.
   Rgb eval(const vec3& wo, const vec3& wi) const;
+  // The part of eval() that the glossy reflection lobe contributes (0 for other lobes and measured BRDFs):
+  // what reflection fog fades (raytracer/integrator.h).
+  Rgb evalReflection(const vec3& wo, const vec3& wi) const;
   // Density per steradian with which sample() draws ωi by a non-delta lobe (times that lobe's probability).
   float pdf(const vec3& wo, const vec3& wi) const;
   // One direction: uLobe chooses the lobe, u the direction in it. False when nothing scatters (black, or a
@@ -150,6 +153,8 @@ class Bsdf {
  private:
   float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
+  // The glossy reflection lobe's f for wi above the surface, before coverage.
+  Rgb glossyReflection(const vec3& wo, const vec3& wi) const;
   bool covered() const { return coverage_ >= 1.0f; }
   // The glossy reflection lobe's D G2 / (4 cos θo cos θi) and its sampling density per steradian (ωo, ωi
   // above the surface), isotropic or anisotropic; h receives the half vector.

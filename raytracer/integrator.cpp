@@ -41,6 +41,18 @@ constexpr float kMinShadingCos = 0.01f;
 // only with a path's tenth and eleventh vertices.
 constexpr uint32_t kPatchGroupBase = (1u << 19) + 29;
 
+// The sampler group of reflection fog's choice at path vertex k: kFogGroupBase + k, above the lit patches'
+// groups (kPatchGroupBase + 2k + 1 ≤ 2¹⁹ + 20031) and below the baker's (2²⁰ + 31).
+constexpr uint32_t kFogGroupBase = (1u << 19) + (1u << 18) + 27;
+
+// Reflection fog's share t(d) = min(d / D, 1) at reflected distance distM (∞ for a ray that meets nothing)
+// for fog distance fogDistanceM D (finite): linear, reaching the fog colour at D (reference 002, "Reflection
+// Fog": "at a certain distance, the color of the reflection becomes equal to the specified reflection fog
+// color").
+float fogFraction(float distM, float fogDistanceM) {
+  return std::min(distM / fogDistanceM, 1.0f);
+}
+
 // Points per face of LitPatches' mean radiance of a face (Integrator::faceRadiance).
 constexpr uint32_t kFaceRadianceSamples = 8;
 
@@ -275,6 +287,16 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
     deltaLightFrontBsdfs_.emplace_back(regularised, true, coverage, deltaLightMaterialLobe_[mi]);
     deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided, coverage, deltaLightMaterialLobe_[mi]);
+  }
+  if (std::any_of(rdb.materials.begin(), rdb.materials.end(),
+                  [](const rdb::TraceMaterial& m) { return m.hasReflectionFog(); })) {
+    fogBsdfs_.reserve(rdb.materials.size());
+    for (const rdb::TraceMaterial& m : rdb.materials) {
+      rdb::TraceMaterial fog;
+      fog.diffuse = m.reflectionFogColor;
+      fog.diffuseColor = m.reflectionFogColor;
+      fogBsdfs_.emplace_back(fog, true);
+    }
   }
 
   if (settings_.skyPortals && skyDistribution_ && hasClearGlass_) buildPortals();
@@ -636,7 +658,8 @@ Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uin
   }
 }
 
-bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf) const {
+bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf,
+                          float distM) const {
   const float cosTheta = glm::dot(v.n, d);
   if (bsdf == nullptr) {
     if (!(cosTheta > 0.0f)) return false;
@@ -655,7 +678,9 @@ bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb&
   }
   if (!(cosTheta > 0.0f) && !(cosTheta < 0.0f && bsdf->hasNonDeltaTransmission())) return false;
   const vec3 wi = v.frame.toLocal(d);
-  fCos = bsdf->eval(v.woLocal, wi) * std::abs(cosTheta);
+  Rgb f = bsdf->eval(v.woLocal, wi);
+  if (v.fogBsdf) f = glm::max(f - fogFraction(distM, v.fogDistanceM) * bsdf->evalReflection(v.woLocal, wi), 0.0f);
+  fCos = f * std::abs(cosTheta);
   if (!(maxComponent(fCos) > 0.0f)) return false;
   pdf = bsdf->pdf(v.woLocal, wi);
   return true;
@@ -674,7 +699,7 @@ Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex
   const float distM = glm::length(toLight);
   if (!(distM > 0.0f) || distM >= light.rangeM) return Rgb(0.0f);
   const vec3 dir = toLight / distM;
-  if (!response(v, v.deltaLightBsdf, dir, fCos, pdfUnused)) return Rgb(0.0f);
+  if (!response(v, v.deltaLightBsdf, dir, fCos, pdfUnused, distM)) return Rgb(0.0f);
   // KHR_lights_punctual's recommended range window: clamp(1 − (d / range)⁴, 0, 1) / d².
   const float ratio = distM / light.rangeM;
   float factor = std::clamp(1.0f - ratio * ratio * ratio * ratio, 0.0f, 1.0f);
@@ -797,7 +822,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
     const float cosLight = -glm::dot(nLight, d);
     const rdb::TraceMaterial& m = rdb_.materials[rdb_.triangleMaterial[t]];
     if (distM > 0.0f && (cosLight > 0.0f || (m.doubleSided && cosLight < 0.0f)) &&
-        response(v, v.bsdf, d, fCos, pdfBsdf)) {
+        response(v, v.bsdf, d, fCos, pdfBsdf, distM)) {
       const float pdf = emitterPdf(t, distM, std::abs(cosLight));
       // Both ends moved off their surfaces, the light's towards the receiver.
       const vec3 origin = originTowards(d);
@@ -849,8 +874,13 @@ std::optional<Integrator::Vertex> Integrator::vertexAt(const vec3& x, const Tria
   const Onb frame = shadingFrameAt(rdb_, rdb_.materials[mi], at, ns, front);
   const vec3 wo = frame.toLocal(-d);
   if (!(wo.z > 0.0f)) return std::nullopt;
-  return Vertex{x, ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), bsdfs.bsdf, bsdfs.deltaLight,
-                frame, wo};
+  Vertex v{x, ns, side, std::max(maxAbs(x), scene_.triangleMagnitudeM(t)), bsdfs.bsdf, bsdfs.deltaLight,
+           frame, wo};
+  if (rdb_.materials[mi].hasReflectionFog()) {
+    v.fogDistanceM = rdb_.materials[mi].reflectionFogDistanceM;
+    v.fogBsdf = &fogBsdfs_[mi];
+  }
+  return v;
 }
 
 template <class S>
@@ -875,7 +905,7 @@ Rgb Integrator::litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S&
   const float absCosPatch = std::abs(glm::dot(ng, d));
   Rgb fCos;
   float pdfBsdf;
-  if (!(absCosPatch > 0.0f) || !response(v, v.bsdf, d, fCos, pdfBsdf)) return Rgb(0.0f);
+  if (!(absCosPatch > 0.0f) || !response(v, v.bsdf, d, fCos, pdfBsdf, distM)) return Rgb(0.0f);
   const float pdf = pick.pmf / areaM2 * distM * distM / absCosPatch;
   if (!(pdf > 0.0f) || !std::isfinite(pdf)) return Rgb(0.0f);
   // y as the next vertex of the path, and the sun's and sky's light that a path reaching it samples there.
@@ -1001,6 +1031,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   // lights are sampled.
   float pendingSurvival = 1.0f;
   float pendingRoulette = 0.0f;
+  // Reflection fog at v for its continuation (v.fogBsdf): the per-channel share ρ of the sample's weight that
+  // its reflection lobe carries, and its scalar share s (0: no fog for this continuation).
+  Rgb fogShare(0.0f);
+  float fogShareScalar = 0.0f;
   for (uint32_t depth = 0; depth <= kPathLengthGuard; ++depth) {
     // Only the dimensions this vertex uses (each is a function of its own index alone, so skipping one
     // changes no other).
@@ -1111,6 +1145,17 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       // Where the shading and geometric surfaces disagree on the side, no light comes from there.
       if (s.lobe != Bsdf::Lobe::kStraight && (glm::dot(d, v.ng) > 0.0f) != (s.wi.z > 0.0f)) break;
       beta *= s.weight;
+      fogShareScalar = 0.0f;
+      if (v.fogBsdf && s.lobe == Bsdf::Lobe::kMirror) {
+        fogShare = Rgb(1.0f);
+        fogShareScalar = 1.0f;
+      } else if (v.fogBsdf && s.lobe == Bsdf::Lobe::kNonDelta) {
+        const Rgb f = v.bsdf->eval(v.woLocal, s.wi);
+        const Rgb fReflection = v.bsdf->evalReflection(v.woLocal, s.wi);
+        for (int c = 0; c < 3; ++c) fogShare[c] = f[c] > 0.0f ? std::clamp(fReflection[c] / f[c], 0.0f, 1.0f) : 0.0f;
+        const float weightSum = s.weight.r + s.weight.g + s.weight.b;
+        fogShareScalar = weightSum > 0.0f ? glm::dot(s.weight, fogShare) / weightSum : 0.0f;
+      }
       if (s.lobe != Bsdf::Lobe::kStraight) {
         ++reflections;
         specular = s.lobe == Bsdf::Lobe::kMirror;
@@ -1126,6 +1171,33 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     const std::optional<Hit> hit =
         scene_.intersect(offsetRayOrigin(v.p, glm::dot(v.ng, d) > 0.0f ? v.ng : -v.ng, v.magnitudeM), d,
                          std::numeric_limits<float>::infinity());
+    if (fogShareScalar > 0.0f) {
+      // Reflection fog: the reflected light ρ W L(y) seen at distance d becomes (1 − t) ρ W L(y) + t ρ W
+      // L_fog, L_fog = fogColor E(x) / π, the radiance of a Lambertian surface of albedo fogColor at v. One of
+      // the two is followed: the fog with probability P = t s, weight ρ W / s, in the form of a virtual
+      // vertex at v with that Lambertian Bsdf (its light sampling and continuation estimate E / π times the
+      // albedo); the ray's hit otherwise, weight (W − t ρ W) / (1 − P). Both expectations are the terms
+      // above: unbiased. Light sampling at v faded the reflection lobe alike (response), so the MIS of v's
+      // light sampling against the hit's emission estimates one integrand.
+      const float t = hit ? fogFraction(hit->distanceM, v.fogDistanceM) : 1.0f;
+      const float share = fogShareScalar;
+      const float pFog = std::min(t * share, 1.0f);
+      fogShareScalar = 0.0f;
+      sampler.startGroup(kFogGroupBase + depth);
+      if (sampler.next1D() < pFog) {
+        beta *= fogShare / share;
+        if (v.fogBsdf->isBlack() || !(maxComponent(beta) > 0.0f)) break;
+        // The virtual vertex scatters in place of v's reflection: its continuation is that reflection.
+        --reflections;
+        v.bsdf = v.fogBsdf;
+        v.deltaLightBsdf = v.fogBsdf;
+        v.fogBsdf = nullptr;
+        v.fogDistanceM = std::numeric_limits<float>::infinity();
+        patchCellLast = LitPatches::kNoCell;
+        continue;
+      }
+      beta *= (Rgb(1.0f) - t * fogShare) / (1.0f - pFog);
+    }
     if (!hit) {
       if (skyDistribution_ && d.y >= 0.0f) {
         const uint32_t cell = skyCell(d);

@@ -109,6 +109,15 @@
 // through its isotropic α (IntegratorSettings::caustics): its widths keep α_U α_V = α², so its peak density
 // 1 / (π α_U α_V) is bounded as an isotropic lobe's of that α is.
 //
+// Reflection fog (rdb::TraceMaterial::reflectionFogDistanceM D, reflectionFogColor c; docs/materials-engine.md):
+// what a reflection lobe at x shows along a ray that meets something at d (nothing: d = ∞) is mix(L, L_fog,
+// t), t = min(d / D, 1), L_fog = c E(x) / π: the radiance of a Lambertian surface of albedo c at x. A path
+// whose sample at x (weight W, its reflection lobe's share ρ per channel, s of the mean) meets d follows the fog
+// with probability t s, weight ρ W / s, from a virtual vertex at x with that Lambertian Bsdf (light sampling
+// and a cosine continuation, as any diffuse vertex), else the hit with weight (W − t ρ W) / (1 − t s): both
+// terms in expectation, unbiased. Light sampling at x fades the reflection lobe alike (response), so that its
+// MIS with the sampled rays combines estimates of one integrand.
+//
 // Not modelled: refraction through thick glass.
 //
 // Sides: the sensor integrates the hemisphere of n (pass −n for the back side of a two-sided surface). The
@@ -244,6 +253,8 @@ class Integrator {
   bool usesLitPatches() const { return litPatches_ != nullptr; }
   // Its regions with a distribution (0 without).
   size_t litPatchCells() const { return litPatches_ ? litPatches_->cellCount() : 0; }
+  // Whether some material has reflection fog (rdb::TraceMaterial::hasReflectionFog).
+  bool hasReflectionFog() const { return !fogBsdfs_.empty(); }
 
  private:
   friend class SunLightPaths;  // the light paths (raytracer/light_paths.h) scatter by the same Bsdfs
@@ -259,6 +270,10 @@ class Integrator {
     const Bsdf* deltaLightBsdf;
     Onb frame;     // around n (surface vertices; shadingFrameAt)
     vec3 woLocal;  // towards the previous vertex, in frame (surface vertices)
+    // Reflection fog of the material (rdb::TraceMaterial): its distance (∞: none) and the Lambertian Bsdf of
+    // albedo fogColor that stands in for the reflection lobes where the fog wins (sampleIrradiance).
+    float fogDistanceM = std::numeric_limits<float>::infinity();
+    const Bsdf* fogBsdf = nullptr;
   };
 
   // Σ over the lights of ∫ L_i f |cos θ| dω at v by light sampling (f = 1 and the hemisphere of n at the
@@ -297,11 +312,14 @@ class Integrator {
   // (IntegratorSettings::litPatchWeights); path sampling's is one minus it.
   float patchWeight(float pdfPatch, float pdfPath) const;
   Rgb punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const;
-  // v's response to light arriving from world direction d: f |cos θ| (cos θ at the sensor; θ from the
-  // shading normal), and the density per steradian with which v's continuation samples d. False when v takes
-  // no light from d, also where d lies on the other side of the geometric surface than of the shading one
-  // (no light through the back of a surface). bsdf: v.bsdf or v.deltaLightBsdf.
-  bool response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf) const;
+  // v's response to light arriving from world direction d from a source at distance distM (∞: the sun, the
+  // sky, directional lights): f |cos θ| (cos θ at the sensor; θ from the shading normal), with the reflection
+  // lobe faded by v's reflection fog, f − fogFraction(distM) f_reflection (the fog's own light is gathered
+  // apart, sampleIrradiance), and the density per steradian with which v's continuation samples d. False
+  // when v takes no light from d, also where d lies on the other side of the geometric surface than of the
+  // shading one (no light through the back of a surface). bsdf: v.bsdf or v.deltaLightBsdf.
+  bool response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf,
+                float distM = std::numeric_limits<float>::infinity()) const;
   // The fraction of light that reaches origin from unit direction dir over [0, tMaxM] (tMaxM may be ∞): 1
   // when nothing is in the way, the product of T(θ) of the clear panes crossed, 0 when anything else is hit.
   // `rays` grows by the rays traced.
@@ -357,6 +375,9 @@ class Integrator {
   // The same for light sampling of the sun and punctual lights: regularised without caustics.
   std::vector<Bsdf> deltaLightFrontBsdfs_;
   std::vector<Bsdf> deltaLightBackBsdfs_;
+  // Per material, when some material has reflection fog: the Lambertian Bsdf of albedo reflectionFogColor
+  // (Vertex::fogBsdf); empty otherwise.
+  std::vector<Bsdf> fogBsdfs_;
   // Per material: evaluated per point (textures, or COLOR_0 in the TraceRdb; raytracer/surface_point.h).
   std::vector<uint8_t> varies_;
   // Some material passes light straight through (clear glass or partial coverage: visibility()).

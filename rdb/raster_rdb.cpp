@@ -41,7 +41,7 @@ bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
   const RasterMaterial& m = materials[mesh.material];
   return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || m.measured != RasterTextureRef::kNone ||
          mesh.hasColors || mesh.planarReflector != RasterTextureRef::kNone ||
-         mesh.cubeReflector != RasterTextureRef::kNone;
+         mesh.cubeReflector != RasterTextureRef::kNone || m.hasReflectionFog();
 }
 
 namespace {
@@ -182,6 +182,10 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   if (!engineGlass(m) && !m.isMeasured()) {
     r.cubeMapAlways = m.showsCubeMapReflection(true);
     r.cubeMapOnCurved = m.showsCubeMapReflection(false);
+    if (std::isfinite(m.reflectionFogDistanceM) && maxComponent(r.specular) > 0.0f) {
+      r.reflectionFogDistanceM = m.reflectionFogDistanceM;
+      r.reflectionFogColor = glm::clamp(m.reflectionFogColor, Rgb(0.0f), Rgb(1.0f));
+    }
   }
   r.sdbMaterialId = sdbMaterialId;
   return r;
@@ -912,6 +916,7 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     v.vertexColors |= mesh.hasColors;
     v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;
     v.alphaBlend |= m.alphaMode == RasterAlphaMode::kBlend;
+    v.reflectionFog |= m.hasReflectionFog();
   }
   v.measuredBrdf = !rdb.measuredBrdfs.empty();
   v.planarReflectors = !rdb.planarReflectors.empty();

@@ -138,9 +138,16 @@ struct RasterMaterial {
   // (the scene file's "cubemap"). Neither glass nor measured.
   bool cubeMapOnCurved = false;
   bool cubeMapAlways = false;
+  // Reflection fog (sdb::Material) of an opaque analytic material that reflects (specular > 0; neither glass
+  // nor measured): what its planar image, cube map or image-based light shows at reflected distance d fades
+  // to fogColor · E / π (E the irradiance the mode has at the pixel) by t = min(d / reflectionFogDistanceM, 1)
+  // (docs/materials-engine.md); ∞: none. Such a material is shaded per fragment (shadedPerFragment).
+  float reflectionFogDistanceM = std::numeric_limits<float>::infinity();
+  Rgb reflectionFogColor{0.0f};  // [0, 1]
   uint32_t sdbMaterialId = 0;
 
   bool hasTexture() const { return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture); }
+  bool hasReflectionFog() const { return reflectionFogDistanceM < std::numeric_limits<float>::infinity(); }
 
   bool operator==(const RasterMaterial&) const = default;
 };
@@ -279,6 +286,7 @@ struct RasterVariants {
   bool measuredBrdf = false;  // some mesh has a measured BRDF: ball textures (raster/ball_texture.h)
   bool planarReflectors = false;  // RasterRdb::planarReflectors is not empty: mirrored passes
   bool cubeReflectors = false;    // RasterRdb::cubeReflectors is not empty: cube-map captures
+  bool reflectionFog = false;     // some mesh's material has reflection fog (RasterMaterial)
 
   bool operator==(const RasterVariants&) const = default;
 };

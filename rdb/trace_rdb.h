@@ -4,6 +4,7 @@
 // needs is here, as plain data a test can also build by hand.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -80,6 +81,12 @@ struct TraceMaterial {
   Rgb emissionCdM2{0.0f};   // emitted luminance, cd/m²
   bool doubleSided = false; // emits from both faces (glTF doubleSided)
   uint32_t sdbMaterialId = 0;
+  // Reflection fog (sdb::Material): what the reflection lobes show at reflected distance d fades linearly to
+  // the radiance of a Lambertian surface of albedo reflectionFogColor at the reflecting point, reached at d =
+  // reflectionFogDistanceM (m, (0, ∞]; ∞ = no fog); raytracer/integrator.h.
+  float reflectionFogDistanceM = std::numeric_limits<float>::infinity();
+  Rgb reflectionFogColor{0.0f};  // [0,1]
+  bool hasReflectionFog() const { return std::isfinite(reflectionFogDistanceM); }
 
   // Textures; each multiplies the constant above it (sdb::Material).
   TraceTextureSlot diffuseTexture;     // sRGB colour × diffuseColor; its alpha (2 or 4 channels) × coverage

@@ -32,6 +32,8 @@ TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   t.emissionCdM2 = m.emissionLuminance;
   t.doubleSided = m.doubleSided;
   t.sdbMaterialId = sdbMaterialId;
+  t.reflectionFogDistanceM = m.reflectionFogDistanceM;
+  t.reflectionFogColor = glm::clamp(m.reflectionFogColor, 0.0f, 1.0f);
   t.diffuseColor = glm::clamp(m.diffuseColor, 0.0f, 1.0f);
   t.normalScale = m.bumpScale;
   switch (m.alphaMode) {

@@ -1,5 +1,6 @@
 #include "sdb/features.h"
 
+#include <cmath>
 #include <set>
 
 namespace fly::sdb {
@@ -50,6 +51,7 @@ std::vector<std::string> SceneFeatures::names() const {
       {vertexColors, "vertex-colors"},
       {planarReflectors, "planar-reflectors"},
       {curvedReflectors, "curved-reflectors"},
+      {reflectionFog, "reflection-fog"},
   };
   for (const auto& [present, name] : all) {
     if (present) out.emplace_back(name);
@@ -92,6 +94,8 @@ SceneFeatures computeFeatures(const Scene& scene) {
                            bool(m.anisotropyRotationTexture) || bool(m.emissionTexture) || bool(m.bumpTexture);
     f.bumpMaps |= bool(m.bumpTexture);
     f.vertexColors |= !mesh.colors.empty();
+    f.reflectionFog |= std::isfinite(m.reflectionFogDistanceM) && maxComponent(m.reflectionColor) > 0.0f &&
+                       !m.isMeasured() && !glass;
     const bool flat = isPlanar(mesh);
     const char* choice = nullptr;
     if (m.isMeasured() || glass) {

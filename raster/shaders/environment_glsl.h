@@ -90,7 +90,7 @@ void main() {
   ivec3 id = ivec3(gl_GlobalInvocationID);
   if (id.x >= uSize || id.y >= uSize) return;
   float step = 1.0 / float(uSize);  // a child's side in s, t
-  vec3 sum = vec3(0.0);
+  vec4 sum = vec4(0.0);  // alpha too: a cube reflector's fog weight (raster/cube_reflections.h)
   float weight = 0.0;
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 2; ++i) {
@@ -98,11 +98,11 @@ void main() {
       float s0 = -1.0 + float(child.x) * step, t0 = -1.0 + float(child.y) * step;
       float s1 = s0 + step, t1 = t0 + step;
       float sr = flyCornerArea(s0, t0) - flyCornerArea(s0, t1) - flyCornerArea(s1, t0) + flyCornerArea(s1, t1);
-      sum += imageLoad(uFine, ivec3(child, id.z)).rgb * sr;
+      sum += imageLoad(uFine, ivec3(child, id.z)) * sr;
       weight += sr;
     }
   }
-  imageStore(uCoarse, id, vec4(sum / weight, 1.0));
+  imageStore(uCoarse, id, sum / weight);
 }
 )GLSL";
 
@@ -127,7 +127,7 @@ void main() {
   float a2 = max(uAlpha * uAlpha, 1e-8);
   mat3 frame = flyFrameAround(r);
   float texelSr = 4.0 * kPi / (6.0 * float(uSourceSize * uSourceSize));
-  vec3 sum = vec3(0.0);
+  vec4 sum = vec4(0.0);  // alpha too: a cube reflector's fog weight (raster/cube_reflections.h)
   float weight = 0.0;
   for (int k = 0; k < uSamples; ++k) {
     vec3 h = flyGgxSampleNormal(flyHammersley(uint(k), uint(uSamples)), a2);
@@ -135,10 +135,10 @@ void main() {
     if (l.z <= 0.0) continue;
     float pdf = flyGgxD(h.z, a2) / 4.0;  // D cos θh / (4 v·h), v·h = cos θh
     float lod = max(0.5 * log2(1.0 / (float(uSamples) * pdf * texelSr)), 0.0);
-    sum += textureLod(uSource, frame * l, lod).rgb * l.z;
+    sum += textureLod(uSource, frame * l, lod) * l.z;
     weight += l.z;
   }
-  imageStore(uOut, id, vec4(sum / max(weight, 1e-20), 1.0));
+  imageStore(uOut, id, sum / max(weight, 1e-20));
 }
 )GLSL";
 

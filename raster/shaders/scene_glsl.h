@@ -22,6 +22,8 @@
 //                  (flySpecularOcclusion)
 //   FLY_CUBE_REFLECTION  curved reflectors (per fragment): a draw with uCubeReflector ≥ 0 adds the split sum of
 //                  its own cube map (raster/cube_reflections.h) in every mode
+//   FLY_REFLECTION_FOG  materials with reflection fog (per fragment): what a draw's material reflects (its planar
+//                  image, cube map or image-based light) fades to uFogColor · E / π with the reflected distance
 //   FLY_SUN_GLASS  scenes with clear glass and a sun (with FLY_SUN): the sun's direct term times the T of the
 //                  glass between the surface and the sun, per fragment (raster/sun_glass.h; kSunGlassLookup,
 //                  prepended to every stage). Per-vertex meshes pass the sun's term apart from the rest
@@ -239,17 +241,38 @@ vec3 flyIrradianceLux(vec3 n) { return textureLod(uIrradiance, n, 0.0).rgb; }
 #ifdef FLY_CUBE_REFLECTION
 uniform int uCubeReflector;  // the draw's RasterRdb::cubeReflectors index, −1 for none
 #endif
-// The environment's light reflected towards the eye by material m's GGX lobe (cd/m²).
-vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
-  if (m.environment.r + m.environment.g + m.environment.b <= 0.0) return vec3(0.0);
+// The split sum's factor F0 A + F90 B of material m's GGX lobe towards the eye, and in `prefiltered` the
+// prefiltered environment in the mirror direction (rgb: cd/m²; a: a cube reflector's fog weight, below).
+vec3 flyEnvironmentLobe(Material m, vec3 n, vec3 toEye, out vec4 prefiltered) {
   float cosO = clamp(dot(n, toEye), 1e-4, 1.0);
   vec3 r = 2.0 * dot(n, toEye) * n - toEye;
   // √α indexes both the table and the levels (√α_k = k / (K − 1)).
   float rough = sqrt(clamp(m.environment.w, 0.0, 1.0));
   vec2 ab = textureLod(uSplitSum, vec2(cosO, rough), 0.0).rg;
-  vec3 prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel).rgb;
-  return prefiltered * (m.specular.rgb * ab.x + m.environment.rgb * ab.y);
+  prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel);
+  return m.specular.rgb * ab.x + m.environment.rgb * ab.y;
 }
+// The environment's light reflected towards the eye by material m's GGX lobe (cd/m²).
+vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
+  if (m.environment.r + m.environment.g + m.environment.b <= 0.0) return vec3(0.0);
+  vec4 prefiltered;
+  vec3 lobe = flyEnvironmentLobe(m, n, toEye, prefiltered);
+  return prefiltered.rgb * lobe;
+}
+#ifdef FLY_REFLECTION_FOG
+// The same with reflection fog of luminance fogCdM2 (cd/m²): the sky lies at infinity (t = 1) and shows the
+// fog alone; a cube reflector's maps hold L in rgb and t in a per texel (raster/cube_reflections.h), both
+// prefiltered by the lobe, and the lobe sees mix(L̄, fogCdM2, t̄): exact for a mirror (level 0) and where L or
+// t is uniform over the lobe, an approximation of the mean of mix(L, fog, t) elsewhere.
+// The specular occlusion of a light-mapped surface (flySpecularOcclusion) dims what the environment shows,
+// not the fog, whose E is the surface's own.
+vec3 flyEnvironmentSpecularFogged(Material m, vec3 n, vec3 toEye, vec3 fogCdM2, bool cube, float occlusion) {
+  if (m.environment.r + m.environment.g + m.environment.b <= 0.0) return vec3(0.0);
+  vec4 prefiltered;
+  vec3 lobe = flyEnvironmentLobe(m, n, toEye, prefiltered);
+  return (cube ? mix(occlusion * prefiltered.rgb, fogCdM2, prefiltered.a) : fogCdM2) * lobe;
+}
+#endif
 #endif
 
 #if defined(FLY_IBL) && defined(FLY_LIGHT_MAP)
@@ -319,6 +342,27 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
 #endif
   return diffuseOverPi * (diffuseLux + ambientLux) + specularLux;
 }
+#ifdef FLY_REFLECTION_FOG
+// The irradiance (lux) at p on normal n that the modified Phong shades with: the lamps, the sun (0 in its
+// shadow) and the ambient term (sunlight mode: the environment's irradiance). Reflection fog's E.
+vec3 flyPhongIrradianceLux(vec3 p, vec3 n, float corner) {
+  vec3 eLux = vec3(0.0);
+  for (int i = 0; i < uLightCount; ++i) {
+    vec3 toLight;
+    vec3 lux = flyLightLux(lights[i], p, toLight);
+    eLux += lux * max(dot(n, toLight), 0.0);
+  }
+#ifdef FLY_SUN
+  eLux += flySunLux(p) * max(dot(n, uSunDirWorld), 0.0);
+#endif
+#ifdef FLY_IBL
+  eLux += flyIrradianceLux(n);
+#else
+  eLux += (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) * (1.0 + kCornerGain * corner);
+#endif
+  return eLux;
+}
+#endif
 #endif
 )GLSL";
 
@@ -922,6 +966,11 @@ vec3 flyMirrorImage(vec3 p) {
   return textureLod(uReflectionBlurred, gl_FragCoord.xy / sizePx, log2(max(2.0 * flyMirrorSpreadPx(d, p), 1.0))).rgb;
 }
 #endif
+#ifdef FLY_REFLECTION_FOG
+// The draw's material's reflection fog (rdb::RasterMaterial): distance (m; ≤ 0: none) and colour.
+uniform float uFogDistanceM;
+uniform vec3 uFogColor;
+#endif
 #ifdef FLY_BLEND_PASS
 layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", back to front
 #else
@@ -1107,6 +1156,11 @@ void main() {
 #if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
   float specularOcclusion = 1.0;  // flySpecularOcclusion on a light-mapped surface under the sky's light
 #endif
+#ifdef FLY_REFLECTION_FOG
+  // Reflection fog's E: what the mode has at the pixel (the light map's irradiance, or the Phong's lamps, sun
+  // and ambient term).
+  vec3 fogIrradianceLux = vec3(0.0);
+#endif
 #ifdef FLY_LIGHT_MAP
 #ifdef FLY_PHONG
   useLightMap = (vSurface & 0x80000000u) != 0u;
@@ -1148,6 +1202,12 @@ void main() {
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
 #endif
+#ifdef FLY_REFLECTION_FOG
+    fogIrradianceLux = eLux;
+#if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
+    fogIrradianceLux += flySunLux(vPositionM) * max(dot(n, uSunDirWorld), 0.0);
+#endif
+#endif
 #ifdef FLY_MEASURED
     if (uBallLayer >= 0) l = flyMeasuredLightMap(eLux, base.rgb, n, toEye);
 #endif
@@ -1167,7 +1227,14 @@ void main() {
 #ifdef FLY_SSAO
     l -= (1.0 - flyAmbientOcclusion()) * flyAmbientLuminance;
 #endif
+#ifdef FLY_REFLECTION_FOG
+    fogIrradianceLux = flyPhongIrradianceLux(vPositionM, n, vCorner);
+#endif
   }
+#endif
+#ifdef FLY_REFLECTION_FOG
+  // L_fog = fogColor · E / π: the luminance of a Lambertian surface of albedo fogColor at the pixel.
+  vec3 fogCdM2 = uFogColor * fogIrradianceLux / kPi;
 #endif
 #if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)
   // The environment's specular part (without FLY_IBL, only a cube reflector's); a planar reflector's image and
@@ -1182,7 +1249,18 @@ void main() {
 #ifdef FLY_MEASURED
   environmentReflects = environmentReflects && uBallLayer < 0;
 #endif
+#ifdef FLY_REFLECTION_FOG
+  bool cubeMaps = false;
+#ifdef FLY_CUBE_REFLECTION
+  cubeMaps = uCubeReflector >= 0;
+#endif
+  if (environmentReflects) {
+    l += uFogDistanceM > 0.0 ? flyEnvironmentSpecularFogged(m, n, toEye, fogCdM2, cubeMaps, specularOcclusion)
+                             : specularOcclusion * flyEnvironmentSpecular(m, n, toEye);
+  }
+#else
   if (environmentReflects) l += specularOcclusion * flyEnvironmentSpecular(m, n, toEye);
+#endif
 #endif
 #ifdef FLY_PLANAR_REFLECTION
   // What the mirror reflects: the mirrored pass's image at this pixel (renderer.cpp, render), blurred by a
@@ -1190,7 +1268,15 @@ void main() {
   if (uReflector >= 0 && !back) {
     float x = 1.0 - clamp(dot(n, toEye), 0.0, 1.0);
     float fresnel = uMirrorF0 < 0.0 ? 1.0 : uMirrorF0 + (1.0 - uMirrorF0) * x * x * x * x * x;
-    l += uMirrorReflection * fresnel * flyMirrorImage(vPositionM);
+    vec3 image = flyMirrorImage(vPositionM);
+#ifdef FLY_REFLECTION_FOG
+    // Fades to the fog by the distance from this point to what its image shows (the sky: t = 1).
+    if (uFogDistanceM > 0.0) {
+      float d = flyMirrorDistance(gl_FragCoord.xy, vPositionM, vec2(textureSize(uReflectionDepth, 0)));
+      image = mix(image, fogCdM2, min(d / uFogDistanceM, 1.0));
+    }
+#endif
+    l += uMirrorReflection * fresnel * image;
   }
 #endif
   l += emission;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -32,7 +33,8 @@ struct MirrorScene {
 };
 
 MirrorScene mirrorScene(sdb::ReflectionModel model, sdb::EngineReflection engine = sdb::EngineReflection::kAuto,
-                        float glossiness = 0.0f) {
+                        float glossiness = 0.0f, float fogDistanceM = std::numeric_limits<float>::infinity(),
+                        const Rgb& fogColor = Rgb(0.0f)) {
   MirrorScene s;
   sdb::Material mirror;
   mirror.name = "mirror";
@@ -41,6 +43,8 @@ MirrorScene mirrorScene(sdb::ReflectionModel model, sdb::EngineReflection engine
   mirror.reflectionModel = model;
   mirror.reflectionGlossiness = glossiness;
   mirror.engineReflection = engine;
+  mirror.reflectionFogDistanceM = fogDistanceM;
+  mirror.reflectionFogColor = fogColor;
   const sdb::MaterialId mirrorId = s.scene.addMaterial(mirror).id;
   sdb::Material lamp;
   lamp.name = "emitter";
@@ -257,6 +261,72 @@ TEST(PlanarReflection, NoPassForAMirrorSeenFromBehindOrOutOfView) {
   EXPECT_EQ(renderer.stats().scenePasses, 2);
   renderer.render(test::lookAtView(vec3(0.3f, 2.0f, 4.0f), vec3(0.0f, 0.0f, 0.0f), 50.0f), RenderMode::kSimple, 64, 64);
   EXPECT_EQ(renderer.stats().reflectionPasses, 1);
+}
+
+// Reflection fog (sdb::Material::reflectionFogDistanceM D, reflectionFogColor c): the mirror under an ambient
+// term of E = 300 lux from above (simple mode; the mirror's corner factor is 0) shows at each pixel
+// R · mix(L, c E / π, t), t = min(d / D, 1), d the distance from the mirror point to what the reflected ray
+// meets (the box, of L = 1000 cd/m², from 0.86 m away: t from 0.43; nothing: t = 1, L = 0), by the same CPU
+// ray cast. The engine's d comes from the mirrored pass's depth; a 2 mm error in it moves t by 10⁻³, the check
+// allows 0.5 % of the expected luminance. Without fog the scene has no fog variant (and the tests above show
+// R · L and 0).
+TEST(PlanarReflection, ReflectionFogFadesTheImageToTheFogColourTimesTheIrradiance) {
+  context();
+  constexpr uint32_t kPx = 128;
+  constexpr float kFogDistanceM = 2.0f;
+  const Rgb fogColor(0.2f, 0.5f, 0.8f);
+  const Rgb irradianceLux(300.0f);
+  MirrorScene s = mirrorScene(sdb::ReflectionModel::kUniform, sdb::EngineReflection::kAuto, 0.0f, kFogDistanceM,
+                              fogColor);
+  ASSERT_EQ(s.rdb.planarReflectors.size(), 1u);
+  EXPECT_TRUE(s.rdb.variants.reflectionFog);
+  EXPECT_TRUE(sdb::computeFeatures(s.scene).reflectionFog);
+  EXPECT_FALSE(sdb::computeFeatures(mirrorScene(sdb::ReflectionModel::kUniform).scene).reflectionFog);
+  EXPECT_FALSE(mirrorScene(sdb::ReflectionModel::kUniform).rdb.variants.reflectionFog);
+  s.rdb.ambient.upLux = irradianceLux;
+  Renderer renderer;
+  renderer.upload(s.rdb);
+  const View view = test::lookAtView(vec3(0.3f, 2.0f, 4.0f), vec3(0.0f, 0.3f, 0.0f), 50.0f);
+  renderer.render(view, RenderMode::kSimple, kPx, kPx);
+  const std::vector<float> rgb = renderer.luminanceRgb();
+  const vec3 eye(view.worldFromCamera[3]);
+  const float tanY = std::tan(0.5f * view.yfovRad);
+  const Rgb fogCdM2 = fogColor * irradianceLux / float(kPi);
+  size_t boxPixels = 0, skyPixels = 0;
+  double worst = 0.0, tMin = 1.0;
+  for (uint32_t y = 1; y + 1 < kPx; ++y) {
+    for (uint32_t x = 1; x + 1 < kPx; ++x) {
+      // Pixels whose 3 × 3 neighbourhood the ray cast classifies alike, as `compare`.
+      auto direction = [&](int dx, int dy) {
+        const vec3 cam(((float(x) + float(dx) + 0.5f) / kPx * 2.0f - 1.0f) * tanY,
+                       (1.0f - (float(y) + float(dy) + 0.5f) / kPx * 2.0f) * tanY, -1.0f);
+        return glm::normalize(mat3(view.worldFromCamera) * cam);
+      };
+      const int k = classify(eye, direction(0, 0));
+      bool uniform = true;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) uniform &= classify(eye, direction(dx, dy)) == k;
+      if (!uniform || k < 2) continue;
+      const vec3 d = direction(0, 0);
+      const vec3 p = eye + (-eye.y / d.y) * d;
+      const std::optional<float> reflectedM = hitBox(p, vec3(d.x, -d.y, d.z));
+      const float t = reflectedM ? std::min(*reflectedM / kFogDistanceM, 1.0f) : 1.0f;
+      const Rgb seen = reflectedM ? Rgb(kEmissionCdM2) : Rgb(0.0f);
+      const Rgb expected = kReflection * ((1.0f - t) * seen + t * fogCdM2);
+      for (int c = 0; c < 3; ++c) {
+        const float got = rgb[3 * (size_t(y) * kPx + x) + size_t(c)];
+        worst = std::max(worst, std::abs(double(got) / double(expected[c]) - 1.0));
+      }
+      (reflectedM ? boxPixels : skyPixels) += 1;
+      if (reflectedM) tMin = std::min(tMin, double(t));
+    }
+  }
+  std::printf("reflection fog: %zu pixels reflect the box (t from %.3f), %zu nothing; worst relative error %.2e\n",
+              boxPixels, tMin, skyPixels, worst);
+  EXPECT_GT(boxPixels, 300u);
+  EXPECT_GT(skyPixels, 1000u);
+  EXPECT_LT(tMin, 0.6);  // the comparison spans the fade, not only its end
+  EXPECT_LT(worst, 5e-3);
 }
 
 }  // namespace

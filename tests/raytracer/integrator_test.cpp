@@ -938,5 +938,146 @@ TEST(Integrator, StopsAtTargetErrorAndTimeLimit) {
   EXPECT_LT(timed.seconds, 1.0);
 }
 
+
+// Reflection fog: a floor of fog distance D and fog colour c under an emissive ceiling of radiance L at
+// height H (both 10 km wide, as infinite planes), seen by a sensor facing down. The floor's irradiance is
+// E = π L, so the fog's radiance is L_fog = c E / π = c L, and a ray reflected at μ = cos θ from the normal
+// meets the ceiling at d = H / μ: t(μ) = min(μ0 / μ, 1), μ0 = H / D. For a mirror of uniform reflection r the
+// sensor receives E_s = 2π r L ∫₀¹ (1 − t (1 − c)) μ dμ = π r L (1 − (1 − c)(2 μ0 − μ0²)), μ0 ≤ 1.
+TEST(Integrator, ReflectionFogOfAMirrorUnderAnEmissiveCeilingFollowsTheClosedForm) {
+  const float ceilingM = 2.0f;
+  const float radiance = 100.0f;
+  const Rgb fogColor(0.2f, 0.5f, 0.8f);
+  for (const float fogDistanceM : {4.0f, 2.5f, 1.0f, std::numeric_limits<float>::infinity()}) {
+    SceneBuilder b;
+    rdb::TraceMaterial mirror;
+    mirror.diffuse = Rgb(0.0f);
+    mirror.reflection = Rgb(0.9f);
+    mirror.fresnel = false;
+    mirror.reflectionGlossiness = 0.0f;
+    mirror.reflectionFogDistanceM = fogDistanceM;
+    mirror.reflectionFogColor = fogColor;
+    b.ground(kHugeGroundHalfM, b.add(mirror));
+    b.plane(ceilingM, kHugeGroundHalfM, false, b.material(Rgb(0.0f), Rgb(radiance)));
+    const float mu0 = std::min(ceilingM / fogDistanceM, 1.0f);
+    Sensors s;
+    s.add(vec3(0.3f, 1.0f, -0.2f), vec3(0, -1, 0),
+          kPiF * mirror.reflection * radiance * (Rgb(1.0f) - (Rgb(1.0f) - fogColor) * (2.0f * mu0 - mu0 * mu0)));
+    expectAgrees("fogged mirror under a ceiling", run(b.rdb, s, 4096), s, 0.02f);
+  }
+}
+
+// The same floor under a uniform sky of radiance L and nothing else: every reflected ray meets nothing (t =
+// 1), so the mirror shows the fog alone: E_s = r π c E / π with E = π L, i.e. π r c L.
+TEST(Integrator, ReflectionFogOfAMirrorUnderTheSkyIsTheFogColourTimesTheIrradiance) {
+  SceneBuilder b;
+  rdb::TraceMaterial mirror;
+  mirror.diffuse = Rgb(0.0f);
+  mirror.reflection = Rgb(0.8f);
+  mirror.fresnel = false;
+  mirror.reflectionGlossiness = 0.0f;
+  mirror.reflectionFogDistanceM = 50.0f;
+  mirror.reflectionFogColor = Rgb(0.1f, 0.4f, 0.9f);
+  b.ground(kHugeGroundHalfM, b.add(mirror));
+  const float skyRadiance = 1000.0f;
+  b.uniformSky(Rgb(skyRadiance));
+  Sensors s;
+  s.add(vec3(0, 1.5f, 0), vec3(0, -1, 0), kPiF * mirror.reflection * mirror.reflectionFogColor * skyRadiance);
+  expectAgrees("fogged mirror under the sky", run(b.rdb, s, 1024), s, 0.01f);
+}
+
+// A point light of intensity I at height H above a fogged mirror floor and a sensor facing down at height h
+// below it: the mirror's reflected rays meet nothing (t = 1), and the sensor sees the floor as a Lambertian
+// surface of radiance r c E(ρ) / π, E(ρ) = I H / (ρ² + H²)^{3/2}: E_s = r c I H h² · 2 ∫₀^∞ ρ / ((ρ² + H²)^{3/2}
+// (ρ² + h²)²) dρ, integrated numerically (the fog's virtual vertex samples the point light). With caustics on,
+// the light's own image in the mirror (a point, which no path meets) is left out, as without fog; by default
+// the mirror's regularised lobe shows it blurred, faded by 1 − t(3 m) (IntegratorSettings::caustics).
+TEST(Integrator, ReflectionFogGathersAPointLightsIrradianceAtTheMirror) {
+  SceneBuilder b;
+  rdb::TraceMaterial mirror;
+  mirror.diffuse = Rgb(0.0f);
+  mirror.reflection = Rgb(0.7f);
+  mirror.fresnel = false;
+  mirror.reflectionGlossiness = 0.0f;
+  mirror.reflectionFogDistanceM = 10.0f;
+  mirror.reflectionFogColor = Rgb(0.3f, 0.6f, 0.9f);
+  b.ground(kHugeGroundHalfM, b.add(mirror));
+  rdb::TracePunctualLight light;
+  const double lightM = 3.0;
+  const double sensorM = 1.0;
+  light.positionM = vec3(0.0f, float(lightM), 0.0f);
+  light.intensity = Rgb(1000.0f);
+  b.rdb.punctualLights.push_back(light);
+  // ρ = u / (1 − u) maps [0, 1) onto [0, ∞); midpoint rule in u.
+  double integral = 0.0;
+  const int steps = 1 << 20;
+  for (int i = 0; i < steps; ++i) {
+    const double u = (i + 0.5) / steps;
+    const double rho = u / (1.0 - u);
+    const double dRho = 1.0 / ((1.0 - u) * (1.0 - u)) / steps;
+    integral += rho / (std::pow(rho * rho + lightM * lightM, 1.5) * std::pow(rho * rho + sensorM * sensorM, 2.0)) *
+                dRho;
+  }
+  const float geometric = float(lightM * sensorM * sensorM * 2.0 * integral);
+  Sensors s;
+  s.add(vec3(0.0f, float(sensorM), 0.0f), vec3(0, -1, 0),
+        mirror.reflection * mirror.reflectionFogColor * light.intensity * geometric);
+  IntegratorSettings exact;
+  exact.caustics = true;
+  expectAgrees("fogged mirror under a point light", run(b.rdb, s, 4096, exact), s, 0.01f);
+}
+
+// A glossy floor with a diffuse base (uniform reflection r = 0.6, glossiness 0.5, D(0) = 0.2) and fog under
+// the emissive ceiling: its light sampling of the ceiling fades the reflection lobe by 1 − t(d) while its
+// diffuse lobe keeps all, and its sampled reflections choose between the ceiling and the fog. Against a
+// quadrature of the Bsdf: E_s = 2π ∫ L_o(μo) μo dμo, L_o = L ∫ (f − t(μi)(1 − c) f_r) μi dωi, f_r the lobe of
+// the same material without its diffuse base.
+TEST(Integrator, ReflectionFogOfAGlossyFloorAgreesWithAQuadratureOfItsBsdf) {
+  const float ceilingM = 2.0f;
+  const float radiance = 100.0f;
+  const float fogDistanceM = 3.0f;
+  const Rgb fogColor(0.1f, 0.5f, 0.9f);
+  rdb::TraceMaterial floor;
+  floor.diffuse = Rgb(0.2f);
+  floor.reflection = Rgb(0.6f);
+  floor.fresnel = false;
+  floor.reflectionGlossiness = 0.5f;
+  floor.reflectionFogDistanceM = fogDistanceM;
+  floor.reflectionFogColor = fogColor;
+  rdb::TraceMaterial lobeOnly = floor;
+  lobeOnly.diffuse = Rgb(0.0f);
+  const Bsdf all(floor, true);
+  const Bsdf reflection(lobeOnly, true);
+  const float mu0 = ceilingM / fogDistanceM;
+  const int outer = 64;
+  const int inner = 384;
+  const int azimuths = 384;
+  Rgb sensorLux(0.0f);
+  for (int o = 0; o < outer; ++o) {
+    const float muO = (float(o) + 0.5f) / float(outer);
+    const vec3 wo(std::sqrt(1.0f - muO * muO), 0.0f, muO);
+    Rgb outgoing(0.0f);
+    for (int i = 0; i < inner; ++i) {
+      const float muI = (float(i) + 0.5f) / float(inner);
+      const float t = std::min(mu0 / muI, 1.0f);
+      const float sinI = std::sqrt(1.0f - muI * muI);
+      for (int a = 0; a < azimuths; ++a) {
+        const float phi = 2.0f * kPiF * (float(a) + 0.5f) / float(azimuths);
+        const vec3 wi(sinI * std::cos(phi), sinI * std::sin(phi), muI);
+        outgoing += (all.eval(wo, wi) - t * (Rgb(1.0f) - fogColor) * reflection.eval(wo, wi)) * muI;
+      }
+    }
+    outgoing *= radiance * (1.0f / float(inner)) * (2.0f * kPiF / float(azimuths));
+    sensorLux += outgoing * muO;
+  }
+  sensorLux *= 2.0f * kPiF / float(outer);
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.add(floor));
+  b.plane(ceilingM, kHugeGroundHalfM, false, b.material(Rgb(0.0f), Rgb(radiance)));
+  Sensors s;
+  s.add(vec3(0.3f, 1.0f, -0.2f), vec3(0, -1, 0), sensorLux);
+  expectAgrees("fogged glossy floor under a ceiling", run(b.rdb, s, 4096), s, 0.02f);
+}
+
 }  // namespace
 }  // namespace fly::raytracer

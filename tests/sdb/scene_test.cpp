@@ -159,6 +159,11 @@ TEST(SceneFeatures, DetectedFromWhatTheSceneContains) {
   s.setMeshTwoSided(mirror, true);
   EXPECT_EQ(computeFeatures(s).names(),
             (std::vector<std::string>{"sun", "sky", "two-sided-surfaces", "planar-reflectors", "curved-reflectors"}));
+  Material fogged = s.material(steel);
+  fogged.reflectionFogDistanceM = 3.0f;
+  s.setMaterial(steel, fogged);
+  EXPECT_TRUE(computeFeatures(s).reflectionFog);
+  EXPECT_EQ(computeFeatures(s).names().back(), "reflection-fog");
 }
 
 TEST(SceneCamera, LookAtPlacesTheCameraLookingDownMinusZ) {
