@@ -287,22 +287,30 @@ vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
   float cosO = clamp(dot(n, toEye), 1e-4, 1.0);
   vec3 r = 2.0 * dot(n, toEye) * n - toEye;
   float alpha = clamp(m.environment.w, 0.0, 1.0);
+  vec3 prefiltered = vec3(0.0);
+  bool anisotropic = false;
 #ifdef FLY_ANISOTROPY
-  if (gLobeAlphas.x > 0.0) {
-    // The bent reflection vector of anisotropic image-based light (Revie 2011, "Implementing Fur Using
-    // Deferred Shading", GPU Pro 2; McAuley 2015; Filament's "anisotropic specular IBL"): the normal turned
-    // towards the view's component across the narrow axis, by the anisotropy k = (α_t − α_b) / (α_t + α_b)
-    // (full where √α ≥ 0.2), so that the reflected image streaks along the wide axis.
-    float k = (gLobeAlphas.x - gLobeAlphas.y) / (gLobeAlphas.x + gLobeAlphas.y);
-    vec3 narrow = k >= 0.0 ? gLobeB : gLobeT;
-    vec3 across = toEye - dot(toEye, narrow) * narrow;
-    float bend = abs(k) * clamp(5.0 * sqrt(alpha), 0.0, 1.0);
-    vec3 bent = normalize(mix(n, across, bend));
-    r = 2.0 * dot(bent, toEye) * bent - toEye;
-    // The level and the table take an effective isotropic α: the lobe's α = √(α_t α_b) (flyAnisotropicAlphas)
-    // towards the α projected on the view's azimuth, α_o² = α_t² cos²φo + α_b² sin²φo (what masks the
-    // eye's side of the lobe, Heitz 2014 §5.3), as the eye nears grazing: α_eff = α (α_o / α)^(sin²θo).
-    // docs/materials-engine.md measures its albedo against the anisotropic lobe's.
+  anisotropic = gLobeAlphas.x > 0.0;
+  if (anisotropic) {
+    // The anisotropic lobe as the isotropic lobe of its narrow width α_min spread along its wide axis w: the
+    // GGX slope along an axis is Student's t with 2 degrees of freedom of scale α, and such spreads add
+    // about as their scales do (as Cauchy spreads, exactly), so four half vectors n + s_k (α_max − α_min) w
+    // at that distribution's quantiles 1/8, 3/8, 5/8, 7/8 (s_k = ±0.365, ±1.604; Q(p) = (2p − 1) /
+    // √(2p(1 − p))), each reflecting the eye into a read of the level of α_min, averaged.
+    float aMin = min(gLobeAlphas.x, gLobeAlphas.y);
+    float spread = abs(gLobeAlphas.x - gLobeAlphas.y);
+    vec3 wide = gLobeAlphas.x >= gLobeAlphas.y ? gLobeT : gLobeB;
+    float level = sqrt(clamp(aMin, 0.0, 1.0)) * uRadianceTopLevel;
+    for (int k = 0; k < 4; ++k) {
+      float s = (k < 2 ? 0.365 : 1.604) * ((k & 1) == 0 ? 1.0 : -1.0) * spread;
+      vec3 h = normalize(n + s * wide);
+      prefiltered += textureLod(uRadiance, 2.0 * dot(h, toEye) * h - toEye, level).rgb;
+    }
+    prefiltered *= 0.25;
+    // The table (the lobe's albedo) takes an effective isotropic α: the lobe's α = √(α_t α_b)
+    // (flyAnisotropicAlphas) towards the α projected on the view's azimuth, α_o² = α_t² cos²φo + α_b² sin²φo
+    // (what masks the eye's side of the lobe, Heitz 2014 §5.3), as the eye nears grazing:
+    // α_eff = α (α_o / α)^(sin²θo). docs/materials-engine.md measures both against the anisotropic lobe.
     float sin2 = max(1.0 - cosO * cosO, 0.0);
     if (sin2 > 1e-8) {
       float ot = dot(toEye, gLobeT) * gLobeAlphas.x, ob = dot(toEye, gLobeB) * gLobeAlphas.y;
@@ -313,8 +321,8 @@ vec3 flyEnvironmentSpecular(Material m, vec3 n, vec3 toEye) {
 #endif
   // √α indexes both the table and the levels (√α_k = k / (K − 1)).
   float rough = sqrt(alpha);
+  if (!anisotropic) prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel).rgb;
   vec2 ab = textureLod(uSplitSum, vec2(cosO, rough), 0.0).rg;
-  vec3 prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel).rgb;
   return prefiltered * (m.specular.rgb * ab.x + m.environment.rgb * ab.y);
 }
 #endif

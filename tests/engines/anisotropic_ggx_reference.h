@@ -79,13 +79,14 @@ inline dvec3 anisotropicBrdfCos(const sdb::Material& m, const dvec2& alphas, con
   return (diffuse + specular) * cosI;
 }
 
-// The directional albedo of the anisotropic lobe alone towards ωo, ∫ R(ωo·h) D G2 / (4 cos θo cos θi) cos θi dωi,
-// by an n × n midpoint rule in the lobe's own parameters: with x = (h·t / h·n) / α_t, y = (h·b / h·n) / α_b in
-// polar form (ρ, φ) and q = ρ² / (1 + ρ²), D(h) (h·n) dω_h = dq dφ / (2π), and dωi = 4 (ωo·h) dω_h, so the
-// albedo is the mean over (q, φ) ∈ [0, 1) × [0, 2π) of R(ωo·h) G2 (ωo·h) / (cos θo (h·n)) where ωi is above the
-// surface.
-inline dvec3 anisotropicLobeAlbedo(const sdb::Material& m, const dvec2& a, const AnisotropicFrame& f,
-                                   const dvec3& wo, int n) {
+// The radiance the anisotropic lobe alone reflects towards ωo from an environment of radiance L(ωi) (any
+// callable dvec3 → double): ∫ R(ωo·h) D G2 / (4 cos θo cos θi) L(ωi) cos θi dωi, per channel of R, by an n × n
+// midpoint rule in the lobe's own parameters: with x = (h·t / h·n) / α_t, y = (h·b / h·n) / α_b in polar form
+// (ρ, φ) and q = ρ² / (1 + ρ²), D(h) (h·n) dω_h = dq dφ / (2π), and dωi = 4 (ωo·h) dω_h, so the integral is the
+// mean over (q, φ) ∈ [0, 1) × [0, 2π) of R(ωo·h) G2 (ωo·h) L(ωi) / (cos θo (h·n)) where ωi is above the surface.
+template <class Radiance>
+dvec3 anisotropicLobeIntegral(const sdb::Material& m, const dvec2& a, const AnisotropicFrame& f, const dvec3& wo,
+                              int n, const Radiance& radiance) {
   const double cosO = glm::dot(wo, f.n);
   dvec3 sum(0.0);
   for (int i = 0; i < n; ++i) {
@@ -98,10 +99,16 @@ inline dvec3 anisotropicLobeAlbedo(const sdb::Material& m, const dvec2& a, const
       const dvec3 wi = 2.0 * oh * h - wo;
       if (oh <= 0.0 || glm::dot(wi, f.n) <= 0.0) continue;
       const double g2 = 1.0 / (1.0 + anisotropicLambda(wo, f, a) + anisotropicLambda(wi, f, a));
-      sum += reflectAt(m, oh) * (g2 * oh / (cosO * glm::dot(h, f.n)));
+      sum += reflectAt(m, oh) * (g2 * oh * radiance(wi) / (cosO * glm::dot(h, f.n)));
     }
   }
   return sum / double(n) / double(n);
+}
+
+// The directional albedo of the anisotropic lobe alone towards ωo (the integral under L = 1).
+inline dvec3 anisotropicLobeAlbedo(const sdb::Material& m, const dvec2& a, const AnisotropicFrame& f,
+                                   const dvec3& wo, int n) {
+  return anisotropicLobeIntegral(m, a, f, wo, n, [](const dvec3&) { return 1.0; });
 }
 
 }  // namespace fly::test

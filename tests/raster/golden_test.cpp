@@ -257,8 +257,8 @@ TEST(RasterGolden, FrostedGlassSunlightMode) {
 }
 
 // a brushed-metal plate (the preset: aluminium, glossiness 0.35, anisotropy 0.6 / 0.1) lying on the ground
-// beside the box, its tangent along world −Z (n × x̂: the plate has no UVs) — the sky reflected along the bent
-// reflection vector, and the highlight of a lamp of 400 cd 0.63 m above the plate where the eye sees it
+// beside the box, its tangent along world −Z (n × x̂: the plate has no UVs) — the sky reflected by the lobe
+// stretched along the tangent, and the highlight of a lamp of 400 cd 0.63 m above the plate where the eye sees it
 // mirrored, stretched by the anisotropic lobe along the tangent (1.82 times as wide as across it).
 TEST(RasterGolden, BrushedMetalSunlightMode) {
   context();
