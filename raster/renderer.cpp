@@ -563,12 +563,12 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
-  if (variant & (kVariantTextures | kVariantAnisotropy)) {
+  if ((variant & kVariantTextures) && (variant & kVariantAnisotropy)) {
     GLint units = 0;
     glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
     if (units <= GLint(kTextureSlotUnits[kTextureSlots - 1])) {
       throw std::runtime_error("the OpenGL driver has " + std::to_string(units) +
-                               " fragment texture units; material textures need " +
+                               " fragment texture units; anisotropy textures need " +
                                std::to_string(kTextureSlotUnits[kTextureSlots - 1] + 1));
     }
   }

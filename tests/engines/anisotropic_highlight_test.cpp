@@ -176,5 +176,62 @@ TEST(AnisotropicHighlight, WiderAlongTheWideAxisByTheLobesRatio) {
   EXPECT_NEAR(roundImage.alongYPx / roundImage.alongXPx, 1.0, 0.02);
 }
 
+// Extreme lobes stay finite: glossiness 0 (a delta lobe: the isotropic narrowest lobe), 0.03 and 1 (α_t
+// beyond 1), U − V = ±1 (the widest aspect, 10), under the lamp in simple mode and under a uniform sky of
+// 1000 cd/m² (the image-based light's four reads) in sunlight mode, seen from above and at grazing angles: no
+// pixel is NaN, infinite or negative, and the plate reflects something in sunlight mode.
+TEST(AnisotropicHighlight, ExtremeLobesStayFinite) {
+  raster::test::context();
+  raster::Renderer renderer;
+  for (const float glossiness : {0.0f, 0.03f, 1.0f}) {
+    for (const float u : {0.0f, 1.0f}) {
+      sdb::Material m = sdb::findMaterialPreset("brushed-metal")->material;
+      m.reflectionGlossiness = glossiness;
+      m.anisotropyU = u;
+      m.anisotropyV = 1.0f - u;
+      m.anisotropyRotationRad = 1.0f;
+      sdb::Scene scene;
+      sdb::Mesh plate = raster::test::quadXY(scene.addMaterial(m).id);
+      scene.addNode({.name = "plate", .meshes = {scene.addMesh(plate).id}});
+      sdb::Light lamp;
+      lamp.intensity = kLampCd;
+      scene.addNode({.name = "lamp",
+                     .parentFromLocal = glm::translate(mat4(1.0f), vec3(0.2f, 0.1f, kLampHeightM)),
+                     .light = scene.addLight(lamp).id});
+      rdb::RasterRdb r = rdb::buildRasterRdb(scene);
+      ASSERT_TRUE(r.variants.anisotropy);
+      rdb::RasterSky sky;
+      sky.width = 64;
+      sky.height = 32;
+      sky.radianceCdM2.assign(size_t(sky.width) * sky.height, Rgb(1000.0f));
+      r.sky = sky;
+      r.variants.sky = true;
+      renderer.upload(r);
+      for (const float thetaDeg : {0.0f, 89.0f}) {
+        const float theta = glm::radians(thetaDeg);
+        raster::View view;
+        view.worldFromCamera =
+            sdb::lookAtTransform(3.0f * vec3(0.0f, std::sin(theta), std::cos(theta)), vec3(0.0f),
+                                 thetaDeg > 45.0f ? vec3(0, 0, 1) : vec3(0, 1, 0));
+        view.orthographic = true;
+        view.xmagM = view.ymagM = 0.5f;
+        view.znearM = 0.1f;
+        view.zfarM = 10.0f;
+        for (const raster::RenderMode mode : {raster::RenderMode::kSimple, raster::RenderMode::kSunlight}) {
+          renderer.render(view, mode, 32, 32);
+          const std::vector<float> image = renderer.luminanceRgb();
+          double sum = 0.0;
+          for (const float v : image) {
+            ASSERT_TRUE(std::isfinite(v) && v >= 0.0f)
+                << "glossiness " << glossiness << " U " << u << " θ " << thetaDeg << " mode " << int(mode);
+            sum += v;
+          }
+          if (mode == raster::RenderMode::kSunlight) EXPECT_GT(sum, 0.0) << "glossiness " << glossiness;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fly
