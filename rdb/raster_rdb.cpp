@@ -288,12 +288,9 @@ AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
   }
   if (anisotropic) {
     n.tangents = true;
-    if (m.anisotropyTexture) {
-      n.tangentSet = std::clamp(m.anisotropyTexture.texCoord, 0, 1);
-    } else if (m.anisotropyRotationTexture) {
-      n.tangentSet = std::clamp(m.anisotropyRotationTexture.texCoord, 0, 1);
-    } else if (!m.bumpTexture) {
-      n.tangentSet = 0;
+    if (m.anisotropyTexture || m.anisotropyRotationTexture) {
+      const sdb::TextureRef& first = m.anisotropyTexture ? m.anisotropyTexture : m.anisotropyRotationTexture;
+      n.tangentSet = std::clamp(first.texCoord, 0, 1);
     }
   }
   n.colors = !mesh.colors.empty();

@@ -358,10 +358,11 @@ struct RasterRdb {
   // Per-vertex attributes of textured and COLOR_0 surfaces, aligned with positionsM, each empty unless some
   // mesh needs it (a mesh that does not reads zeros, or white for colors): UV sets 0 and 1 (the source's, in
   // texture space; a mesh without the set its material reads gets zeros); COLOR_0, linear RGBA; and for
-  // normal-mapped and anisotropic meshes the world tangent frame: xyz the unit tangent (towards +u), w = ±1 with bitangent =
-  // w · cross(normal, tangent) (towards −v, the image's top), as glTF. Tangents come from the file when it
-  // has them (placed with worldFromLocal, w times the sign of its determinant), else they are generated per
-  // vertex from the normal map's UV set (Lengyel 2001, "Computing Tangent Space Basis Vectors": each
+  // normal-mapped and anisotropic meshes the world tangent frame: xyz the unit tangent (towards +u), w = ±1
+  // with bitangent = w · cross(normal, tangent) (towards −v, the image's top), as glTF. Tangents come from the
+  // file when it has them (placed with worldFromLocal, w times the sign of its determinant), else they are
+  // generated per vertex from the UV set of the anisotropy's textures, else of the normal map, else UV set 0
+  // (Lengyel 2001, "Computing Tangent Space Basis Vectors": each
   // triangle's ∂p/∂u and ∂p/∂v summed over the triangles at a vertex, made orthogonal to the normal; w from
   // the side ∂p/∂(−v) lies on). A vertex where that gives no direction (a mesh without the UV set, or a UV
   // area of zero) takes n × x̂ (n × ŷ where |n_x| ≥ 0.9), normalised, with w = 1. Seam copies of

@@ -226,7 +226,9 @@ TEST(AnisotropicHighlight, ExtremeLobesStayFinite) {
                 << "glossiness " << glossiness << " U " << u << " θ " << thetaDeg << " mode " << int(mode);
             sum += v;
           }
-          if (mode == raster::RenderMode::kSunlight) EXPECT_GT(sum, 0.0) << "glossiness " << glossiness;
+          if (mode == raster::RenderMode::kSunlight) {
+            EXPECT_GT(sum, 0.0) << "glossiness " << glossiness;
+          }
         }
       }
     }
