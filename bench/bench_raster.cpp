@@ -49,7 +49,13 @@
 // occlusion (raster/ambient_occlusion.h, R = 0.5 m), and in sunlight mode without and with bloom (raster/bloom.h,
 // strength 0.05), each with its ratio against the same scene and mode without it ("× plain").
 //
-// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --post | --shadows [--shadow-map N]] [--house PATH]
+// Anisotropic reflection (--anisotropic): the 300k scene (100k with --quick) with the reflectors' wall, pool
+// and ball of the brushed-metal preset, isotropic (U = V, per vertex) and anisotropic (per fragment with
+// tangents: the anisotropic lamp and sun lobes, four environment reads), each mode with its ratio against the
+// isotropic row ("× plain").
+//
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --anisotropic | --post |
+//   --shadows [--shadow-map N]] [--house PATH]
 //   default 1920x1080; --quick: the 100k scene only (and the shadow scenes but the 1M one); --textured: the
 //   300k scene only, plain and textured; --shadows: the shadow section only; --house: scenes/house/house.json
 //   (relative to the working directory) by default, skipped when missing
@@ -74,6 +80,7 @@
 #include "raster/renderer.h"
 #include "rdb/raster_rdb.h"
 #include "sdb/camera.h"
+#include "sdb/material_presets.h"
 #include "sdb/scene.h"
 #include "sdb/scene_load.h"
 
@@ -204,25 +211,9 @@ sdb::Scene makeScene(uint32_t cells, bool textured = false) {
   return s;
 }
 
-// Two flat reflectors in makeScene's scene: a 40 × 8 m wall at z = −20.5 facing the camera and an 8 × 6 m pool
-// on the ground, and a curved one: a 1.5 m sphere (48 × 96 quads) on the ground between them; mirrors (uniform
-// reflection 0.9, glossiness 0: two planar reflectors and one cube map; or glossiness 0.2, the widest lobe the
-// automatic choice takes for a mirror: the planar images blurred by it, docs/reflections.md; with a finite
-// fogDistanceM, sharp mirrors with reflection fog of that distance and a dark grey-green colour) or, for the
-// baseline, the same meshes of a plain grey.
-void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f,
-                   float fogDistanceM = std::numeric_limits<float>::infinity()) {
-  sdb::Material m;
-  m.name = mirrors ? "mirror" : "grey";
-  m.diffuseColor = Rgb(mirrors ? 0.05f : 0.5f);
-  if (mirrors) {
-    m.reflectionColor = Rgb(0.9f);
-    m.reflectionModel = sdb::ReflectionModel::kUniform;
-    m.reflectionGlossiness = glossiness;
-    m.reflectionFogDistanceM = fogDistanceM;
-    m.reflectionFogColor = Rgb(0.04f, 0.06f, 0.05f);
-  }
-  const sdb::MaterialId id = s.addMaterial(m).id;
+// Two flat meshes in makeScene's scene, a 40 × 8 m wall at z = −20.5 facing the camera and an 8 × 6 m pool on
+// the ground, and a curved one, a 1.5 m sphere (48 × 96 quads) on the ground between them, of material `id`.
+void addReflectorMeshes(sdb::Scene& s, sdb::MaterialId id) {
   auto quad = [&](const vec3& corner, const vec3& u, const vec3& v) {
     sdb::Mesh q;
     q.positions = {corner, corner + u, corner + u + v, corner + v};
@@ -255,6 +246,26 @@ void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f,
   }
   ball.material = id;
   s.addNode({.name = "ball", .meshes = {s.addMesh(ball).id}});
+}
+
+// addReflectorMeshes as two flat reflectors and a curved one: mirrors (uniform reflection 0.9, glossiness 0:
+// two planar reflectors and one cube map; or glossiness 0.2, the widest lobe the automatic choice takes for a
+// mirror: the planar images blurred by it, docs/reflections.md; with a finite fogDistanceM, sharp mirrors
+// with reflection fog of that distance and a dark grey-green colour) or, for the baseline, the same meshes of
+// a plain grey.
+void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f,
+                   float fogDistanceM = std::numeric_limits<float>::infinity()) {
+  sdb::Material m;
+  m.name = mirrors ? "mirror" : "grey";
+  m.diffuseColor = Rgb(mirrors ? 0.05f : 0.5f);
+  if (mirrors) {
+    m.reflectionColor = Rgb(0.9f);
+    m.reflectionModel = sdb::ReflectionModel::kUniform;
+    m.reflectionGlossiness = glossiness;
+    m.reflectionFogDistanceM = fogDistanceM;
+    m.reflectionFogColor = Rgb(0.04f, 0.06f, 0.05f);
+  }
+  addReflectorMeshes(s, s.addMaterial(m).id);
 }
 
 // A box from `lo` to `hi` with every face split into k × k quads (vertices shared within a face; the faces'
@@ -613,7 +624,8 @@ int runShadows(bool quick, const std::string& housePath, uint32_t w, uint32_t h,
 int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
   uint32_t shadowMapTexels = 1024;
-  bool quick = false, texturedOnly = false, shadowsOnly = false, reflectorsOnly = false, postOnly = false;
+  bool quick = false, texturedOnly = false, shadowsOnly = false, reflectorsOnly = false, postOnly = false,
+       anisotropicOnly = false;
   std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
@@ -626,6 +638,8 @@ int run(int argc, char** argv) {
       reflectorsOnly = true;
     } else if (std::strcmp(argv[i], "--post") == 0) {
       postOnly = true;
+    } else if (std::strcmp(argv[i], "--anisotropic") == 0) {
+      anisotropicOnly = true;
     } else if (std::strcmp(argv[i], "--shadow-map") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%u", &shadowMapTexels) == 1 && shadowMapTexels >= 16) {
     } else if (std::strcmp(argv[i], "--house") == 0 && i + 1 < argc) {
@@ -634,7 +648,7 @@ int run(int argc, char** argv) {
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
       std::fprintf(stderr,
-                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --post | --shadows [--shadow-map N]] [--house PATH]\n");
+                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --anisotropic | --post | --shadows [--shadow-map N]] [--house PATH]\n");
       return 2;
     }
   }
@@ -684,6 +698,33 @@ int run(int argc, char** argv) {
       const FrameTimes t = timeFrames(post, view, mode, w, h, gpuTimers);
       printRow(triangles.c_str(), mode == RenderMode::kSimple ? "+ssao" : "+bloom", t, baseline.pipelinedMs,
                p.pipelinedMs);
+    }
+    return 0;
+  }
+  if (anisotropicOnly) {
+    // The 300k-triangle scene with addReflectorMeshes' wall, pool and ball of the brushed-metal preset, first
+    // with U = V (isotropic: shaded per vertex), then as it is (anisotropic: per fragment, with tangents),
+    // mode by mode; "× plain" against the isotropic row of that mode.
+    constexpr RenderMode kAll[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
+    std::printf("%-9s %-9s %9s %9s %8s %9s %8s %8s %9s %11s %8s\n", "triangles", "mode", "fps", "ms/frame",
+                "× base", "scene", "tone", "ms", "ms/frame", "mean L cd/m²", "× plain");
+    FrameTimes isotropic[3];
+    for (const bool anisotropic : {false, true}) {
+      sdb::Scene scene = makeScene(quick ? 221 : 387);
+      sdb::Material brushed = sdb::findMaterialPreset("brushed-metal")->material;
+      if (!anisotropic) brushed.anisotropyV = brushed.anisotropyU;
+      addReflectorMeshes(scene, scene.addMaterial(brushed).id);
+      const rdb::RasterRdb r = lightMapped(scene);
+      Renderer renderer;
+      renderer.upload(r);
+      const View view = viewOfCamera(r.cameras.at(0));
+      const std::string name = std::to_string(r.triangleCount()) + (anisotropic ? "an" : "is");
+      for (int m = 0; m < 3; ++m) {
+        const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
+        if (!anisotropic) isotropic[m] = t;
+        printRow(name.c_str(), renderModeName(kAll[m]), t, baseline.pipelinedMs,
+                 anisotropic ? isotropic[m].pipelinedMs : NAN);
+      }
     }
     return 0;
   }

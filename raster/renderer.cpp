@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -76,7 +77,7 @@ namespace {
 
 // The shader's std430 blocks (raster/shaders/scene_glsl.h).
 struct GpuMaterial {
-  vec4 diffuse, specular, emission, transmission, reflection, coverage, environment;
+  vec4 diffuse, specular, emission, transmission, reflection, coverage, environment, anisotropy;
 };
 struct GpuLight {
   vec4 positionType, directionRange, cAxisOffset, intensity, cone;
@@ -89,7 +90,17 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),
           vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
-          vec4(m.environmentF90, m.ggxAlpha)};
+          vec4(m.environmentF90, m.ggxAlpha),
+          vec4(m.anisotropyU, m.anisotropyV, m.anisotropyRotationRad, m.anisotropic ? 1.0f : 0.0f)};
+}
+
+// A per-fragment draw's texture slots (kSurfaceFragment's uTextureSlots bits, in this order) and the texture
+// units they are bound to: base colour, emission, normal map, anisotropy, anisotropy rotation.
+constexpr int kTextureSlots = 5;
+constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17};
+std::array<const rdb::RasterTextureRef*, kTextureSlots> textureSlots(const rdb::RasterMaterial& m) {
+  return {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
+          &m.anisotropyRotationTexture};
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -197,6 +208,8 @@ enum VariantBit : uint32_t {
   // Materials with reflection fog (per fragment): what they reflect fades to the fog's luminance with the
   // reflected distance (rdb::RasterMaterial::reflectionFogDistanceM).
   kVariantReflectionFog = 1u << 23,
+  // Anisotropic reflection lobes (rdb::RasterMaterial::anisotropic; per-fragment surfaces, with tangents).
+  kVariantAnisotropy = 1u << 24,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -267,16 +280,15 @@ struct SurfaceDraw {
   uint32_t reflector = rdb::RasterTextureRef::kNone;  // RasterRdb::planarReflectors' index of its meshes
   uint32_t cubeReflector = rdb::RasterTextureRef::kNone;  // RasterRdb::cubeReflectors' index of its mesh
   vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
-  GLuint samplers[3] = {0, 0, 0};  // the material's texture slots' sampler objects (Renderer::samplerFor)
+  GLuint samplers[kTextureSlots] = {};  // the material's texture slots' sampler objects (Renderer::samplerFor)
 };
 
-// A per-fragment draw's sampler objects, one per texture slot of its material (base colour, emission, normal
-// map), from `samplerOf` (Renderer::samplerFor).
+// A per-fragment draw's sampler objects, one per texture slot of its material (textureSlots), from
+// `samplerOf` (Renderer::samplerFor).
 template <class SamplerOf>
 void assignSamplers(SurfaceDraw& d, const rdb::RasterRdb& r, SamplerOf samplerOf) {
-  const rdb::RasterMaterial& m = r.materials[d.material];
-  const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
-  for (int k = 0; k < 3; ++k) d.samplers[k] = *slots[k] ? samplerOf(*slots[k]) : 0;
+  const auto slots = textureSlots(r.materials[d.material]);
+  for (int k = 0; k < kTextureSlots; ++k) d.samplers[k] = *slots[k] ? samplerOf(*slots[k]) : 0;
 }
 
 // A light texture's place in the array texture (kSceneFragment's LightRect): rect = x, y, width, height in
@@ -551,13 +563,23 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"},
                    {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"},
                    {kVariantFrosted, "frosted", "FLY_FROSTED"},
-                   {kVariantReflectionFog, "fog", "FLY_REFLECTION_FOG"}};
+                   {kVariantReflectionFog, "fog", "FLY_REFLECTION_FOG"},
+                   {kVariantAnisotropy, "anisotropy", "FLY_ANISOTROPY"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
+  if ((variant & kVariantTextures) && (variant & kVariantAnisotropy)) {
+    GLint units = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+    if (units <= GLint(kTextureSlotUnits[kTextureSlots - 1])) {
+      throw std::runtime_error("the OpenGL driver has " + std::to_string(units) +
+                               " fragment texture units; anisotropy textures need " +
+                               std::to_string(kTextureSlotUnits[kTextureSlots - 1] + 1));
+    }
+  }
   const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kAoAmbientCommon + shaders::kSceneCommon +
                              (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
   const std::string fragment =
@@ -1303,6 +1325,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         (v.measuredBrdf && v.goniometric ? kVariantGonio : 0u) |
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
+        ((phong || sunDirect || ibl || v.cubeReflectors) && v.anisotropy ? kVariantAnisotropy : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
         (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u) |
         (v.reflectionFog ? kVariantReflectionFog : 0u);
@@ -1392,19 +1415,19 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glUniform1i(p.nearLightCount, GLint(near.size()));
         if (!near.empty()) glUniform1iv(p.nearLights, GLsizei(near.size()), near.data());
       }
-      const rdb::RasterTextureRef* slots[3] = {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture};
+      const auto slots = textureSlots(m);
       GLuint bits = 0;
-      vec4 rows[6];
-      for (GLuint k = 0; k < 3; ++k) {
+      vec4 rows[2 * kTextureSlots];
+      for (int k = 0; k < kTextureSlots; ++k) {
         rows[2 * k] = vec4(slots[k]->uvRow0, float(slots[k]->texCoord));
         rows[2 * k + 1] = vec4(slots[k]->uvRow1, 0.0f);
         if (!*slots[k]) continue;
-        glBindTextureUnit(5 + k, gpu_->textures[slots[k]->texture]);
-        glBindSampler(5 + k, d.samplers[k]);
+        glBindTextureUnit(kTextureSlotUnits[k], gpu_->textures[slots[k]->texture]);
+        glBindSampler(kTextureSlotUnits[k], d.samplers[k]);
         bits |= 1u << k;
       }
       glUniform1ui(p.textureSlots, bits);
-      glUniform4fv(p.uvRows, 6, &rows[0][0]);
+      glUniform4fv(p.uvRows, 2 * kTextureSlots, &rows[0][0]);
       if (v.cubeReflectors) {
         // A cube reflector shades with its own maps (captured this frame or before) in place of the sky's.
         const bool cube = d.cubeReflector != rdb::RasterTextureRef::kNone && cubes_ && d.cubeReflector < cubes_->count();

@@ -40,7 +40,7 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
 bool RasterRdb::shadedPerFragment(const RasterMesh& mesh) const {
   const RasterMaterial& m = materials[mesh.material];
   return m.hasTexture() || m.alphaMode != RasterAlphaMode::kOpaque || m.measured != RasterTextureRef::kNone ||
-         mesh.hasColors || mesh.planarReflector != RasterTextureRef::kNone ||
+         m.anisotropic || mesh.hasColors || mesh.planarReflector != RasterTextureRef::kNone ||
          mesh.cubeReflector != RasterTextureRef::kNone || m.hasReflectionFog();
 }
 
@@ -80,6 +80,13 @@ bool engineGlass(const sdb::Material& m) { return maxComponent(m.effective().tra
 // its own pass).
 bool readsTextures(const sdb::Material& m) {
   return !engineGlass(m);
+}
+
+// Anisotropic to the engine: an anisotropic material (sdb::Material::isAnisotropic) whose textures the engine
+// reads (not glass), that has an analytic lobe (not measured) and reflects something.
+bool engineAnisotropic(const sdb::Material& m) {
+  return m.isAnisotropic() && readsTextures(m) && !m.isMeasured() &&
+         maxComponent(glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f))) > 0.0f;
 }
 
 RasterTextureRef lowerTextureRef(const sdb::TextureRef& ref, bool srgb, TextureTable& table) {
@@ -160,6 +167,14 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     r.emissionTexture = lowerTextureRef(m.emissionTexture, true, table);
     r.normalTexture = lowerTextureRef(m.bumpTexture, false, table);
     r.normalScale = std::max(0.0f, m.bumpScale);
+    if (engineAnisotropic(m)) {
+      r.anisotropic = true;
+      r.anisotropyU = std::clamp(m.anisotropyU, 0.0f, 1.0f);
+      r.anisotropyV = std::clamp(m.anisotropyV, 0.0f, 1.0f);
+      r.anisotropyRotationRad = m.anisotropyRotationRad;
+      r.anisotropyTexture = lowerTextureRef(m.anisotropyTexture, false, table);
+      r.anisotropyRotationTexture = lowerTextureRef(m.anisotropyRotationTexture, false, table);
+    }
     switch (m.alphaMode) {
       case sdb::AlphaMode::kOpaque:
         r.alphaMode = RasterAlphaMode::kOpaque;
@@ -198,7 +213,9 @@ bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
     return x.texture == y.texture && x.texCoord == y.texCoord;
   };
   return same(a.baseColorTexture, b.baseColorTexture) && same(a.emissionTexture, b.emissionTexture) &&
-         same(a.normalTexture, b.normalTexture) && a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike &&
+         same(a.normalTexture, b.normalTexture) && same(a.anisotropyTexture, b.anisotropyTexture) &&
+         same(a.anisotropyRotationTexture, b.anisotropyRotationTexture) && a.anisotropic == b.anisotropic &&
+         a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike &&
          a.cubeMapOnCurved == b.cubeMapOnCurved && a.cubeMapAlways == b.cubeMapAlways;
 }
 
@@ -253,19 +270,32 @@ RasterTexture lowerTexture(const sdb::Scene& scene, const TextureKey& key) {
 struct AttributeNeeds {
   bool uv[2] = {false, false};
   bool tangents = false;
-  int tangentSet = 0;  // the normal map's UV set
+  int tangentSet = 0;  // the UV set of the anisotropy's textures, else of the normal map (RasterRdb::tangents)
   bool colors = false;
 };
 
 AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
   AttributeNeeds n;
   if (!readsTextures(m)) return n;
+  const bool anisotropic = engineAnisotropic(m);
   for (const sdb::TextureRef* ref : {&m.diffuseTexture, &m.emissionTexture, &m.bumpTexture}) {
     if (*ref) n.uv[std::clamp(ref->texCoord, 0, 1)] = true;
+  }
+  if (anisotropic) {
+    for (const sdb::TextureRef* ref : {&m.anisotropyTexture, &m.anisotropyRotationTexture}) {
+      if (*ref) n.uv[std::clamp(ref->texCoord, 0, 1)] = true;
+    }
   }
   if (m.bumpTexture) {
     n.tangents = true;
     n.tangentSet = std::clamp(m.bumpTexture.texCoord, 0, 1);
+  }
+  if (anisotropic) {
+    n.tangents = true;
+    if (m.anisotropyTexture || m.anisotropyRotationTexture) {
+      const sdb::TextureRef& first = m.anisotropyTexture ? m.anisotropyTexture : m.anisotropyRotationTexture;
+      n.tangentSet = std::clamp(first.texCoord, 0, 1);
+    }
   }
   n.colors = !mesh.colors.empty();
   return n;
@@ -906,12 +936,14 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     return maxComponent(x.transmission) > 0.0f && x.transmissionAlpha > 0.0f;
   });
   RasterVariants& v = rdb.variants;
-  v.textures = v.normalMaps = v.uv1 = v.vertexColors = v.alphaMask = v.alphaBlend = false;
+  v.textures = v.normalMaps = v.anisotropy = v.uv1 = v.vertexColors = v.alphaMask = v.alphaBlend = false;
   for (const RasterMesh& mesh : rdb.meshes) {
     const RasterMaterial& m = rdb.materials[mesh.material];
     v.textures |= m.hasTexture();
     v.normalMaps |= bool(m.normalTexture);
-    for (const RasterTextureRef* t : {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture})
+    v.anisotropy |= m.anisotropic;
+    for (const RasterTextureRef* t : {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture,
+                                      &m.anisotropyTexture, &m.anisotropyRotationTexture})
       v.uv1 |= bool(*t) && t->texCoord == 1;
     v.vertexColors |= mesh.hasColors;
     v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;

@@ -116,6 +116,19 @@ struct RasterMaterial {
   RasterTextureRef emissionTexture;
   RasterTextureRef normalTexture;
   float normalScale = 1.0f;  // [0, ∞)
+  // Anisotropic reflection (sdb::Material::isAnisotropic, of an opaque material that reflects): the GGX lobe
+  // of ggxAlpha stretched to the widths base/ggx.h's ggxAnisotropicAlphas gives for anisotropyU / V, α_t along
+  // the tangent turned by anisotropyRotationRad about the normal (counter-clockwise seen from the normal's
+  // side: t' = cos ρ t + sin ρ (n × t)), α_b along n × t'. The tangent is RasterRdb::tangents' (+u of the UV
+  // set the anisotropy's textures, or else the normal map, read; UV set 0 without either). The textures
+  // replace the values per pixel: anisotropyTexture's red = U, green = V; anisotropyRotationTexture's red ×
+  // 2π = ρ. Meshes of such a material are shaded per fragment (RasterRdb::shadedPerFragment).
+  bool anisotropic = false;
+  float anisotropyU = 0.0f;  // [0, 1]
+  float anisotropyV = 0.0f;  // [0, 1]
+  float anisotropyRotationRad = 0.0f;
+  RasterTextureRef anisotropyTexture;
+  RasterTextureRef anisotropyRotationTexture;
   // Coverage = opacity × base colour texel alpha × COLOR_0 alpha, used as alphaMode says: kMask covers where
   // coverage ≥ alphaCutoff, kBlend covers the fraction `coverage` (what lies behind shows through the rest).
   RasterAlphaMode alphaMode = RasterAlphaMode::kOpaque;
@@ -146,7 +159,10 @@ struct RasterMaterial {
   Rgb reflectionFogColor{0.0f};  // [0, 1]
   uint32_t sdbMaterialId = 0;
 
-  bool hasTexture() const { return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture); }
+  bool hasTexture() const {
+    return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture) || bool(anisotropyTexture) ||
+           bool(anisotropyRotationTexture);
+  }
   bool hasReflectionFog() const { return reflectionFogDistanceM < std::numeric_limits<float>::infinity(); }
 
   bool operator==(const RasterMaterial&) const = default;
@@ -279,6 +295,7 @@ struct RasterVariants {
   // Surfaces shaded per fragment (textures, COLOR_0, alpha coverage; RasterRdb::shadedPerFragment):
   bool textures = false;      // some material samples a texture (RasterRdb::textures is not empty)
   bool normalMaps = false;    // some material has a normal map: RasterRdb::tangents
+  bool anisotropy = false;    // some mesh's material is anisotropic (RasterMaterial::anisotropic): tangents
   bool uv1 = false;           // some texture is read with the second UV set: RasterRdb::uv1
   bool vertexColors = false;  // some mesh has COLOR_0: RasterRdb::colors
   bool alphaMask = false;     // some material is a cut-out (kMask)
@@ -349,17 +366,21 @@ struct RasterRdb {
   // Per-vertex attributes of textured and COLOR_0 surfaces, aligned with positionsM, each empty unless some
   // mesh needs it (a mesh that does not reads zeros, or white for colors): UV sets 0 and 1 (the source's, in
   // texture space; a mesh without the set its material reads gets zeros); COLOR_0, linear RGBA; and for
-  // normal-mapped meshes the world tangent frame: xyz the unit tangent (towards +u), w = ±1 with bitangent =
-  // w · cross(normal, tangent) (towards −v, the image's top), as glTF. Tangents come from the file when it
-  // has them (placed with worldFromLocal, w times the sign of its determinant), else they are generated per
-  // vertex from the normal map's UV set (Lengyel 2001, "Computing Tangent Space Basis Vectors": each
+  // normal-mapped and anisotropic meshes the world tangent frame: xyz the unit tangent (towards +u), w = ±1
+  // with bitangent = w · cross(normal, tangent) (towards −v, the image's top), as glTF. Tangents come from the
+  // file when it has them (placed with worldFromLocal, w times the sign of its determinant), else they are
+  // generated per vertex from the UV set of the anisotropy's textures, else of the normal map, else UV set 0
+  // (Lengyel 2001, "Computing Tangent Space Basis Vectors": each
   // triangle's ∂p/∂u and ∂p/∂v summed over the triangles at a vertex, made orthogonal to the normal; w from
-  // the side ∂p/∂(−v) lies on). Seam copies of light-textured meshes carry their source vertex's values.
+  // the side ∂p/∂(−v) lies on). A vertex where that gives no direction (a mesh without the UV set, or a UV
+  // area of zero) takes n × x̂ (n × ŷ where |n_x| ≥ 0.9), normalised, with w = 1. Seam copies of
+  // light-textured meshes carry their source vertex's values.
   std::vector<vec2> uv0;
   std::vector<vec2> uv1;
   std::vector<vec4> colors;
   std::vector<vec4> tangents;
-  // The materials' textures, in the materials' first-use order (base colour, emission, normal map).
+  // The materials' textures, in the materials' first-use order (base colour, emission, normal map,
+  // anisotropy, anisotropy rotation).
   std::vector<RasterTexture> textures;
   // The measured BRDFs of the materials that have one (RasterMaterial::measured), in the materials' order.
   std::vector<RasterMeasuredBrdf> measuredBrdfs;
@@ -380,8 +401,8 @@ struct RasterRdb {
   RasterVariants variants;
 
   size_t triangleCount() const { return indices.size() / 3; }
-  // Whether the engine shades `mesh` per fragment: its material has a texture, alpha coverage or a measured
-  // BRDF, or the mesh has COLOR_0; clear glass stays in its own pass, shaded per vertex without textures.
+  // Whether the engine shades `mesh` per fragment: its material has a texture, alpha coverage, anisotropy or a
+  // measured BRDF, or the mesh has COLOR_0; clear glass stays in its own pass, shaded per vertex without textures.
   bool shadedPerFragment(const RasterMesh& mesh) const;
   bool operator==(const RasterRdb&) const;
 };

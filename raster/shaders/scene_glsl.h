@@ -32,6 +32,8 @@
 // kSurfaceVertex + kSurfaceFragment, which shade per fragment with the same terms, and these #defines too:
 //   FLY_TEXTURES      base colour, emission and normal textures (RasterMaterial's texture slots)
 //   FLY_NORMAL_MAP    normal maps (per-vertex tangents) for the Phong and sun terms
+//   FLY_ANISOTROPY    anisotropic reflection lobes (per-vertex tangents; rdb::RasterMaterial::anisotropic) for
+//                     the lamps', the sun's and the environment's specular terms
 //   FLY_UV1           a second UV set
 //   FLY_VERTEX_COLOR  COLOR_0 multiplies the base colour and the coverage
 //   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
@@ -57,6 +59,7 @@ struct Material {
   vec4 reflection;    // rgb reflection colour
   vec4 coverage;      // x opacity, y alpha cut-off, z normal scale, w alpha mode (0 opaque, 1 mask, 2 blend)
   vec4 environment;   // rgb the split sum's F90 (0: no environment reflection), w GGX α
+  vec4 anisotropy;    // x U, y V (each [0, 1]), z rotation about the normal (rad), w 1: an anisotropic lobe
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 
@@ -110,6 +113,23 @@ vec3 flyDiffuseFrom(Material m, float cosI) {
   vec3 meanR = m.specular.rgb + (m.environment.rgb - m.specular.rgb) / 21.0;
   return (vec3(1.0) - flyReflectAt(m, cosI)) / max(vec3(1.0) - meanR, vec3(1e-6));
 }
+
+#ifdef FLY_ANISOTROPY
+// The GGX widths (α_t, α_b) of a lobe of isotropic width α and anisotropy u, v ∈ [0, 1]: base/ggx.h's
+// ggxAnisotropicAlphas (Burley 2012, §5.4: aspect = √(1 − 0.9 |u − v|), the wider axis α / aspect, the
+// narrower α · aspect, so α_t α_b = α²).
+vec2 flyAnisotropicAlphas(float alpha, float u, float v) {
+  float d = clamp(u - v, -1.0, 1.0);
+  float aspect = sqrt(1.0 - 0.9 * abs(d));
+  return d >= 0.0 ? vec2(alpha / aspect, alpha * aspect) : vec2(alpha * aspect, alpha / aspect);
+}
+// The pixel's anisotropic lobe, set by kSurfaceFragment before it shades: unit world axes perpendicular to
+// the shading normal, gLobeT of width gLobeAlphas.x and gLobeB of gLobeAlphas.y; gLobeAlphas.x ≤ 0: the
+// material's isotropic lobe (m.environment.w).
+vec3 gLobeT = vec3(1.0, 0.0, 0.0);
+vec3 gLobeB = vec3(0.0, 1.0, 0.0);
+vec2 gLobeAlphas = vec2(0.0);
+#endif
 
 #ifdef FLY_GONIO
 // Bilinear in γ and C over the table at `offset` (rdb/raster_rdb.h: kRasterGonioGammaSteps ×
@@ -185,6 +205,17 @@ float flyLambda(float cosTheta, float a2) {
   float c2 = cosTheta * cosTheta;
   return c2 >= 1.0 ? 0.0 : 0.5 * (sqrt(1.0 + a2 * (1.0 - c2) / max(c2, 1e-12)) - 1.0);
 }
+#ifdef FLY_ANISOTROPY
+// Smith's Λ of the anisotropic GGX lobe (gLobeT, gLobeB; widths ab) towards unit w, at cos θ = dot(w, n) > 0:
+// the isotropic Λ with α projected on w's azimuth, α² tan²θ = (α_t² (w·t)² + α_b² (w·b)²) / cos²θ (Heitz
+// 2014, eq. 86 and §5.3).
+float flyLambdaAnisotropic(vec3 w, vec3 n, vec2 ab) {
+  float c = dot(w, n);
+  float wt = dot(w, gLobeT) * ab.x;
+  float wb = dot(w, gLobeB) * ab.y;
+  return c * c >= 1.0 ? 0.0 : 0.5 * (sqrt(1.0 + (wt * wt + wb * wb) / max(c * c, 1e-12)) - 1.0);
+}
+#endif
 // Direct illuminance on the surface (lux), weighted for material m's diffuse lobe (flyDiffuseFrom), and the
 // luminance (cd/m²) its reflection lobe sends towards `toEye`: the baker's glossy lobe (raytracer/bsdf.h),
 // f = R(ωo·h) D(h) G2 / (4 cos θo cos θi) with GGX D of α = m.environment.w, Smith's height-correlated G2 and
@@ -204,6 +235,17 @@ void addLight(Material m, vec3 p, vec3 n, vec3 toEye, vec3 toLight, vec3 eLux, i
   float den = nh * nh * (a2 - 1.0) + 1.0;
   float d = a2 / (kPi * den * den);
   float g2 = 1.0 / (1.0 + flyLambda(cosO, a2) + flyLambda(cosSurface, a2));
+#ifdef FLY_ANISOTROPY
+  if (gLobeAlphas.x > 0.0) {
+    // The anisotropic GGX D (Heitz 2014, eq. 85; Walter et al. 2007 eq. 33 stretched), 1 / (π α_t α_b
+    // ((h·t / α_t)² + (h·b / α_b)² + (h·n)²)²), and the height-correlated G2 of its Λ.
+    vec2 ab = max(gLobeAlphas, vec2(1e-3));
+    vec3 hs = vec3(dot(h, gLobeT) / ab.x, dot(h, gLobeB) / ab.y, nh);
+    float s2 = dot(hs, hs);
+    d = 1.0 / (kPi * ab.x * ab.y * s2 * s2);
+    g2 = 1.0 / (1.0 + flyLambdaAnisotropic(toEye, n, ab) + flyLambdaAnisotropic(toLight, n, ab));
+  }
+#endif
   specularCdM2 += eLux * flyReflectAt(m, dot(toEye, h)) * (d * g2 / (4.0 * cosO));
 }
 #endif
@@ -246,10 +288,43 @@ uniform int uCubeReflector;  // the draw's RasterRdb::cubeReflectors index, −1
 vec3 flyEnvironmentLobe(Material m, vec3 n, vec3 toEye, out vec4 prefiltered) {
   float cosO = clamp(dot(n, toEye), 1e-4, 1.0);
   vec3 r = 2.0 * dot(n, toEye) * n - toEye;
+  float alpha = clamp(m.environment.w, 0.0, 1.0);
+  prefiltered = vec4(0.0);
+  bool anisotropic = false;
+#ifdef FLY_ANISOTROPY
+  anisotropic = gLobeAlphas.x > 0.0;
+  if (anisotropic) {
+    // The anisotropic lobe as the isotropic lobe of its narrow width α_min spread along its wide axis w: the
+    // GGX slope along an axis is Student's t with 2 degrees of freedom of scale α, and such spreads add
+    // about as their scales do (as Cauchy spreads, exactly), so four half vectors n + s_k (α_max − α_min) w
+    // at that distribution's quantiles 1/8, 3/8, 5/8, 7/8 (s_k = ±0.365, ±1.604; Q(p) = (2p − 1) /
+    // √(2p(1 − p))), each reflecting the eye into a read of the level of α_min, averaged.
+    float aMin = min(gLobeAlphas.x, gLobeAlphas.y);
+    float spread = abs(gLobeAlphas.x - gLobeAlphas.y);
+    vec3 wide = gLobeAlphas.x >= gLobeAlphas.y ? gLobeT : gLobeB;
+    float level = sqrt(clamp(aMin, 0.0, 1.0)) * uRadianceTopLevel;
+    for (int k = 0; k < 4; ++k) {
+      float s = (k < 2 ? 0.365 : 1.604) * ((k & 1) == 0 ? 1.0 : -1.0) * spread;
+      vec3 h = normalize(n + s * wide);
+      prefiltered += textureLod(uRadiance, 2.0 * dot(h, toEye) * h - toEye, level);
+    }
+    prefiltered *= 0.25;
+    // The table (the lobe's albedo) takes an effective isotropic α: the lobe's α = √(α_t α_b)
+    // (flyAnisotropicAlphas) towards the α projected on the view's azimuth, α_o² = α_t² cos²φo + α_b² sin²φo
+    // (what masks the eye's side of the lobe, Heitz 2014 §5.3), as the eye nears grazing:
+    // α_eff = α (α_o / α)^(sin²θo). docs/materials-engine.md measures both against the anisotropic lobe.
+    float sin2 = max(1.0 - cosO * cosO, 0.0);
+    if (sin2 > 1e-8) {
+      float ot = dot(toEye, gLobeT) * gLobeAlphas.x, ob = dot(toEye, gLobeB) * gLobeAlphas.y;
+      float alphaO = sqrt((ot * ot + ob * ob) / sin2);
+      alpha = clamp(alpha * pow(alphaO / max(alpha, 1e-6), sin2), 0.0, 1.0);
+    }
+  }
+#endif
   // √α indexes both the table and the levels (√α_k = k / (K − 1)).
-  float rough = sqrt(clamp(m.environment.w, 0.0, 1.0));
+  float rough = sqrt(alpha);
+  if (!anisotropic) prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel);
   vec2 ab = textureLod(uSplitSum, vec2(cosO, rough), 0.0).rg;
-  prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel);
   return m.specular.rgb * ab.x + m.environment.rgb * ab.y;
 }
 // The environment's light reflected towards the eye by material m's GGX lobe (cd/m²).
@@ -781,7 +856,7 @@ out vec2 vUv1;
 layout(location = 10) in vec4 aColor;  // COLOR_0, linear RGBA
 out vec4 vColor;
 #endif
-#ifdef FLY_NORMAL_MAP
+#if defined(FLY_NORMAL_MAP) || defined(FLY_ANISOTROPY)
 layout(location = 11) in vec4 aTangent;  // world, w: bitangent = w · cross(normal, tangent)
 out vec4 vTangent;
 #endif
@@ -845,7 +920,7 @@ void main() {
 #ifdef FLY_VERTEX_COLOR
   vColor = aColor;
 #endif
-#ifdef FLY_NORMAL_MAP
+#if defined(FLY_NORMAL_MAP) || defined(FLY_ANISOTROPY)
   vTangent = aTangent;
 #endif
 }
@@ -895,18 +970,23 @@ in vec2 vUv1;
 layout(binding = 5) uniform sampler2D uBaseColorTexture;
 layout(binding = 6) uniform sampler2D uEmissionTexture;
 layout(binding = 7) uniform sampler2D uNormalTexture;
-// The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map; and per slot its affine
+#ifdef FLY_ANISOTROPY
+layout(binding = 16) uniform sampler2D uAnisotropyTexture;          // red U, green V
+layout(binding = 17) uniform sampler2D uAnisotropyRotationTexture;  // red × 2π: rotation (rad)
+#endif
+// The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map, 3 anisotropy, 4 its
+// rotation; and per slot its affine
 // UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z), row0.w the
 // UV set (0 or 1). Uniforms (one material per draw), so that every invocation of a 2 × 2 quad — helper
 // invocations outside the triangle too — computes the UVs whose differences pick the mip level, and the
 // samples are taken in uniform control flow, before any discard.
 uniform uint uTextureSlots;
-uniform vec4 uUvRows[6];  // base colour row0, row1; emission row0, row1; normal map row0, row1
+uniform vec4 uUvRows[10];  // per slot row0, row1, in the bits' order
 #endif
 #ifdef FLY_VERTEX_COLOR
 in vec4 vColor;
 #endif
-#ifdef FLY_NORMAL_MAP
+#if defined(FLY_NORMAL_MAP) || defined(FLY_ANISOTROPY)
 in vec4 vTangent;
 #endif
 #ifdef FLY_PLANAR_REFLECTION
@@ -1121,6 +1201,15 @@ void main() {
   if ((uTextureSlots & 4u) != 0u) normalTexel = texture(uNormalTexture, flyTextureUv(uUvRows[4], uUvRows[5])).xyz;
 #endif
 #endif
+#ifdef FLY_ANISOTROPY
+  vec3 anisotropy = m.anisotropy.xyz;  // U, V, rotation (rad); the textures replace them
+#ifdef FLY_TEXTURES
+  if ((uTextureSlots & 8u) != 0u)
+    anisotropy.xy = texture(uAnisotropyTexture, flyTextureUv(uUvRows[6], uUvRows[7])).rg;
+  if ((uTextureSlots & 16u) != 0u)
+    anisotropy.z = 2.0 * kPi * texture(uAnisotropyRotationTexture, flyTextureUv(uUvRows[8], uUvRows[9])).r;
+#endif
+#endif
 #ifdef FLY_VERTEX_COLOR
   base *= vColor;
 #endif
@@ -1151,6 +1240,21 @@ void main() {
   }
 #endif
   if (back && twoSided) n = -n;
+#ifdef FLY_ANISOTROPY
+  if (m.anisotropy.w > 0.0) {
+    // The lobe's axes: the tangent made perpendicular to the shading normal, turned by the rotation about it
+    // (counter-clockwise seen from its side), and n × t (rdb::RasterMaterial::anisotropic).
+    vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
+    float tl = dot(t, t);
+    if (tl > 1e-12) {
+      t *= inversesqrt(tl);
+      float c = cos(anisotropy.z), s = sin(anisotropy.z);
+      gLobeT = c * t + s * cross(n, t);
+      gLobeB = cross(n, gLobeT);
+      gLobeAlphas = flyAnisotropicAlphas(m.environment.w, anisotropy.x, anisotropy.y);
+    }
+  }
+#endif
 #endif
   bool useLightMap = false;
 #if defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION)

@@ -5,6 +5,8 @@
 // looking at the new images) with FLY_UPDATE_GOLDEN=1 tests/fly_raster_tests --gtest_filter='RasterGolden.*'.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -254,8 +256,10 @@ TEST(RasterGolden, FrostedGlassSunlightMode) {
   checkGolden(RenderMode::kSunlight, r, 13.0, "frosted-glass");
 }
 
-// a brushed-metal plate (the preset: aluminium, glossiness 0.35, anisotropy 0.6 / 0.1) lying on the ground in
-// front of the box — the sky and the sun's highlight reflected by its GGX lobe.
+// a brushed-metal plate (the preset: aluminium, glossiness 0.35, anisotropy 0.6 / 0.1) lying on the ground
+// beside the box, its tangent along world −Z (n × x̂: the plate has no UVs) — the sky reflected by the lobe
+// stretched along the tangent, and the highlight of a lamp of 400 cd 0.63 m above the plate where the eye sees it
+// mirrored, stretched by the anisotropic lobe along the tangent (1.82 times as wide as across it).
 TEST(RasterGolden, BrushedMetalSunlightMode) {
   context();
   Yard y = yard();
@@ -264,9 +268,16 @@ TEST(RasterGolden, BrushedMetalSunlightMode) {
   const sdb::MaterialId id = y.scene.addMaterial(brushed).id;
   y.scene.addNode(
       {.name = "plate",
-       .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 0, -1), vec3(0, 1, 0), vec3(-0.6f, 0.02f, 1.1f)),
+       .parentFromLocal = frameTransform(vec3(1, 0, 0), vec3(0, 0, -1), vec3(0, 1, 0), vec3(-1.4f, 0.02f, 0.6f)),
        .meshes = {y.scene.addMesh(test::quadXY(id)).id}});
-  checkGolden(RenderMode::kSunlight, rdb::buildRasterRdb(y.scene), 13.0, "brushed-metal");
+  sdb::Light lamp;
+  lamp.intensity = 400.0f;
+  y.scene.addNode({.name = "plate-lamp",
+                   .parentFromLocal = glm::translate(mat4(1.0f), vec3(-1.08f, 0.47f, -0.23f)),
+                   .light = y.scene.addLight(lamp).id});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(y.scene);
+  ASSERT_TRUE(r.variants.anisotropy);
+  checkGolden(RenderMode::kSunlight, r, 13.0, "brushed-metal");
 }
 
 // Small textures made here (the repository owns them as code): 8-bit RGB or RGBA, row-major from the top.

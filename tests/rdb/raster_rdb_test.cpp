@@ -504,6 +504,71 @@ TEST(RasterRdbTextures, TangentsFromTheFileOrGeneratedFromTheNormalMapsUvSet) {
   EXPECT_EQ(r.tangents[0], vec4(0, 0, 1, -1));
 }
 
+// An anisotropic material's meshes carry the tangent frame (of the UV set its anisotropy textures read, else
+// UV set 0) and are shaded per fragment; a scene without one carries no tangents and calls for no variant.
+TEST(RasterRdbTextures, AnisotropicMaterialsCarryTangentsAndAreShadedPerFragment) {
+  Corner c = corner(floorUvs);
+  RasterRdb r = buildRasterRdb(c.scene);
+  EXPECT_FALSE(r.variants.anisotropy);
+  EXPECT_TRUE(r.tangents.empty());
+  EXPECT_FALSE(r.shadedPerFragment(r.meshes[0]));
+
+  sdb::Material wood = c.scene.material(c.wood);
+  wood.anisotropyU = 0.6f;
+  wood.anisotropyV = 0.1f;
+  wood.anisotropyRotationRad = 0.5f;
+  sdb::ChangeSet changes = c.scene.setMaterial(c.wood, wood);
+  RasterRdb updated = r;
+  updateRasterRdb(updated, c.scene, changes);
+  r = buildRasterRdb(c.scene);
+  EXPECT_EQ(updated, r);
+  EXPECT_TRUE(r.variants.anisotropy);
+  EXPECT_FALSE(r.variants.textures);
+  const RasterMaterial& m = r.materials[r.meshes[0].material];
+  EXPECT_TRUE(m.anisotropic);
+  EXPECT_EQ(m.anisotropyU, 0.6f);
+  EXPECT_EQ(m.anisotropyV, 0.1f);
+  EXPECT_EQ(m.anisotropyRotationRad, 0.5f);
+  EXPECT_FALSE(m.anisotropyTexture || m.anisotropyRotationTexture);
+  EXPECT_FALSE(r.materials[r.meshes[1].material].anisotropic);
+  ASSERT_EQ(r.tangents.size(), r.positionsM.size());
+  const RasterMesh& floor = r.meshes[0];
+  for (uint32_t v = floor.firstVertex; v < floor.firstVertex + floor.vertexCount; ++v)
+    EXPECT_NEAR(glm::length(vec3(r.tangents[v]) - vec3(1, 0, 0)), 0.0f, 1e-6f);  // +u of uv0 = (x, z)
+  EXPECT_TRUE(r.shadedPerFragment(floor));
+  EXPECT_FALSE(r.shadedPerFragment(r.meshes[1]));  // the paint
+
+  // A rotation texture read with UV set 1 (u = x, v = 1 − z): the tangents follow that set.
+  const sdb::TextureId grey = c.scene.addTexture(texture("rotation", 1, 1, 1, 8, {64})).id;
+  wood.anisotropyRotationTexture.texture = grey;
+  wood.anisotropyRotationTexture.texCoord = 1;
+  c.scene.setMaterial(c.wood, wood);
+  r = buildRasterRdb(c.scene);
+  EXPECT_TRUE(r.variants.textures && r.variants.uv1 && r.variants.anisotropy);
+  ASSERT_EQ(r.textures.size(), 1u);
+  EXPECT_FALSE(r.textures[0].srgb);
+  EXPECT_EQ(r.materials[r.meshes[0].material].anisotropyRotationTexture.texCoord, 1u);
+  EXPECT_NEAR(glm::length(vec3(r.tangents[0]) - vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_EQ(r.tangents[0].w, -1.0f);  // ∂p/∂(−v) = +z, against n × t = −z
+
+  // Equal U and V without a texture: isotropic, nothing carried.
+  wood.anisotropyRotationTexture = {};
+  wood.anisotropyV = wood.anisotropyU;
+  c.scene.setMaterial(c.wood, wood);
+  r = buildRasterRdb(c.scene);
+  EXPECT_FALSE(r.variants.anisotropy);
+  EXPECT_TRUE(r.tangents.empty());
+
+  // Anisotropic glass is shaded as glass (per vertex, in its own pass): no anisotropy in the engine.
+  wood.anisotropyV = 0.0f;
+  wood.transmissionColor = Rgb(0.9f);
+  wood.diffuseColor = Rgb(0.0f);
+  c.scene.setMaterial(c.wood, wood);
+  r = buildRasterRdb(c.scene);
+  EXPECT_FALSE(r.variants.anisotropy);
+  EXPECT_FALSE(r.materials[r.meshes[0].material].anisotropic);
+}
+
 TEST(RasterRdbTextures, VertexColorsAndAlphaModes) {
   Corner c = corner([](sdb::Mesh& m) { m.colors = {{1, 0, 0, 1}, {0, 1, 0, 0.5f}, {0, 0, 1, 1}, {1, 1, 1, 0}}; });
   sdb::Material paint = c.scene.material(c.paint);
