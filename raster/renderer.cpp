@@ -13,8 +13,10 @@
 #include "raster/cube_reflections.h"
 #include "raster/draw_chunks.h"
 #include "raster/gl_program.h"
+#include "raster/mirror_blur.h"
 #include "raster/shaders/ambient_occlusion_glsl.h"
 #include "raster/shaders/ball_texture_glsl.h"
+#include "raster/shaders/mirror_blur_glsl.h"
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
 #include "raster/sun_glass.h"
@@ -157,6 +159,12 @@ mat4 obliqueNearPlane(mat4 clipFromCamera, const vec4& planeCamera) {
 // lobe and a glossy one (raytracer/bsdf.h, kSmoothAlpha).
 constexpr float kGlossyMirrorAlpha = 1e-3f;
 
+// Pixels per unit of tan(angle from the view axis) at the image's centre (perspective), or −pixels per metre
+// (orthographic): how far a lobe's angle reaches on a heightPx-high image (flyBlurLod, MirrorLobe::pxPerTan).
+float blurScale(const View& view, uint32_t heightPx) {
+  return view.orthographic ? -0.5f * float(heightPx) / view.ymagM : 0.5f * float(heightPx) / std::tan(0.5f * view.yfovRad);
+}
+
 // The scene program's shader variant, one bit per #define (Renderer::sceneProgram).
 enum VariantBit : uint32_t {
   kVariantLightMap = 1u << 0,
@@ -194,6 +202,9 @@ enum VariantBit : uint32_t {
   // Frosted glass (with kVariantGlass): its transmittance by the split sum's table, what lies behind it
   // blurred by the lobe's width (rdb::RasterMaterial::transmissionAlpha).
   kVariantFrosted = 1u << 22,
+  // The light-map modes' per-fragment surfaces scale the diffuse albedo by the angle to the eye
+  // (rdb::RasterVariants::diffuseByAngle): they interpolate the position and normal for it.
+  kVariantDiffuseByAngle = 1u << 23,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -326,7 +337,7 @@ struct Renderer::SceneProgram {
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
         mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
-        mirrorAlpha = -1, mirrorWorldFromClip = -1;
+        mirrorGlossy = -1, mirrorCoarse = -1;
 };
 
 struct NearProgram {
@@ -351,7 +362,6 @@ struct Renderer::Gpu {
   // read at the level of their lobe's width, and a copy of the depth buffer, which says how far behind a pane
   // what it shows lies; the split sum's table for their transmittance (made once); the decoding pass.
   GLuint behindBlurred = 0, behindDepth = 0, frostTable = 0, behindDecode = 0;
-  GLint behindDecodeRect = -1;
   GLuint srgbFbo = 0, srgbColor = 0;
   // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
   // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges),
@@ -382,10 +392,6 @@ struct Renderer::Gpu {
   // The planar reflectors' images (RG32UI, kLuminanceEncoding, the target's size) and which this frame made.
   std::vector<GLuint> reflectionColor;
   std::vector<char> reflectionShown;
-  // Glossy reflectors' images decoded with a mip chain, their passes' depth and worldFromClip
-  // (drawReflections; shaders::kSurfaceFragment, flyMirrorImage); 0 for sharp mirrors.
-  std::vector<GLuint> reflectionBlurred, reflectionDepth;
-  std::vector<mat4> reflectionWorldFromClip;
   std::map<bool, NearProgram> nearPrograms;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
@@ -425,8 +431,6 @@ struct Renderer::Gpu {
     glDeleteBuffers(1, &nearLists);
     for (const auto& [withGonio, p] : nearPrograms) glDeleteProgram(p.program);
     glDeleteTextures(GLsizei(reflectionColor.size()), reflectionColor.data());
-    glDeleteTextures(GLsizei(reflectionBlurred.size()), reflectionBlurred.data());
-    glDeleteTextures(GLsizei(reflectionDepth.size()), reflectionDepth.data());
   }
 };
 
@@ -543,7 +547,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantIbl, "ibl", "FLY_IBL"},
                    {kVariantCubeReflection, "cubereflection", "FLY_CUBE_REFLECTION"},
                    {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"},
-                   {kVariantFrosted, "frosted", "FLY_FROSTED"}};
+                   {kVariantFrosted, "frosted", "FLY_FROSTED"},
+                   {kVariantDiffuseByAngle, "diffusebyangle", "FLY_DIFFUSE_BY_ANGLE"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -558,7 +563,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
       (perFragment
            ? std::string(shaders::kSceneCommon) +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
-                 shaders::kLightTextureLookup + shaders::kSurfaceFragment
+                 shaders::kLightTextureLookup + ((variant & kVariantPlanarReflection) ? shaders::kMirrorBlurUpsample : "") +
+                 shaders::kSurfaceFragment
            : std::string((variant & kVariantIbl) ? shaders::kSceneCommon : "") + shaders::kLightTextureLookup +
                  shaders::kSceneFragment);
   const GLuint p = compileProgram(
@@ -590,8 +596,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.radianceTopLevel = loc("uRadianceTopLevel");
   sp.worldFromClip = loc("uWorldFromClip");
   sp.blurView = loc("uBlurView");
-  sp.mirrorAlpha = loc("uMirrorAlpha");
-  sp.mirrorWorldFromClip = loc("uMirrorWorldFromClip");
+  sp.mirrorGlossy = loc("uMirrorGlossy");
+  sp.mirrorCoarse = loc("uMirrorCoarse");
   sp.cubeReflector = loc("uCubeReflector");
   sp.program = p;
   return sp;
@@ -962,7 +968,7 @@ void Renderer::uploadSky() {
   ++stats_.skyUploads;
 }
 
-void Renderer::decodeBlurred(unsigned source, unsigned& target, int x, int y, int width, int height) {
+void Renderer::decodeBlurred(unsigned source, unsigned& target) {
   Gpu& g = *gpu_;
   if (!target) {
     const uint32_t levels = uint32_t(std::floor(std::log2(double(std::max(width_, height_))))) + 1;
@@ -976,10 +982,8 @@ void Renderer::decodeBlurred(unsigned source, unsigned& target, int x, int y, in
   if (!g.behindDecode) {
     g.behindDecode = compileProgram("behind-decode", shaders::kLuminanceEncoding,
                                     {{GL_COMPUTE_SHADER, shaders::kBehindDecode}});
-    g.behindDecodeRect = glGetUniformLocation(g.behindDecode, "uRect");
   }
   glUseProgram(g.behindDecode);
-  glUniform4i(g.behindDecodeRect, x, y, width, height);
   glBindImageTexture(0, source, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
   glBindImageTexture(1, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   dispatchPerPixel(width_, height_);
@@ -987,7 +991,7 @@ void Renderer::decodeBlurred(unsigned source, unsigned& target, int x, int y, in
   glGenerateTextureMipmap(target);
 }
 
-void Renderer::copyDepth(unsigned& target, int x, int y, int width, int height) {
+void Renderer::copyDepth(unsigned& target) {
   if (!target) {
     glCreateTextures(GL_TEXTURE_2D, 1, &target);
     glTextureStorage2D(target, 1, GL_DEPTH24_STENCIL8, GLsizei(width_), GLsizei(height_));
@@ -995,22 +999,17 @@ void Renderer::copyDepth(unsigned& target, int x, int y, int width, int height) 
     glTextureParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
-  // Outside the copied rectangle (a planar reflector's pass draws its screen rectangle alone) the depth reads
-  // 1, nothing: not what an earlier frame or the driver's fresh memory left there.
-  if (x > 0 || y > 0 || width < int(width_) || height < int(height_)) {
-    const GLuint farDepthNoStencil = 0xffffff00u;  // GL_UNSIGNED_INT_24_8: depth in the high 24 bits
-    glClearTexImage(target, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, &farDepthNoStencil);
-  }
-  glCopyImageSubData(gpu_->depth, GL_RENDERBUFFER, 0, x, y, 0, target, GL_TEXTURE_2D, 0, x, y, 0, width, height, 1);
+  glCopyImageSubData(gpu_->depth, GL_RENDERBUFFER, 0, 0, 0, 0, target, GL_TEXTURE_2D, 0, 0, 0, 0, GLsizei(width_),
+                     GLsizei(height_), 1);
 }
 
-void Renderer::prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx) {
+void Renderer::prepareFrostedGlass() {
   Gpu& g = *gpu_;
   if (!g.frostTable) {
     g.frostTable = makeSplitSumTable(compiler(), kSkyEnvironmentSettings.tablePx, kSkyEnvironmentSettings.tableSamples);
   }
-  decodeBlurred(g.behindColor, g.behindBlurred, 0, 0, int(widthPx), int(heightPx));
-  copyDepth(g.behindDepth, 0, 0, int(widthPx), int(heightPx));
+  decodeBlurred(g.behindColor, g.behindBlurred);
+  copyDepth(g.behindDepth);
   glBindTextureUnit(3, g.behindBlurred);
   glBindTextureUnit(1, g.behindDepth);
   glBindTextureUnit(14, g.frostTable);
@@ -1033,10 +1032,6 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   gpu_->nearData = gpu_->nearLight = 0;
   glDeleteTextures(GLsizei(gpu_->reflectionColor.size()), gpu_->reflectionColor.data());
   gpu_->reflectionColor.clear();
-  glDeleteTextures(GLsizei(gpu_->reflectionBlurred.size()), gpu_->reflectionBlurred.data());
-  gpu_->reflectionBlurred.clear();
-  glDeleteTextures(GLsizei(gpu_->reflectionDepth.size()), gpu_->reflectionDepth.data());
-  gpu_->reflectionDepth.clear();
   glDeleteTextures(1, &gpu_->blendColor);
   glDeleteFramebuffers(1, &gpu_->blendFbo);
   gpu_->blendColor = gpu_->blendFbo = 0;
@@ -1128,9 +1123,6 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
   gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
   gpu_->reflectionColor.resize(r.planarReflectors.size(), 0);
-  gpu_->reflectionBlurred.resize(r.planarReflectors.size(), 0);
-  gpu_->reflectionDepth.resize(r.planarReflectors.size(), 0);
-  gpu_->reflectionWorldFromClip.resize(r.planarReflectors.size(), mat4(1.0f));
   const mat4 clipFromWorld = projection(view, float(widthPx) / float(heightPx)) * glm::inverse(view.worldFromCamera);
   for (uint32_t k = 0; k < r.planarReflectors.size(); ++k) {
     const rdb::RasterPlanarReflector& pr = r.planarReflectors[k];
@@ -1163,13 +1155,18 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     }
     glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x, rect.y,
                        0, rect.width, rect.height, 1);
-    if (r.materials[pr.material].ggxAlpha >= kGlossyMirrorAlpha) {
-      decodeBlurred(image, gpu_->reflectionBlurred[k], rect.x, rect.y, rect.width, rect.height);
-      copyDepth(gpu_->reflectionDepth[k], rect.x, rect.y, rect.width, rect.height);
+    if (const float alpha = r.materials[pr.material].ggxAlpha; alpha >= kGlossyMirrorAlpha) {
+      if (!mirrorBlur_) mirrorBlur_ = std::make_unique<MirrorBlur>(compiler());
       const float aspect = float(widthPx) / float(heightPx);
       const vec4 planeCamera = glm::transpose(mirrored.worldFromCamera) * pass.planeWorld;
-      gpu_->reflectionWorldFromClip[k] =
-          glm::inverse(obliqueNearPlane(projection(mirrored, aspect), planeCamera) * glm::inverse(mirrored.worldFromCamera));
+      const MirrorLobe lobe{
+          .worldFromClip = glm::inverse(obliqueNearPlane(projection(mirrored, aspect), planeCamera) *
+                                        glm::inverse(mirrored.worldFromCamera)),
+          .planeWorld = pass.planeWorld,
+          .eye = view.orthographic ? vec4(viewDir, 0.0f) : vec4(vec3(mirrored.worldFromCamera[3]), 1.0f),
+          .alpha = alpha,
+          .pxPerTan = blurScale(view, heightPx)};
+      mirrorBlur_->blur(k, image, gpu_->depth, {rect.x, rect.y, rect.width, rect.height}, widthPx, heightPx, lobe);
     }
     gpu_->reflectionShown[k] = 1;
     ++stats_.reflectionPasses;
@@ -1280,7 +1277,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
-        (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u);
+        (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u) |
+        (lightMaps && v.diffuseByAngle ? kVariantDiffuseByAngle : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
@@ -1342,10 +1340,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           const mat4 worldFromClip = glm::inverse(clipFromWorld);
           glUniformMatrix4fv(p.worldFromClip, 1, GL_FALSE, &worldFromClip[0][0]);
         }
-        // Pixels per unit of tan(angle from the view axis) at the image's centre, or −pixels per metre.
-        const float scale = view.orthographic ? -0.5f * float(heightPx) / view.ymagM
-                                              : 0.5f * float(heightPx) / std::tan(0.5f * view.yfovRad);
-        const vec4 blurView(eye, scale);
+        const vec4 blurView(eye, blurScale(view, heightPx));
         glUniform4fv(p.blurView, 1, &blurView[0]);
       }
       if (programVariant & kVariantSunGlass) {
@@ -1408,11 +1403,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glUniform1f(p.mirrorF0, m.mirrorF0);
           glUniform1i(p.sunInReflection, sky && v.sun ? 1 : 0);
           const bool glossy = m.ggxAlpha >= kGlossyMirrorAlpha;
-          glUniform1f(p.mirrorAlpha, glossy ? m.ggxAlpha : 0.0f);
+          glUniform1i(p.mirrorGlossy, glossy ? 1 : 0);
           if (glossy) {
-            glBindTextureUnit(3, gpu_->reflectionBlurred[d.reflector]);
-            glBindTextureUnit(1, gpu_->reflectionDepth[d.reflector]);
-            glUniformMatrix4fv(p.mirrorWorldFromClip, 1, GL_FALSE, &gpu_->reflectionWorldFromClip[d.reflector][0][0]);
+            glBindTextureUnit(3, mirrorBlur_->pyramid(d.reflector));
+            glUniform4iv(p.mirrorCoarse, 1, mirrorBlur_->coarseRegion(d.reflector));
           }
         }
       }
@@ -1507,7 +1501,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0,
                          0, 0, w, h, 1);
       glBindTextureUnit(4, gpu_->behindColor);
-      if (variant & kVariantFrosted) prepareFrostedGlass(widthPx, heightPx);
+      if (variant & kVariantFrosted) prepareFrostedGlass();
       const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
       drawVisibleChunks();

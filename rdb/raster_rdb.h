@@ -279,6 +279,10 @@ struct RasterVariants {
   bool measuredBrdf = false;  // some mesh has a measured BRDF: ball textures (raster/ball_texture.h)
   bool planarReflectors = false;  // RasterRdb::planarReflectors is not empty: mirrored passes
   bool cubeReflectors = false;    // RasterRdb::cubeReflectors is not empty: cube-map captures
+  // Some material's diffuse share depends on the angle to the eye: a Fresnel reflection (F90 = environmentF90
+  // differs from F0 = specular < 1; raster/shaders/scene_glsl.h, flyDiffuseTowards). Without one the light-map
+  // modes' per-fragment surfaces interpolate no position and normal.
+  bool diffuseByAngle = false;
 
   bool operator==(const RasterVariants&) const = default;
 };
