@@ -14,8 +14,10 @@
 #include "raster/cube_reflections.h"
 #include "raster/draw_chunks.h"
 #include "raster/gl_program.h"
+#include "raster/mirror_blur.h"
 #include "raster/shaders/ambient_occlusion_glsl.h"
 #include "raster/shaders/ball_texture_glsl.h"
+#include "raster/shaders/mirror_blur_glsl.h"
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
 #include "raster/sun_glass.h"
@@ -168,6 +170,12 @@ mat4 obliqueNearPlane(mat4 clipFromCamera, const vec4& planeCamera) {
 // lobe and a glossy one (raytracer/bsdf.h, kSmoothAlpha).
 constexpr float kGlossyMirrorAlpha = 1e-3f;
 
+// Pixels per unit of tan(angle from the view axis) at the image's centre (perspective), or −pixels per metre
+// (orthographic): how far a lobe's angle reaches on a heightPx-high image (flyBlurLod, MirrorLobe::pxPerTan).
+float blurScale(const View& view, uint32_t heightPx) {
+  return view.orthographic ? -0.5f * float(heightPx) / view.ymagM : 0.5f * float(heightPx) / std::tan(0.5f * view.yfovRad);
+}
+
 // The scene program's shader variant, one bit per #define (Renderer::sceneProgram).
 enum VariantBit : uint32_t {
   kVariantLightMap = 1u << 0,
@@ -210,6 +218,9 @@ enum VariantBit : uint32_t {
   kVariantReflectionFog = 1u << 23,
   // Anisotropic reflection lobes (rdb::RasterMaterial::anisotropic; per-fragment surfaces, with tangents).
   kVariantAnisotropy = 1u << 24,
+  // The light-map modes' per-fragment surfaces scale the diffuse albedo by the angle to the eye
+  // (rdb::RasterVariants::diffuseByAngle): they interpolate the position and normal for it.
+  kVariantDiffuseByAngle = 1u << 25,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -341,7 +352,7 @@ struct Renderer::SceneProgram {
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
         mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
-        mirrorAlpha = -1, mirrorWorldFromClip = -1, fogDistance = -1, fogColor = -1;
+        mirrorGlossy = -1, mirrorCoarse = -1, mirrorWorldFromClip = -1, fogDistance = -1, fogColor = -1;
 };
 
 struct NearProgram {
@@ -366,7 +377,6 @@ struct Renderer::Gpu {
   // read at the level of their lobe's width, and a copy of the depth buffer, which says how far behind a pane
   // what it shows lies; the split sum's table for their transmittance (made once); the decoding pass.
   GLuint behindBlurred = 0, behindDepth = 0, frostTable = 0, behindDecode = 0;
-  GLint behindDecodeRect = -1;
   GLuint srgbFbo = 0, srgbColor = 0;
   // Per-fragment surfaces: their attributes (rdb::RasterRdb::uv0 …), the materials' textures (one GL texture
   // each, mipmapped), the index buffer in draw order (per-vertex meshes first, then SurfaceDraws' ranges),
@@ -397,12 +407,11 @@ struct Renderer::Gpu {
   // The planar reflectors' images (RG32UI, kLuminanceEncoding, the target's size) and which this frame made.
   std::vector<GLuint> reflectionColor;
   std::vector<char> reflectionShown;
-  // Glossy reflectors' images decoded with a mip chain, their passes' depth and worldFromClip
-  // (drawReflections; shaders::kSurfaceFragment, flyMirrorImage); 0 for sharp mirrors. The depth and
-  // worldFromClip also for reflectors with reflection fog.
-  std::vector<GLuint> reflectionBlurred, reflectionDepth;
+  // Reflection fog: a fogged planar reflector's pass depth and worldFromClip (drawReflections;
+  // shaders::kSurfaceFragment, flyMirrorDistance), 0 for others; a cube face's depth for a cube reflector
+  // with fog (captureCubeReflectors), 0 until one.
+  std::vector<GLuint> reflectionDepth;
   std::vector<mat4> reflectionWorldFromClip;
-  // A cube face's depth, for a cube reflector with reflection fog (captureCubeReflectors); 0 until one.
   GLuint cubeFaceDepth = 0;
   std::map<bool, NearProgram> nearPrograms;
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
@@ -443,7 +452,6 @@ struct Renderer::Gpu {
     glDeleteBuffers(1, &nearLists);
     for (const auto& [withGonio, p] : nearPrograms) glDeleteProgram(p.program);
     glDeleteTextures(GLsizei(reflectionColor.size()), reflectionColor.data());
-    glDeleteTextures(GLsizei(reflectionBlurred.size()), reflectionBlurred.data());
     glDeleteTextures(GLsizei(reflectionDepth.size()), reflectionDepth.data());
     glDeleteTextures(1, &cubeFaceDepth);
   }
@@ -564,7 +572,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantAmbientOcclusion, "ssao", "FLY_SSAO"},
                    {kVariantFrosted, "frosted", "FLY_FROSTED"},
                    {kVariantReflectionFog, "fog", "FLY_REFLECTION_FOG"},
-                   {kVariantAnisotropy, "anisotropy", "FLY_ANISOTROPY"}};
+                   {kVariantAnisotropy, "anisotropy", "FLY_ANISOTROPY"},
+                   {kVariantDiffuseByAngle, "diffusebyangle", "FLY_DIFFUSE_BY_ANGLE"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -588,7 +597,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
       (perFragment
            ? std::string(shaders::kSceneCommon) +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
-                 shaders::kLightTextureLookup + shaders::kSurfaceFragment
+                 shaders::kLightTextureLookup + ((variant & kVariantPlanarReflection) ? shaders::kMirrorBlurUpsample : "") +
+                 shaders::kSurfaceFragment
            : std::string((variant & kVariantIbl) ? shaders::kSceneCommon : "") + shaders::kLightTextureLookup +
                  shaders::kSceneFragment);
   const GLuint p = compileProgram(
@@ -620,7 +630,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.radianceTopLevel = loc("uRadianceTopLevel");
   sp.worldFromClip = loc("uWorldFromClip");
   sp.blurView = loc("uBlurView");
-  sp.mirrorAlpha = loc("uMirrorAlpha");
+  sp.mirrorGlossy = loc("uMirrorGlossy");
+  sp.mirrorCoarse = loc("uMirrorCoarse");
   sp.mirrorWorldFromClip = loc("uMirrorWorldFromClip");
   sp.cubeReflector = loc("uCubeReflector");
   sp.fogDistance = loc("uFogDistanceM");
@@ -994,7 +1005,7 @@ void Renderer::uploadSky() {
   ++stats_.skyUploads;
 }
 
-void Renderer::decodeBlurred(unsigned source, unsigned& target, int x, int y, int width, int height) {
+void Renderer::decodeBlurred(unsigned source, unsigned& target) {
   Gpu& g = *gpu_;
   if (!target) {
     const uint32_t levels = uint32_t(std::floor(std::log2(double(std::max(width_, height_))))) + 1;
@@ -1008,10 +1019,8 @@ void Renderer::decodeBlurred(unsigned source, unsigned& target, int x, int y, in
   if (!g.behindDecode) {
     g.behindDecode = compileProgram("behind-decode", shaders::kLuminanceEncoding,
                                     {{GL_COMPUTE_SHADER, shaders::kBehindDecode}});
-    g.behindDecodeRect = glGetUniformLocation(g.behindDecode, "uRect");
   }
   glUseProgram(g.behindDecode);
-  glUniform4i(g.behindDecodeRect, x, y, width, height);
   glBindImageTexture(0, source, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
   glBindImageTexture(1, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   dispatchPerPixel(width_, height_);
@@ -1027,22 +1036,16 @@ void Renderer::copyDepth(unsigned& target, int x, int y, int width, int height) 
     glTextureParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
-  // Outside the copied rectangle (a planar reflector's pass draws its screen rectangle alone) the depth reads
-  // 1, nothing: not what an earlier frame or the driver's fresh memory left there.
-  if (x > 0 || y > 0 || width < int(width_) || height < int(height_)) {
-    const GLuint farDepthNoStencil = 0xffffff00u;  // GL_UNSIGNED_INT_24_8: depth in the high 24 bits
-    glClearTexImage(target, 0, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, &farDepthNoStencil);
-  }
   glCopyImageSubData(gpu_->depth, GL_RENDERBUFFER, 0, x, y, 0, target, GL_TEXTURE_2D, 0, x, y, 0, width, height, 1);
 }
 
-void Renderer::prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx) {
+void Renderer::prepareFrostedGlass() {
   Gpu& g = *gpu_;
   if (!g.frostTable) {
     g.frostTable = makeSplitSumTable(compiler(), kSkyEnvironmentSettings.tablePx, kSkyEnvironmentSettings.tableSamples);
   }
-  decodeBlurred(g.behindColor, g.behindBlurred, 0, 0, int(widthPx), int(heightPx));
-  copyDepth(g.behindDepth, 0, 0, int(widthPx), int(heightPx));
+  decodeBlurred(g.behindColor, g.behindBlurred);
+  copyDepth(g.behindDepth, 0, 0, int(width_), int(height_));
   glBindTextureUnit(3, g.behindBlurred);
   glBindTextureUnit(1, g.behindDepth);
   glBindTextureUnit(14, g.frostTable);
@@ -1065,8 +1068,6 @@ void Renderer::resize(uint32_t widthPx, uint32_t heightPx) {
   gpu_->nearData = gpu_->nearLight = 0;
   glDeleteTextures(GLsizei(gpu_->reflectionColor.size()), gpu_->reflectionColor.data());
   gpu_->reflectionColor.clear();
-  glDeleteTextures(GLsizei(gpu_->reflectionBlurred.size()), gpu_->reflectionBlurred.data());
-  gpu_->reflectionBlurred.clear();
   glDeleteTextures(GLsizei(gpu_->reflectionDepth.size()), gpu_->reflectionDepth.data());
   gpu_->reflectionDepth.clear();
   glDeleteTextures(1, &gpu_->cubeFaceDepth);
@@ -1170,7 +1171,6 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
   gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
   gpu_->reflectionColor.resize(r.planarReflectors.size(), 0);
-  gpu_->reflectionBlurred.resize(r.planarReflectors.size(), 0);
   gpu_->reflectionDepth.resize(r.planarReflectors.size(), 0);
   gpu_->reflectionWorldFromClip.resize(r.planarReflectors.size(), mat4(1.0f));
   const mat4 clipFromWorld = projection(view, float(widthPx) / float(heightPx)) * glm::inverse(view.worldFromCamera);
@@ -1205,17 +1205,26 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     }
     glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x, rect.y,
                        0, rect.width, rect.height, 1);
-    // The depth says how far behind the mirror what it shows lies: a glossy reflector's blur and reflection
-    // fog read it.
+    const float aspect = float(widthPx) / float(heightPx);
+    const vec4 planeCamera = glm::transpose(mirrored.worldFromCamera) * pass.planeWorld;
+    const mat4 mirroredWorldFromClip =
+        glm::inverse(obliqueNearPlane(projection(mirrored, aspect), planeCamera) * glm::inverse(mirrored.worldFromCamera));
     const rdb::RasterMaterial& prMaterial = r.materials[pr.material];
-    const bool glossy = prMaterial.ggxAlpha >= kGlossyMirrorAlpha;
-    if (glossy) decodeBlurred(image, gpu_->reflectionBlurred[k], rect.x, rect.y, rect.width, rect.height);
-    if (glossy || prMaterial.hasReflectionFog()) {
+    if (prMaterial.hasReflectionFog()) {
+      // Reflection fog reads how far behind the mirror what it shows lies: the pass's depth in the rectangle
+      // (the mirror's fragments lie inside it) and how to unproject it.
       copyDepth(gpu_->reflectionDepth[k], rect.x, rect.y, rect.width, rect.height);
-      const float aspect = float(widthPx) / float(heightPx);
-      const vec4 planeCamera = glm::transpose(mirrored.worldFromCamera) * pass.planeWorld;
-      gpu_->reflectionWorldFromClip[k] =
-          glm::inverse(obliqueNearPlane(projection(mirrored, aspect), planeCamera) * glm::inverse(mirrored.worldFromCamera));
+      gpu_->reflectionWorldFromClip[k] = mirroredWorldFromClip;
+    }
+    if (const float alpha = prMaterial.ggxAlpha; alpha >= kGlossyMirrorAlpha) {
+      if (!mirrorBlur_) mirrorBlur_ = std::make_unique<MirrorBlur>(compiler());
+      const MirrorLobe lobe{
+          .worldFromClip = mirroredWorldFromClip,
+          .planeWorld = pass.planeWorld,
+          .eye = view.orthographic ? vec4(viewDir, 0.0f) : vec4(vec3(mirrored.worldFromCamera[3]), 1.0f),
+          .alpha = alpha,
+          .pxPerTan = blurScale(view, heightPx)};
+      mirrorBlur_->blur(k, image, gpu_->depth, {rect.x, rect.y, rect.width, rect.height}, widthPx, heightPx, lobe);
     }
     gpu_->reflectionShown[k] = 1;
     ++stats_.reflectionPasses;
@@ -1328,7 +1337,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         ((phong || sunDirect || ibl || v.cubeReflectors) && v.anisotropy ? kVariantAnisotropy : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
         (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u) |
-        (v.reflectionFog ? kVariantReflectionFog : 0u);
+        (v.reflectionFog ? kVariantReflectionFog : 0u) | (lightMaps && v.diffuseByAngle ? kVariantDiffuseByAngle : 0u);
     const vec3 eye(view.worldFromCamera[3]);
     const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
     const rdb::DirectionalAmbient& ambient = sunlight ? r.daylightAmbient : r.ambient;
@@ -1390,10 +1399,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           const mat4 worldFromClip = glm::inverse(clipFromWorld);
           glUniformMatrix4fv(p.worldFromClip, 1, GL_FALSE, &worldFromClip[0][0]);
         }
-        // Pixels per unit of tan(angle from the view axis) at the image's centre, or −pixels per metre.
-        const float scale = view.orthographic ? -0.5f * float(heightPx) / view.ymagM
-                                              : 0.5f * float(heightPx) / std::tan(0.5f * view.yfovRad);
-        const vec4 blurView(eye, scale);
+        const vec4 blurView(eye, blurScale(view, heightPx));
         glUniform4fv(p.blurView, 1, &blurView[0]);
       }
       if (programVariant & kVariantSunGlass) {
@@ -1460,11 +1466,14 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glUniform1f(p.mirrorF0, m.mirrorF0);
           glUniform1i(p.sunInReflection, sky && v.sun ? 1 : 0);
           const bool glossy = m.ggxAlpha >= kGlossyMirrorAlpha;
-          glUniform1f(p.mirrorAlpha, glossy ? m.ggxAlpha : 0.0f);
-          if (glossy) glBindTextureUnit(3, gpu_->reflectionBlurred[d.reflector]);
-          if (glossy || m.hasReflectionFog()) {
+          glUniform1i(p.mirrorGlossy, glossy ? 1 : 0);
+          if (m.hasReflectionFog()) {
             glBindTextureUnit(1, gpu_->reflectionDepth[d.reflector]);
             glUniformMatrix4fv(p.mirrorWorldFromClip, 1, GL_FALSE, &gpu_->reflectionWorldFromClip[d.reflector][0][0]);
+          }
+          if (glossy) {
+            glBindTextureUnit(3, mirrorBlur_->pyramid(d.reflector));
+            glUniform4iv(p.mirrorCoarse, 1, mirrorBlur_->coarseRegion(d.reflector));
           }
         }
       }
@@ -1559,7 +1568,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, 0, 0, 0, gpu_->behindColor, GL_TEXTURE_2D, 0, 0,
                          0, 0, w, h, 1);
       glBindTextureUnit(4, gpu_->behindColor);
-      if (variant & kVariantFrosted) prepareFrostedGlass(widthPx, heightPx);
+      if (variant & kVariantFrosted) prepareFrostedGlass();
       const SceneProgram& p = use(variant);
       glUniform1i(p.glassPass, 1);
       drawVisibleChunks();

@@ -76,6 +76,7 @@
 namespace fly::raster {
 
 class CubeReflections;
+class MirrorBlur;
 
 enum class RenderMode { kSimple, kLightMap, kSunlight };
 
@@ -262,11 +263,12 @@ class Renderer {
   // Before the glass pass of a scene with frosted glass: the copy of the image behind it decoded into a
   // mipmapped texture (unit 3), a copy of the depth buffer (unit 1) and the split sum's table (unit 14;
   // shaders::kSceneVertex, kSceneFragment, FLY_FROSTED).
-  void prepareFrostedGlass(uint32_t widthPx, uint32_t heightPx);
-  // The rectangle (x, y, width, height) of an RG32UI luminance image (kLuminanceEncoding) decoded into
-  // `target` (RGBA32F of the target's size with a box-filtered mip chain, made at the first call; outside the
-  // rectangle its edge repeated), and the depth buffer's rectangle copied into `target` (made likewise).
-  void decodeBlurred(unsigned source, unsigned& target, int x, int y, int width, int height);
+  void prepareFrostedGlass();
+  // An RG32UI luminance image (kLuminanceEncoding) of the target's size decoded into `target` (RGBA32F with
+  // a box-filtered mip chain, made at the first call), and the depth buffer's rectangle (x, y, width, height)
+  // copied into `target` (made likewise, of the target's size; outside the rectangle undefined: readers read
+  // inside it).
+  void decodeBlurred(unsigned source, unsigned& target);
   void copyDepth(unsigned& target, int x, int y, int width, int height);
   void drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx);
   void drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t heightPx);
@@ -298,6 +300,7 @@ class Renderer {
   std::unique_ptr<AmbientOcclusion> ambientOcclusion_;  // made at the first frame that draws it
   BloomSettings bloomSettings_;
   std::unique_ptr<Bloom> bloom_;  // made at the first tone-map pass with bloom
+  std::unique_ptr<MirrorBlur> mirrorBlur_;  // made at the first frame showing a glossy planar reflector
   std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;

@@ -931,6 +931,12 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
   rdb.variants.glass = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
     return maxComponent(rdb.materials[m.material].transmission) > 0.0f;
   });
+  rdb.variants.diffuseByAngle = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
+    const RasterMaterial& x = rdb.materials[m.material];
+    for (int c = 0; c < 3; ++c)
+      if (x.specular[c] < 1.0f && x.environmentF90[c] != x.specular[c]) return true;
+    return false;
+  });
   rdb.variants.frostedGlass = std::any_of(rdb.meshes.begin(), rdb.meshes.end(), [&](const RasterMesh& m) {
     const RasterMaterial& x = rdb.materials[m.material];
     return maxComponent(x.transmission) > 0.0f && x.transmissionAlpha > 0.0f;

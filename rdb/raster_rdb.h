@@ -304,6 +304,10 @@ struct RasterVariants {
   bool planarReflectors = false;  // RasterRdb::planarReflectors is not empty: mirrored passes
   bool cubeReflectors = false;    // RasterRdb::cubeReflectors is not empty: cube-map captures
   bool reflectionFog = false;     // some mesh's material has reflection fog (RasterMaterial)
+  // Some material's diffuse share depends on the angle to the eye: a Fresnel reflection (F90 = environmentF90
+  // differs from F0 = specular < 1; raster/shaders/scene_glsl.h, flyDiffuseTowards). Without one the light-map
+  // modes' per-fragment surfaces interpolate no position and normal.
+  bool diffuseByAngle = false;
 
   bool operator==(const RasterVariants&) const = default;
 };

@@ -43,6 +43,10 @@
 //                     (raster/ambient_occlusion.h; shaders/ambient_occlusion_glsl.h, prepended to every stage)
 //   FLY_MEASURED      measured BRDFs (rdb::RasterMeasuredBrdf): a material with one shows its ball texture
 //                     (raster/ball_texture.h) by reflection mapping (kMeasuredLookup)
+//   FLY_DIFFUSE_BY_ANGLE  (with FLY_LIGHT_MAP) the light map's diffuse albedo times the diffuse share towards
+//                     the eye (flyDiffuseTowards), for scenes where some material's share depends on the angle
+//                     (rdb::RasterVariants::diffuseByAngle); without it the share is 1 and no position or
+//                     normal is interpolated
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
@@ -862,7 +866,7 @@ out vec4 vTangent;
 #endif
 // Only what the variant reads is interpolated (the fewer varyings, the cheaper each pixel).
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_DIFFUSE_BY_ANGLE)
 out vec3 vPositionM;
 out vec3 vNormal;
 #endif
@@ -885,7 +889,7 @@ invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (rast
 void main() {
   gl_Position = uClipFromWorld * vec4(aPositionM, 1.0);
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_DIFFUSE_BY_ANGLE)
   vPositionM = aPositionM;
   vNormal = aNormal;
 #endif
@@ -933,7 +937,7 @@ void main() {
 // blended ones. Textures are sRGB-decoded by the GPU where they hold colour (rdb::RasterTexture::srgb).
 inline constexpr const char* kSurfaceFragment = R"GLSL(
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_DIFFUSE_BY_ANGLE)
 in vec3 vPositionM;
 in vec3 vNormal;
 #endif
@@ -995,61 +999,38 @@ in vec4 vTangent;
 layout(binding = 11) uniform usampler2D uReflection;
 uniform vec3 uMirrorReflection;
 uniform float uMirrorF0;
-// A glossy reflector (GGX α = uMirrorAlpha > 0) shows its image blurred as its lobe spreads it: the image
-// decoded with a box-filtered mip chain, and the mirrored pass's depth and worldFromClip, which say how far
-// behind the mirror what it shows lies. uBlurView: xyz the eye (world, m); w > 0: pixels per unit of
-// tan(angle from the view axis) at the image's centre (perspective), w < 0: −pixels per metre (orthographic).
-uniform float uMirrorAlpha;
+// A glossy reflector (uMirrorGlossy) shows its image blurred as its lobe spreads the light (raster/mirror_blur.h):
+// its settled pyramid's level 0 at this pixel plus level 1 read bilinearly within uMirrorCoarse (lo.xy, hi.xy
+// exclusive; empty: a pyramid of one level).
+uniform bool uMirrorGlossy;
 layout(binding = 3) uniform sampler2D uReflectionBlurred;
-layout(binding = 1) uniform sampler2D uReflectionDepth;
-uniform mat4 uMirrorWorldFromClip;
-uniform vec4 uBlurView;
-// The reflected radiance at this pixel. A GGX lobe of α reflects half its light within about 2α rad of the
-// mirror direction (kSceneFragment's flyBlurLod uses the same bound): a point at distance D behind the mirror
-// along the reflected ray, E from the eye to the mirror, is spread over a radius of 2α · D / (E + D) in tan
-// units (2α · D metres orthographically); a box-filtered level k averages 2^k pixels. D is the nearest of
-// what the pixel and 40 pixels around it within the lobe's full width show (5 rings of 8 at 1/16, 1/8, 1/4,
-// 1/2 and 1 of it) whose light reaches the pixel: a pixel that reflects the empty sky beside a near object
-// receives that object's light spread by the object's distance, not by the sky's (a gather blurs by the
-// receiver's depth, light spreads by the source's).
-float flyMirrorDistance(vec2 fragCoord, vec3 p, vec2 sizePx) {
-  float z = texelFetch(uReflectionDepth, ivec2(clamp(fragCoord, vec2(0.0), sizePx - 1.0)), 0).r;
-  if (z >= 1.0) return 1e30;
-  vec4 q = uMirrorWorldFromClip * vec4(fragCoord / sizePx * 2.0 - 1.0, z * 2.0 - 1.0, 1.0);
-  return distance(q.xyz / q.w, p);
-}
-// The radius (pixels) over which the lobe spreads the light of a point d metres behind the mirror at p.
-float flyMirrorSpreadPx(float d, vec3 p) {
-  return uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w * d / max(distance(uBlurView.xyz, p) + d, 1e-6)
-                           : -2.0 * uMirrorAlpha * d * uBlurView.w;
-}
-vec3 flyMirrorImage(vec3 p) {
-  vec3 sharp = flyDecodeLuminance(texelFetch(uReflection, ivec2(gl_FragCoord.xy), 0).xy);
-  if (uMirrorAlpha <= 0.0) return sharp;
-  vec2 sizePx = vec2(textureSize(uReflectionBlurred, 0));
-  // The sky's radius (perspective), or a quarter of the image (orthographic), bounds the search.
-  float widest = uBlurView.w > 0.0 ? 2.0 * uMirrorAlpha * uBlurView.w : 0.25 * sizePx.y;
-  float d = flyMirrorDistance(gl_FragCoord.xy, p, sizePx);
-  // A point seen at a sample counts only where its own light reaches this pixel (its spread at least the
-  // sample's distance): light spreads by its source's depth, and a gather must not reach farther.
-  for (int ring = 0; ring < 5; ++ring) {
-    float offsetPx = widest * exp2(float(ring - 4));
-    for (int k = 0; k < 8; ++k) {
-      float a = (float(k) + 0.5 * float(ring)) * (kPi / 4.0);
-      float ds = flyMirrorDistance(gl_FragCoord.xy + offsetPx * vec2(cos(a), sin(a)), p, sizePx);
-      if (ds < 1e29 && flyMirrorSpreadPx(ds, p) >= offsetPx) d = min(d, ds);
-    }
-  }
-  // Nothing whose light reaches here but the sky (or what lies outside the mirrored pass's rectangle), which
-  // is smooth: the image is read as it is.
-  if (d >= 1e29) return sharp;
-  return textureLod(uReflectionBlurred, gl_FragCoord.xy / sizePx, log2(max(2.0 * flyMirrorSpreadPx(d, p), 1.0))).rgb;
+uniform ivec4 uMirrorCoarse;
+vec3 flyMirrorImage() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  if (!uMirrorGlossy) return flyDecodeLuminance(texelFetch(uReflection, p, 0).xy);
+  vec3 l = texelFetch(uReflectionBlurred, p, 0).rgb;
+  if (uMirrorCoarse.z > uMirrorCoarse.x) l += flyMirrorUpsample(uReflectionBlurred, p, 0, uMirrorCoarse);
+  return l;
 }
 #endif
 #ifdef FLY_REFLECTION_FOG
 // The draw's material's reflection fog (rdb::RasterMaterial): distance (m; ≤ 0: none) and colour.
 uniform float uFogDistanceM;
 uniform vec3 uFogColor;
+#ifdef FLY_PLANAR_REFLECTION
+// A fogged planar reflector's mirrored pass: its depth (valid in the mirror's screen rectangle, which holds
+// the mirror's fragments) and worldFromClip, which say how far behind the mirror what a pixel shows lies.
+layout(binding = 1) uniform sampler2D uReflectionDepth;
+uniform mat4 uMirrorWorldFromClip;
+// The distance (m) from p on the mirror to what the mirrored pass shows at fragCoord; 10³⁰ for nothing (the
+// sky).
+float flyMirrorDistance(vec2 fragCoord, vec3 p, vec2 sizePx) {
+  float z = texelFetch(uReflectionDepth, ivec2(clamp(fragCoord, vec2(0.0), sizePx - 1.0)), 0).r;
+  if (z >= 1.0) return 1e30;
+  vec4 q = uMirrorWorldFromClip * vec4(fragCoord / sizePx * 2.0 - 1.0, z * 2.0 - 1.0, 1.0);
+  return distance(q.xyz / q.w, p);
+}
+#endif
 #endif
 #ifdef FLY_BLEND_PASS
 layout(location = 0) out vec4 oBlend;  // (coverage · L, coverage): "over", back to front
@@ -1219,7 +1200,7 @@ void main() {
   bool back = !gl_FrontFacing;
   vec3 l = vec3(0.0);
 #if defined(FLY_PHONG) || defined(FLY_SUN_DIRECT) || defined(FLY_MEASURED) || defined(FLY_PLANAR_REFLECTION) || \
-    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_LIGHT_MAP)
+    defined(FLY_IBL) || defined(FLY_CUBE_REFLECTION) || defined(FLY_DIFFUSE_BY_ANGLE)
   // The shading normal (bent by the normal map) and the direction to the eye, for the Phong and sun terms and
   // the diffuse share towards the eye (flyDiffuseTowards).
   vec3 toEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
@@ -1302,7 +1283,11 @@ void main() {
 #ifdef FLY_CUBE_REFLECTION
     if (uCubeReflector >= 0) reflectance = base.rgb;  // its cube map shows what it reflects
 #endif
+#ifdef FLY_DIFFUSE_BY_ANGLE
     l = reflectance * flyDiffuseTowards(m, dot(n, toEye)) * eLux / kPi;
+#else
+    l = reflectance * eLux / kPi;  // every material's diffuse share is the same at every angle
+#endif
 #if defined(FLY_SUN_DIRECT) && defined(FLY_SUN)
     l += flySunTerm(base.rgb, m, vPositionM, n, toEye);
 #endif
@@ -1372,7 +1357,7 @@ void main() {
   if (uReflector >= 0 && !back) {
     float x = 1.0 - clamp(dot(n, toEye), 0.0, 1.0);
     float fresnel = uMirrorF0 < 0.0 ? 1.0 : uMirrorF0 + (1.0 - uMirrorF0) * x * x * x * x * x;
-    vec3 image = flyMirrorImage(vPositionM);
+    vec3 image = flyMirrorImage();
 #ifdef FLY_REFLECTION_FOG
     // Fades to the fog by the distance from this point to what its image shows (the sky: t = 1).
     if (uFogDistanceM > 0.0) {
@@ -1463,22 +1448,17 @@ void main() {
 }
 )GLSL";
 
-// What lies behind frosted glass, or a glossy planar reflector's image, decoded (kLuminanceEncoding) into a
-// float image whose mip chain the panes and reflectors read blurred (raster/renderer.h, FLY_FROSTED,
-// FLY_PLANAR_REFLECTION).
+// What lies behind frosted glass decoded (kLuminanceEncoding) into a float image whose mip chain the panes
+// read blurred (raster/renderer.h, FLY_FROSTED).
 inline constexpr const char* kBehindDecode = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rg32ui) uniform readonly uimage2D uBehind;
 layout(binding = 1, rgba32f) uniform writeonly image2D uOut;
-// The pixels that hold the image (x, y, width, height); outside them the nearest of its edge is repeated,
-// so that the coarse levels average no stale pixels (a planar reflector's pass draws its screen rectangle).
-uniform ivec4 uRect;
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = imageSize(uOut);
   if (p.x >= size.x || p.y >= size.y) return;
-  ivec2 from = clamp(p, uRect.xy, uRect.xy + uRect.zw - 1);
-  imageStore(uOut, p, vec4(flyDecodeLuminance(imageLoad(uBehind, from).xy), 1.0));
+  imageStore(uOut, p, vec4(flyDecodeLuminance(imageLoad(uBehind, p).xy), 1.0));
 }
 )GLSL";
 

@@ -306,6 +306,29 @@ TEST(RasterRdbUpdate, AMaterialEditedIntoGlassCallsForTheGlassPass) {
   EXPECT_TRUE(r == buildRasterRdb(c.scene));
 }
 
+// The diffuse share towards the eye depends on the angle only where a material's reflection does (Fresnel:
+// F90 ≠ F0): the corner's wood (Fresnel) turns the variant on; without its reflection, diffuse paint and a
+// uniform reflection leave it off, a Fresnel reflection (ior 1.5) turns it on again, an edit as a rebuild does.
+TEST(RasterRdbUpdate, AFresnelReflectionCallsForTheDiffuseShareByAngle) {
+  Corner c = corner();
+  RasterRdb r = buildRasterRdb(c.scene);
+  EXPECT_TRUE(r.variants.diffuseByAngle);
+  sdb::Material wood = c.scene.material(c.wood);
+  wood.reflectionColor = Rgb(0.0f);
+  updateRasterRdb(r, c.scene, c.scene.setMaterial(c.wood, wood));
+  EXPECT_FALSE(r.variants.diffuseByAngle);
+  sdb::Material paint = c.scene.material(c.paint);
+  paint.reflectionColor = Rgb(0.5f);
+  paint.reflectionModel = sdb::ReflectionModel::kUniform;
+  updateRasterRdb(r, c.scene, c.scene.setMaterial(c.paint, paint));
+  EXPECT_FALSE(r.variants.diffuseByAngle);
+  paint.reflectionModel = sdb::ReflectionModel::kFresnel;
+  paint.ior = 1.5f;
+  updateRasterRdb(r, c.scene, c.scene.setMaterial(c.paint, paint));
+  EXPECT_TRUE(r.variants.diffuseByAngle);
+  EXPECT_TRUE(r == buildRasterRdb(c.scene));
+}
+
 TEST(RasterRdbUpdate, EachKindOfChangeEqualsARebuild) {
   Corner c = corner();
   RasterRdb r = buildRasterRdb(c.scene);
