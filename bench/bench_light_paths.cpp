@@ -14,8 +14,8 @@
 // fly-bench-light-paths --lit-patches SECONDS [--reference N] [--plot PNG] [--allocation F] [SCENE]: three
 // bakes of SECONDS each (passes that would end later do not start), in one run: the gathering estimator as
 // it was before next-event estimation to lit patches (IntegratorSettings::litPatches and rouletteAfterLight
-// off, every point taking every pass), the lit patches (both on; docs/lit-patches.md) with every point
-// taking every pass, and the lit patches with sample allocation by error (EstimateSettings::
+// off, rouletteWindow 1: throughput roulette; every point taking every pass), the lit patches (both on, the
+// default window; docs/lit-patches.md) with every point taking every pass, and the lit patches with sample allocation by error (EstimateSettings::
 // allocationFraction = F, default kBakeAllocationFraction: `fly bake`'s default estimator). Per bake: the
 // bake's p95 (its history: vertex sides and light-texture texels) against time per pass, the process's CPU
 // time of the bake (getrusage: user + system, the lit patches' training included; steadier than wall time
@@ -191,6 +191,7 @@ int runLitPatches(const std::string& scenePath, const LitPatchRun& run) {
     raytracer::BakeSettings s;
     s.integrator.litPatches = patches;
     s.integrator.rouletteAfterLight = patches;
+    if (!patches) s.integrator.rouletteWindow = 1.0f;
     s.estimate.firstPassSamples = 16;
     s.estimate.maxSamples = run.seconds > 0.0 ? 1u << 20 : run.samples;
     if (run.seconds > 0.0) s.estimate.timeLimitS = run.seconds;

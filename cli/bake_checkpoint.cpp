@@ -207,6 +207,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"sky_portals", job.settings.integrator.skyPortals},
         {"lit_patches", job.settings.integrator.litPatches},
         {"roulette_after_light", job.settings.integrator.rouletteAfterLight},
+        {"roulette_window", job.settings.integrator.rouletteWindow},
         {"lit_patch_sky", job.settings.integrator.litPatchSky},
         {"light_paths", job.settings.lightPaths.enabled},
         {"error_allocation", e.allocationFraction},
@@ -276,6 +277,11 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     // ... and without next-event estimation to lit patches, with Russian roulette before a vertex's light.
     c.job.settings.integrator.litPatches = s.value("lit_patches", false);
     c.job.settings.integrator.rouletteAfterLight = s.value("roulette_after_light", false);
+    // ... and with throughput roulette (a weight window of 1).
+    c.job.settings.integrator.rouletteWindow = s.value("roulette_window", 1.0f);
+    if (!(c.job.settings.integrator.rouletteWindow > 0.0f && c.job.settings.integrator.rouletteWindow <= 1.0f)) {
+      throw bad("roulette_window is not in (0, 1]");
+    }
     // ... and those with lit patches from before the choice gathered the sky's light at the patches too.
     c.job.settings.integrator.litPatchSky = s.value("lit_patch_sky", true);
     // ... and without light paths.

@@ -232,6 +232,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"sky_portals", settings.integrator.skyPortals},
       {"lit_patches", settings.integrator.litPatches},
       {"roulette_after_light", settings.integrator.rouletteAfterLight},
+      {"roulette_window", settings.integrator.rouletteWindow},
       {"lit_patch_sky", settings.integrator.litPatchSky},
       {"light_paths", settings.lightPaths.enabled},
       {"error_allocation", e.allocationFraction}};

@@ -110,6 +110,10 @@ float meanEmittedLuminance(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m
 
 Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings)
     : rdb_(rdb), scene_(scene), settings_(settings) {
+  if (!(settings_.rouletteWindow > 0.0f && settings_.rouletteWindow <= 1.0f)) {
+    throw std::invalid_argument("Integrator: rouletteWindow " + std::to_string(settings_.rouletteWindow) +
+                                " is not in (0, 1]");
+  }
   if (rdb.triangleMaterial.size() != rdb.triangleCount()) {
     throw std::invalid_argument("Integrator: " + std::to_string(rdb.triangleMaterial.size()) +
                                 " triangle materials for " + std::to_string(rdb.triangleCount()) +
@@ -1236,11 +1240,13 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     triangleOfV = t;
     absCosOfV = std::abs(cosLight);
 
-    // Russian roulette from vertex kFirstRouletteVertex on, on the throughput relative to the sensor's (β /
-    // π) times the albedo that the path carries past this vertex (as pbrt-v4's PathIntegrator): here, or
-    // with IntegratorSettings::rouletteAfterLight once v's lights are sampled.
+    // Russian roulette from vertex kFirstRouletteVertex on, a weight window (IntegratorSettings::
+    // rouletteWindow) on the throughput relative to the sensor's (β / π) times the albedo that the path
+    // carries past this vertex: here, or with IntegratorSettings::rouletteAfterLight once v's lights are
+    // sampled.
     if (roulette) {
-      const float q = std::min(1.0f, maxComponent(beta * bsdf.albedo(wo.z)) / kPiF);
+      const float q =
+          std::min(1.0f, maxComponent(beta * bsdf.albedo(wo.z)) / (kPiF * settings_.rouletteWindow));
       if (settings_.rouletteAfterLight) {
         pendingSurvival = q;
         pendingRoulette = uRoulette;

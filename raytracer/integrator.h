@@ -54,15 +54,27 @@
 // TraceRdb has no clear glass, shadow rays are plain occlusion queries.
 //
 // Russian roulette from the fourth path vertex on (the sensor is the first; earlier it made most of the noise
-// of daylight bakes, integrator.cpp), with survival probability q = min(1, max component of the path's
-// throughput times the vertex's albedo, relative to the sensor's) and weight 1/q (as pbrt-v4's
-// PathIntegrator), decided after the vertex's light sampling (IntegratorSettings::rouletteAfterLight: a
-// path that ends there still gathers the light at the vertex; decided on arrival, a path through a window
-// that reaches the dark sunlit ground ends there 4 times in 5 without its sunlight and gathers it with 5
-// times the weight when it survives): unbiased, and in a closed room of albedo ρ the throughput stays at 1 while a path survives
-// each bounce with probability ρ, so the variance stays bounded even at ρ = 0.99. (A survival probability
-// capped below ρ², e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than paths die: infinite
-// variance.)
+// of daylight bakes, integrator.cpp), as a weight window on the path's throughput relative to the sensor's,
+// b = max component of β / π (β: the throughput with the sensor's π, the integrand's L cos θ over the
+// cosine density), times the vertex's albedo a: a path continues surely while b a ≥ w
+// (IntegratorSettings::rouletteWindow), and below it with survival probability q = b a / w and weight 1/q,
+// so that its survivors carry b a = w (the weight window of MCNP, X-5 Monte Carlo Team, "MCNP — A General
+// Monte Carlo N-Particle Transport Code", LA-UR-03-1987, 2003, ch. 2; in rendering Vorba & Křivánek,
+// "Adjoint-driven Russian roulette and splitting in light transport simulation", SIGGRAPH 2016). Unbiased
+// for any w > 0: a path ended with probability 1 − q loses what it would have gathered, and one that goes on
+// gathers it with weight 1/q. w = 1 is throughput roulette (pbrt-v4's PathIntegrator): in a closed room of
+// albedo ρ a surviving path keeps b = 1 and survives each bounce with probability ρ, so the number of
+// bounces, geometric with mean ρ/(1 − ρ), makes the variance (a relative standard deviation of 0.9 per sample
+// on a sphere of albedo 0.9, whose every wall vertex gathers the same light); the window w < 1 lets the
+// throughput fall to w first, and the tail's weights and so its variance fall by w² (kRouletteWindow), for
+// ln w / ln ρ more bounces. Past its first decision a path on Lambertian surfaces keeps b = w and survives each
+// vertex with probability equal to its albedo, so the variance stays bounded even at ρ = 0.99. (A survival
+// probability capped below the albedo, e.g. min(ρ, 0.95) at ρ = 0.99, would let weights grow faster than
+// paths die: infinite variance.)
+// The roulette is decided after the vertex's light sampling (IntegratorSettings::rouletteAfterLight: a path
+// that ends there still gathers the light at the vertex; decided on arrival, a path through a window that
+// reaches the dark sunlit ground ends there 4 times in 5 without its sunlight and gathers it with 5 times
+// the weight when it survives).
 //
 // Materials at a hit (raytracer/surface_point.h): textures of every slot (base colour × COLOR_0, reflection,
 // glossiness, transmission, emission, anisotropy and its rotation; bilinear, glTF wrap modes,
@@ -174,6 +186,13 @@ inline constexpr uint32_t kMaxPortalPlanes = 64;
 // Panes in a portal plane up to which a density evaluation tests them all; planes of more get a grid.
 inline constexpr uint32_t kPanesWithoutGrid = 8;
 
+// IntegratorSettings::rouletteWindow's default. Against w = 1: on a closed sphere of albedo 0.9 the variance
+// per sample falls 12× (1/w² = 16) for 2.3× the tracing time a sample; the house (scenes/house) reaches a
+// given 95th percentile of the error 1.1× sooner; a sunlit room and a Cornell box, whose noise is not the
+// paths' lengths, are unchanged; w = 0.1 costs those 13–24 % (docs/benchmarks.md, "Russian roulette as a
+// weight window"; tests/cli/closed_sphere_test.cpp).
+inline constexpr float kRouletteWindow = 0.25f;
+
 struct IntegratorSettings {
   // Reflections of indirect light, ≥ 0 (0 = direct light only, which includes light through clear glass).
   // Paths end by Russian roulette long before the default; kPathLengthGuard caps it.
@@ -217,12 +236,17 @@ struct IntegratorSettings {
   // when the vertex is reached: a path that ends there still gathers the vertex's direct light (above).
   // Off gives the estimator of bakes before it existed (resumed checkpoints), and a comparison.
   bool rouletteAfterLight = true;
+  // The weight window of Russian roulette (above), in (0, 1]: paths continue surely while their throughput
+  // relative to the sensor's times the vertex's albedo is at least this. 1 gives throughput roulette, the
+  // estimator of bakes before the window existed (resumed checkpoints), and a comparison.
+  float rouletteWindow = kRouletteWindow;
 };
 
 class Integrator {
  public:
-  // Keeps references to rdb and scene, which must outlive it. Throws std::invalid_argument when the sky
-  // table's size is not resolution², or a material index is out of range.
+  // Keeps references to rdb and scene, which must outlive it. Throws std::invalid_argument when
+  // settings.rouletteWindow is not in (0, 1], the sky table's size is not resolution², or a material index
+  // is out of range.
   Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings = {});
 
   // One sample of the irradiance in lux at p (world, metres) on the side of unit normal n. The caller starts

@@ -121,6 +121,20 @@ TEST_F(BakeCheckpointTest, LitPatchSkyIsKeptAndOlderCheckpointsResumeWithTheSkyA
   EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
 }
 
+// Russian roulette's weight window travels with the checkpoint; one written before the window existed resumes
+// with throughput roulette (a window of 1), the estimator it started with, and a window outside (0, 1] is bad
+// input.
+TEST_F(BakeCheckpointTest, RouletteWindowIsKeptAndOlderCheckpointsResumeWithThroughputRoulette) {
+  EXPECT_EQ(loadBakeCheckpoint(job_.outDir).job.settings.integrator.rouletteWindow, raytracer::kRouletteWindow);
+  job_.settings.integrator.rouletteWindow = 0.5f;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_EQ(loadBakeCheckpoint(job_.outDir).job.settings.integrator.rouletteWindow, 0.5f);
+  editJson([](nlohmann::json& j) { j["settings"].erase("roulette_window"); });
+  EXPECT_EQ(loadBakeCheckpoint(job_.outDir).job.settings.integrator.rouletteWindow, 1.0f);
+  editJson([](nlohmann::json& j) { j["settings"]["roulette_window"] = 0.0; });
+  EXPECT_THROW(loadBakeCheckpoint(job_.outDir), InputError);
+}
+
 // The allocation by error's fraction travels with the checkpoint (the resumed passes must skip the same
 // points); one written before the allocation existed resumes with every point taking every pass, and a
 // fraction outside [0, 1] is a damaged checkpoint.
