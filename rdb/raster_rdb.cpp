@@ -270,7 +270,7 @@ RasterTexture lowerTexture(const sdb::Scene& scene, const TextureKey& key) {
 struct AttributeNeeds {
   bool uv[2] = {false, false};
   bool tangents = false;
-  int tangentSet = 0;  // the UV set of the anisotropy's textures, else of the normal map (RasterRdb::tangents)
+  int tangentSet = 0;  // the UV set of the normal map, else of the anisotropy's textures (RasterRdb::tangents)
   bool colors = false;
 };
 
@@ -292,7 +292,9 @@ AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
   }
   if (anisotropic) {
     n.tangents = true;
-    if (m.anisotropyTexture || m.anisotropyRotationTexture) {
+    // The normal map's UV set where there is one (glTF defines both in its tangent space; the baker's rule,
+    // rdb/trace_rdb_build.cpp), else the anisotropy textures'.
+    if (!m.bumpTexture && (m.anisotropyTexture || m.anisotropyRotationTexture)) {
       const sdb::TextureRef& first = m.anisotropyTexture ? m.anisotropyTexture : m.anisotropyRotationTexture;
       n.tangentSet = std::clamp(first.texCoord, 0, 1);
     }

@@ -118,9 +118,9 @@ struct RasterMaterial {
   float normalScale = 1.0f;  // [0, ∞)
   // Anisotropic reflection (sdb::Material::isAnisotropic, of an opaque material that reflects): the GGX lobe
   // of ggxAlpha stretched to the widths base/ggx.h's ggxAnisotropicAlphas gives for anisotropyU / V, α_t along
-  // the tangent turned by anisotropyRotationRad about the normal (counter-clockwise seen from the normal's
-  // side: t' = cos ρ t + sin ρ (n × t)), α_b along n × t'. The tangent is RasterRdb::tangents' (+u of the UV
-  // set the anisotropy's textures, or else the normal map, read; UV set 0 without either). The textures
+  // the tangent turned by anisotropyRotationRad about the normal towards the front face's bitangent (t' = cos
+  // ρ t + sin ρ w (n × t), as the baker), α_b across t'. The tangent is RasterRdb::tangents' (+u of the UV set
+  // the normal map, or else the anisotropy's textures, read; UV set 0 without either). The textures
   // replace the values per pixel: anisotropyTexture's red = U, green = V; anisotropyRotationTexture's red ×
   // 2π = ρ. Meshes of such a material are shaded per fragment (RasterRdb::shadedPerFragment).
   bool anisotropic = false;
@@ -373,7 +373,7 @@ struct RasterRdb {
   // normal-mapped and anisotropic meshes the world tangent frame: xyz the unit tangent (towards +u), w = ±1
   // with bitangent = w · cross(normal, tangent) (towards −v, the image's top), as glTF. Tangents come from the
   // file when it has them (placed with worldFromLocal, w times the sign of its determinant), else they are
-  // generated per vertex from the UV set of the anisotropy's textures, else of the normal map, else UV set 0
+  // generated per vertex from the UV set of the normal map, else of the anisotropy's textures, else UV set 0
   // (Lengyel 2001, "Computing Tangent Space Basis Vectors": each
   // triangle's ∂p/∂u and ∂p/∂v summed over the triangles at a vertex, made orthogonal to the normal; w from
   // the side ∂p/∂(−v) lies on). A vertex where that gives no direction (a mesh without the UV set, or a UV

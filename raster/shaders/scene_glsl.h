@@ -1224,13 +1224,16 @@ void main() {
 #ifdef FLY_ANISOTROPY
   if (m.anisotropy.w > 0.0) {
     // The lobe's axes: the tangent made perpendicular to the shading normal, turned by the rotation about it
-    // (counter-clockwise seen from its side), and n × t (rdb::RasterMaterial::anisotropic).
+    // towards the bitangent w · n × t of the front face (glTF's tangent frame; the baker's, raytracer/
+    // surface_point.h: the brushing stays where it is on a two-sided surface's back), and n × t
+    // (rdb::RasterMaterial::anisotropic).
     vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
     float tl = dot(t, t);
     if (tl > 1e-12) {
       t *= inversesqrt(tl);
       float c = cos(anisotropy.z), s = sin(anisotropy.z);
-      gLobeT = c * t + s * cross(n, t);
+      float w = (vTangent.w < 0.0 ? -1.0 : 1.0) * (back && twoSided ? -1.0 : 1.0);
+      gLobeT = c * t + s * w * cross(n, t);
       gLobeB = cross(n, gLobeT);
       gLobeAlphas = flyAnisotropicAlphas(m.environment.w, anisotropy.x, anisotropy.y);
     }
