@@ -299,34 +299,39 @@ TEST(Bsdf, EvalIsReciprocal) {
   }
 }
 
+// A million draws of b.sample() from wo (a non-delta mixture): each reports the density pdf() gives, and
+// their directions, binned on the equal-area sphere chart, fit the density by the chi-square test. Draws
+// that fall below the surface (the glossy lobes' tails) return false; pdf() integrates to the rest.
+void expectSamplingFollowsPdf(const Bsdf& b, const vec3& wo, uint64_t seed, const char* what) {
+  test::Chi2Grid grid(32, 64);
+  uint32_t drawn = 0;
+  constexpr uint32_t kCount = 1'000'000;
+  RandomSampler sampler(seed);
+  for (uint32_t i = 0; i < kCount; ++i) {
+    sampler.startSample(i);
+    const float uLobe = sampler.next1D();
+    Bsdf::Sample s;
+    if (!b.sample(wo, uLobe, sampler.next2D(), s)) continue;
+    ASSERT_EQ(s.lobe, Bsdf::Lobe::kNonDelta);
+    EXPECT_NEAR(s.pdf, b.pdf(wo, s.wi), 1e-4f * s.pdf);
+    ++drawn;
+    const dvec2 st = test::sphereChart(s.wi);
+    grid.add(st.x, st.y);
+  }
+  const double scale = double(kCount) / drawn;
+  test::expectFits(what, grid.test([&](double s, double t) {
+                     const vec3 wi(test::sphereChartDirection(s, t));
+                     return scale * b.pdf(wo, wi) * test::kSphereChartJacobian;
+                   }));
+}
+
 // sample() draws directions with the density pdf() reports: a diffuse + glossy + frosted mixture binned on
 // the equal-area sphere chart. Draws that fall below the surface (the glossy lobes' tails) return false; pdf()
 // integrates to the rest.
 TEST(Bsdf, SamplingFollowsPdf) {
   const Bsdf b(material(Rgb(0.4f), Rgb(1.0f), 0.6f, Rgb(0.5f), 0.7f), true);
   for (float cosO : {0.9f, 0.35f}) {
-    const vec3 wo = outgoing(cosO);
-    test::Chi2Grid grid(32, 64);
-    uint32_t drawn = 0;
-    constexpr uint32_t kCount = 1'000'000;
-    RandomSampler sampler(5);
-    for (uint32_t i = 0; i < kCount; ++i) {
-      sampler.startSample(i);
-      const float uLobe = sampler.next1D();
-      Bsdf::Sample s;
-      if (!b.sample(wo, uLobe, sampler.next2D(), s)) continue;
-      ASSERT_EQ(s.lobe, Bsdf::Lobe::kNonDelta);
-      EXPECT_NEAR(s.pdf, b.pdf(wo, s.wi), 1e-4f * s.pdf);
-      ++drawn;
-      const dvec2 st = test::sphereChart(s.wi);
-      grid.add(st.x, st.y);
-    }
-    const double scale = double(kCount) / drawn;
-    test::expectFits(cosO > 0.5f ? "bsdf mixture, cos θo 0.9" : "bsdf mixture, cos θo 0.35",
-                     grid.test([&](double s, double t) {
-                       const vec3 wi(test::sphereChartDirection(s, t));
-                       return scale * b.pdf(wo, wi) * test::kSphereChartJacobian;
-                     }));
+    expectSamplingFollowsPdf(b, outgoing(cosO), 5, cosO > 0.5f ? "bsdf mixture, cos θo 0.9" : "bsdf mixture, cos θo 0.35");
   }
 }
 
@@ -435,28 +440,8 @@ TEST(Bsdf, AnisotropicLobeIsWiderAlongTheLargerValue) {
 TEST(Bsdf, AnisotropicSamplingFollowsPdf) {
   const Bsdf b(anisotropic(material(Rgb(0.3f), Rgb(1.0f), 0.5f), 0.9f, 0.05f, 0.4f), true);
   for (float cosO : {0.9f, 0.35f}) {
-    const vec3 wo = turned(outgoing(cosO), 1.1f);
-    test::Chi2Grid grid(32, 64);
-    uint32_t drawn = 0;
-    constexpr uint32_t kCount = 1'000'000;
-    RandomSampler sampler(23);
-    for (uint32_t i = 0; i < kCount; ++i) {
-      sampler.startSample(i);
-      const float uLobe = sampler.next1D();
-      Bsdf::Sample s;
-      if (!b.sample(wo, uLobe, sampler.next2D(), s)) continue;
-      ASSERT_EQ(s.lobe, Bsdf::Lobe::kNonDelta);
-      EXPECT_NEAR(s.pdf, b.pdf(wo, s.wi), 1e-4f * s.pdf);
-      ++drawn;
-      const dvec2 st = test::sphereChart(s.wi);
-      grid.add(st.x, st.y);
-    }
-    const double scale = double(kCount) / drawn;
-    test::expectFits(cosO > 0.5f ? "anisotropic bsdf, cos θo 0.9" : "anisotropic bsdf, cos θo 0.35",
-                     grid.test([&](double s, double t) {
-                       const vec3 wi(test::sphereChartDirection(s, t));
-                       return scale * b.pdf(wo, wi) * test::kSphereChartJacobian;
-                     }));
+    expectSamplingFollowsPdf(b, turned(outgoing(cosO), 1.1f), 23,
+                             cosO > 0.5f ? "anisotropic bsdf, cos θo 0.9" : "anisotropic bsdf, cos θo 0.35");
   }
 }
 

@@ -249,6 +249,16 @@ struct Material {
   float emissiveStrength = 1.0f;  // KHR_materials_emissive_strength when ≠ 1
 };
 
+// The window panes' material: double-sided, fully transmissive (KHR_materials_transmission), ior 1.52.
+Material clearGlass() {
+  return {.name = "Glass",
+          .baseColor = {1.0f, 1.0f, 1.0f},
+          .roughness = 0.0f,
+          .doubleSided = true,
+          .transmission = 1.0f,
+          .ior = 1.52f};
+}
+
 struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;
@@ -315,12 +325,7 @@ Model boxRoom() {
       {.name = "Floor", .baseColor = {0.40f, 0.30f, 0.20f}, .roughness = 0.6f},
       {.name = "Wall", .baseColor = {0.80f, 0.80f, 0.78f}},
       {.name = "Ceiling", .baseColor = {0.85f, 0.85f, 0.85f}},
-      {.name = "Glass",
-       .baseColor = {1.0f, 1.0f, 1.0f},
-       .roughness = 0.0f,
-       .doubleSided = true,
-       .transmission = 1.0f,
-       .ior = 1.52f},
+      clearGlass(),
   };
   constexpr double kCell = 0.25;
   const dvec3 lo{-2.0, 0.0, -2.5}, hi{2.0, 2.7, 2.5};
@@ -451,12 +456,7 @@ Model house() {
       {.name = "Floor", .baseColor = {0.45f, 0.32f, 0.20f}, .roughness = 0.5f},
       {.name = "Ceiling", .baseColor = {0.88f, 0.88f, 0.88f}},
       {.name = "Roof", .baseColor = {0.45f, 0.18f, 0.12f}, .roughness = 0.7f},
-      {.name = "Glass",
-       .baseColor = {1.0f, 1.0f, 1.0f},
-       .roughness = 0.0f,
-       .doubleSided = true,
-       .transmission = 1.0f,
-       .ior = 1.52f},
+      clearGlass(),
       {.name = "Door", .baseColor = {0.25f, 0.15f, 0.10f}, .roughness = 0.5f},
       {.name = "Ground", .baseColor = {0.15f, 0.24f, 0.08f}},
       {.name = "Bark", .baseColor = {0.22f, 0.16f, 0.11f}},
@@ -674,12 +674,7 @@ Model twoStorey() {
       {.name = "Floor", .baseColor = {0.45f, 0.32f, 0.20f}, .roughness = 0.5f},
       {.name = "Wall", .baseColor = {0.80f, 0.80f, 0.78f}},
       {.name = "Ceiling", .baseColor = {0.85f, 0.85f, 0.85f}},
-      {.name = "Glass",
-       .baseColor = {1.0f, 1.0f, 1.0f},
-       .roughness = 0.0f,
-       .doubleSided = true,
-       .transmission = 1.0f,
-       .ior = 1.52f},
+      clearGlass(),
   };
   constexpr double kCell = 0.4;
   constexpr double kGroundCeilingY = 2.8, kUpperFloorY = 3.0;
