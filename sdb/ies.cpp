@@ -22,6 +22,8 @@ constexpr double kMaxCandelaValues = 1e6;
 // Scaled intensities above this (cd) are taken for a corrupt file: the brightest searchlights reach about 1e9
 // cd. The bound also keeps the flux integral finite.
 constexpr double kMaxCandela = 1e12;
+// The smallest step between consecutive angles of a list, degrees.
+constexpr double kMinAngleStepDeg = 1e-3;
 // Angles within this many degrees of an end point that LM-63 prescribes (0, 90, 180, 270, 360) are snapped to
 // it, so that the symmetry cases of candelaAt and totalFluxLm can compare exactly.
 constexpr double kAngleSnapDeg = 1e-6;
@@ -359,6 +361,14 @@ class Parser {
         fail(t[i].line,
              kind + " angles are not in ascending order: " + formatNumber(a[i]) + "° follows " + formatNumber(a[i - 1]) + "°",
              "LM-63 lists angles from smallest to largest, each once; fix the angle list or its count");
+      }
+      // Steps below a thousandth of a degree measure nothing (goniophotometers step by 0.1° at the finest) and
+      // make the flux integral's cells degenerate.
+      if (i > 0 && a[i] - a[i - 1] < kMinAngleStepDeg) {
+        fail(t[i].line,
+             kind + " angles " + formatNumber(a[i - 1]) + "° and " + formatNumber(a[i]) + "° are less than " +
+                 formatNumber(kMinAngleStepDeg) + "° apart",
+             "list each measured angle once; fix the angle list or its count");
       }
     }
     return a;
