@@ -28,9 +28,7 @@ Region regionAt(const MirrorRect& r, int level) {
   return {{floorDiv(r.x), floorDiv(r.y)}, {ceilDiv(r.x + r.width), ceilDiv(r.y + r.height)}};
 }
 
-void setRegion(unsigned program, const char* name, const Region& r) {
-  glUniform4i(glGetUniformLocation(program, name), r.lo[0], r.lo[1], r.hi[0], r.hi[1]);
-}
+void setRegion(int location, const Region& r) { glUniform4i(location, r.lo[0], r.lo[1], r.hi[0], r.hi[1]); }
 
 void dispatch(uint32_t width, uint32_t height) {
   glDispatchCompute((width + 7) / 8, (height + 7) / 8, 1);
@@ -39,12 +37,40 @@ void dispatch(uint32_t width, uint32_t height) {
 
 }  // namespace
 
+std::vector<vec2> mirrorBlurTaps(const vec2& wideAxis, float aspect) {
+  const float variance =
+      0.25f * kMirrorBlurVarianceRatio * (std::max(aspect, 1.0f) * std::max(aspect, 1.0f) - 1.0f);  // texels²
+  if (!(variance > 1e-6f) || !(glm::dot(wideAxis, wideAxis) > 0.0f)) return {vec2(0.0f)};
+  const int n = std::clamp(int(std::ceil(std::sqrt(12.0f * variance + 1.0f))), 2, kMaxMirrorTaps);
+  const float spacing = std::sqrt(12.0f * variance / float(n * n - 1));
+  const vec2 axis = glm::normalize(wideAxis);
+  std::vector<vec2> taps;
+  for (int i = 0; i < n; ++i) taps.push_back((float(i) - 0.5f * float(n - 1)) * spacing * axis);
+  return taps;
+}
+
 MirrorBlur::MirrorBlur(SunShadows::Compile compile) : compile_(std::move(compile)) {
   const std::string split = std::string(shaders::kLuminanceEncoding) + shaders::kMirrorBlurSplit;
   const std::string up = std::string(shaders::kMirrorBlurUpsample) + shaders::kMirrorBlurUp;
   split_ = compile_("mirror-blur-split", "", {{GL_COMPUTE_SHADER, split.c_str()}});
   down_ = compile_("mirror-blur-down", "", {{GL_COMPUTE_SHADER, shaders::kMirrorBlurDown}});
   up_ = compile_("mirror-blur-up", "", {{GL_COMPUTE_SHADER, up.c_str()}});
+  splitRect_ = glGetUniformLocation(split_, "uRect");
+  splitWorldFromClip_ = glGetUniformLocation(split_, "uWorldFromClip");
+  splitPlane_ = glGetUniformLocation(split_, "uPlane");
+  splitEye_ = glGetUniformLocation(split_, "uEye");
+  splitAlpha_ = glGetUniformLocation(split_, "uAlpha");
+  splitPxPerTan_ = glGetUniformLocation(split_, "uPxPerTan");
+  splitTargetPx_ = glGetUniformLocation(split_, "uTargetPx");
+  downRegion_ = glGetUniformLocation(down_, "uRegion");
+  downFinerRegion_ = glGetUniformLocation(down_, "uFinerRegion");
+  downLevel_ = glGetUniformLocation(down_, "uLevel");
+  downCoarsest_ = glGetUniformLocation(down_, "uCoarsest");
+  upRegion_ = glGetUniformLocation(up_, "uRegion");
+  upCoarseRegion_ = glGetUniformLocation(up_, "uCoarseRegion");
+  upLevel_ = glGetUniformLocation(up_, "uLevel");
+  upTapCount_ = glGetUniformLocation(up_, "uMirrorTapCount");
+  upTaps_ = glGetUniformLocation(up_, "uMirrorTaps");
 }
 
 MirrorBlur::~MirrorBlur() {
@@ -54,49 +80,51 @@ MirrorBlur::~MirrorBlur() {
   glDeleteTextures(2, textures);
 }
 
-void MirrorBlur::resize(uint32_t widthPx, uint32_t heightPx) {
-  if (widthPx == width_ && heightPx == height_ && passing_) return;
-  for (Reflector& r : reflectors_) glDeleteTextures(1, &r.pyramid);
-  reflectors_.clear();
-  const unsigned old[] = {passing_, depth_};
-  glDeleteTextures(2, old);
-  levels_ = int(std::floor(std::log2(double(std::max(widthPx, heightPx))))) + 1;
-  glCreateTextures(GL_TEXTURE_2D, 1, &passing_);
-  glTextureStorage2D(passing_, levels_, GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
-  glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
-  glTextureStorage2D(depth_, 1, GL_DEPTH24_STENCIL8, GLsizei(widthPx), GLsizei(heightPx));
-  glTextureParameteri(depth_, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
-  glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  width_ = widthPx;
-  height_ = heightPx;
+void MirrorBlur::ensure(unsigned& texture, uint32_t& width, uint32_t& height, int& levels, uint32_t widthPx,
+                        uint32_t heightPx, int wantLevels, bool depthStencil) {
+  if (texture && width >= widthPx && height >= heightPx && levels >= wantLevels) {
+    const uint32_t unit = 1u << (wantLevels - 1);
+    if (width % unit == 0 && height % unit == 0) return;
+  }
+  const int n = std::max(levels, wantLevels);
+  const uint32_t unit = 1u << (n - 1);
+  const uint32_t w = (std::max(width, widthPx) + unit - 1) / unit * unit;
+  const uint32_t h = (std::max(height, heightPx) + unit - 1) / unit * unit;
+  glDeleteTextures(1, &texture);
+  glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+  glTextureStorage2D(texture, n, depthStencil ? GL_DEPTH24_STENCIL8 : GL_RGBA32F, GLsizei(w), GLsizei(h));
+  if (depthStencil) glTextureParameteri(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  // Read by texelFetch and image loads only.
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, n > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  width = w;
+  height = h;
+  levels = n;
 }
 
 void MirrorBlur::blur(uint32_t k, unsigned image, unsigned depth, const MirrorRect& rect, uint32_t widthPx,
                       uint32_t heightPx, const MirrorLobe& lobe) {
-  resize(widthPx, heightPx);
-  if (reflectors_.size() <= k) reflectors_.resize(k + 1);
-  Reflector& out = reflectors_[k];
-  if (!out.pyramid) {
-    glCreateTextures(GL_TEXTURE_2D, 1, &out.pyramid);
-    glTextureStorage2D(out.pyramid, levels_, GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
-    glTextureParameteri(out.pyramid, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);  // read by texelFetch
-    glTextureParameteri(out.pyramid, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  }
-  glCopyImageSubData(depth, GL_RENDERBUFFER, 0, rect.x, rect.y, 0, depth_, GL_TEXTURE_2D, 0, rect.x, rect.y, 0,
-                     rect.width, rect.height, 1);
   // The levels the widest spread needs (λ = log2(2r), r the sky's spread), at least level 0.
   const float widestPx = lobe.pxPerTan > 0.0f ? 2.0f * lobe.alpha * lobe.pxPerTan : 0.25f * float(heightPx);
-  const int levels = std::clamp(int(std::ceil(std::log2(std::max(2.0f * widestPx, 1.0f)))) + 1, 1, levels_);
+  const int maxLevels = int(std::floor(std::log2(double(std::max(widthPx, heightPx))))) + 1;
+  const int levels = std::clamp(int(std::ceil(std::log2(std::max(2.0f * widestPx, 1.0f)))) + 1, 1, maxLevels);
+  if (reflectors_.size() <= k) reflectors_.resize(k + 1);
+  Reflector& out = reflectors_[k];
+  ensure(out.pyramid, out.width, out.height, out.levels, widthPx, heightPx, levels, false);
+  ensure(passing_, passingWidth_, passingHeight_, passingLevels_, widthPx, heightPx, levels, false);
+  ensure(depth_, depthWidth_, depthHeight_, depthLevels_, widthPx, heightPx, 1, true);
+  glCopyImageSubData(depth, GL_RENDERBUFFER, 0, rect.x, rect.y, 0, depth_, GL_TEXTURE_2D, 0, rect.x, rect.y, 0,
+                     rect.width, rect.height, 1);
+  out.taps = mirrorBlurTaps(lobe.wideAxis, lobe.aspect);
 
   glUseProgram(split_);
-  glUniform4i(glGetUniformLocation(split_, "uRect"), rect.x, rect.y, rect.width, rect.height);
-  glUniformMatrix4fv(glGetUniformLocation(split_, "uWorldFromClip"), 1, GL_FALSE, &lobe.worldFromClip[0][0]);
-  glUniform4fv(glGetUniformLocation(split_, "uPlane"), 1, &lobe.planeWorld[0]);
-  glUniform4fv(glGetUniformLocation(split_, "uEye"), 1, &lobe.eye[0]);
-  glUniform1f(glGetUniformLocation(split_, "uAlpha"), lobe.alpha);
-  glUniform1f(glGetUniformLocation(split_, "uPxPerTan"), lobe.pxPerTan);
-  glUniform2f(glGetUniformLocation(split_, "uTargetPx"), float(widthPx), float(heightPx));
+  glUniform4i(splitRect_, rect.x, rect.y, rect.width, rect.height);
+  glUniformMatrix4fv(splitWorldFromClip_, 1, GL_FALSE, &lobe.worldFromClip[0][0]);
+  glUniform4fv(splitPlane_, 1, &lobe.planeWorld[0]);
+  glUniform4fv(splitEye_, 1, &lobe.eye[0]);
+  glUniform1f(splitAlpha_, lobe.alpha);
+  glUniform1f(splitPxPerTan_, lobe.pxPerTan);
+  glUniform2f(splitTargetPx_, float(widthPx), float(heightPx));
   glBindImageTexture(0, image, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
   glBindTextureUnit(0, depth_);
   glBindImageTexture(1, out.pyramid, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -106,10 +134,10 @@ void MirrorBlur::blur(uint32_t k, unsigned image, unsigned depth, const MirrorRe
   glUseProgram(down_);
   for (int level = 1; level < levels; ++level) {
     const Region r = regionAt(rect, level);
-    setRegion(down_, "uRegion", r);
-    setRegion(down_, "uFinerRegion", regionAt(rect, level - 1));
-    glUniform1f(glGetUniformLocation(down_, "uLevel"), float(level));
-    glUniform1i(glGetUniformLocation(down_, "uCoarsest"), level == levels - 1);
+    setRegion(downRegion_, r);
+    setRegion(downFinerRegion_, regionAt(rect, level - 1));
+    glUniform1f(downLevel_, float(level));
+    glUniform1i(downCoarsest_, level == levels - 1);
     glBindImageTexture(1, out.pyramid, level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(2, passing_, level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(3, passing_, level - 1, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
@@ -117,18 +145,22 @@ void MirrorBlur::blur(uint32_t k, unsigned image, unsigned depth, const MirrorRe
   }
 
   glUseProgram(up_);
+  glUniform1i(upTapCount_, GLint(out.taps.size()));
+  glUniform2fv(upTaps_, GLsizei(out.taps.size()), &out.taps[0][0]);
   glBindTextureUnit(1, out.pyramid);
   for (int level = levels - 2; level >= 1; --level) {
     const Region r = regionAt(rect, level);
-    setRegion(up_, "uRegion", r);
-    setRegion(up_, "uCoarseRegion", regionAt(rect, level + 1));
-    glUniform1i(glGetUniformLocation(up_, "uLevel"), level);
+    setRegion(upRegion_, r);
+    setRegion(upCoarseRegion_, regionAt(rect, level + 1));
+    glUniform1i(upLevel_, level);
     glBindImageTexture(1, out.pyramid, level, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     dispatch(r.width(), r.height());
   }
-  const Region coarse = regionAt(rect, 1);
+  const Region fine = regionAt(rect, 0), coarse = regionAt(rect, 1);
+  const int fineRegion[4] = {fine.lo[0], fine.lo[1], fine.hi[0], fine.hi[1]};
   const int region[4] = {coarse.lo[0], coarse.lo[1], coarse.hi[0], coarse.hi[1]};
   const int none[4] = {0, 0, 0, 0};
+  std::copy_n(fineRegion, 4, out.fineRegion);
   std::copy_n(levels > 1 ? region : none, 4, out.coarseRegion);
 }
 

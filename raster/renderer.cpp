@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/ggx.h"
 #include "raster/cube_reflections.h"
 #include "raster/draw_chunks.h"
 #include "raster/gl_program.h"
@@ -273,7 +274,8 @@ GLint glWrap(rdb::RasterWrap w) {
 // Compiled programs and their uniforms' locations (−1 where a variant has none: glUniform ignores it).
 struct BackgroundProgram {
   GLuint program = 0;
-  GLint worldFromCamera = -1, tanHalfFov = -1, sunDir = -1, sunRadiance = -1, sunCosHalfAngle = -1;
+  GLint worldFromCamera = -1, tanHalfFov = -1, sunDir = -1, sunRadiance = -1, sunCosHalfAngle = -1, region = -1,
+        passPx = -1;
 };
 struct ToneMapProgram {
   GLuint program = 0;
@@ -352,7 +354,8 @@ struct Renderer::SceneProgram {
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
         mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
-        mirrorGlossy = -1, mirrorCoarse = -1, mirrorWorldFromClip = -1, fogDistance = -1, fogColor = -1;
+        mirrorGlossy = -1, mirrorCoarse = -1, mirrorWorldFromClip = -1, fogDistance = -1, fogColor = -1,
+        mirrorScale = -1, mirrorFine = -1, mirrorTapCount = -1, mirrorTaps = -1;
 };
 
 struct NearProgram {
@@ -404,9 +407,11 @@ struct Renderer::Gpu {
   // framebuffer attachments 1 and 2, made at the first such render of a size, all 0 between frames), the
   // lamps per BRDF, and the pass's program without and with goniometric lights.
   GLuint nearData = 0, nearLight = 0, nearLists = 0;
-  // The planar reflectors' images (RG32UI, kLuminanceEncoding, the target's size) and which this frame made.
+  // The sharp planar reflectors' images (RG32UI, kLuminanceEncoding, the target's size; a glossy one's is its
+  // MirrorBlur pyramid), which this frame made, and how much coarser per axis each one's pass was drawn.
   std::vector<GLuint> reflectionColor;
   std::vector<char> reflectionShown;
+  std::vector<uint32_t> reflectionScale;
   // Reflection fog: a fogged planar reflector's pass depth and worldFromClip (drawReflections;
   // shaders::kSurfaceFragment, flyMirrorDistance), 0 for others; a cube face's depth for a cube reflector
   // with fog (captureCubeReflectors), 0 until one.
@@ -632,6 +637,10 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.blurView = loc("uBlurView");
   sp.mirrorGlossy = loc("uMirrorGlossy");
   sp.mirrorCoarse = loc("uMirrorCoarse");
+  sp.mirrorScale = loc("uMirrorScale");
+  sp.mirrorFine = loc("uMirrorFine");
+  sp.mirrorTapCount = loc("uMirrorTapCount");
+  sp.mirrorTaps = loc("uMirrorTaps");
   sp.mirrorWorldFromClip = loc("uMirrorWorldFromClip");
   sp.cubeReflector = loc("uCubeReflector");
   sp.fogDistance = loc("uFogDistanceM");
@@ -643,6 +652,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
 void Renderer::upload(const rdb::RasterRdb& rdb) {
   rdb_ = &rdb;
   cubesDirty_ = true;
+  reflectorTangents_.clear();
   uploadGeometry();
   uploadTextures();
   uploadMaterials();
@@ -663,6 +673,7 @@ std::vector<float> Renderer::ballLayer(uint32_t layer) const {
 void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes) {
   rdb_ = &rdb;
   cubesDirty_ |= changes.any();
+  if (changes.any()) reflectorTangents_.clear();
   if (changes.geometry) {
     upload(rdb);
     return;
@@ -1160,27 +1171,90 @@ void Renderer::captureCubeReflectors(RenderMode mode) {
   cubeMode_ = mode;
 }
 
+// Per planar reflector: its anisotropic material's lobe axis t' in its plane (Renderer::reflectorTangents_),
+// zero for others: the mean over its vertices of the tangent made perpendicular to the normal and turned by
+// the rotation towards the bitangent w · n × t (as kSurfaceFragment turns it per pixel); where that gives no
+// direction, n × x̂ (n × ŷ where |n_x| ≥ 0.9), rdb::RasterRdb::tangents' own fallback.
+std::vector<vec3> reflectorTangents(const rdb::RasterRdb& r) {
+  std::vector<vec3> out(r.planarReflectors.size(), vec3(0.0f));
+  for (size_t k = 0; k < r.planarReflectors.size(); ++k) {
+    const rdb::RasterPlanarReflector& pr = r.planarReflectors[k];
+    const rdb::RasterMaterial& m = r.materials[pr.material];
+    if (!m.anisotropic) continue;
+    const vec3 n = pr.normal;
+    const float c = std::cos(m.anisotropyRotationRad), s = std::sin(m.anisotropyRotationRad);
+    vec3 sum(0.0f);
+    for (uint32_t mesh : pr.meshes) {
+      const rdb::RasterMesh& rm = r.meshes[mesh];
+      for (uint32_t v = rm.firstVertex; v < rm.firstVertex + rm.vertexCount && v < r.tangents.size(); ++v) {
+        const vec3 t = vec3(r.tangents[v]) - n * glm::dot(n, vec3(r.tangents[v]));
+        if (glm::dot(t, t) < 1e-12f) continue;
+        const vec3 u = glm::normalize(t);
+        sum += c * u + s * (r.tangents[v].w < 0.0f ? -1.0f : 1.0f) * glm::cross(n, u);
+      }
+    }
+    if (glm::dot(sum, sum) < 1e-12f) {
+      const vec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0)));
+      sum = c * u + s * glm::cross(n, u);
+    }
+    out[k] = glm::normalize(sum);
+  }
+  return out;
+}
+
+// How much coarser than the image (per axis) a glossy reflector's mirrored pass is drawn
+// (Renderer::setGlossyReflectionScale): `forced`, or from the sky's spread 2α · pxPerTan (full pixels) the
+// largest of 4, 2, 1 no wider than an eighth of it; either way one that divides the image's size.
+uint32_t glossyPassScale(uint32_t forced, float narrowAlpha, float pxPerTan, uint32_t widthPx, uint32_t heightPx) {
+  uint32_t s = forced;
+  if (s == 0) {
+    const float eighth = pxPerTan > 0.0f ? 2.0f * narrowAlpha * pxPerTan / 8.0f : 0.0f;
+    s = eighth >= 4.0f ? 4 : eighth >= 2.0f ? 2 : 1;
+  }
+  while (s > 1 && (widthPx % s != 0 || heightPx % s != 0)) s /= 2;
+  return s;
+}
+
 // Each planar reflector seen from its front: the scene mirrored in its plane, drawn from the mirrored camera
 // (a view whose worldFromCamera has determinant −1, so front faces wind clockwise) with the near plane moved
 // onto the mirror (Lengyel's oblique frustum), and kept as that reflector's image. Pixel (x, y) of the image is
 // what the real camera sees in the mirror at (x, y): the mirrored camera sees the point p where the real one
-// sees its mirror image.
+// sees its mirror image. A glossy reflector's pass may be drawn s times coarser per axis (glossyPassScale) in
+// the target's lower-left corner, and is blurred there (raster/mirror_blur.h) without a copy.
 void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx) {
   const rdb::RasterRdb& r = *rdb_;
+  const rdb::RasterVariants& v = r.variants;
   const vec3 eye(view.worldFromCamera[3]);
   const vec3 viewDir = -glm::normalize(vec3(view.worldFromCamera[2]));
   gpu_->reflectionShown.assign(r.planarReflectors.size(), 0);
   gpu_->reflectionColor.resize(r.planarReflectors.size(), 0);
   gpu_->reflectionDepth.resize(r.planarReflectors.size(), 0);
   gpu_->reflectionWorldFromClip.resize(r.planarReflectors.size(), mat4(1.0f));
-  const mat4 clipFromWorld = projection(view, float(widthPx) / float(heightPx)) * glm::inverse(view.worldFromCamera);
+  gpu_->reflectionScale.resize(r.planarReflectors.size(), 1);
+  if (v.anisotropy && reflectorTangents_.size() != r.planarReflectors.size()) reflectorTangents_ = reflectorTangents(r);
+  const float aspect = float(widthPx) / float(heightPx);
+  const mat4 clipFromWorld = projection(view, aspect) * glm::inverse(view.worldFromCamera);
   for (uint32_t k = 0; k < r.planarReflectors.size(); ++k) {
     const rdb::RasterPlanarReflector& pr = r.planarReflectors[k];
     const bool front = view.orthographic ? glm::dot(viewDir, pr.normal) < 0.0f : glm::dot(pr.normal, eye) > pr.offsetM;
     if (!front) continue;
     // The mirror's pixels: the screen rectangle of its bounding box (the whole image where a corner lies
     // behind the eye); none when the box lies outside the view.
-    ScreenRect rect = boxOnScreen(clipFromWorld, pr.loM, pr.hiM, widthPx, heightPx);
+    if (boxOnScreen(clipFromWorld, pr.loM, pr.hiM, widthPx, heightPx).empty()) continue;
+    const rdb::RasterMaterial& prMaterial = r.materials[pr.material];
+    const bool glossy = prMaterial.ggxAlpha >= kGlossyMirrorAlpha;
+    // The lobe's widths: α_wide / α_narrow along the tangent axis t' or across it (base/ggx.h).
+    vec2 alphas(prMaterial.ggxAlpha);
+    if (prMaterial.anisotropic && k < reflectorTangents_.size())
+      alphas = ggxAnisotropicAlphas(prMaterial.ggxAlpha, prMaterial.anisotropyU, prMaterial.anisotropyV);
+    const float narrowAlpha = std::min(alphas.x, alphas.y);
+    // A fogged reflector's fog reads the pass's depth per pixel, sharp (a coarser pass would show its pixels
+    // along the fog's edges).
+    const bool fullOnly = view.orthographic || v.frostedGlass || v.measuredBrdf || prMaterial.hasReflectionFog();
+    const uint32_t scale =
+        glossy && !fullOnly ? glossyPassScale(glossyReflectionScale_, narrowAlpha, blurScale(view, heightPx), widthPx, heightPx) : 1;
+    const uint32_t passW = widthPx / scale, passH = heightPx / scale;
+    const ScreenRect rect = boxOnScreen(clipFromWorld, pr.loM, pr.hiM, passW, passH);
     if (rect.empty()) continue;
     mat4 mirror(1.0f);  // p' = p − 2 (n·p − d) n
     for (int c = 0; c < 3; ++c)
@@ -1188,46 +1262,70 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     mirror[3] = vec4(2.0f * pr.offsetM * pr.normal, 1.0f);
     View mirrored = view;
     mirrored.worldFromCamera = mirror * view.worldFromCamera;
-    const NdcRect ndc{2.0f * float(rect.x) / float(widthPx) - 1.0f, 2.0f * float(rect.y) / float(heightPx) - 1.0f,
-                      2.0f * float(rect.x + rect.width) / float(widthPx) - 1.0f,
-                      2.0f * float(rect.y + rect.height) / float(heightPx) - 1.0f};
-    const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k, ndc};
+    const NdcRect ndc{2.0f * float(rect.x) / float(passW) - 1.0f, 2.0f * float(rect.y) / float(passH) - 1.0f,
+                      2.0f * float(rect.x + rect.width) / float(passW) - 1.0f,
+                      2.0f * float(rect.y + rect.height) / float(passH) - 1.0f};
+    const MirrorPass pass{vec4(pr.normal, -pr.offsetM), k, ndc, {rect.x, rect.y, rect.width, rect.height}};
     glScissor(rect.x, rect.y, rect.width, rect.height);
     glEnable(GL_SCISSOR_TEST);
-    renderPass(mirrored, mode, widthPx, heightPx, &pass, nullptr);
+    renderPass(mirrored, mode, passW, passH, &pass, nullptr);
     glDisable(GL_SCISSOR_TEST);
-    GLuint& image = gpu_->reflectionColor[k];
-    if (!image) {
-      glCreateTextures(GL_TEXTURE_2D, 1, &image);
-      glTextureStorage2D(image, 1, GL_RG32UI, GLsizei(widthPx), GLsizei(heightPx));
-      glTextureParameteri(image, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
-      glTextureParameteri(image, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    if (!glossy) {
+      GLuint& image = gpu_->reflectionColor[k];
+      if (!image) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &image);
+        glTextureStorage2D(image, 1, GL_RG32UI, GLsizei(widthPx), GLsizei(heightPx));
+        glTextureParameteri(image, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // integer: read with texelFetch
+        glTextureParameteri(image, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      }
+      glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x,
+                         rect.y, 0, rect.width, rect.height, 1);
     }
-    glCopyImageSubData(gpu_->floatColor, GL_TEXTURE_2D, 0, rect.x, rect.y, 0, image, GL_TEXTURE_2D, 0, rect.x, rect.y,
-                       0, rect.width, rect.height, 1);
-    const float aspect = float(widthPx) / float(heightPx);
     const vec4 planeCamera = glm::transpose(mirrored.worldFromCamera) * pass.planeWorld;
     const mat4 mirroredWorldFromClip =
         glm::inverse(obliqueNearPlane(projection(mirrored, aspect), planeCamera) * glm::inverse(mirrored.worldFromCamera));
-    const rdb::RasterMaterial& prMaterial = r.materials[pr.material];
     if (prMaterial.hasReflectionFog()) {
       // Reflection fog reads how far behind the mirror what it shows lies: the pass's depth in the rectangle
       // (the mirror's fragments lie inside it) and how to unproject it.
       copyDepth(gpu_->reflectionDepth[k], rect.x, rect.y, rect.width, rect.height);
       gpu_->reflectionWorldFromClip[k] = mirroredWorldFromClip;
     }
-    if (const float alpha = prMaterial.ggxAlpha; alpha >= kGlossyMirrorAlpha) {
+    if (glossy) {
       if (!mirrorBlur_) mirrorBlur_ = std::make_unique<MirrorBlur>(compiler());
-      const MirrorLobe lobe{
+      MirrorLobe lobe{
           .worldFromClip = mirroredWorldFromClip,
           .planeWorld = pass.planeWorld,
           .eye = view.orthographic ? vec4(viewDir, 0.0f) : vec4(vec3(mirrored.worldFromCamera[3]), 1.0f),
-          .alpha = alpha,
-          .pxPerTan = blurScale(view, heightPx)};
-      mirrorBlur_->blur(k, image, gpu_->depth, {rect.x, rect.y, rect.width, rect.height}, widthPx, heightPx, lobe);
+          .alpha = narrowAlpha,
+          .pxPerTan = blurScale(view, passH)};
+      if (alphas.x != alphas.y) {
+        // The wide axis on screen where the view ray through the rectangle's centre meets the mirror (else at
+        // its box's centre): the image of a short step along it.
+        const vec3 t = reflectorTangents_[k];
+        const vec3 wide = alphas.x > alphas.y ? t : glm::cross(pr.normal, t);
+        vec3 at = 0.5f * (pr.loM + pr.hiM);
+        const vec4 centre = glm::inverse(clipFromWorld) *
+                            vec4(2.0f * (float(rect.x) + 0.5f * float(rect.width)) / float(passW) - 1.0f,
+                                 2.0f * (float(rect.y) + 0.5f * float(rect.height)) / float(passH) - 1.0f, 0.0f, 1.0f);
+        const vec3 toCentre = vec3(centre) / centre.w - eye;
+        const float along = glm::dot(pr.normal, toCentre);
+        if (!view.orthographic && along < 0.0f) at = eye + (pr.offsetM - glm::dot(pr.normal, eye)) / along * toCentre;
+        const float step = 1e-3f * std::max(glm::length(at - eye), 1e-3f);
+        const vec4 a = clipFromWorld * vec4(at, 1.0f), b = clipFromWorld * vec4(at + step * wide, 1.0f);
+        vec2 axis = a.w > 0.0f && b.w > 0.0f ? (vec2(b) / b.w - vec2(a) / a.w) * vec2(float(widthPx), float(heightPx))
+                                             : vec2(glm::transpose(mat3(view.worldFromCamera)) * wide);
+        if (glm::dot(axis, axis) > 0.0f) {
+          lobe.wideAxis = glm::normalize(axis);
+          lobe.aspect = std::max(alphas.x, alphas.y) / narrowAlpha;
+        }
+      }
+      mirrorBlur_->blur(k, gpu_->floatColor, gpu_->depth, {rect.x, rect.y, rect.width, rect.height}, passW, passH, lobe);
+      stats_.lastGlossyReflectionScale = scale;
     }
+    gpu_->reflectionScale[k] = scale;
     gpu_->reflectionShown[k] = 1;
     ++stats_.reflectionPasses;
+    stats_.reflectionPassPixels += int64_t(rect.width) * rect.height;
   }
 }
 
@@ -1273,6 +1371,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     bg.sunDir = loc("uSunDirWorld");
     bg.sunRadiance = loc("uSunRadianceCdM2");
     bg.sunCosHalfAngle = loc("uSunCosHalfAngle");
+    bg.region = loc("uRegion");
+    bg.passPx = loc("uPassPx");
   }
   glUseProgram(bg.program);
   if (sky) {
@@ -1286,8 +1386,15 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     glUniform1f(bg.sunCosHalfAngle, s.hasSun && !cubePass ? std::cos(s.sunHalfAngleRad) : 2.0f);
     glBindTextureUnit(0, gpu_->skyTexture);
   }
+  // A mirrored pass fills only its scissor rectangle, the only pixels it draws and its reflector reads
+  // (with frosted glass, whose blur reads the whole pass's mip chain, all of the pass).
+  const bool rectOnly = mirrorPass && !v.frostedGlass;
+  const GLint region[4] = {rectOnly ? mirrorPass->rectPx[0] : 0, rectOnly ? mirrorPass->rectPx[1] : 0,
+                           rectOnly ? mirrorPass->rectPx[2] : GLint(widthPx), rectOnly ? mirrorPass->rectPx[3] : GLint(heightPx)};
+  glUniform4iv(bg.region, 1, region);
+  glUniform2f(bg.passPx, float(widthPx), float(heightPx));
   glBindImageTexture(0, gpu_->floatColor, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32UI);
-  dispatchPerPixel(widthPx, heightPx);
+  dispatchPerPixel(uint32_t(region[2]), uint32_t(region[3]));
 
   glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
   glViewport(0, 0, GLsizei(widthPx), GLsizei(heightPx));
@@ -1368,7 +1475,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     if (v.measuredBrdf) {
       makeBalls(view, mode);
       glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
-      nearDeferred = prepareNearLamps(widthPx, heightPx);
+      nearDeferred = prepareNearLamps();
     }
     // The opaque per-fragment draws' variant: with near lamps, they record them for kNearLampsCompute.
     const uint32_t opaqueSurfaceVariant = surfaceVariant | (nearDeferred ? kVariantNearDeferred : 0u);
@@ -1461,19 +1568,24 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
                            gpu_->reflectionShown.size() > d.reflector && gpu_->reflectionShown[d.reflector];
         glUniform1i(p.reflector, shows ? GLint(d.reflector) : -1);
         if (shows) {
-          glBindTextureUnit(11, gpu_->reflectionColor[d.reflector]);
+          if (gpu_->reflectionColor[d.reflector]) glBindTextureUnit(11, gpu_->reflectionColor[d.reflector]);
           glUniform3fv(p.mirrorReflection, 1, &m.mirrorReflection[0]);
           glUniform1f(p.mirrorF0, m.mirrorF0);
           glUniform1i(p.sunInReflection, sky && v.sun ? 1 : 0);
           const bool glossy = m.ggxAlpha >= kGlossyMirrorAlpha;
           glUniform1i(p.mirrorGlossy, glossy ? 1 : 0);
+          glUniform1f(p.mirrorScale, float(gpu_->reflectionScale[d.reflector]));
           if (m.hasReflectionFog()) {
             glBindTextureUnit(1, gpu_->reflectionDepth[d.reflector]);
             glUniformMatrix4fv(p.mirrorWorldFromClip, 1, GL_FALSE, &gpu_->reflectionWorldFromClip[d.reflector][0][0]);
           }
           if (glossy) {
             glBindTextureUnit(3, mirrorBlur_->pyramid(d.reflector));
+            glUniform4iv(p.mirrorFine, 1, mirrorBlur_->fineRegion(d.reflector));
             glUniform4iv(p.mirrorCoarse, 1, mirrorBlur_->coarseRegion(d.reflector));
+            const std::vector<vec2>& taps = mirrorBlur_->taps(d.reflector);
+            glUniform1i(p.mirrorTapCount, GLint(taps.size()));
+            glUniform2fv(p.mirrorTaps, GLsizei(taps.size()), &taps[0][0]);
           }
         }
       }
@@ -1559,8 +1671,9 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       // is seen through that pane alone.
       const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
       if (!gpu_->behindColor) {
+        // The target's size (a glossy reflector's pass may use a corner of it).
         glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->behindColor);
-        glTextureStorage2D(gpu_->behindColor, 1, GL_RG32UI, w, h);
+        glTextureStorage2D(gpu_->behindColor, 1, GL_RG32UI, GLsizei(width_), GLsizei(height_));
         // An integer texture is complete only with nearest filtering (texelFetch reads 0 otherwise).
         glTextureParameteri(gpu_->behindColor, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(gpu_->behindColor, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -1586,7 +1699,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return depth(a) > depth(b); });
       if (!gpu_->blendColor) {
         glCreateTextures(GL_TEXTURE_2D, 1, &gpu_->blendColor);
-        glTextureStorage2D(gpu_->blendColor, 1, GL_RGBA32F, GLsizei(widthPx), GLsizei(heightPx));
+        glTextureStorage2D(gpu_->blendColor, 1, GL_RGBA32F, GLsizei(width_), GLsizei(height_));
         glCreateFramebuffers(1, &gpu_->blendFbo);
         glNamedFramebufferTexture(gpu_->blendFbo, GL_COLOR_ATTACHMENT0, gpu_->blendColor, 0);
         glNamedFramebufferRenderbuffer(gpu_->blendFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
@@ -1623,7 +1736,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
   ++stats_.scenePasses;
 }
 
-bool Renderer::prepareNearLamps(uint32_t widthPx, uint32_t heightPx) {
+bool Renderer::prepareNearLamps() {
   const uint32_t brdfs = uint32_t(rdb_->measuredBrdfs.size());
   constexpr uint32_t kStride = kMaxNearLights + 1;  // shaders::kNearLampsCompute's nearLists
   std::vector<int32_t> lists(size_t(brdfs) * kStride, 0);
@@ -1645,12 +1758,12 @@ bool Renderer::prepareNearLamps(uint32_t widthPx, uint32_t heightPx) {
     if (size_t(bytes) != lists.size() * sizeof(int32_t)) {
       glDeleteBuffers(1, &gpu_->nearLists);
       gpu_->nearLists = 0;
-      return prepareNearLamps(widthPx, heightPx);
+      return prepareNearLamps();
     }
     glNamedBufferSubData(gpu_->nearLists, 0, GLsizeiptr(lists.size() * sizeof(int32_t)), lists.data());
   }
   if (!gpu_->nearData) {
-    const GLsizei w = GLsizei(widthPx), h = GLsizei(heightPx);
+    const GLsizei w = GLsizei(width_), h = GLsizei(height_);
     const uint32_t zero[4] = {0, 0, 0, 0};
     for (GLuint* t : {&gpu_->nearData, &gpu_->nearLight}) {
       glCreateTextures(GL_TEXTURE_2D, 1, t);
@@ -1826,6 +1939,14 @@ void Renderer::setBloom(const BloomSettings& settings) {
                                 std::to_string(settings.thresholdExposed));
   }
   bloomSettings_ = settings;
+}
+
+void Renderer::setGlossyReflectionScale(uint32_t scale) {
+  if (scale != 0 && scale != 1 && scale != 2 && scale != 4) {
+    throw std::invalid_argument("the glossy reflections' pass scale must be 0 (automatic), 1, 2 or 4, not " +
+                                std::to_string(scale));
+  }
+  glossyReflectionScale_ = scale;
 }
 
 // The opaque scene's depth for the ambient occlusion: the per-vertex meshes and the opaque and cut-out

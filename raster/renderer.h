@@ -122,6 +122,10 @@ struct RendererStats {
   int ballsReused = 0;  // balls a frame kept because nothing they depend on changed
   int nearLampPasses = 0;  // frames whose measured materials' near lamps were added per pixel (kNearLampsCompute)
   int reflectionPasses = 0;  // mirrored passes drawn for planar reflectors (RasterRdb::planarReflectors)
+  // The pixels of those passes' rectangles, summed (a glossy reflector's pass drawn 1/s as wide and high counts
+  // 1/s² of its rectangle: setGlossyReflectionScale), and the last glossy pass's scale s.
+  int64_t reflectionPassPixels = 0;
+  uint32_t lastGlossyReflectionScale = 0;
   // The per-vertex meshes' triangles drawn, summed over passes: the chunks a pass cannot see are left out
   // (raster/draw_chunks.h).
   int64_t perVertexTrianglesDrawn = 0;
@@ -223,6 +227,18 @@ class Renderer {
   // [0, 1] or a threshold ≤ 0. Default: off.
   void setBloom(const BloomSettings& settings);
 
+  // How much coarser than the image a glossy planar reflector's mirrored pass is drawn per axis: 0 (the
+  // default) chooses from the lobe, 1, 2 or 4 force that (where the image's size is a multiple of it; else the
+  // largest power of two below that divides it). The pass is blurred by at least its own pixels, so the
+  // automatic choice takes s (≤ 4) no wider than an eighth of the spread r = 2α · pixels per tan of the sky
+  // (the widest: D / (E + D) → 1, α the lobe's narrow width): the image of what lies at D ≥ E / 7 behind the
+  // mirror, E the eye's distance, is blurred wider than s and loses nothing; nearer, where the lobe spreads
+  // less than s, it shows s-wide, and an object a few pass pixels small is rasterised coarsely: its reflected
+  // light is off by up to the share of its outline's pass pixels (docs/reflections.md). Perspective views
+  // only; fogged reflectors (their fog reads the pass's depth per pixel) and scenes with frosted glass or
+  // measured materials' near lamps (their passes read positions from the target's size) draw full passes.
+  // std::invalid_argument for other values.
+  void setGlossyReflectionScale(uint32_t scale);
   // Waits until the GPU has finished all work issued so far (glFinish), for timing with a wall clock.
   void finish() const;
 
@@ -251,6 +267,7 @@ class Renderer {
     vec4 planeWorld;
     uint32_t reflector;
     NdcRect rect;  // the mirror's scissor rectangle: the pass draws nothing outside it
+    int rectPx[4];  // the same in the pass's pixels: x, y, width, height
   };
   // A face of a cube reflector's capture (captureCubeReflectors) leaves out the reflector.
   struct CubePass {
@@ -276,7 +293,7 @@ class Renderer {
   // kNearLampsCompute): prepareNearLamps, after the balls are made, uploads every BRDF's lamps and readies
   // the opaque draws' record images; false when no measured material has a near lamp. drawNearLamps adds
   // the lamps to the image.
-  bool prepareNearLamps(uint32_t widthPx, uint32_t heightPx);
+  bool prepareNearLamps();
   void drawNearLamps(const mat4& clipFromWorld, const vec3& eyeM, const vec3& viewDirWorld, bool orthographic,
                      bool goniometric, uint32_t widthPx, uint32_t heightPx);
 
@@ -301,6 +318,11 @@ class Renderer {
   BloomSettings bloomSettings_;
   std::unique_ptr<Bloom> bloom_;  // made at the first tone-map pass with bloom
   std::unique_ptr<MirrorBlur> mirrorBlur_;  // made at the first frame showing a glossy planar reflector
+  uint32_t glossyReflectionScale_ = 0;      // setGlossyReflectionScale
+  // Per planar reflector of an anisotropic material: its lobe's tangent axis t' (world, unit, in its plane:
+  // the mean over its vertices of the tangent turned by the material's rotation), made when the scene or its
+  // materials change (empty: to be made).
+  std::vector<vec3> reflectorTangents_;
   std::vector<char> materialCasts_;  // per material: castsSunShadows
   mat4 lastShadowClipFromWorld_{1.0f};
   const rdb::RasterRdb* rdb_ = nullptr;

@@ -4,20 +4,31 @@
 
 namespace fly::raster::shaders {
 
-// Level `level + 1` of a settled pyramid read bilinearly at pixel `p` of level `level` (a 2× finer grid: the
-// coarse texels at ±1/4 and ±3/4 of a coarse texel, weights 3/4 and 1/4 per axis), its texels clamped to
-// `coarseRegion` (lo.xy, hi.xy exclusive): the texels outside it hold nothing defined. Each coarse texel gives
-// its 2 × 2 finer pixels' worth in all (per axis 3/4 + 3/4 + 1/4 + 1/4 = 2, the clamped edge texel 1 + 3/4 +
-// 1/4), so the upsampling keeps the light (Σ L times pixel area).
+// Reads of a settled pyramid (texels at integer positions u, a texel's centre at u = its index), its texels
+// clamped to `region` (lo.xy, hi.xy exclusive): the texels outside it hold nothing defined.
+// flyMirrorBilinear: level `level` read bilinearly at u. Read at the centres of an s-times finer grid
+// (u = (p + 0.5) / s − 0.5, s a power of two), each texel gives its s × s finer pixels' worth in all (the tent's
+// samples at spacing 1/s sum to s per axis, at any offset; a clamped edge texel takes what lies beyond it), so
+// the read keeps the light (Σ L times pixel area); at s = 1 it is the texel itself.
+// flyMirrorTaps: the mean of uMirrorTapCount such reads at u + uMirrorTaps[i] (offsets in that level's
+// texels along the lobe's wide axis on screen: raster/mirror_blur.h, mirrorBlurTaps), each of which keeps the
+// light: one read at u for an isotropic lobe, a line of reads that stretches the blur for an anisotropic one.
 inline constexpr const char* kMirrorBlurUpsample = R"GLSL(
-vec3 flyMirrorUpsample(sampler2D pyramid, ivec2 p, int level, ivec4 coarseRegion) {
-  vec2 u = (vec2(p) + 0.5) * 0.5 - 0.5;
-  ivec2 i0 = ivec2(floor(u));
-  vec2 f = u - vec2(i0);
-  ivec2 a = clamp(i0, coarseRegion.xy, coarseRegion.zw - 1), b = clamp(i0 + 1, coarseRegion.xy, coarseRegion.zw - 1);
-  int l = level + 1;
-  return mix(mix(texelFetch(pyramid, a, l).rgb, texelFetch(pyramid, ivec2(b.x, a.y), l).rgb, f.x),
-             mix(texelFetch(pyramid, ivec2(a.x, b.y), l).rgb, texelFetch(pyramid, b, l).rgb, f.x), f.y);
+#define FLY_MAX_MIRROR_TAPS 20
+uniform int uMirrorTapCount;
+uniform vec2 uMirrorTaps[FLY_MAX_MIRROR_TAPS];
+vec3 flyMirrorBilinear(sampler2D pyramid, vec2 u, int level, ivec4 region) {
+  u = clamp(u, vec2(region.xy), vec2(region.zw - 1));
+  ivec2 a = ivec2(floor(u));
+  vec2 f = u - vec2(a);
+  ivec2 b = min(a + 1, region.zw - 1);
+  return mix(mix(texelFetch(pyramid, a, level).rgb, texelFetch(pyramid, ivec2(b.x, a.y), level).rgb, f.x),
+             mix(texelFetch(pyramid, ivec2(a.x, b.y), level).rgb, texelFetch(pyramid, b, level).rgb, f.x), f.y);
+}
+vec3 flyMirrorTaps(sampler2D pyramid, vec2 u, int level, ivec4 region) {
+  vec3 l = vec3(0.0);
+  for (int i = 0; i < uMirrorTapCount; ++i) l += flyMirrorBilinear(pyramid, u + uMirrorTaps[i], level, region);
+  return l / float(max(uMirrorTapCount, 1));
 }
 )GLSL";
 
@@ -106,9 +117,10 @@ void main() {
 }
 )GLSL";
 
-// Level uLevel ≥ 1 of the settled pyramid plus the level below it upsampled (kMirrorBlurUpsample), from the
-// coarsest up: each level then holds the light settled there and at every coarser level, each spread by its
-// own level's texels. Level 0 is summed where the reflector reads it (shaders::kSurfaceFragment).
+// Level uLevel ≥ 1 of the settled pyramid plus the level above it read 2× finer (kMirrorBlurUpsample's
+// flyMirrorTaps), from the coarsest down: each level then holds the light settled there and at every coarser
+// level, each spread by its own level's texels (and stretched along the lobe's wide axis by the taps). Level 0
+// and level 1 are summed where the reflector reads them (shaders::kSurfaceFragment).
 inline constexpr const char* kMirrorBlurUp = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rgba32f, binding = 1) uniform image2D uSettled;  // level uLevel
@@ -119,7 +131,7 @@ uniform int uLevel;
 void main() {
   ivec2 p = uRegion.xy + ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, uRegion.zw))) return;
-  vec3 l = imageLoad(uSettled, p).rgb + flyMirrorUpsample(uPyramid, p, uLevel, uCoarseRegion);
+  vec3 l = imageLoad(uSettled, p).rgb + flyMirrorTaps(uPyramid, (vec2(p) + 0.5) * 0.5 - 0.5, uLevel + 1, uCoarseRegion);
   imageStore(uSettled, p, vec4(l, 1.0));
 }
 )GLSL";

@@ -1000,16 +1000,20 @@ layout(binding = 11) uniform usampler2D uReflection;
 uniform vec3 uMirrorReflection;
 uniform float uMirrorF0;
 // A glossy reflector (uMirrorGlossy) shows its image blurred as its lobe spreads the light (raster/mirror_blur.h):
-// its settled pyramid's level 0 at this pixel plus level 1 read bilinearly within uMirrorCoarse (lo.xy, hi.xy
-// exclusive; empty: a pyramid of one level).
+// its settled pyramid's level 0 read bilinearly within uMirrorFine plus level 1 read along the lobe's wide
+// axis (flyMirrorTaps) within uMirrorCoarse (lo.xy, hi.xy exclusive; empty: a pyramid of one level). Its
+// mirrored pass may be drawn uMirrorScale times coarser than the image per axis (1, 2 or 4): its pixel (x, y)
+// covers the image's pixels s·x … s·x + s − 1, and the pyramid is the pass's.
 uniform bool uMirrorGlossy;
+uniform float uMirrorScale;
 layout(binding = 3) uniform sampler2D uReflectionBlurred;
+uniform ivec4 uMirrorFine;
 uniform ivec4 uMirrorCoarse;
 vec3 flyMirrorImage() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  if (!uMirrorGlossy) return flyDecodeLuminance(texelFetch(uReflection, p, 0).xy);
-  vec3 l = texelFetch(uReflectionBlurred, p, 0).rgb;
-  if (uMirrorCoarse.z > uMirrorCoarse.x) l += flyMirrorUpsample(uReflectionBlurred, p, 0, uMirrorCoarse);
+  if (!uMirrorGlossy) return flyDecodeLuminance(texelFetch(uReflection, ivec2(gl_FragCoord.xy), 0).xy);
+  vec3 l = flyMirrorBilinear(uReflectionBlurred, gl_FragCoord.xy / uMirrorScale - 0.5, 0, uMirrorFine);
+  if (uMirrorCoarse.z > uMirrorCoarse.x)
+    l += flyMirrorTaps(uReflectionBlurred, gl_FragCoord.xy / (2.0 * uMirrorScale) - 0.5, 1, uMirrorCoarse);
   return l;
 }
 #endif
@@ -1023,7 +1027,7 @@ uniform vec3 uFogColor;
 layout(binding = 1) uniform sampler2D uReflectionDepth;
 uniform mat4 uMirrorWorldFromClip;
 // The distance (m) from p on the mirror to what the mirrored pass shows at fragCoord; 10³⁰ for nothing (the
-// sky).
+// sky). (A fogged reflector's pass is drawn at the image's resolution.)
 float flyMirrorDistance(vec2 fragCoord, vec3 p, vec2 sizePx) {
   float z = texelFetch(uReflectionDepth, ivec2(clamp(fragCoord, vec2(0.0), sizePx - 1.0)), 0).r;
   if (z >= 1.0) return 1e30;
@@ -1474,6 +1478,8 @@ void main() {
 inline constexpr const char* kBackgroundCompute = R"GLSL(
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rg32ui) uniform writeonly uimage2D uLuminance;  // kLuminanceEncoding
+uniform ivec4 uRegion;  // the pixels to fill: x, y, width, height
+uniform vec2 uPassPx;   // the pass's size (a mirrored pass may use a corner of the image)
 #ifdef FLY_SKY
 layout(binding = 0) uniform sampler2D uSky;
 uniform mat3 uWorldFromCamera;  // rotation
@@ -1484,12 +1490,11 @@ uniform float uSunCosHalfAngle;  // > 1 when there is no sun
 const float kPi = 3.14159265358979;
 #endif
 void main() {
-  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = imageSize(uLuminance);
-  if (p.x >= size.x || p.y >= size.y) return;
+  if (any(greaterThanEqual(ivec2(gl_GlobalInvocationID.xy), uRegion.zw))) return;
+  ivec2 p = uRegion.xy + ivec2(gl_GlobalInvocationID.xy);
   vec3 l = vec3(0.0);
 #ifdef FLY_SKY
-  vec2 ndc = (vec2(p) + 0.5) / vec2(size) * 2.0 - 1.0;  // the pixel's centre
+  vec2 ndc = (vec2(p) + 0.5) / uPassPx * 2.0 - 1.0;  // the pixel's centre
   vec3 d = normalize(uWorldFromCamera * vec3(ndc * uTanHalfFov, -1.0));
   float phi = atan(d.z, d.x);
   if (phi < 0.0) phi += 2.0 * kPi;
