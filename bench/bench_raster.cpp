@@ -49,6 +49,12 @@
 // occlusion (raster/ambient_occlusion.h, R = 0.5 m), and in sunlight mode without and with bloom (raster/bloom.h,
 // strength 0.05), each with its ratio against the same scene and mode without it ("× plain").
 //
+// Reflections (--reflectors): the 300k scene (100k with --quick) with two planar reflectors and a cube-map one
+// (addReflectorMeshes): grey ("g", the baseline of "× grey"), sharp mirrors ("m"), glossy mirrors ("gm",
+// glossiness 0.2, their passes at the automatic scale, then "gm-full" with them at the image's resolution:
+// Renderer::setGlossyReflectionScale), sharp mirrors with reflection fog ("fm") and anisotropic glossy mirrors
+// ("am", brushed: blurred along their wide axis), each mode with its ratios against the grey and sharp rows.
+//
 // Anisotropic reflection (--anisotropic): the 300k scene (100k with --quick) with the reflectors' wall, pool
 // and ball of the brushed-metal preset, isotropic (U = V, per vertex) and anisotropic (per fragment with
 // tangents: the anisotropic lamp and sun lobes, four environment reads), each mode with its ratio against the
@@ -250,11 +256,11 @@ void addReflectorMeshes(sdb::Scene& s, sdb::MaterialId id) {
 
 // addReflectorMeshes as two flat reflectors and a curved one: mirrors (uniform reflection 0.9, glossiness 0:
 // two planar reflectors and one cube map; or glossiness 0.2, the widest lobe the automatic choice takes for a
-// mirror: the planar images blurred by it, docs/reflections.md; with a finite fogDistanceM, sharp mirrors
-// with reflection fog of that distance and a dark grey-green colour) or, for the baseline, the same meshes of
-// a plain grey.
+// mirror: the planar images blurred by it, docs/reflections.md; `anisotropic`: that lobe stretched by the
+// brushed-metal preset's anisotropy U 0.6, V 0.1; with a finite fogDistanceM, sharp mirrors with reflection
+// fog of that distance and a dark grey-green colour) or, for the baseline, the same meshes of a plain grey.
 void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f,
-                   float fogDistanceM = std::numeric_limits<float>::infinity()) {
+                   float fogDistanceM = std::numeric_limits<float>::infinity(), bool anisotropic = false) {
   sdb::Material m;
   m.name = mirrors ? "mirror" : "grey";
   m.diffuseColor = Rgb(mirrors ? 0.05f : 0.5f);
@@ -262,6 +268,10 @@ void addReflectors(sdb::Scene& s, bool mirrors, float glossiness = 0.0f,
     m.reflectionColor = Rgb(0.9f);
     m.reflectionModel = sdb::ReflectionModel::kUniform;
     m.reflectionGlossiness = glossiness;
+    if (anisotropic) {  // brushed: the brushed-metal preset's U and V
+      m.anisotropyU = 0.6f;
+      m.anisotropyV = 0.1f;
+    }
     m.reflectionFogDistanceM = fogDistanceM;
     m.reflectionFogColor = Rgb(0.04f, 0.06f, 0.05f);
   }
@@ -731,26 +741,41 @@ int run(int argc, char** argv) {
   if (reflectorsOnly) {
     // The 300k-triangle scene with two mirrors against the same quads in grey, mode by mode.
     constexpr RenderMode kAll[] = {RenderMode::kSimple, RenderMode::kLightMap, RenderMode::kSunlight};
-    FrameTimes grey[3], sharp[3];
-    // Grey, mirrors, glossy mirrors (glossiness 0.2), mirrors with reflection fog (20 m).
-    for (const int kind : {0, 1, 2, 3}) {
+    FrameTimes grey[3], sharp[3], glossy[3];
+    // Grey, mirrors, glossy mirrors (glossiness 0.2), mirrors with reflection fog (20 m), anisotropic glossy
+    // mirrors (glossiness 0.2, U 0.6, V 0.1).
+    for (const int kind : {0, 1, 2, 3, 4}) {
       const bool mirrors = kind > 0;
       sdb::Scene scene = makeScene(quick ? 221 : 387);
-      addReflectors(scene, mirrors, kind == 2 ? 0.2f : 0.0f,
-                    kind == 3 ? 20.0f : std::numeric_limits<float>::infinity());
+      addReflectors(scene, mirrors, kind == 2 || kind == 4 ? 0.2f : 0.0f,
+                    kind == 3 ? 20.0f : std::numeric_limits<float>::infinity(), kind == 4);
       const rdb::RasterRdb r = lightMapped(scene);
       Renderer renderer;
       renderer.upload(r);
       const View view = viewOfCamera(r.cameras.at(0));
-      const std::string name =
-          std::to_string(r.triangleCount()) + (kind == 0 ? "g" : kind == 1 ? "m" : kind == 2 ? "gm" : "fm");
+      const char* kinds[] = {"g", "m", "gm", "fm", "am"};
+      const std::string name = std::to_string(r.triangleCount()) + kinds[kind];
       for (int m = 0; m < 3; ++m) {
         const FrameTimes t = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
         if (!mirrors) grey[m] = t;
         if (kind == 1) sharp[m] = t;
+        if (kind == 2) glossy[m] = t;
         printRow(name.c_str(), renderModeName(kAll[m]), t, baseline.pipelinedMs);
         if (kind == 3) {
           std::printf("%-9s %-9s reflection fog: × sharp mirrors %.2f\n", "", "", t.pipelinedMs / sharp[m].pipelinedMs);
+        }
+        if (kind == 2 || kind == 4) {
+          // The glossy passes' scale (Renderer::setGlossyReflectionScale) and their pixels in one frame.
+          const int64_t before = renderer.stats().reflectionPassPixels;
+          renderer.render(view, kAll[m], w, h);
+          std::printf("%-9s %-9s glossy passes drawn 1/%u as wide and high: %lld pass pixels a frame; × sharp mirrors %.2f\n",
+                      "", "", renderer.stats().lastGlossyReflectionScale,
+                      static_cast<long long>(renderer.stats().reflectionPassPixels - before),
+                      t.pipelinedMs / sharp[m].pipelinedMs);
+        }
+        if (kind == 4) {
+          std::printf("%-9s %-9s anisotropic blur: × isotropic glossy mirrors %.2f\n", "", "",
+                      t.pipelinedMs / glossy[m].pipelinedMs);
         }
         if (mirrors) {
           std::printf("%-9s %-9s planar reflectors %zu, mirrored passes a frame %.1f, cube maps %zu, × grey %.2f\n", "", "",
@@ -779,6 +804,15 @@ int run(int argc, char** argv) {
           const double still = oneFrameMs(false), changed = oneFrameMs(true);
           std::printf("%-9s %-9s cube-map capture %.2f ms (a frame after a light change %.2f ms, without %.2f ms)\n", "",
                       "", changed - still, changed, still);
+        }
+        if (kind == 2) {
+          // The same frames with the glossy passes drawn at the image's resolution.
+          renderer.setGlossyReflectionScale(1);
+          const FrameTimes full = timeFrames(renderer, view, kAll[m], w, h, gpuTimers);
+          printRow((name + "-full").c_str(), renderModeName(kAll[m]), full, baseline.pipelinedMs);
+          std::printf("%-9s %-9s glossy passes at the image's resolution; the coarser passes × %.2f\n", "", "",
+                      t.pipelinedMs / full.pipelinedMs);
+          renderer.setGlossyReflectionScale(0);
         }
       }
       if (kind == 1) {
