@@ -47,8 +47,8 @@ struct MirrorRect {
   int x = 0, y = 0, width = 0, height = 0;
 };
 
-// The most reads along a lobe's wide axis (shaders::kMirrorBlurUpsample's FLY_MAX_MIRROR_TAPS): enough for
-// the widest anisotropy (base/ggx.h: α_t / α_b ≤ 10 at |U − V| = 1).
+// The most reads along a lobe's wide axis (shaders::kMirrorBlurUpsample's FLY_MAX_MIRROR_TAPS): the widest
+// anisotropy's (base/ggx.h: α_t / α_b = 10 at |U − V| = 1) are then 1.06 texels apart.
 inline constexpr int kMaxMirrorTaps = 20;
 
 // The pyramid's isotropic blur of a small emitter in the engine against the two-level model below (its variance
