@@ -1171,6 +1171,8 @@ void Renderer::captureCubeReflectors(RenderMode mode) {
   cubeMode_ = mode;
 }
 
+namespace {
+
 // Per planar reflector: its anisotropic material's lobe axis t' in its plane (Renderer::reflectorTangents_),
 // zero for others: the mean over its vertices of the tangent made perpendicular to the normal and turned by
 // the rotation towards the bitangent w · n × t (as kSurfaceFragment turns it per pixel); where that gives no
@@ -1214,6 +1216,8 @@ uint32_t glossyPassScale(uint32_t forced, float narrowAlpha, float pxPerTan, uin
   while (s > 1 && (widthPx % s != 0 || heightPx % s != 0)) s /= 2;
   return s;
 }
+
+}  // namespace
 
 // Each planar reflector seen from its front: the scene mirrored in its plane, drawn from the mirrored camera
 // (a view whose worldFromCamera has determinant −1, so front faces wind clockwise) with the near plane moved
