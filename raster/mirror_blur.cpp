@@ -30,10 +30,10 @@ Region regionAt(const MirrorRect& r, int level) {
 
 void setRegion(int location, const Region& r) { glUniform4i(location, r.lo[0], r.lo[1], r.hi[0], r.hi[1]); }
 
-void dispatch(uint32_t width, uint32_t height) {
-  glDispatchCompute((width + 7) / 8, (height + 7) / 8, 1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-}
+void dispatch(uint32_t width, uint32_t height) { glDispatchCompute((width + 7) / 8, (height + 7) / 8, 1); }
+
+// Makes the dispatches' image stores visible to the next ones' image loads and texel fetches.
+void barrier() { glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT); }
 
 }  // namespace
 
@@ -75,9 +75,11 @@ MirrorBlur::MirrorBlur(SunShadows::Compile compile) : compile_(std::move(compile
 
 MirrorBlur::~MirrorBlur() {
   for (unsigned p : {split_, down_, up_}) glDeleteProgram(p);
-  for (Reflector& r : reflectors_) glDeleteTextures(1, &r.pyramid);
-  const unsigned textures[] = {passing_, depth_};
-  glDeleteTextures(2, textures);
+  for (Reflector& r : reflectors_) {
+    const unsigned textures[] = {r.pyramid, r.passing};
+    glDeleteTextures(2, textures);
+  }
+  glDeleteTextures(1, &depth_);
 }
 
 void MirrorBlur::ensure(unsigned& texture, uint32_t& width, uint32_t& height, int& levels, uint32_t widthPx,
@@ -102,8 +104,8 @@ void MirrorBlur::ensure(unsigned& texture, uint32_t& width, uint32_t& height, in
   levels = n;
 }
 
-void MirrorBlur::blur(uint32_t k, unsigned image, unsigned depth, const MirrorRect& rect, uint32_t widthPx,
-                      uint32_t heightPx, const MirrorLobe& lobe) {
+void MirrorBlur::split(uint32_t k, unsigned image, unsigned depth, const MirrorRect& rect, uint32_t widthPx,
+                       uint32_t heightPx, const MirrorLobe& lobe) {
   // The levels the widest spread needs (λ = log2(2r), r the sky's spread), at least level 0.
   const float widestPx = lobe.pxPerTan > 0.0f ? 2.0f * lobe.alpha * lobe.pxPerTan : 0.25f * float(heightPx);
   const int maxLevels = int(std::floor(std::log2(double(std::max(widthPx, heightPx))))) + 1;
@@ -111,11 +113,14 @@ void MirrorBlur::blur(uint32_t k, unsigned image, unsigned depth, const MirrorRe
   if (reflectors_.size() <= k) reflectors_.resize(k + 1);
   Reflector& out = reflectors_[k];
   ensure(out.pyramid, out.width, out.height, out.levels, widthPx, heightPx, levels, false);
-  ensure(passing_, passingWidth_, passingHeight_, passingLevels_, widthPx, heightPx, levels, false);
+  ensure(out.passing, out.passingWidth, out.passingHeight, out.passingLevels, widthPx, heightPx, levels, false);
   ensure(depth_, depthWidth_, depthHeight_, depthLevels_, widthPx, heightPx, 1, true);
   glCopyImageSubData(depth, GL_RENDERBUFFER, 0, rect.x, rect.y, 0, depth_, GL_TEXTURE_2D, 0, rect.x, rect.y, 0,
                      rect.width, rect.height, 1);
   out.taps = mirrorBlurTaps(lobe.wideAxis, lobe.aspect);
+  out.rect = rect;
+  out.blurLevels = levels;
+  out.pending = true;
 
   glUseProgram(split_);
   glUniform4i(splitRect_, rect.x, rect.y, rect.width, rect.height);
@@ -128,40 +133,58 @@ void MirrorBlur::blur(uint32_t k, unsigned image, unsigned depth, const MirrorRe
   glBindImageTexture(0, image, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
   glBindTextureUnit(0, depth_);
   glBindImageTexture(1, out.pyramid, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(2, passing_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(2, out.passing, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   dispatch(uint32_t(rect.width), uint32_t(rect.height));
+  barrier();
+}
+
+void MirrorBlur::finish() {
+  int levels = 0;
+  for (const Reflector& r : reflectors_) levels = r.pending ? std::max(levels, r.blurLevels) : levels;
 
   glUseProgram(down_);
   for (int level = 1; level < levels; ++level) {
-    const Region r = regionAt(rect, level);
-    setRegion(downRegion_, r);
-    setRegion(downFinerRegion_, regionAt(rect, level - 1));
-    glUniform1f(downLevel_, float(level));
-    glUniform1i(downCoarsest_, level == levels - 1);
-    glBindImageTexture(1, out.pyramid, level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, passing_, level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(3, passing_, level - 1, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    dispatch(r.width(), r.height());
+    for (const Reflector& out : reflectors_) {
+      if (!out.pending || level >= out.blurLevels) continue;
+      const Region r = regionAt(out.rect, level);
+      setRegion(downRegion_, r);
+      setRegion(downFinerRegion_, regionAt(out.rect, level - 1));
+      glUniform1f(downLevel_, float(level));
+      glUniform1i(downCoarsest_, level == out.blurLevels - 1);
+      glBindImageTexture(1, out.pyramid, level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      glBindImageTexture(2, out.passing, level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      glBindImageTexture(3, out.passing, level - 1, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+      dispatch(r.width(), r.height());
+    }
+    barrier();
   }
 
   glUseProgram(up_);
-  glUniform1i(upTapCount_, GLint(out.taps.size()));
-  glUniform2fv(upTaps_, GLsizei(out.taps.size()), &out.taps[0][0]);
-  glBindTextureUnit(1, out.pyramid);
   for (int level = levels - 2; level >= 1; --level) {
-    const Region r = regionAt(rect, level);
-    setRegion(upRegion_, r);
-    setRegion(upCoarseRegion_, regionAt(rect, level + 1));
-    glUniform1i(upLevel_, level);
-    glBindImageTexture(1, out.pyramid, level, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    dispatch(r.width(), r.height());
+    for (const Reflector& out : reflectors_) {
+      if (!out.pending || level > out.blurLevels - 2) continue;
+      const Region r = regionAt(out.rect, level);
+      setRegion(upRegion_, r);
+      setRegion(upCoarseRegion_, regionAt(out.rect, level + 1));
+      glUniform1i(upLevel_, level);
+      glUniform1i(upTapCount_, GLint(out.taps.size()));
+      glUniform2fv(upTaps_, GLsizei(out.taps.size()), &out.taps[0][0]);
+      glBindTextureUnit(1, out.pyramid);
+      glBindImageTexture(1, out.pyramid, level, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+      dispatch(r.width(), r.height());
+    }
+    barrier();
   }
-  const Region fine = regionAt(rect, 0), coarse = regionAt(rect, 1);
-  const int fineRegion[4] = {fine.lo[0], fine.lo[1], fine.hi[0], fine.hi[1]};
-  const int region[4] = {coarse.lo[0], coarse.lo[1], coarse.hi[0], coarse.hi[1]};
-  const int none[4] = {0, 0, 0, 0};
-  std::copy_n(fineRegion, 4, out.fineRegion);
-  std::copy_n(levels > 1 ? region : none, 4, out.coarseRegion);
+  for (Reflector& out : reflectors_) {
+    if (!out.pending) continue;
+    const Region fine = regionAt(out.rect, 0), coarse = regionAt(out.rect, 1);
+    const int fineRegion[4] = {fine.lo[0], fine.lo[1], fine.hi[0], fine.hi[1]};
+    const int region[4] = {coarse.lo[0], coarse.lo[1], coarse.hi[0], coarse.hi[1]};
+    const int none[4] = {0, 0, 0, 0};
+    std::copy_n(fineRegion, 4, out.fineRegion);
+    std::copy_n(out.blurLevels > 1 ? region : none, 4, out.coarseRegion);
+    out.pending = false;
+  }
 }
 
 }  // namespace fly::raster

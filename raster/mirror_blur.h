@@ -16,8 +16,9 @@
 // The pass may be drawn at a lower resolution than the image (Renderer: 1/2 or 1/4 per axis where the
 // lobe's spread is wide): the pyramid is the pass's, and the reflector reads its level 0 bilinearly, s times
 // finer. Cost per reflector and frame: one depth copy and about 2 × 4/3 passes over the rectangle's pass
-// pixels, in 2 · levels − 1 dispatches; the reflector's fragment reads 4 texels of level 0 and 4 per tap of
-// level 1 (shaders::kMirrorBlurUpsample). Needs a current context for its whole life.
+// pixels, in 2 · levels − 1 dispatches (the reflectors' dispatches of a level share their memory barriers);
+// the reflector's fragment reads 4 texels of level 0 and 4 per tap of level 1 (shaders::kMirrorBlurUpsample).
+// Needs a current context for its whole life.
 #pragma once
 
 #include <cstdint>
@@ -73,10 +74,14 @@ class MirrorBlur {
   MirrorBlur(const MirrorBlur&) = delete;
   MirrorBlur& operator=(const MirrorBlur&) = delete;
 
-  // Blurs reflector `k`'s image (RG32UI, shaders::kLuminanceEncoding) in `rect` of its widthPx × heightPx
-  // pass; `depth` is the pass's depth renderbuffer (DEPTH24_STENCIL8, at least that size).
-  void blur(uint32_t k, unsigned image, unsigned depth, const MirrorRect& rect, uint32_t widthPx, uint32_t heightPx,
-            const MirrorLobe& lobe);
+  // Reflector `k`'s image (RG32UI, shaders::kLuminanceEncoding) in `rect` of its widthPx × heightPx pass split
+  // by its pixels' spread into the pyramid's level 0 (right after its pass: the image and `depth`, the pass's
+  // depth renderbuffer of DEPTH24_STENCIL8 at least that size, are read here). finish() then blurs every
+  // reflector split since the last finish(), level by level: the reflectors' dispatches of one level run
+  // between the same two memory barriers.
+  void split(uint32_t k, unsigned image, unsigned depth, const MirrorRect& rect, uint32_t widthPx,
+             uint32_t heightPx, const MirrorLobe& lobe);
+  void finish();
   // Reflector k's settled pyramid (RGBA32F, cd/m²): level 0 read by flyMirrorBilinear within fineRegion(k)
   // plus level 1 read by flyMirrorTaps (with taps(k)) within coarseRegion(k) is the blurred image.
   unsigned pyramid(uint32_t k) const { return reflectors_.at(k).pyramid; }
@@ -88,12 +93,15 @@ class MirrorBlur {
 
  private:
   struct Reflector {
-    unsigned pyramid = 0;
-    uint32_t width = 0, height = 0;
-    int levels = 0;
+    unsigned pyramid = 0, passing = 0;  // the settled light, and the light still to be spread (a = its λ)
+    uint32_t width = 0, height = 0, passingWidth = 0, passingHeight = 0;
+    int levels = 0, passingLevels = 0;  // the textures' levels
     int fineRegion[4] = {0, 0, 0, 0};
     int coarseRegion[4] = {0, 0, 0, 0};
     std::vector<vec2> taps;
+    MirrorRect rect;     // the last split's
+    int blurLevels = 0;  // the levels it needs
+    bool pending = false;  // split, not yet blurred
   };
   // `texture` made (or remade) to hold `levels` levels of a widthPx × heightPx pass: each level k at least
   // ⌈size / 2^k⌉ texels (level 0 rounded up to a multiple of 2^(levels − 1)).
@@ -107,10 +115,10 @@ class MirrorBlur {
       splitPxPerTan_ = -1, splitTargetPx_ = -1;
   int downRegion_ = -1, downFinerRegion_ = -1, downLevel_ = -1, downCoarsest_ = -1;
   int upRegion_ = -1, upCoarseRegion_ = -1, upLevel_ = -1, upTapCount_ = -1, upTaps_ = -1;
-  // Shared by the reflectors: used only while one is blurred.
-  unsigned passing_ = 0, depth_ = 0;
-  uint32_t passingWidth_ = 0, passingHeight_ = 0, depthWidth_ = 0, depthHeight_ = 0;
-  int passingLevels_ = 0, depthLevels_ = 0;
+  // Shared by the reflectors: used only while one is split.
+  unsigned depth_ = 0;
+  uint32_t depthWidth_ = 0, depthHeight_ = 0;
+  int depthLevels_ = 0;
   std::vector<Reflector> reflectors_;
 };
 

@@ -1224,7 +1224,8 @@ uint32_t glossyPassScale(uint32_t forced, float narrowAlpha, float pxPerTan, uin
 // onto the mirror (Lengyel's oblique frustum), and kept as that reflector's image. Pixel (x, y) of the image is
 // what the real camera sees in the mirror at (x, y): the mirrored camera sees the point p where the real one
 // sees its mirror image. A glossy reflector's pass may be drawn s times coarser per axis (glossyPassScale) in
-// the target's lower-left corner, and is blurred there (raster/mirror_blur.h) without a copy.
+// the target's lower-left corner and split there (raster/mirror_blur.h) without a copy; the glossy
+// reflectors are blurred together after the last pass.
 void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx) {
   const rdb::RasterRdb& r = *rdb_;
   const rdb::RasterVariants& v = r.variants;
@@ -1323,7 +1324,7 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
           lobe.aspect = std::max(alphas.x, alphas.y) / narrowAlpha;
         }
       }
-      mirrorBlur_->blur(k, gpu_->floatColor, gpu_->depth, {rect.x, rect.y, rect.width, rect.height}, passW, passH, lobe);
+      mirrorBlur_->split(k, gpu_->floatColor, gpu_->depth, {rect.x, rect.y, rect.width, rect.height}, passW, passH, lobe);
       stats_.lastGlossyReflectionScale = scale;
     }
     gpu_->reflectionScale[k] = scale;
@@ -1331,6 +1332,7 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
     ++stats_.reflectionPasses;
     stats_.reflectionPassPixels += int64_t(rect.width) * rect.height;
   }
+  if (mirrorBlur_) mirrorBlur_->finish();
 }
 
 // The per-vertex meshes' chunks in gpu_->visibleChunks, in one multi-draw.

@@ -331,7 +331,7 @@ struct FarMirror {
   uint32_t scale = 0;  // the scale the glossy pass was drawn at (0: no glossy pass)
 };
 FarMirror renderFarMirror(sdb::Material mirror, const vec3& lo, const vec3& hi, uint32_t px, uint32_t scale,
-                          float ambientLux = 0.0f) {
+                          float ambientLux = 0.0f, const sdb::Material* wall = nullptr) {
   sdb::Scene scene;
   mirror.name = "mirror";
   mirror.engineReflection = sdb::EngineReflection::kPlanar;
@@ -344,14 +344,26 @@ FarMirror renderFarMirror(sdb::Material mirror, const vec3& lo, const vec3& hi, 
   const mat4 floor = glm::rotate(mat4(1.0f), -float(kPi / 2), vec3(1, 0, 0)) * glm::scale(mat4(1.0f), vec3(20.0f, 40.0f, 1.0f));
   scene.addNode({.name = "mirror", .parentFromLocal = floor, .meshes = {scene.addMesh(test::quadXY(mirrorId)).id}});
   scene.addNode({.name = "emitter", .meshes = {scene.addMesh(test::box(lo, hi, lampId)).id}});
+  if (wall) {
+    // A second reflector: a wall 40 m wide and 1 m high standing on the mirror's far edge, facing the eye.
+    sdb::Material w = *wall;
+    w.name = "wall";
+    w.engineReflection = sdb::EngineReflection::kPlanar;
+    const sdb::MaterialId wallId = scene.addMaterial(w).id;
+    scene.addNode({.name = "wall",
+                   .parentFromLocal = glm::translate(mat4(1.0f), vec3(0.0f, 0.5f, -19.9f)) *
+                                      glm::scale(mat4(1.0f), vec3(20.0f, 1.0f, 1.0f)),
+                   .meshes = {scene.addMesh(test::quadXY(wallId)).id}});
+  }
   rdb::RasterRdb rdb = rdb::buildRasterRdb(scene);
   rdb.ambient = {};
   rdb.ambient.upLux = Rgb(ambientLux);
-  EXPECT_EQ(rdb.planarReflectors.size(), 1u);
+  EXPECT_EQ(rdb.planarReflectors.size(), wall ? 2u : 1u);
   Renderer renderer;
   renderer.upload(rdb);
   renderer.setGlossyReflectionScale(scale);
   renderer.render(farMirrorView, RenderMode::kSimple, px, px);
+  EXPECT_EQ(renderer.stats().reflectionPasses, wall ? 2 : 1);
   return {renderer.luminanceRgb(), renderer.stats().lastGlossyReflectionScale};
 }
 
@@ -407,6 +419,34 @@ TEST(PlanarReflection, CoarserGlossyPassAgreesWithTheFullOne) {
   sdb::Material fogged = glossyMirror(0.3f);
   fogged.reflectionFogDistanceM = 8.0f;
   EXPECT_EQ(renderFarMirror(fogged, lo, hi, kPx, 0, 300.0f).scale, 1u);
+}
+
+// Two glossy reflectors in one frame are blurred together, level by level (raster/mirror_blur.h, finish): a
+// glossy wall (glossiness 0.5, more levels than the floor's) standing on the far edge of the glossy floor
+// (glossiness 0.3) leaves the floor's blurred reflection of the emitter as it is alone, at the pixels the wall
+// does not cover (the wall reflects the black space behind the eye, and the floor's light there is nil).
+// llvmpipe: identical at every pixel, at full and at the automatic pass scale.
+TEST(PlanarReflection, TwoGlossyReflectorsAreBlurredTogether) {
+  context();
+  constexpr uint32_t kPx = 192;
+  const vec3 lo(-1.0f, 2.5f, -6.0f), hi(1.0f, 3.0f, -5.0f);
+  const sdb::Material wall = glossyMirror(0.5f);
+  for (const uint32_t scale : {1u, 0u}) {
+    const FarMirror alone = renderFarMirror(glossyMirror(0.3f), lo, hi, kPx, scale);
+    const FarMirror both = renderFarMirror(glossyMirror(0.3f), lo, hi, kPx, scale, 0.0f, &wall);
+    size_t compared = 0;
+    double worst = 0.0, peak = 0.0;
+    for (size_t i = 0; i < size_t(kPx) * kPx; ++i) {
+      peak = std::max(peak, double(alone.rgb[3 * i + 1]));
+      if (both.rgb[3 * i + 1] == 0.0f && alone.rgb[3 * i + 1] > 0.0f) continue;  // hidden by the wall
+      worst = std::max(worst, std::abs(double(both.rgb[3 * i + 1]) - double(alone.rgb[3 * i + 1])));
+      ++compared;
+    }
+    std::printf("two glossy reflectors, pass scale %s: %zu pixels compared, worst difference %.2e of the brightest\n",
+                scale == 0 ? "automatic" : "1", compared, worst / peak);
+    EXPECT_GT(compared, size_t(kPx) * kPx * 9 / 10);
+    EXPECT_LT(worst, 1e-4 * peak);
+  }
 }
 
 // Luminance-weighted moments of an image's green channel over its pixels (x right, y down).
