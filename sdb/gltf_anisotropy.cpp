@@ -82,10 +82,10 @@ Texture gridTexture(int width, int height, int channels) {
   return t;
 }
 
-// The start φ0 of the half turn [φ0, φ0 + π) in which rotations are stored: the middle of the widest interval
-// of directions (modulo π, in 0.5° bins) that no anisotropic texel points along, else of the bin with the
-// least anisotropy (the sum of U).
-double seamAngle(const std::vector<float>& u, const std::vector<double>& angle) {
+// The start φ0 of the half turn [φ0, φ0 + π) in which rotations are stored modulo π: the middle of the widest
+// interval of directions (modulo π, in 0.5° bins) that no anisotropic texel points along, else of the bin with
+// the least anisotropy (the sum of U).
+double halfTurnSeam(const std::vector<float>& u, const std::vector<double>& angle) {
   constexpr int kBins = 360;
   std::array<double, kBins> weight{};
   for (size_t i = 0; i < u.size(); ++i) {
@@ -107,6 +107,38 @@ double seamAngle(const std::vector<float>& u, const std::vector<double>& angle) 
     }
   }
   return std::fmod((bestStart + 0.5 * bestLength) * kPi / kBins, kPi);
+}
+
+// The rotation texture's red (× 2π = the rotation) for the angles of one encoding: `period` π stores each angle
+// in [seam, seam + π); `period` 2π stores the direction's own angle plus `seam` (0 or π, either being the
+// same lobe) in [0, 2π), which follows a direction field that turns a full circle (a disc's) with one jump
+// instead of two.
+std::vector<uint8_t> encodeRotations(const std::vector<double>& angle, double period, double seam) {
+  std::vector<uint8_t> red(angle.size());
+  for (size_t i = 0; i < angle.size(); ++i) {
+    double a = std::fmod(angle[i] - seam, period);
+    if (a < 0.0) a += period;
+    const double stored = period == kPi ? seam + a : a;
+    red[i] = quantise(stored / (2.0 * kPi));
+  }
+  return red;
+}
+
+// Where bilinear filtering of `red` mixes unrelated rotations: the anisotropy (the smaller U) of neighbouring
+// texels, along rows and columns, whose stored rotations are more than a quarter turn apart.
+double jumps(const std::vector<uint8_t>& red, const std::vector<float>& u, int width, int height) {
+  double sum = 0.0;
+  const auto pair = [&](size_t a, size_t b) {
+    if (std::abs(int(red[a]) - int(red[b])) > 64) sum += std::min(u[a], u[b]);
+  };
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t i = size_t(y) * size_t(width) + size_t(x);
+      if (x + 1 < width) pair(i, i + 1);
+      if (y + 1 < height) pair(i, i + size_t(width));
+    }
+  }
+  return sum;
 }
 
 }  // namespace
@@ -177,13 +209,21 @@ GltfAnisotropyConversion convertGltfAnisotropy(const GltfAnisotropyInput& in) {
   bool oneRotation = true;
   for (size_t i = first; i < n && oneRotation; ++i) oneRotation = u[i] <= 0.0f || angle[i] == angle[first];
   if (!oneRotation) {
-    const double seam = seamAngle(u, angle);
+    // Of three encodings, the one with the fewest jumps between neighbours: modulo a half turn with its wrap
+    // where no texel points, or the direction's own angle (modulo a full turn), taken as it is or turned by
+    // a half turn.
     out.rotationRad = 0.0f;
     out.rotationTexture = gridTexture(width, height, 1);
-    for (size_t i = 0; i < n; ++i) {
-      double a = std::fmod(angle[i] - seam, kPi);
-      if (a < 0.0) a += kPi;
-      out.rotationTexture->pixels[i] = quantise((seam + a) / (2.0 * kPi));
+    std::vector<uint8_t>& best = out.rotationTexture->pixels;
+    best = encodeRotations(angle, kPi, halfTurnSeam(u, angle));
+    double bestJumps = jumps(best, u, width, height);
+    for (const double seam : {0.0, kPi}) {
+      std::vector<uint8_t> red = encodeRotations(angle, 2.0 * kPi, seam);
+      const double j = jumps(red, u, width, height);
+      if (j < bestJumps) {
+        best = std::move(red);
+        bestJumps = j;
+      }
     }
   }
   return out;

@@ -70,9 +70,12 @@ struct GltfAnisotropyConversion {
   std::optional<Texture> glossinessTexture;
   // Three channels: red = U, green = V (0), blue 0 (Material::anisotropyTexture).
   std::optional<Texture> anisotropyTexture;
-  // One channel: red × 2π = the rotation (Material::anisotropyRotationTexture). The lobe repeats every half
-  // turn, so each angle is stored within the half turn that starts at the direction the fewest texels take,
-  // which keeps bilinear filtering away from the wrap from 2π to 0 wherever the directions allow.
+  // One channel: red × 2π = the rotation (Material::anisotropyRotationTexture). An angle stored in [0, 2π)
+  // must jump somewhere (from red 1 to 0), and bilinear filtering across a jump turns the lobe wrongly. The
+  // lobe repeats every half turn, so of three encodings the one with the fewest jumps between neighbouring
+  // texels is kept: the angle modulo π within the half turn whose start no texel points along (no jump for
+  // directions spread over less than a half turn), or the direction's own angle, as it is or turned by π
+  // (one jump along a radius for a disc's directions, which turn a full circle).
   std::optional<Texture> rotationTexture;
   size_t texels = 1;         // points converted: the grid's texels, or 1 without textures
   size_t clampedTexels = 0;  // of which the widths' ratio was held at 10 (AnisotropicLobe::clamped)

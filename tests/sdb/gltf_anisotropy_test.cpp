@@ -266,6 +266,43 @@ TEST(GltfAnisotropyConversion, RotationTextureAvoidsTheWrapWhereTheDirectionsAll
   }
 }
 
+// A disc's directions (AnisotropyDiscTest, AnisotropyBarnLamp: tangential around a centre) turn a full
+// circle, so any angle encoding jumps somewhere; stored as the direction's own angle it jumps along one radius
+// (about 8 neighbour pairs on a 16 × 16 grid), not along two as modulo a half turn.
+TEST(GltfAnisotropyConversion, RotationTextureOfADiscJumpsAlongOneRadius) {
+  constexpr int kSize = 16;
+  Texture directions;
+  directions.width = directions.height = kSize;
+  directions.channels = 4;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const double a = std::atan2(y - 7.5, x - 7.5) + kPi / 2.0;  // tangential
+      directions.pixels.insert(directions.pixels.end(), {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
+                                                          uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
+    }
+  }
+  GltfAnisotropyInput in;
+  in.roughness = 0.5f;
+  in.strength = 1.0f;
+  in.anisotropyTexture = &directions;
+  const GltfAnisotropyConversion c = convertGltfAnisotropy(in);
+  ASSERT_TRUE(c.rotationTexture);
+  const std::vector<uint8_t>& red = c.rotationTexture->pixels;
+  int jumps = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const size_t i = size_t(y * kSize + x);
+      if (x + 1 < kSize && std::abs(red[i] - red[i + 1]) > 64) ++jumps;
+      if (y + 1 < kSize && std::abs(red[i] - red[i + kSize]) > 64) ++jumps;
+      // Every texel still holds its direction, modulo the lobe's half turn.
+      const double a = std::atan2(y - 7.5, x - 7.5) + kPi / 2.0;
+      EXPECT_LE(std::abs(std::remainder(2.0 * kPi * red[i] / 255.0 - a, kPi)), degToRad(1.5)) << x << ", " << y;
+    }
+  }
+  EXPECT_GE(jumps, 7);
+  EXPECT_LE(jumps, 10);
+}
+
 TEST_F(GltfImport, AnisotropyUnderAClearCoatLobeIsDroppedWithAWarning) {
   GltfBuilder b = withMaterial(
       {{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"roughnessFactor", 0.6}}},
