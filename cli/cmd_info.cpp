@@ -112,7 +112,7 @@ std::string lightText(const sdb::Light& l) {
 
 constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 
-// The anisotropic materials `fly info` lists one by one; a scene with more lists only these and counts the rest.
+// The anisotropic materials `fly info` lists one by one; a scene with more lists these and counts the rest.
 constexpr size_t kMaxListedAnisotropic = 64;
 
 // The name of the texture a material reference reads, or null when there is none.
@@ -124,7 +124,8 @@ nlohmann::json textureName(const sdb::Scene& scene, const sdb::TextureRef& ref) 
 // glossiness and rotation, the GGX widths they give along U and V, and the textures that replace them per
 // texel (the constants are then the largest glossiness and U).
 nlohmann::json anisotropyJson(const sdb::Scene& scene, const sdb::Material& m) {
-  const vec2 widths = ggxAnisotropicAlphas(m.reflectionGlossiness * m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
+  const vec2 widths =
+      ggxAnisotropicAlphas(m.reflectionGlossiness * m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
   return {{"material", m.name},
           {"anisotropy_u", m.anisotropyU},
           {"anisotropy_v", m.anisotropyV},
@@ -140,7 +141,9 @@ nlohmann::json anisotropyJson(const sdb::Scene& scene, const sdb::Material& m) {
 // "Brushed: GGX α 0.8275 along U, 0.2500 along V (glossiness 0.6754, U 0.8148, V 0.0000); U turned 30.00°
 // from the tangent", with "per texel ('texture')" for what a texture gives.
 std::string anisotropyText(const sdb::Scene& scene, const sdb::Material& m) {
-  const auto texture = [&](const sdb::TextureRef& ref) { return "'" + scene.texture(ref.texture).name + "'"; };
+  const auto texture = [&](const sdb::TextureRef& ref) {
+    return "'" + scene.texture(ref.texture).name + "'";
+  };
   std::string s = m.name + ": ";
   if (m.anisotropyTexture || m.reflectionGlossinessTexture) {
     s += "U, V " + (m.anisotropyTexture ? "per texel (" + texture(m.anisotropyTexture) + ")"
@@ -153,10 +156,12 @@ std::string anisotropyText(const sdb::Scene& scene, const sdb::Material& m) {
     const vec2 widths =
         ggxAnisotropicAlphas(m.reflectionGlossiness * m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
     s += "GGX α " + fixed(widths.x, 4) + " along U, " + fixed(widths.y, 4) + " along V (glossiness " +
-         fixed(m.reflectionGlossiness, 4) + ", U " + fixed(m.anisotropyU, 4) + ", V " + fixed(m.anisotropyV, 4) + ")";
+         fixed(m.reflectionGlossiness, 4) + ", U " + fixed(m.anisotropyU, 4) + ", V " +
+         fixed(m.anisotropyV, 4) + ")";
   }
-  s += "; U turned " + (m.anisotropyRotationTexture ? "per texel (" + texture(m.anisotropyRotationTexture) + ")"
-                                                      : fixed(radToDeg(m.anisotropyRotationRad), 2) + "°") +
+  s += "; U turned " +
+       (m.anisotropyRotationTexture ? "per texel (" + texture(m.anisotropyRotationTexture) + ")"
+                                    : fixed(radToDeg(m.anisotropyRotationRad), 2) + "°") +
        " from the tangent";
   return s;
 }

@@ -64,13 +64,17 @@ double bilinear(const Texture& t, int c, double u, double v, WrapMode wrapS, Wra
   const double x = u * t.width - 0.5, y = v * t.height - 0.5;
   const double x0 = std::floor(x), y0 = std::floor(y);
   const double fx = x - x0, fy = y - y0;
-  const int xa = int(wrapIndex(int64_t(x0), t.width, wrapS)), xb = int(wrapIndex(int64_t(x0) + 1, t.width, wrapS));
-  const int ya = int(wrapIndex(int64_t(y0), t.height, wrapT)), yb = int(wrapIndex(int64_t(y0) + 1, t.height, wrapT));
+  const int xa = int(wrapIndex(int64_t(x0), t.width, wrapS)),
+            xb = int(wrapIndex(int64_t(x0) + 1, t.width, wrapS));
+  const int ya = int(wrapIndex(int64_t(y0), t.height, wrapT)),
+            yb = int(wrapIndex(int64_t(y0) + 1, t.height, wrapT));
   return (1.0 - fy) * ((1.0 - fx) * value(t, xa, ya, c) + fx * value(t, xb, ya, c)) +
          fy * ((1.0 - fx) * value(t, xa, yb, c) + fx * value(t, xb, yb, c));
 }
 
-uint8_t quantise(double v) { return uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+uint8_t quantise(double v) {
+  return uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+}
 
 Texture gridTexture(int width, int height, int channels) {
   Texture t;
@@ -83,8 +87,8 @@ Texture gridTexture(int width, int height, int channels) {
 }
 
 // The start φ0 of the half turn [φ0, φ0 + π) in which rotations are stored modulo π: the middle of the widest
-// interval of directions (modulo π, in 0.5° bins) that no anisotropic texel points along, else of the bin with
-// the least anisotropy (the sum of U).
+// interval of directions (modulo π, in 0.5° bins) that no anisotropic texel points along, else of the bin
+// with the least anisotropy (the sum of U).
 double halfTurnSeam(const std::vector<float>& u, const std::vector<double>& angle) {
   constexpr int kBins = 360;
   std::array<double, kBins> weight{};
@@ -109,10 +113,10 @@ double halfTurnSeam(const std::vector<float>& u, const std::vector<double>& angl
   return std::fmod((bestStart + 0.5 * bestLength) * kPi / kBins, kPi);
 }
 
-// The rotation texture's red (× 2π = the rotation) for the angles of one encoding: `period` π stores each angle
-// in [seam, seam + π); `period` 2π stores the direction's own angle plus `seam` (0 or π, either being the
-// same lobe) in [0, 2π), which follows a direction field that turns a full circle (a disc's) with one jump
-// instead of two.
+// The rotation texture's red (× 2π = the rotation) for the angles of one encoding: `period` π stores each
+// angle in [seam, seam + π); `period` 2π stores the direction's own angle plus `seam` (0 or π, either being
+// the same lobe) in [0, 2π), which follows a direction field that turns a full circle (a disc's) with one
+// jump instead of two.
 std::vector<uint8_t> encodeRotations(const std::vector<double>& angle, double period, double seam) {
   std::vector<uint8_t> red(angle.size());
   for (size_t i = 0; i < angle.size(); ++i) {

@@ -35,7 +35,7 @@ vec2 gltfAnisotropicAlphas(float roughness, float strength);
 // 0 ≤ alphaAcross ≤ alphaAlong ≤ 1; exact where alphaAlong ≤ 10 alphaAcross, else alphaAlong along U and
 // alphaAlong / 10 along V (`clamped`).
 struct AnisotropicLobe {
-  float glossiness = 0.0f;  // [0, 1]
+  float glossiness = 0.0f;   // [0, 1]
   float anisotropyU = 0.0f;  // [0, 1]
   float anisotropyV = 0.0f;  // 0: U is the wide axis
   bool clamped = false;      // the ratio of the widths was more than 10

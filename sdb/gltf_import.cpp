@@ -2127,13 +2127,14 @@ class Importer {
     // infinite as a float.
     in.rotationRad = float(std::remainder(extNumber(e, "anisotropyRotation", 0.0, epath), 2.0 * kPi));
     int anisotropyImage = -1;
-    const TextureRef anisotropyRef = sampling(extensionTexInfo(e, "anisotropyTexture", epath),
-                                              epath + "/anisotropyTexture", label + " anisotropyTexture",
-                                              &anisotropyImage);
+    const TextureRef anisotropyRef =
+        sampling(extensionTexInfo(e, "anisotropyTexture", epath), epath + "/anisotropyTexture",
+                 label + " anisotropyTexture", &anisotropyImage);
     if (in.strength <= 0.0f) return false;
     if (coatIsLobe) {
-      warn(label + ": its anisotropy (KHR_materials_anisotropy) is dropped: the reflection lobe is the clear "
-                   "coat's, which the anisotropy does not stretch");
+      warn(label +
+           ": its anisotropy (KHR_materials_anisotropy) is dropped: the reflection lobe is the clear "
+           "coat's, which the anisotropy does not stretch");
       return false;
     }
     const tinygltf::TextureInfo& mr = gm.pbrMetallicRoughness.metallicRoughnessTexture;
@@ -2151,8 +2152,9 @@ class Importer {
       if (in.anisotropyTexture && (anisotropyRef.texCoord != roughnessRef.texCoord || a.offset != r.offset ||
                                    a.rotationRad != r.rotationRad || a.scale != r.scale)) {
         in.roughness *= meanChannel(mr.index, 1, false, mrWhat);
-        warn(label + ": its metallicRoughnessTexture and anisotropyTexture lie on different texture "
-                     "coordinates; the anisotropy is converted with the roughness's mean over the image");
+        warn(label +
+             ": its metallicRoughnessTexture and anisotropyTexture lie on different texture "
+             "coordinates; the anisotropy is converted with the roughness's mean over the image");
       } else {
         in.roughnessTexture = &decodedImage(size_t(roughnessImage), mrWhat);
         in.roughnessWrapS = roughnessRef.wrapS;
@@ -2183,8 +2185,9 @@ class Importer {
     if (c.clampedTexels > 0) {
       const vec2 asked = gltfAnisotropicAlphas(in.roughness, in.strength);
       warn(label + ": its anisotropy stretches the lobe more than fly's limit of 10:1" +
-           (c.texels > 1 ? " at " + std::to_string(c.clampedTexels) + " of " + std::to_string(c.texels) + " texels"
-                         : " (GGX α " + str(asked.x) + " along, " + str(asked.y) + " across)") +
+           (c.texels > 1
+                ? " at " + std::to_string(c.clampedTexels) + " of " + std::to_string(c.texels) + " texels"
+                : " (GGX α " + str(asked.x) + " along, " + str(asked.y) + " across)") +
            "; there the lobe keeps glTF's width along the anisotropy direction and is a tenth of it across "
            "(docs/scene-format.md, \"Anisotropy\")");
     }

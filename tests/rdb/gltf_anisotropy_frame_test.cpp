@@ -26,7 +26,8 @@ test::GltfBuilder anisotropicQuad(bool withTangents) {
                      {"NORMAL", b.floats({0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0}, "VEC3")},
                      {"TEXCOORD_0", b.floats({0, 0, 1, 0, 1, 1, 0, 1}, "VEC2")},
                      {"TEXCOORD_1", b.floats({0, 0, 0, 1, 1, 1, 1, 0}, "VEC2")}};
-  if (withTangents) attributes["TANGENT"] = b.floats({1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, "VEC4");
+  if (withTangents)
+    attributes["TANGENT"] = b.floats({1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, "VEC4");
   const auto image = [&](const std::vector<uint8_t>& png) {
     b.append("images", {{"bufferView", b.view(png)}, {"mimeType", "image/png"}});
     return b.append("textures", {{"source", int(b.doc["images"].size() - 1)}});
@@ -37,8 +38,11 @@ test::GltfBuilder anisotropicQuad(bool withTangents) {
               {"normalTexture", {{"index", normal}, {"texCoord", 1}}},
               {"extensions",
                {{"KHR_materials_anisotropy",
-                 {{"anisotropyStrength", 0.7}, {"anisotropyRotation", 0.2}, {"anisotropyTexture", {{"index", directions}}}}}}}});
-  b.mesh(json::array({{{"attributes", attributes}, {"indices", b.indices({0, 3, 2, 0, 2, 1})}, {"material", 0}}}));
+                 {{"anisotropyStrength", 0.7},
+                  {"anisotropyRotation", 0.2},
+                  {"anisotropyTexture", {{"index", directions}}}}}}}});
+  b.mesh(json::array(
+      {{{"attributes", attributes}, {"indices", b.indices({0, 3, 2, 0, 2, 1})}, {"material", 0}}}));
   b.node({{"mesh", 0}});
   b.scene({0});
   return b;
@@ -87,7 +91,8 @@ TEST(GltfAnisotropyInBothEngines, OneFrameAndTheSameTextures) {
     EXPECT_EQ(rm.anisotropyV, tm.anisotropyV);
     EXPECT_EQ(rm.anisotropyRotationRad, tm.anisotropyRotationRad);
     const std::pair<const TraceTextureSlot*, const RasterTextureRef*> pairs[] = {
-        {&tm.anisotropyTexture, &rm.anisotropyTexture}, {&tm.anisotropyRotationTexture, &rm.anisotropyRotationTexture}};
+        {&tm.anisotropyTexture, &rm.anisotropyTexture},
+        {&tm.anisotropyRotationTexture, &rm.anisotropyRotationTexture}};
     for (const auto& [slot, ref] : pairs) {
       ASSERT_TRUE(*slot);
       ASSERT_TRUE(*ref);
@@ -97,16 +102,19 @@ TEST(GltfAnisotropyInBothEngines, OneFrameAndTheSameTextures) {
       const RasterTexture& b = raster.textures[ref->texture];
       ASSERT_EQ(a.width, 2u);
       ASSERT_EQ(b.width, 2u);
-      for (uint32_t k = 0; k < a.width; ++k) EXPECT_EQ(a.texels[k * a.channels], b.rgba8[4 * k]) << "texel " << k;
+      for (uint32_t k = 0; k < a.width; ++k)
+        EXPECT_EQ(a.texels[k * a.channels], b.rgba8[4 * k]) << "texel " << k;
     }
-    // The two texels' directions, 45° and 100° from +u, each turned by the 0.2 rad rotation, are the rotations
-    // both engines read (red × 2π, modulo the half turn of the lobe's symmetry, within an 8-bit step).
+    // The two texels' directions, 45° and 100° from +u, each turned by the 0.2 rad rotation, are the
+    // rotations both engines read (red × 2π, modulo the half turn of the lobe's symmetry, within an 8-bit
+    // step).
     const TraceTexture& turns = trace.textures[tm.anisotropyRotationTexture.texture];
     const double directions[2] = {std::atan2(2.0 * 218 / 255 - 1, 2.0 * 218 / 255 - 1),
                                   std::atan2(2.0 * 253 / 255 - 1, 2.0 * 105 / 255 - 1)};
     for (int k = 0; k < 2; ++k) {
       const double stored = 2.0 * kPi * turns.texels[size_t(k) * turns.channels] / 255.0;
-      EXPECT_LE(std::abs(std::remainder(stored - (0.2 + directions[k]), kPi)), kPi / 255.0 + 1e-9) << "texel " << k;
+      EXPECT_LE(std::abs(std::remainder(stored - (0.2 + directions[k]), kPi)), kPi / 255.0 + 1e-9)
+          << "texel " << k;
     }
   }
 }

@@ -26,7 +26,9 @@ vec2 specWidths(double roughness, double strength) {
 }
 
 // fly's GGX widths of glossiness g and anisotropy (u, v): x along U, y along V.
-vec2 flyWidths(float glossiness, float u, float v) { return ggxAnisotropicAlphas(glossiness * glossiness, u, v); }
+vec2 flyWidths(float glossiness, float u, float v) {
+  return ggxAnisotropicAlphas(glossiness * glossiness, u, v);
+}
 
 // The width of the lobe seen along the tangent-plane direction at angle φ from the tangent (towards the
 // bitangent), for a lobe of widths (along, across) whose long axis lies at angle ρ: the GGX slope
@@ -82,10 +84,11 @@ TEST_F(GltfImport, AnisotropyGivesTheWidthsOfTheExtension) {
 }
 
 // Roughness 0.1 and strength 1: α_d = 1, α = 0.01, a ratio of 100 where fly's lobe reaches 10; its length
-// along the direction is kept and its width across is α_d / 10. So for glTF's mirror (roughness 0) at strength ⅙.
+// along the direction is kept and its width across is α_d / 10. So for glTF's mirror (roughness 0) at
+// strength ⅙.
 TEST_F(GltfImport, AnisotropyBeyondTenToOneKeepsTheLengthAlongTheDirection) {
-  const std::tuple<double, double, std::string> cases[] = {{0.1, 1.0, "GGX α 1 along, 0.01 across"},
-                                                           {0.0, 1.0 / 6.0, "GGX α 0.0277778 along, 0 across"}};
+  const std::tuple<double, double, std::string> cases[] = {
+      {0.1, 1.0, "GGX α 1 along, 0.01 across"}, {0.0, 1.0 / 6.0, "GGX α 0.0277778 along, 0 across"}};
   for (const auto& [roughness, strength, asked] : cases) {
     SCOPED_TRACE(testing::Message() << "roughness " << roughness << ", strength " << strength);
     Scene scene;
@@ -97,8 +100,9 @@ TEST_F(GltfImport, AnisotropyBeyondTenToOneKeepsTheLengthAlongTheDirection) {
     const vec2 widths = flyWidths(m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
     EXPECT_NEAR(widths.x, along, 1e-5 * along);
     EXPECT_NEAR(widths.y, along / 10.0, 1e-5 * along);
-    EXPECT_TRUE(contains(r.warnings, "material 0: its anisotropy stretches the lobe more than fly's limit of 10:1 (" +
-                                         asked + "); there the lobe keeps glTF's width along the anisotropy direction"))
+    EXPECT_TRUE(contains(
+        r.warnings, "material 0: its anisotropy stretches the lobe more than fly's limit of 10:1 (" + asked +
+                        "); there the lobe keeps glTF's width along the anisotropy direction"))
         << (r.warnings.empty() ? "no warning" : r.warnings[0]);
   }
 }
@@ -113,8 +117,8 @@ TEST_F(GltfImport, AnisotropyRotationOfAQuarterTurnSwapsTheAxes) {
   for (int k = 0; k < 2; ++k) {
     const double rotation = k * kPi / 2.0;
     Scene scene;
-    GltfBuilder b =
-        withMaterial(anisotropic(roughness, {{"anisotropyStrength", strength}, {"anisotropyRotation", rotation}}));
+    GltfBuilder b = withMaterial(
+        anisotropic(roughness, {{"anisotropyStrength", strength}, {"anisotropyRotation", rotation}}));
     b.writeGltf(dir_ / "a.gltf");
     importGltf(scene, dir_ / "a.gltf");
     const Material& m = scene.materials().begin()->second;
@@ -123,13 +127,14 @@ TEST_F(GltfImport, AnisotropyRotationOfAQuarterTurnSwapsTheAxes) {
     // The widths at every azimuth of the tangent plane, fly's lobe against the extension's.
     for (int i = 0; i < 12; ++i) {
       const double phi = i * kPi / 12.0;
-      EXPECT_NEAR(projectedWidth(fly, m.anisotropyRotationRad, phi), projectedWidth(spec, rotation, phi), 1e-5)
+      EXPECT_NEAR(projectedWidth(fly, m.anisotropyRotationRad, phi), projectedWidth(spec, rotation, phi),
+                  1e-5)
           << "azimuth " << phi;
     }
     alongTangent[k] = projectedWidth(fly, m.anisotropyRotationRad, 0.0);
     alongBitangent[k] = projectedWidth(fly, m.anisotropyRotationRad, kPi / 2.0);
   }
-  EXPECT_NEAR(alongTangent[0], spec.x, 1e-6);  // 0.8275 = 0.25 + 0.75 · 0.81
+  EXPECT_NEAR(alongTangent[0], spec.x, 1e-6);    // 0.8275 = 0.25 + 0.75 · 0.81
   EXPECT_NEAR(alongBitangent[0], spec.y, 1e-6);  // 0.25
   EXPECT_NEAR(alongTangent[1], alongBitangent[0], 1e-6);
   EXPECT_NEAR(alongBitangent[1], alongTangent[0], 1e-6);
@@ -152,7 +157,8 @@ TEST_F(GltfImport, AnisotropyTextureDirectionsBecomeRotationsAndWidthsPerTexel) 
   const Material& m = onlyMaterialOfMesh();
   ASSERT_TRUE(m.anisotropyTexture && m.anisotropyRotationTexture && m.reflectionGlossinessTexture);
   EXPECT_EQ(scene_.textures().size(), 3u);  // the converted ones; the file's image is not kept
-  for (const TextureRef* ref : {&m.anisotropyTexture, &m.anisotropyRotationTexture, &m.reflectionGlossinessTexture}) {
+  for (const TextureRef* ref :
+       {&m.anisotropyTexture, &m.anisotropyRotationTexture, &m.reflectionGlossinessTexture}) {
     EXPECT_EQ(ref->texCoord, 1);
     EXPECT_EQ(ref->wrapS, WrapMode::kClampToEdge);
     EXPECT_EQ(ref->wrapT, WrapMode::kMirroredRepeat);
@@ -200,12 +206,14 @@ TEST_F(GltfImport, UniformAnisotropyTextureConvertsToConstants) {
   for (int i = 0; i < 16; ++i) rgb.insert(rgb.end(), {red, green, 255});
   GltfBuilder b = withMaterial(json::object());
   const int tex = addImageTexture(b, test::png(4, 4, rgb));
-  b.doc["materials"][0] = anisotropic(0.3, {{"anisotropyStrength", 0.5}, {"anisotropyTexture", {{"index", tex}}}});
+  b.doc["materials"][0] =
+      anisotropic(0.3, {{"anisotropyStrength", 0.5}, {"anisotropyTexture", {{"index", tex}}}});
   import(b);
   const Material& m = onlyMaterialOfMesh();
   EXPECT_FALSE(m.anisotropyTexture || m.anisotropyRotationTexture || m.reflectionGlossinessTexture);
   EXPECT_TRUE(scene_.textures().empty());
-  EXPECT_FLOAT_EQ(m.anisotropyRotationRad, float(std::atan2(2.0 * green / 255.0 - 1.0, 2.0 * red / 255.0 - 1.0)));
+  EXPECT_FLOAT_EQ(m.anisotropyRotationRad,
+                  float(std::atan2(2.0 * green / 255.0 - 1.0, 2.0 * red / 255.0 - 1.0)));
   EXPECT_NEAR(m.anisotropyRotationRad, kPi / 6.0, degToRad(0.3));
   const vec2 fly = flyWidths(m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
   EXPECT_NEAR(fly.x, specWidths(0.3, 0.5).x, 1e-6);
@@ -220,7 +228,8 @@ TEST_F(GltfImport, AnisotropyFollowsARoughnessTexture) {
   const int tex = addImageTexture(b, test::png(2, 1, {0, 51, 0, 0, 204, 0}));
   b.doc["materials"][0] = {
       {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", tex}, {"texCoord", 1}}}}},
-      {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 1.0}, {"anisotropyRotation", 0.3}}}}}};
+      {"extensions",
+       {{"KHR_materials_anisotropy", {{"anisotropyStrength", 1.0}, {"anisotropyRotation", 0.3}}}}}};
   const GltfImportResult r = import(b);
   const Material& m = onlyMaterialOfMesh();
   EXPECT_FLOAT_EQ(m.anisotropyRotationRad, 0.3f);
@@ -231,8 +240,10 @@ TEST_F(GltfImport, AnisotropyFollowsARoughnessTexture) {
   EXPECT_EQ(scene_.textures().size(), 2u);  // no separate roughness texture
   const Texture& uv = scene_.texture(m.anisotropyTexture.texture);
   const Texture& gloss = scene_.texture(m.reflectionGlossinessTexture.texture);
-  const vec2 texel0 = flyWidths(m.reflectionGlossiness * gloss.pixels[0] / 255.0f, uv.pixels[0] / 255.0f, 0.0f);
-  const vec2 texel1 = flyWidths(m.reflectionGlossiness * gloss.pixels[1] / 255.0f, uv.pixels[3] / 255.0f, 0.0f);
+  const vec2 texel0 =
+      flyWidths(m.reflectionGlossiness * gloss.pixels[0] / 255.0f, uv.pixels[0] / 255.0f, 0.0f);
+  const vec2 texel1 =
+      flyWidths(m.reflectionGlossiness * gloss.pixels[1] / 255.0f, uv.pixels[3] / 255.0f, 0.0f);
   EXPECT_NEAR(texel0.x, 1.0f, 0.01f);
   EXPECT_NEAR(texel0.y, 0.1f, 0.001f);  // α_d / 10, not α = 0.04
   EXPECT_NEAR(texel1.x, 1.0f, 0.01f);
@@ -251,8 +262,9 @@ TEST(GltfAnisotropyConversion, RotationTextureAvoidsTheWrapWhereTheDirectionsAll
   directions.channels = 4;
   for (int i = 0; i < directions.width; ++i) {
     const double a = degToRad(10.0 * i);
-    directions.pixels.insert(directions.pixels.end(), {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
-                                                        uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
+    directions.pixels.insert(directions.pixels.end(),
+                             {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
+                              uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
   }
   GltfAnisotropyInput in;
   in.roughness = 0.5f;
@@ -261,14 +273,15 @@ TEST(GltfAnisotropyConversion, RotationTextureAvoidsTheWrapWhereTheDirectionsAll
   const GltfAnisotropyConversion c = convertGltfAnisotropy(in);
   ASSERT_TRUE(c.rotationTexture);
   for (int i = 0; i + 1 < directions.width; ++i) {
-    const int step = int(c.rotationTexture->pixels[size_t(i) + 1]) - int(c.rotationTexture->pixels[size_t(i)]);
+    const int step =
+        int(c.rotationTexture->pixels[size_t(i) + 1]) - int(c.rotationTexture->pixels[size_t(i)]);
     EXPECT_NEAR(step, 255.0 / 36.0, 1.5) << "texel " << i;  // 10° = 1/36 turn
   }
 }
 
 // A disc's directions (AnisotropyDiscTest, AnisotropyBarnLamp: tangential around a centre) turn a full
-// circle, so any angle encoding jumps somewhere; stored as the direction's own angle it jumps along one radius
-// (about 8 neighbour pairs on a 16 × 16 grid), not along two as modulo a half turn.
+// circle, so any angle encoding jumps somewhere; stored as the direction's own angle it jumps along one
+// radius (about 8 neighbour pairs on a 16 × 16 grid), not along two as modulo a half turn.
 TEST(GltfAnisotropyConversion, RotationTextureOfADiscJumpsAlongOneRadius) {
   constexpr int kSize = 16;
   Texture directions;
@@ -277,8 +290,9 @@ TEST(GltfAnisotropyConversion, RotationTextureOfADiscJumpsAlongOneRadius) {
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
       const double a = std::atan2(y - 7.5, x - 7.5) + kPi / 2.0;  // tangential
-      directions.pixels.insert(directions.pixels.end(), {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
-                                                          uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
+      directions.pixels.insert(directions.pixels.end(),
+                               {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
+                                uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
     }
   }
   GltfAnisotropyInput in;
@@ -296,7 +310,8 @@ TEST(GltfAnisotropyConversion, RotationTextureOfADiscJumpsAlongOneRadius) {
       if (y + 1 < kSize && std::abs(red[i] - red[i + kSize]) > 64) ++jumps;
       // Every texel still holds its direction, modulo the lobe's half turn.
       const double a = std::atan2(y - 7.5, x - 7.5) + kPi / 2.0;
-      EXPECT_LE(std::abs(std::remainder(2.0 * kPi * red[i] / 255.0 - a, kPi)), degToRad(1.5)) << x << ", " << y;
+      EXPECT_LE(std::abs(std::remainder(2.0 * kPi * red[i] / 255.0 - a, kPi)), degToRad(1.5))
+          << x << ", " << y;
     }
   }
   EXPECT_GE(jumps, 7);
@@ -312,8 +327,9 @@ TEST_F(GltfImport, AnisotropyUnderAClearCoatLobeIsDroppedWithAWarning) {
   const GltfImportResult r = import(b);
   EXPECT_FALSE(onlyMaterialOfMesh().isAnisotropic());
   EXPECT_FLOAT_EQ(onlyMaterialOfMesh().reflectionGlossiness, 0.05f);
-  EXPECT_TRUE(contains(r.warnings, "its anisotropy (KHR_materials_anisotropy) is dropped: the reflection lobe is "
-                                   "the clear coat's"));
+  EXPECT_TRUE(contains(r.warnings,
+                       "its anisotropy (KHR_materials_anisotropy) is dropped: the reflection lobe is "
+                       "the clear coat's"));
 }
 
 // Bad values are input errors naming the file, the JSON path and the value, and leave the scene unchanged.
@@ -324,16 +340,23 @@ TEST_F(GltfImport, BadAnisotropyValuesAreInputErrors) {
     std::string path, text;
   };
   const std::vector<Case> cases = {
-      {{{"anisotropyStrength", 1.5}}, ext + "/anisotropyStrength",
+      {{{"anisotropyStrength", 1.5}},
+       ext + "/anisotropyStrength",
        "material 0 anisotropyStrength is 1.5; glTF requires a value in [0, 1]"},
-      {{{"anisotropyStrength", -0.25}}, ext + "/anisotropyStrength",
+      {{{"anisotropyStrength", -0.25}},
+       ext + "/anisotropyStrength",
        "material 0 anisotropyStrength is -0.25; glTF requires a value in [0, 1]"},
-      {{{"anisotropyStrength", "strong"}}, ext + "/anisotropyStrength", "'anisotropyStrength' must be a number"},
-      {{{"anisotropyStrength", 0.5}, {"anisotropyRotation", "left"}}, ext + "/anisotropyRotation",
+      {{{"anisotropyStrength", "strong"}},
+       ext + "/anisotropyStrength",
+       "'anisotropyStrength' must be a number"},
+      {{{"anisotropyStrength", 0.5}, {"anisotropyRotation", "left"}},
+       ext + "/anisotropyRotation",
        "'anisotropyRotation' must be a number"},
-      {{{"anisotropyStrength", 0.5}, {"anisotropyTexture", {{"index", 3}}}}, ext + "/anisotropyTexture/index",
+      {{{"anisotropyStrength", 0.5}, {"anisotropyTexture", {{"index", 3}}}},
+       ext + "/anisotropyTexture/index",
        "material 0 anisotropyTexture refers to texture 3, but the file has 1 textures"},
-      {{{"anisotropyStrength", 0.5}, {"anisotropyTexture", {{"texCoord", 0}}}}, ext + "/anisotropyTexture",
+      {{{"anisotropyStrength", 0.5}, {"anisotropyTexture", {{"texCoord", 0}}}},
+       ext + "/anisotropyTexture",
        "'anisotropyTexture' needs an 'index'"},
   };
   for (const Case& c : cases) {
@@ -354,7 +377,8 @@ TEST_F(GltfImport, BadAnisotropyValuesAreInputErrors) {
     EXPECT_TRUE(scene_.materials().empty() && scene_.meshes().empty() && scene_.textures().empty());
   }
   // A non-finite rotation cannot be written in JSON: 1e999 overflows, and the file is refused as it is read.
-  GltfBuilder b = withMaterial(anisotropic(0.5, {{"anisotropyStrength", 0.5}, {"anisotropyRotation", 12345.678}}));
+  GltfBuilder b =
+      withMaterial(anisotropic(0.5, {{"anisotropyStrength", 0.5}, {"anisotropyRotation", 12345.678}}));
   const std::filesystem::path file = dir_ / "overflow.gltf";
   b.writeGltf(file);
   std::ifstream in(file);
@@ -365,7 +389,8 @@ TEST_F(GltfImport, BadAnisotropyValuesAreInputErrors) {
     importGltf(scene_, file);
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(file.string() + ": cannot read the glTF file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(file.string() + ": cannot read the glTF file"), std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("number overflow parsing '1e999'"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(scene_.materials().empty());
@@ -373,7 +398,8 @@ TEST_F(GltfImport, BadAnisotropyValuesAreInputErrors) {
 
 // A finite rotation of any size is an angle: it is taken modulo a full turn.
 TEST_F(GltfImport, AnisotropyRotationIsTakenModuloAFullTurn) {
-  GltfBuilder b = withMaterial(anisotropic(0.5, {{"anisotropyStrength", 0.5}, {"anisotropyRotation", 1e300}}));
+  GltfBuilder b =
+      withMaterial(anisotropic(0.5, {{"anisotropyStrength", 0.5}, {"anisotropyRotation", 1e300}}));
   import(b);
   const float rotation = onlyMaterialOfMesh().anisotropyRotationRad;
   EXPECT_TRUE(std::isfinite(rotation));
