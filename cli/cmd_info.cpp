@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/brdf_table.h"
+#include "base/ggx.h"
 #include "cli/baked_manifest.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
@@ -111,6 +112,60 @@ std::string lightText(const sdb::Light& l) {
 
 constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 
+// The anisotropic materials `fly info` lists one by one; a scene with more lists these and counts the rest.
+constexpr size_t kMaxListedAnisotropic = 64;
+
+// The name of the texture a material reference reads, or null when there is none.
+nlohmann::json textureName(const sdb::Scene& scene, const sdb::TextureRef& ref) {
+  return ref ? nlohmann::json(scene.texture(ref.texture).name) : nlohmann::json(nullptr);
+}
+
+// An anisotropic material's lobe as both engines shape it (base/ggx.h, ggxAnisotropicAlphas): the SDB's U, V,
+// glossiness and rotation, the GGX widths they give along U and V, and the textures that replace them per
+// texel (the constants are then the largest glossiness and U).
+nlohmann::json anisotropyJson(const sdb::Scene& scene, const sdb::Material& m) {
+  const vec2 widths =
+      ggxAnisotropicAlphas(m.reflectionGlossiness * m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
+  return {{"material", m.name},
+          {"anisotropy_u", m.anisotropyU},
+          {"anisotropy_v", m.anisotropyV},
+          {"glossiness", m.reflectionGlossiness},
+          {"ggx_alpha_u", widths.x},
+          {"ggx_alpha_v", widths.y},
+          {"rotation_deg", radToDeg(m.anisotropyRotationRad)},
+          {"anisotropy_texture", textureName(scene, m.anisotropyTexture)},
+          {"rotation_texture", textureName(scene, m.anisotropyRotationTexture)},
+          {"glossiness_texture", textureName(scene, m.reflectionGlossinessTexture)}};
+}
+
+// "Brushed: GGX α 0.8275 along U, 0.2500 along V (glossiness 0.6754, U 0.8148, V 0.0000); U turned 30.00°
+// from the tangent", with "per texel ('texture')" for what a texture gives.
+std::string anisotropyText(const sdb::Scene& scene, const sdb::Material& m) {
+  const auto texture = [&](const sdb::TextureRef& ref) {
+    return "'" + scene.texture(ref.texture).name + "'";
+  };
+  std::string s = m.name + ": ";
+  if (m.anisotropyTexture || m.reflectionGlossinessTexture) {
+    s += "U, V " + (m.anisotropyTexture ? "per texel (" + texture(m.anisotropyTexture) + ")"
+                                        : fixed(m.anisotropyU, 4) + ", " + fixed(m.anisotropyV, 4));
+    s += ", glossiness " + (m.reflectionGlossinessTexture
+                                ? "per texel up to " + fixed(m.reflectionGlossiness, 4) + " (" +
+                                      texture(m.reflectionGlossinessTexture) + ")"
+                                : fixed(m.reflectionGlossiness, 4));
+  } else {
+    const vec2 widths =
+        ggxAnisotropicAlphas(m.reflectionGlossiness * m.reflectionGlossiness, m.anisotropyU, m.anisotropyV);
+    s += "GGX α " + fixed(widths.x, 4) + " along U, " + fixed(widths.y, 4) + " along V (glossiness " +
+         fixed(m.reflectionGlossiness, 4) + ", U " + fixed(m.anisotropyU, 4) + ", V " +
+         fixed(m.anisotropyV, 4) + ")";
+  }
+  s += "; U turned " +
+       (m.anisotropyRotationTexture ? "per texel (" + texture(m.anisotropyRotationTexture) + ")"
+                                    : fixed(radToDeg(m.anisotropyRotationRad), 2) + "°") +
+       " from the tangent";
+  return s;
+}
+
 nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::SceneFeatures& f,
                         const LitScene& lit) {
   nlohmann::json j;
@@ -157,6 +212,13 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   j["light"] = {{"default_daylight", lit.defaultDaylight}, {"description", lit.light}};
   j["features"] = f.names();
   j["engine_reflections"] = f.engineReflections;
+  if (f.anisotropicMaterials) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& [id, m] : scene.materials()) {
+      if (m.isAnisotropic()) list.push_back(anisotropyJson(scene, m));
+    }
+    j["anisotropic_materials"] = list;
+  }
   if (f.measuredBrdfs) {
     const MeasuredBrdfs m = measuredBrdfs(scene);
     nlohmann::json tables = nlohmann::json::array();
@@ -225,6 +287,14 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   for (const std::string& n : f.names()) feats += (feats.empty() ? "" : " ") + n;
   o << "features   " << (feats.empty() ? "none" : feats) << "\n";
   for (const auto& [material, choice] : f.engineReflections) o << "reflection " << material << ": " << choice << "\n";
+  size_t anisotropic = 0;
+  for (const auto& [id, m] : scene.materials()) {
+    if (!m.isAnisotropic()) continue;
+    if (anisotropic++ < kMaxListedAnisotropic) o << "anisotropy " << anisotropyText(scene, m) << "\n";
+  }
+  if (anisotropic > kMaxListedAnisotropic) {
+    o << "           … and " << anisotropic - kMaxListedAnisotropic << " more anisotropic materials\n";
+  }
   if (f.measuredBrdfs) {
     // Each table's largest directional albedo: above 1 the baker scales the table down (docs/measured-brdf.md).
     const MeasuredBrdfs m = measuredBrdfs(scene);

@@ -128,6 +128,9 @@ TraceTexture lowerTexture(const sdb::Texture& t) {
 std::vector<vec4> generateTangents(std::span<const vec3> positions, std::span<const vec3> normals,
                                    std::span<const vec2> uv, std::span<const uint32_t> indices) {
   const size_t n = positions.size();
+  // Sums of ∂p/∂u and of ∂p/∂(−v): glTF's bitangent is a normal map's +Y, "up" in the image (glTF 2.0
+  // material.schema.json, normalTexture), and texture coordinates start at the image's upper left corner (glTF
+  // 2.0 specification, "Images"), so up is −v.
   std::vector<dvec3> tangentSum(n, dvec3(0.0)), bitangentSum(n, dvec3(0.0));
   if (uv.size() == n) {
     for (size_t k = 0; k + 2 < indices.size(); k += 3) {
@@ -136,13 +139,13 @@ std::vector<vec4> generateTangents(std::span<const vec3> positions, std::span<co
       const dvec3 e2 = dvec3(positions[i2]) - dvec3(positions[i0]);
       const dvec2 d1 = dvec2(uv[i1]) - dvec2(uv[i0]);
       const dvec2 d2 = dvec2(uv[i2]) - dvec2(uv[i0]);
-      // ∂p/∂u and ∂p/∂v of the triangle (Lengyel, "Mathematics for 3D Game Programming and Computer
-      // Graphics", 3rd ed., §7.8.3), weighted by the triangle's area: e = Δu · T + Δv · B.
+      // ∂p/∂u and −∂p/∂v of the triangle (Lengyel, "Mathematics for 3D Game Programming and Computer
+      // Graphics", 3rd ed., §7.8.3: e = Δu · ∂p/∂u + Δv · ∂p/∂v), weighted by the triangle's area.
       const double det = d1.x * d2.y - d2.x * d1.y;
       if (!(std::abs(det) > 0.0) || !std::isfinite(det)) continue;
       const double area = 0.5 * glm::length(glm::cross(e1, e2));
       const dvec3 t = (e1 * d2.y - e2 * d1.y) / det;
-      const dvec3 b = (e2 * d1.x - e1 * d2.x) / det;
+      const dvec3 b = (e1 * d2.x - e2 * d1.x) / det;  // −∂p/∂v
       const double tl = glm::length(t), bl = glm::length(b);
       if (!(tl > 0.0) || !(bl > 0.0) || !std::isfinite(tl) || !std::isfinite(bl)) continue;
       for (uint32_t i : {i0, i1, i2}) {

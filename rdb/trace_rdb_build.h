@@ -75,8 +75,9 @@ TraceTexture lowerTexture(const sdb::Texture& t);
 
 // Unit tangents per vertex for normal mapping and the axes of anisotropic reflection when the file gives none: at each vertex the area-weighted sum
 // of its triangles' ∂p/∂u (from the UV derivatives), made perpendicular to the vertex normal, and w = ±1 the
-// sign that makes w · N × T point along the summed ∂p/∂v. This per-vertex method agrees with MikkTSpace
-// (which glTF names for files without tangents) on smooth, consistently mapped meshes; where the UVs give no
+// sign that makes w · N × T point along the summed ∂p/∂(−v), towards the image's top (glTF's bitangent, the
+// +Y of a normal map, as the GL engine's tangents in rdb/raster_rdb.h). This per-vertex method agrees with
+// MikkTSpace (which glTF names for files without tangents) on smooth, consistently mapped meshes; where the UVs give no
 // direction (no UVs, degenerate mapping) the tangent is any unit vector perpendicular to the normal.
 std::vector<vec4> generateTangents(std::span<const vec3> positions, std::span<const vec3> normals,
                                    std::span<const vec2> uv, std::span<const uint32_t> indices);

@@ -43,14 +43,18 @@
 //  - KHR_materials_clearcoat → applyClearCoat and KHR_materials_sheen → applySheen (material_layers.h, where
 //    the approximations are stated); when the coat is the lobe, clearcoatTexture (red) → reflectionTexture
 //    and clearcoatRoughnessTexture (green) → reflectionGlossinessTexture.
+//  - KHR_materials_anisotropy → reflectionGlossiness, anisotropyU / V and the rotation, as constants or as
+//    textures converted per texel from anisotropyTexture and metallicRoughnessTexture's roughness
+//    (gltf_anisotropy.h, where the mapping and its one limit, a width ratio of at most 10, are stated).
 //  - A primitive without a material gets fly's default material (Material{}, a light grey paint, named
 //    "default") rather than glTF's default (§3.9.6: a white rough metal), which would act as a blurred mirror
 //    in a bake.
 // Sources: glTF 2.0 specification §3.9 "Materials" and Appendix B
 // (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html); the Khronos extension specifications
 // KHR_materials_transmission, KHR_materials_volume, KHR_materials_ior, KHR_materials_specular,
-// KHR_materials_emissive_strength, KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_variants,
-// KHR_texture_transform, KHR_lights_punctual, KHR_draco_mesh_compression and KHR_texture_basisu
+// KHR_materials_emissive_strength, KHR_materials_clearcoat, KHR_materials_sheen, KHR_materials_anisotropy,
+// KHR_materials_variants, KHR_texture_transform, KHR_lights_punctual, KHR_draco_mesh_compression and
+// KHR_texture_basisu
 // (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Khronos), EXT_meshopt_compression and
 // EXT_texture_webp (https://github.com/KhronosGroup/glTF/tree/main/extensions/2.0/Vendor).
 //
@@ -71,6 +75,7 @@
 #include <tiny_gltf.h>
 
 #include "sdb/draco_decode.h"
+#include "sdb/gltf_anisotropy.h"
 #include "sdb/gltf_files.h"
 #include "sdb/material_layers.h"
 #include "sdb/meshopt_decode.h"
@@ -114,9 +119,10 @@ static_assert(std::endian::native == std::endian::little,
 // Extensions whose content the importer converts (see the comment block above and gltf_import.h).
 // KHR_mesh_quantization only widens the component types allowed for attributes, which readAccessor handles.
 // KHR_materials_variants: the default materials (those without a variant) are imported.
-constexpr std::array<std::string_view, 14> kSupportedExtensions = {"EXT_meshopt_compression",
+constexpr std::array<std::string_view, 15> kSupportedExtensions = {"EXT_meshopt_compression",
                                                                    "KHR_draco_mesh_compression",
                                                                    "KHR_lights_punctual",
+                                                                   "KHR_materials_anisotropy",
                                                                    "KHR_materials_clearcoat",
                                                                    "KHR_materials_emissive_strength",
                                                                    "KHR_materials_ior",
@@ -144,7 +150,7 @@ struct UnsupportedExtension {
   std::string_view ignored;  // what is lost when the file only uses it (a warning)
   std::string_view hint;     // how to get a file fly reads when the file requires it
 };
-constexpr std::array<UnsupportedExtension, 9> kUnsupportedExtensions = {{
+constexpr std::array<UnsupportedExtension, 8> kUnsupportedExtensions = {{
     {"EXT_texture_webp",
      "its WebP textures are not decoded (no image decoder that reads WebP is installed); "
      "the fallback PNG or JPEG images are used where the file gives them",
@@ -157,8 +163,6 @@ constexpr std::array<UnsupportedExtension, 9> kUnsupportedExtensions = {{
      "unlit materials are shaded as lit, with their base colour as the diffuse colour "
      "(fly computes physical light, and an unlit surface has none)",
      "export the materials as ordinary metallic-roughness materials"},
-    {"KHR_materials_anisotropy", "the anisotropy of the reflection is ignored (the lobe is isotropic)",
-     "export the file without KHR_materials_anisotropy"},
     {"KHR_materials_iridescence", "the thin-film iridescence is ignored", "export the file without it"},
     {"KHR_materials_dispersion", "dispersion is ignored (one ior for all wavelengths)",
      "export the file without it"},
@@ -2007,6 +2011,9 @@ class Importer {
           texInfo(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions),
           ppath + "/baseColorTexture", label + " baseColorTexture", Channels::kAll);
     }
+    // KHR_materials_anisotropy stretches the base's lobe; its conversion takes in the roughness texture.
+    const tinygltf::Value* anisotropy = extension(gm, "KHR_materials_anisotropy");
+    const bool anisotropic = anisotropy && importAnisotropy(*anisotropy, gm, path, label, coatIsLobe, &m);
     if (coatIsLobe) {
       // The lobe is the coat's: its factor (red) and roughness (green) textures take the reflection slots.
       m.reflectionTexture =
@@ -2020,7 +2027,7 @@ class Importer {
         m.reflectionTexture = m.diffuseTexture;
         m.reflectionTextureSrgb = true;
       }
-      if (pbr.metallicRoughnessTexture.index >= 0) {
+      if (!anisotropic && pbr.metallicRoughnessTexture.index >= 0) {
         const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
         m.reflectionGlossinessTexture =
             textureRef(texInfo(t.index, t.texCoord, t.extensions), ppath + "/metallicRoughnessTexture",
@@ -2104,9 +2111,101 @@ class Importer {
     return materialIds_[i] = pendingId<MaterialId>(materials_.size() - 1);
   }
 
+  // KHR_materials_anisotropy (sdb/gltf_anisotropy.h): the base's roughness (factor and metallicRoughnessTexture)
+  // and the extension's strength, rotation and texture become m's glossiness, anisotropy and rotation, as
+  // constants or as textures on the anisotropy texture's grid (else the roughness texture's), sampled as that
+  // texture is. The values are checked in any case; false, leaving m as it was, where the lobe stays isotropic
+  // (strength 0, or roughness 1) or is the clear coat's (`coatIsLobe`), which the extension does not stretch.
+  bool importAnisotropy(const tinygltf::Value& e, const tinygltf::Material& gm, const std::string& path,
+                        const std::string& label, bool coatIsLobe, Material* m) {
+    const std::string epath = path + "/extensions/KHR_materials_anisotropy";
+    GltfAnisotropyInput in;
+    in.roughness = float(gm.pbrMetallicRoughness.roughnessFactor);  // checked by material()
+    in.strength = unitFactor(extNumber(e, "anisotropyStrength", 0.0, epath), epath + "/anisotropyStrength",
+                             label + " anisotropyStrength");
+    // JSON numbers are finite (the parser refuses 1e999); taken modulo a full turn, so that none becomes
+    // infinite as a float.
+    in.rotationRad = float(std::remainder(extNumber(e, "anisotropyRotation", 0.0, epath), 2.0 * kPi));
+    int anisotropyImage = -1;
+    const TextureRef anisotropyRef =
+        sampling(extensionTexInfo(e, "anisotropyTexture", epath), epath + "/anisotropyTexture",
+                 label + " anisotropyTexture", &anisotropyImage);
+    if (in.strength <= 0.0f) return false;
+    if (coatIsLobe) {
+      warn(label +
+           ": its anisotropy (KHR_materials_anisotropy) is dropped: the reflection lobe is the clear "
+           "coat's, which the anisotropy does not stretch");
+      return false;
+    }
+    const tinygltf::TextureInfo& mr = gm.pbrMetallicRoughness.metallicRoughnessTexture;
+    const std::string mrWhat = label + " metallicRoughnessTexture";
+    int roughnessImage = -1;
+    const TextureRef roughnessRef =
+        sampling(texInfo(mr.index, mr.texCoord, mr.extensions),
+                 path + "/pbrMetallicRoughness/metallicRoughnessTexture", mrWhat, &roughnessImage);
+    if (anisotropyImage >= 0) {
+      in.anisotropyTexture = &decodedImage(size_t(anisotropyImage), label + " anisotropyTexture");
+    }
+    if (roughnessImage >= 0) {
+      const UvTransform& a = anisotropyRef.transform;
+      const UvTransform& r = roughnessRef.transform;
+      if (in.anisotropyTexture && (anisotropyRef.texCoord != roughnessRef.texCoord || a.offset != r.offset ||
+                                   a.rotationRad != r.rotationRad || a.scale != r.scale)) {
+        in.roughness *= meanChannel(mr.index, 1, false, mrWhat);
+        warn(label +
+             ": its metallicRoughnessTexture and anisotropyTexture lie on different texture "
+             "coordinates; the anisotropy is converted with the roughness's mean over the image");
+      } else {
+        in.roughnessTexture = &decodedImage(size_t(roughnessImage), mrWhat);
+        in.roughnessWrapS = roughnessRef.wrapS;
+        in.roughnessWrapT = roughnessRef.wrapT;
+      }
+    }
+    GltfAnisotropyConversion c = convertGltfAnisotropy(in);
+    if (!c.anisotropic) return false;
+    m->reflectionGlossiness = c.glossiness;
+    m->anisotropyU = c.anisotropyU;
+    m->anisotropyV = c.anisotropyV;
+    m->anisotropyRotationRad = c.rotationRad;
+    const bool onAnisotropyGrid = in.anisotropyTexture != nullptr;
+    const Texture* grid = onAnisotropyGrid ? in.anisotropyTexture : in.roughnessTexture;
+    auto add = [&](std::optional<Texture>& t, const std::string& what) -> TextureRef {
+      if (!t) return {};
+      t->name = grid->name + " (" + what + ")";
+      t->sourcePath = grid->sourcePath;
+      charge(t->pixels.size(), onAnisotropyGrid ? epath + "/anisotropyTexture" : path, label + " " + what);
+      textures_.push_back(std::move(*t));
+      TextureRef ref = onAnisotropyGrid ? anisotropyRef : roughnessRef;
+      ref.texture = pendingId<TextureId>(textures_.size() - 1);
+      return ref;
+    };
+    m->reflectionGlossinessTexture = add(c.glossinessTexture, "glossiness");
+    m->anisotropyTexture = add(c.anisotropyTexture, "anisotropy");
+    m->anisotropyRotationTexture = add(c.rotationTexture, "anisotropy rotation");
+    if (c.clampedTexels > 0) {
+      const vec2 asked = gltfAnisotropicAlphas(in.roughness, in.strength);
+      warn(label + ": its anisotropy stretches the lobe more than fly's limit of 10:1" +
+           (c.texels > 1
+                ? " at " + std::to_string(c.clampedTexels) + " of " + std::to_string(c.texels) + " texels"
+                : " (GGX α " + str(asked.x) + " along, " + str(asked.y) + " across)") +
+           "; there the lobe keeps glTF's width along the anisotropy direction and is a tenth of it across "
+           "(docs/scene-format.md, \"Anisotropy\")");
+    }
+    return true;
+  }
+
   // --- Textures (glTF 2.0 §3.8; KHR_texture_transform).
   TextureRef textureRef(const TexInfo& info, const std::string& path, const std::string& what,
                         Channels channels) {
+    int image = -1;
+    TextureRef ref = sampling(info, path, what, &image);
+    if (image >= 0) ref.texture = imageTexture(size_t(image), channels, what);
+    return ref;
+  }
+
+  // A texture reference checked and converted as textureRef does, without its texture: how it is sampled,
+  // and in *image the glTF image it samples (−1 when there is none: no reference, or an image fly cannot read).
+  TextureRef sampling(const TexInfo& info, const std::string& path, const std::string& what, int* image) {
     TextureRef ref;
     if (info.index < 0) return ref;
     if (size_t(info.index) >= model_.textures.size()) {
@@ -2161,7 +2260,7 @@ class Importer {
       ref.magFilter = magFilter(s.magFilter, spath + "/magFilter");
       ref.minFilter = minFilter(s.minFilter, spath + "/minFilter");
     }
-    ref.texture = imageTexture(size_t(t.source), channels, what);
+    *image = t.source;
     return ref;
   }
 

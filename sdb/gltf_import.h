@@ -3,7 +3,8 @@
 // Conversions (documented in docs/scene-format.md, "glTF conversion"):
 // - metallic-roughness → realistic material (see gltf_import.cpp for the approximation and its source);
 // - KHR_lights_punctual, KHR_materials_emissive_strength, _transmission, _volume, _ior, _specular,
-//   _clearcoat, _sheen (material_layers.h), _variants (the default materials), KHR_texture_transform,
+//   _clearcoat, _sheen (material_layers.h), _anisotropy (gltf_anisotropy.h), _variants (the default
+//   materials), KHR_texture_transform,
 //   EXT_texture_webp (with an image decoder that reads WebP), KHR_mesh_quantization;
 // - compressed meshes: KHR_draco_mesh_compression (Draco) and EXT_meshopt_compression (meshoptimizer);
 // - doubleSided → Material::doubleSided and Mesh::twoSided; TEXCOORD_1 → Mesh::uv1; cameras;

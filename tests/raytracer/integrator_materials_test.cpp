@@ -268,13 +268,13 @@ TEST(IntegratorMaterials, NormalMapTiltsTheReflectionAndGeometryStillBlocks) {
   constexpr float kAlpha = 0.5235988f;  // 30°
   const float rho = 0.6f;
   const Rgb lightLux(1000.0f);
-  // Tangent space: x along u (+z here), y along the bitangent N × T = +x. The map's bytes, and the normal
-  // they encode after 8-bit rounding.
-  const vec3 encoded(127.5f, 127.5f + 127.5f * std::sin(kAlpha), 127.5f + 127.5f * std::cos(kAlpha));
+  // Tangent space: x along u (+z here), y along the bitangent, the image's up −v = −x (glTF's), so a tilt
+  // towards +x is −y. The map's bytes, and the normal they encode after 8-bit rounding.
+  const vec3 encoded(127.5f, 127.5f - 127.5f * std::sin(kAlpha), 127.5f + 127.5f * std::cos(kAlpha));
   const std::vector<uint8_t> map = {uint8_t(std::lround(encoded.x)), uint8_t(std::lround(encoded.y)),
                                     uint8_t(std::lround(encoded.z))};
   const vec3 local = glm::normalize(vec3(map[0], map[1], map[2]) / 255.0f * 2.0f - 1.0f);
-  const vec3 ns = glm::normalize(vec3(local.y, local.z, local.x));  // (x, y, z) world of (B, N, T)
+  const vec3 ns = glm::normalize(vec3(-local.y, local.z, local.x));  // world (x, y, z) = (−B, N, T)
   auto scene = [&](const vec3& toLight) {
     rdb::TraceRdbBuilder b;
     const uint32_t tex = b.texture(1, 1, 3, map);
@@ -289,7 +289,7 @@ TEST(IntegratorMaterials, NormalMapTiltsTheReflectionAndGeometryStillBlocks) {
   const rdb::TraceRdb lit = scene(glm::normalize(vec3(1, 1, 0)));
   for (const vec4& t : lit.tangents) {
     EXPECT_NEAR(t.z, 1.0f, 1e-6f);  // ∂p/∂u = +z
-    EXPECT_EQ(t.w, 1.0f);
+    EXPECT_EQ(t.w, -1.0f);          // w · N × T = −(+Y × +Z) = −x
   }
   Sensors s;
   const float cosLight = glm::dot(ns, glm::normalize(vec3(1, 1, 0)));

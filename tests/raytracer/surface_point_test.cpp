@@ -227,14 +227,15 @@ TEST(SurfacePoint, AnisotropyTexturesAndTangentFrame) {
   const Bsdf bur(unrotatedRight, true);
   EXPECT_LT(bur.eval(wo, alongU).g, bur.eval(wo, alongV).g);
 
+  // The tangent is +u = +z; the bitangent points to the image's up, −v = −x (glTF's), on either face.
   b.rdb.tangents = rdb::generateTangents(b.rdb.positionsM, b.rdb.normals, b.rdb.uv0, b.rdb.indices);
   const vec3 up(0, 1, 0);
   const Onb front = shadingFrameAt(b.rdb, m, left, up, true);
   EXPECT_NEAR(glm::distance(front.tangent, vec3(0, 0, 1)), 0.0f, 1e-6f);
-  EXPECT_NEAR(glm::distance(front.bitangent, vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(front.bitangent, vec3(-1, 0, 0)), 0.0f, 1e-6f);
   const Onb back = shadingFrameAt(b.rdb, m, left, -up, false);
   EXPECT_NEAR(glm::distance(back.tangent, vec3(0, 0, 1)), 0.0f, 1e-6f);
-  EXPECT_NEAR(glm::distance(back.bitangent, vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(back.bitangent, vec3(-1, 0, 0)), 0.0f, 1e-6f);
   EXPECT_EQ(back.normal, -up);
   // A tilted shading normal: the tangent made perpendicular to it, the frame orthonormal.
   const vec3 tilted = glm::normalize(vec3(0.0f, 1.0f, 0.5f));
@@ -242,7 +243,7 @@ TEST(SurfacePoint, AnisotropyTexturesAndTangentFrame) {
   EXPECT_NEAR(glm::dot(t.tangent, tilted), 0.0f, 1e-6f);
   EXPECT_NEAR(glm::length(t.tangent), 1.0f, 1e-6f);
   EXPECT_NEAR(glm::dot(t.bitangent, t.tangent), 0.0f, 1e-6f);
-  EXPECT_NEAR(glm::dot(t.bitangent, vec3(1, 0, 0)), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(t.bitangent, vec3(-1, 0, 0)), 1.0f, 1e-6f);
   EXPECT_GT(t.tangent.z, 0.8f);
   // Isotropic materials get the plain basis around the normal.
   const rdb::TraceMaterial isotropic;

@@ -268,8 +268,8 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
   EXPECT_TRUE(r.uv1.empty());
   EXPECT_TRUE(r.tangents.empty());
 
-  // A normal map needs tangents: from the UVs, ∂p/∂u = +x and ∂p/∂v = +z, and N × T = +Y × +X = −Z, so w =
-  // −1.
+  // A normal map needs tangents: from the UVs, ∂p/∂u = +x and ∂p/∂v = +z; the bitangent points to the image's
+  // up, −v = −Z, and N × T = +Y × +X = −Z, so w = +1 (as the GL engine's, raster_rdb_test.cpp).
   Scene n;
   sdb::Material bumpy;
   bumpy.bumpTexture.texture = n.addTexture(sixteen).id;
@@ -280,7 +280,7 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
   ASSERT_EQ(withMap.tangents.size(), 4u);
   for (const vec4& tangent : withMap.tangents) {
     expectVec(vec3(tangent), vec3(1, 0, 0));
-    EXPECT_EQ(tangent.w, -1.0f);
+    EXPECT_EQ(tangent.w, 1.0f);
   }
   EXPECT_TRUE(withMap.colors.empty());
 
@@ -299,7 +299,7 @@ TEST(TraceRdbMaterials, TexturesSlotsAndOnlyTheAttributesMaterialsRead) {
   ASSERT_EQ(anisotropic.tangents.size(), 8u);
   for (size_t i = 0; i < 4; ++i) {
     expectVec(vec3(anisotropic.tangents[i]), vec3(1, 0, 0));
-    EXPECT_EQ(anisotropic.tangents[i].w, -1.0f);
+    EXPECT_EQ(anisotropic.tangents[i].w, 1.0f);
   }
   ASSERT_EQ(anisotropic.materials.size(), 3u);
   const TraceMaterial& lowered = anisotropic.materials[1];
