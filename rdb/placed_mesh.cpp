@@ -13,9 +13,8 @@ std::optional<vec3> unitOrNone(const dvec3& v) {
 }
 
 PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal) {
-  PlacedMesh placed;
   std::vector<vec3> positionsM, normals;
-  placed = placeMesh(mesh, worldFromLocal, positionsM, normals);
+  PlacedMesh placed = placeMesh(mesh, worldFromLocal, positionsM, normals);
   placed.positionsM = std::move(positionsM);
   placed.normals = std::move(normals);
   return placed;

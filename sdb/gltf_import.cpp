@@ -1157,8 +1157,8 @@ class Importer {
     }
   };
 
-  // The elements as float vectors of N components (the accessor's own number, or 3 for a VEC4's first
-  // three; a VEC3 read as VEC4 gets w = 1), each component converted by component() and then to float.
+  // The elements as float vectors of N components: the accessor's components (at most N) converted by
+  // component() and then to float, any further ones 1 (a VEC3 colour read as VEC4 is opaque).
   template <int N>
   static std::vector<glm::vec<N, float>> floatVectors(const AccessorData& d) {
     using V = glm::vec<N, float>;
@@ -1172,8 +1172,9 @@ class Importer {
         for (int c = 0; c < have; ++c) v[c] = 0.0f;
       }
     } else if (d.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-      // float → double → float is exact: copy the bytes.
-      for (size_t e = 0; e < n; ++e) std::memcpy(&out[e], d.data + e * d.stride, sizeof(float) * size_t(have));
+      // float → double → float is the identity (up to NaN payloads, which the mesh repairs replace): copy.
+      const size_t bytes = sizeof(float) * size_t(have);
+      for (size_t e = 0; e < n; ++e) std::memcpy(&out[e], d.data + e * d.stride, bytes);
     } else {
       for (size_t e = 0; e < n; ++e) {
         for (int c = 0; c < have; ++c) out[e][c] = static_cast<float>(d.at(e, size_t(c)));
