@@ -51,7 +51,7 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
   normals_.assign(triangleCount, vec3(0.0f));
   areasM2_.assign(triangleCount, 0.0f);
   magnitudesM_.assign(triangleCount, 0.0f);
-  std::vector<uint32_t> validIndices;
+  triangleOfPrimitive_.reserve(triangleCount);
   for (size_t t = 0; t < triangleCount; ++t) {
     const uint32_t i0 = rdb.indices[3 * t], i1 = rdb.indices[3 * t + 1], i2 = rdb.indices[3 * t + 2];
     if (i0 >= rdb.positionsM.size() || i1 >= rdb.positionsM.size() || i2 >= rdb.positionsM.size()) {
@@ -72,7 +72,6 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
     normals_[t] = n;
     areasM2_[t] = static_cast<float>(0.5 * twiceArea);
     magnitudesM_[t] = std::max({maxAbs(p0), maxAbs(p1), maxAbs(p2)});
-    validIndices.insert(validIndices.end(), {i0, i1, i2});
     triangleOfPrimitive_.push_back(static_cast<uint32_t>(t));
   }
 
@@ -101,7 +100,9 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
     auto* indices =
         static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                        3 * sizeof(uint32_t), triangleOfPrimitive_.size()));
-    std::copy(validIndices.begin(), validIndices.end(), indices);
+    for (size_t k = 0; k < triangleOfPrimitive_.size(); ++k) {
+      std::copy_n(&rdb.indices[3 * size_t(triangleOfPrimitive_[k])], 3, indices + 3 * k);
+    }
     rtcSetGeometryUserData(geometry, this);
     rtcSetGeometryIntersectFilterFunction(geometry, filterHits);
     rtcSetGeometryOccludedFilterFunction(geometry, filterHits);

@@ -27,6 +27,11 @@ struct PlacedMesh {
 };
 
 PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal);
+// The same, with the positions and normals appended to positionsM and normals (which keep what they held)
+// rather than stored in the result, whose positionsM and normals stay empty; indices stay local to the mesh.
+// For a caller that gathers many meshes into one array, without copying each.
+PlacedMesh placeMesh(const sdb::Mesh& mesh, const mat4& worldFromLocal, std::vector<vec3>& positionsM,
+                     std::vector<vec3>& normals);
 
 // A light's placement: its node's origin, its photometric axis (the node's −Z) and the C = 0° half-plane
 // direction (the node's +X made perpendicular to the axis), world space, unit. InputError naming the scene

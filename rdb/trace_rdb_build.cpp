@@ -314,12 +314,10 @@ class Builder {
     tm.firstTriangle = uint32_t(rdb_.triangleCount());
     tm.twoSided = mesh.twoSided;
 
-    const PlacedMesh placed = placeMesh(mesh, worldFromLocal);
-    for (const vec3& p : placed.positionsM) {
-      rdb_.positionsM.push_back(p);
-      rdb_.boundsM.extend(p);
-    }
-    rdb_.normals.insert(rdb_.normals.end(), placed.normals.begin(), placed.normals.end());
+    const PlacedMesh placed = placeMesh(mesh, worldFromLocal, rdb_.positionsM, rdb_.normals);
+    const std::span<const vec3> positionsM(rdb_.positionsM.data() + tm.firstVertex, mesh.vertexCount());
+    const std::span<const vec3> normals(rdb_.normals.data() + tm.firstVertex, mesh.vertexCount());
+    for (const vec3& p : positionsM) rdb_.boundsM.extend(p);
     rdb_.skippedTriangles += placed.skippedTriangles;
     // The per-vertex attributes that some material reads (build() found which), for every vertex.
     auto append = [](bool needed, auto& to, const auto& from, size_t count, const auto& fallback) {
@@ -342,7 +340,7 @@ class Builder {
         const glm::dmat3 linear(worldFromLocal);
         const double sign = glm::determinant(linear) < 0.0 ? -1.0 : 1.0;
         for (size_t i = 0; i < mesh.vertexCount(); ++i) {
-          const dvec3 n(placed.normals[i]);
+          const dvec3 n(normals[i]);
           dvec3 t = linear * dvec3(vec3(mesh.tangents[i]));
           t -= glm::dot(t, n) * n;
           const std::optional<vec3> unit = unitOrNone(t);
@@ -363,8 +361,7 @@ class Builder {
             std::to_string(uvSlot.texCoord == 1 ? 1 : 0) +
             " to give its direction; the baker uses an arbitrary tangent (add UVs or tangents)");
       }
-      const std::vector<vec4> generated =
-          generateTangents(placed.positionsM, placed.normals, uv, placed.indices);
+      const std::vector<vec4> generated = generateTangents(positionsM, normals, uv, placed.indices);
       if (tangents.empty()) {
         tangents = generated;
       } else {
@@ -389,20 +386,26 @@ class Builder {
   // Sum of the areas of tm's triangles (m²) and whether they all lie in one plane (face normals within
   // options_.autoLightTextureMaxAngleDeg of their area-weighted mean).
   std::pair<double, bool> areaAndFlatness(const TraceMesh& tm) const {
-    std::vector<dvec3> faceNormals;  // length = twice the area
-    dvec3 sum(0.0);
-    for (uint32_t t = tm.firstTriangle; t < tm.firstTriangle + tm.triangleCount; ++t) {
+    auto faceNormal = [&](uint32_t t) {  // length = twice the area
       const uint32_t* v = &rdb_.indices[3 * size_t(t)];
       const dvec3 p0(rdb_.positionsM[v[0]]);
-      faceNormals.push_back(glm::cross(dvec3(rdb_.positionsM[v[1]]) - p0, dvec3(rdb_.positionsM[v[2]]) - p0));
-      sum += faceNormals.back();
-    }
+      return glm::cross(dvec3(rdb_.positionsM[v[1]]) - p0, dvec3(rdb_.positionsM[v[2]]) - p0);
+    };
+    const uint32_t end = tm.firstTriangle + tm.triangleCount;
+    dvec3 sum(0.0);
     double area = 0.0;
-    for (const dvec3& n : faceNormals) area += 0.5 * glm::length(n);
+    for (uint32_t t = tm.firstTriangle; t < end; ++t) {
+      const dvec3 n = faceNormal(t);
+      sum += n;
+      area += 0.5 * glm::length(n);
+    }
     const std::optional<vec3> mean = unitOrNone(sum);
     const double cosMax = std::cos(degToRad(double(options_.autoLightTextureMaxAngleDeg)));
     bool flat = mean.has_value();
-    for (const dvec3& n : faceNormals) flat = flat && glm::dot(n, dvec3(*mean)) >= cosMax * glm::length(n);
+    for (uint32_t t = tm.firstTriangle; flat && t < end; ++t) {
+      const dvec3 n = faceNormal(t);
+      flat = glm::dot(n, dvec3(*mean)) >= cosMax * glm::length(n);
+    }
     return {area, flat};
   }
 

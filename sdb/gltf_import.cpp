@@ -1122,12 +1122,85 @@ class Importer {
     return *e.mirrored;
   }
 
-  // An accessor read as doubles, `components` per element (double holds every 32-bit index exactly).
+  // An accessor's elements where they lie, after every byte range they and their sparse substitution
+  // (glTF 2.0 §3.6.2.3) touch has been checked: component c of element e is at(e, c), converted by
+  // component(), with the sparse values replacing elements when applySparse is called. Read in place rather
+  // than copied, since a mesh's attributes are most of the data a glTF file holds.
   struct AccessorData {
-    std::vector<double> values;
-    int components = 0;
-    size_t count() const { return components ? values.size() / size_t(components) : 0; }
+    const unsigned char* data = nullptr;  // element 0; null for an accessor without a buffer view (all zeros)
+    size_t stride = 0;                    // bytes from one element to the next
+    size_t elements = 0;
+    int components = 0;  // 0: no accessor
+    int componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    bool normalized = false;
+    // Sparse substitution: `sparseCount` element indices of type sparseIndexType and their values, tightly
+    // packed.
+    size_t sparseCount = 0;
+    const unsigned char* sparseIndices = nullptr;
+    int sparseIndexType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    const unsigned char* sparseValues = nullptr;
+
+    size_t count() const { return components ? elements : 0; }
+    bool empty() const { return count() == 0; }
+    double at(size_t e, size_t c) const {
+      if (!data) return 0.0;
+      return component(data + e * stride + c * componentSize(componentType), componentType, normalized);
+    }
+    // Calls f(element, component, value) for every sparse value, in the file's order (later ones win).
+    template <typename F>
+    void applySparse(F&& f) const {
+      const auto n = size_t(components);
+      const size_t compSize = componentSize(componentType);
+      const size_t indexSize = componentSize(sparseIndexType);
+      for (size_t k = 0; k < sparseCount; ++k) {
+        const auto target = size_t(component(sparseIndices + k * indexSize, sparseIndexType, false));
+        for (size_t c = 0; c < n; ++c) {
+          f(target, c, component(sparseValues + (k * n + c) * compSize, componentType, normalized));
+        }
+      }
+    }
   };
+
+  // The elements as float vectors of N components: the accessor's components (at most N) converted by
+  // component() and then to float, any further ones 1 (a VEC3 colour read as VEC4 is opaque).
+  template <int N>
+  static std::vector<glm::vec<N, float>> floatVectors(const AccessorData& d) {
+    using V = glm::vec<N, float>;
+    std::vector<V> out;
+    if (d.empty()) return out;
+    const size_t n = d.count();
+    const int have = std::min(N, d.components);
+    out.resize(n, V(1.0f));
+    if (!d.data) {
+      for (V& v : out) {
+        for (int c = 0; c < have; ++c) v[c] = 0.0f;
+      }
+    } else if (d.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+      // float → double → float is the identity (up to NaN payloads, which the mesh repairs replace): copy.
+      const size_t bytes = sizeof(float) * size_t(have);
+      for (size_t e = 0; e < n; ++e) std::memcpy(&out[e], d.data + e * d.stride, bytes);
+    } else {
+      for (size_t e = 0; e < n; ++e) {
+        for (int c = 0; c < have; ++c) out[e][c] = static_cast<float>(d.at(e, size_t(c)));
+      }
+    }
+    d.applySparse([&](size_t e, size_t c, double v) {
+      if (int(c) < have) out[e][int(c)] = static_cast<float>(v);
+    });
+    return out;
+  }
+
+  // The elements' components in order as doubles (double holds every 32-bit index exactly), sparse values
+  // substituted.
+  static std::vector<double> doubles(const AccessorData& d) {
+    const auto n = size_t(d.components);
+    std::vector<double> out(d.count() * n);
+    for (size_t e = 0; e < d.count(); ++e) {
+      for (size_t c = 0; c < n; ++c) out[e * n + c] = d.at(e, c);
+    }
+    d.applySparse([&](size_t e, size_t c, double v) { out[e * n + c] = v; });
+    return out;
+  }
 
   // A buffer view after checking that it lies inside its buffer (glTF 2.0 §3.6.1).
   const unsigned char* bufferViewData(int view, const std::string& referrer, const std::string& refPath,
@@ -1230,7 +1303,7 @@ class Importer {
     }
   }
 
-  // Reads accessor `index` (glTF 2.0 §3.6.2), including byteStride and sparse substitution (§3.6.2.3), after
+  // Accessor `index` (glTF 2.0 §3.6.2), including byteStride and sparse substitution (§3.6.2.3), after
   // checking every byte range it touches. `role` says what it is for ("POSITION of mesh 'Wall' primitive 0");
   // `types` lists the glTF types the role allows.
   AccessorData readAccessor(int index, const std::string& role, const std::string& refPath,
@@ -1254,6 +1327,9 @@ class Importer {
     }
     AccessorData out;
     out.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    out.componentType = a.componentType;
+    out.normalized = a.normalized;
+    out.elements = a.count;
     const auto components = size_t(out.components);
     const size_t elementSize = compSize * components;
     // Charged as fly stores it (4-byte floats and indices), before the file's data is looked at, so that a
@@ -1284,24 +1360,17 @@ class Importer {
                  std::to_string(a.bufferView) + " has " + std::to_string(viewLength) + " bytes",
              kHintTruncated);
       }
-      out.values.resize(a.count * components);
-      for (size_t e = 0; e < a.count; ++e) {
-        const unsigned char* p = view + a.byteOffset + e * stride;
-        for (size_t c = 0; c < components; ++c) {
-          out.values[e * components + c] = component(p + c * compSize, a.componentType, a.normalized);
-        }
-      }
-    } else {
-      out.values.assign(a.count * components, 0.0);
+      out.data = view + a.byteOffset;
+      out.stride = stride;
     }
-    if (a.sparse.isSparse) readSparse(a, label, path, compSize, &out);
+    if (a.sparse.isSparse) checkSparse(a, label, path, compSize, &out);
     return out;
   }
 
   // Sparse substitution (glTF 2.0 §3.6.2.3): `count` element indices and tightly packed values replace
-  // elements.
-  void readSparse(const tinygltf::Accessor& a, const std::string& label, const std::string& path,
-                  size_t compSize, AccessorData* out) const {
+  // elements. Checks their byte ranges and indices and points `out` at them.
+  void checkSparse(const tinygltf::Accessor& a, const std::string& label, const std::string& path,
+                   size_t compSize, AccessorData* out) const {
     const auto& sp = a.sparse;
     const std::string spath = path + "/sparse";
     if (sp.count < 0 || size_t(sp.count) > a.count) {
@@ -1348,11 +1417,11 @@ class Importer {
         fail(spath + "/indices", label + " has sparse index " + std::to_string(target) + ", past its " +
                                      std::to_string(a.count) + " elements");
       }
-      for (size_t c = 0; c < components; ++c) {
-        out->values[target * components + c] =
-            component(values + k * elementSize + c * compSize, a.componentType, a.normalized);
-      }
     }
+    out->sparseCount = count;
+    out->sparseIndices = indices;
+    out->sparseIndexType = sp.indices.componentType;
+    out->sparseValues = values;
   }
 
   // --- KHR_draco_mesh_compression: a primitive's attributes and triangles in one Draco bit stream.
@@ -1438,17 +1507,17 @@ class Importer {
     const std::vector<uint8_t>& bytes = d.mesh.attributes.at(d.ids.at(semantic));
     AccessorData out;
     out.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
-    const size_t compSize = componentSize(a.componentType);
-    out.values.resize(bytes.size() / compSize);
-    for (size_t k = 0; k < out.values.size(); ++k) {
-      out.values[k] = component(bytes.data() + k * compSize, a.componentType, a.normalized);
-    }
+    out.componentType = a.componentType;
+    out.normalized = a.normalized;
+    out.stride = componentSize(a.componentType) * size_t(out.components);
+    out.elements = bytes.size() / out.stride;
+    out.data = bytes.data();
     return out;
   }
 
   // Triangle list from a primitive's vertex sequence (glTF 2.0 §3.7.2.1, "Topology types"):
   // strips p_i = {v_i, v_(i+(1+i%2)), v_(i+(2−i%2))}, fans p_i = {v_(i+1), v_(i+2), v_0}.
-  std::vector<uint32_t> triangleList(const std::vector<uint32_t>& v, int mode, const std::string& where) {
+  std::vector<uint32_t> triangleList(std::vector<uint32_t>&& v, int mode, const std::string& where) {
     std::vector<uint32_t> out;
     if (mode == TINYGLTF_MODE_TRIANGLES) {
       const size_t whole = v.size() / 3 * 3;
@@ -1456,8 +1525,8 @@ class Importer {
         warn(where + " has " + std::to_string(v.size()) + " vertex indices, not a multiple of 3; the last " +
              std::to_string(v.size() - whole) + " are ignored");
       }
-      out.assign(v.begin(), v.begin() + std::ptrdiff_t(whole));
-      return out;
+      v.resize(whole);
+      return std::move(v);
     }
     if (v.size() < 3) return out;
     out.reserve((v.size() - 2) * 3);
@@ -1533,39 +1602,12 @@ class Importer {
     const AccessorData uv1 = read("TEXCOORD_1", {TINYGLTF_TYPE_VEC2});
     const AccessorData colors = read("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
 
-    auto f = [](double v) { return static_cast<float>(v); };
-    m.positions.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      m.positions[i] = vec3(f(pos.values[3 * i]), f(pos.values[3 * i + 1]), f(pos.values[3 * i + 2]));
-    }
-    if (!normals.values.empty()) {
-      m.normals.resize(n);
-      for (size_t i = 0; i < n; ++i) {
-        m.normals[i] =
-            vec3(f(normals.values[3 * i]), f(normals.values[3 * i + 1]), f(normals.values[3 * i + 2]));
-      }
-    }
-    if (!tangents.values.empty()) {
-      m.tangents.resize(n);
-      for (size_t i = 0; i < n; ++i) {
-        const double* t = &tangents.values[4 * i];
-        m.tangents[i] = vec4(f(t[0]), f(t[1]), f(t[2]), f(t[3]));
-      }
-    }
-    auto uvs = [&](const AccessorData& d, std::vector<vec2>* out) {
-      out->resize(d.count());
-      for (size_t i = 0; i < d.count(); ++i) (*out)[i] = vec2(f(d.values[2 * i]), f(d.values[2 * i + 1]));
-    };
-    uvs(uv0, &m.uv0);
-    uvs(uv1, &m.uv1);
-    if (!colors.values.empty()) {
-      m.colors.resize(n);
-      const auto c = size_t(colors.components);
-      for (size_t i = 0; i < n; ++i) {
-        const double* v = &colors.values[c * i];
-        m.colors[i] = vec4(f(v[0]), f(v[1]), f(v[2]), c == 4 ? f(v[3]) : 1.0f);  // VEC3 colours are opaque
-      }
-    }
+    m.positions = floatVectors<3>(pos);
+    m.normals = floatVectors<3>(normals);
+    m.tangents = floatVectors<4>(tangents);
+    m.uv0 = floatVectors<2>(uv0);
+    m.uv1 = floatVectors<2>(uv1);
+    m.colors = floatVectors<4>(colors);  // VEC3 colours are opaque (w = 1)
 
     // Vertex sequence: the indices, or 0..n−1 for a non-indexed primitive.
     std::vector<uint32_t> sequence;
@@ -1598,9 +1640,11 @@ class Importer {
                  ") must have componentType UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT and not be "
                  "normalized");
       }
-      sequence.resize(idx.values.size());
-      for (size_t k = 0; k < idx.values.size(); ++k) {
-        const double v = idx.values[k];
+      // Sparse indices are substituted before the check; plain ones are checked where they lie.
+      const std::vector<double> substituted = idx.sparseCount ? doubles(idx) : std::vector<double>();
+      sequence.resize(idx.count());
+      for (size_t k = 0; k < idx.count(); ++k) {
+        const double v = idx.sparseCount ? substituted[k] : idx.at(k, 0);
         if (v >= double(n)) {
           fail("/accessors/" + std::to_string(prim.indices),
                "accessor " + std::to_string(prim.indices) + " (" + role + ") has index " + str(v) +
@@ -1612,7 +1656,7 @@ class Importer {
       sequence.resize(n);
       std::iota(sequence.begin(), sequence.end(), 0u);
     }
-    m.indices = triangleList(sequence, mode, where);
+    m.indices = triangleList(std::move(sequence), mode, where);
 
     dropBadTriangles(&m);
     if (m.indices.empty()) {
@@ -1648,8 +1692,7 @@ class Importer {
   // on a line. "On a line" is relative to size: twice the area, |e1 × e2|, at most 1e-6 × the longest edge²,
   // i.e. a height below a millionth of the base, which float positions cannot resolve reliably.
   void dropBadTriangles(Mesh* m) {
-    std::vector<uint32_t> kept;
-    kept.reserve(m->indices.size());
+    size_t kept = 0;  // the kept triangles' indices, compacted in place
     size_t nonFinite = 0;
     size_t degenerate = 0;
     for (size_t t = 0; t < m->indices.size(); t += 3) {
@@ -1665,7 +1708,9 @@ class Importer {
         ++degenerate;
         continue;
       }
-      kept.insert(kept.end(), {i0, i1, i2});
+      m->indices[kept++] = i0;
+      m->indices[kept++] = i1;
+      m->indices[kept++] = i2;
     }
     if (nonFinite) {
       warn("dropped " + std::to_string(nonFinite) + (nonFinite == 1 ? " triangle" : " triangles") +
@@ -1675,19 +1720,20 @@ class Importer {
       warn("dropped " + std::to_string(degenerate) + " degenerate " +
            (degenerate == 1 ? "triangle" : "triangles") + " in mesh '" + m->name + "'");
     }
-    m->indices = std::move(kept);
+    m->indices.resize(kept);
   }
 
   // Keeps only the vertices the triangles use, in their original order: primitives may share one large vertex
   // buffer, and dropped triangles leave vertices (possibly with NaN positions) behind.
   static void compactVertices(Mesh* m) {
+    std::vector<bool> used(m->positions.size(), false);
+    for (uint32_t i : m->indices) used[i] = true;
+    if (std::find(used.begin(), used.end(), false) == used.end()) return;
     std::vector<uint32_t> remap(m->positions.size(), UINT32_MAX);
-    for (uint32_t i : m->indices) remap[i] = 0;
     uint32_t next = 0;
-    for (uint32_t& r : remap) {
-      if (r == 0) r = next++;
+    for (size_t i = 0; i < remap.size(); ++i) {
+      if (used[i]) remap[i] = next++;
     }
-    if (next == m->positions.size()) return;
     auto compact = [&](auto& attr) {
       if (attr.empty()) return;
       size_t out = 0;

@@ -261,6 +261,33 @@ TEST_F(GltfImport, SparseAccessorsReplaceElements) {
   EXPECT_EQ(zero.positions, (std::vector<vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
 }
 
+// Sparse values replace indices before they are checked against the vertex count (glTF 2.0 §3.6.2.3: the
+// accessor's elements are the substituted ones): a base index past the vertices that a sparse value replaces
+// is not an error.
+TEST_F(GltfImport, SparseIndicesAreSubstitutedBeforeTheRangeCheck) {
+  GltfBuilder b;
+  const int positions = b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+  const int base = b.view(std::vector<uint16_t>{0, 1, 7});
+  const int sparseIdx = b.view(std::vector<uint8_t>{2});
+  const int sparseVal = b.view(std::vector<uint16_t>{2});
+  json indices = {{"bufferView", base},
+                  {"componentType", kUShort},
+                  {"count", 3},
+                  {"type", "SCALAR"},
+                  {"sparse",
+                   {{"count", 1},
+                    {"indices", {{"bufferView", sparseIdx}, {"componentType", kUByte}}},
+                    {"values", {{"bufferView", sparseVal}}}}}};
+  const int indexAcc = b.append("accessors", indices);
+  b.mesh(json::array({{{"attributes", {{"POSITION", positions}}}, {"indices", indexAcc}}}));
+  b.node({{"mesh", 0}});
+  b.scene({0});
+  import(b);
+  const Mesh& m = onlyMesh();
+  EXPECT_EQ(m.positions, (std::vector<vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+  EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
 // --- Topology.
 
 TEST_F(GltfImport, StripsAndFansBecomeTriangleLists) {
