@@ -209,6 +209,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"roulette_after_light", job.settings.integrator.rouletteAfterLight},
         {"roulette_window", job.settings.integrator.rouletteWindow},
         {"lit_patch_sky", job.settings.integrator.litPatchSky},
+        {"lit_patch_maps", job.settings.integrator.litPatchMaps},
         {"light_paths", job.settings.lightPaths.enabled},
         {"error_allocation", e.allocationFraction},
         {"export_gltf", job.exportGltf},
@@ -284,6 +285,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     }
     // ... and those with lit patches from before the choice gathered the sky's light at the patches too.
     c.job.settings.integrator.litPatchSky = s.value("lit_patch_sky", true);
+    // ... and with the patch's point uniform on its triangle (no maps of where the sun lights it).
+    c.job.settings.integrator.litPatchMaps = s.value("lit_patch_maps", false);
     // ... and without light paths.
     c.job.settings.lightPaths.enabled = s.value("light_paths", false);
     // ... and with every point taking every pass.

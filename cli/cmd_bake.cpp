@@ -234,6 +234,7 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"roulette_after_light", settings.integrator.rouletteAfterLight},
       {"roulette_window", settings.integrator.rouletteWindow},
       {"lit_patch_sky", settings.integrator.litPatchSky},
+      {"lit_patch_maps", settings.integrator.litPatchMaps},
       {"light_paths", settings.lightPaths.enabled},
       {"error_allocation", e.allocationFraction}};
   d.targetRelativeError = e.targetRelativeError;

@@ -896,7 +896,8 @@ Rgb Integrator::litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S&
   const uint32_t t = pick.triangle;
   const float areaM2 = scene_.triangleAreaM2(t);
   if (!(areaM2 > 0.0f)) return Rgb(0.0f);
-  const vec3 b = sampleUniformTriangle(vec2(pick.uRemapped, u.y));
+  const LitPatches::PointPick point = litPatches_->samplePoint(pick, vec2(pick.uRemapped, u.y));
+  const vec3 b(1.0f - point.barycentric.x - point.barycentric.y, point.barycentric.x, point.barycentric.y);
   const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
   const vec3& p1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]];
   const vec3& p2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]];
@@ -910,12 +911,12 @@ Rgb Integrator::litPatchLight(const Vertex& v, uint32_t cell, uint32_t depth, S&
   Rgb fCos;
   float pdfBsdf;
   if (!(absCosPatch > 0.0f) || !response(v, v.bsdf, d, fCos, pdfBsdf, distM)) return Rgb(0.0f);
-  const float pdf = pick.pmf / areaM2 * distM * distM / absCosPatch;
+  const float pdf = pick.pmf * point.densityFactor / areaM2 * distM * distM / absCosPatch;
   if (!(pdf > 0.0f) || !std::isfinite(pdf)) return Rgb(0.0f);
   // y as the next vertex of the path, and the sun's and sky's light that a path reaching it samples there.
-  std::optional<Bsdf> point, pointDeltaLight;
-  const TrianglePoint at{t, vec2(b.y, b.z)};
-  const std::optional<Vertex> patch = vertexAt(y, at, ng, d, point, pointDeltaLight);
+  std::optional<Bsdf> pointBsdf, pointDeltaLight;
+  const TrianglePoint at{t, point.barycentric};
+  const std::optional<Vertex> patch = vertexAt(y, at, ng, d, pointBsdf, pointDeltaLight);
   if (!patch || patch->bsdf->isBlack()) return Rgb(0.0f);
   const bool lightSampling = patch->bsdf->hasNonDelta();
   if (!lightSampling && !patch->deltaLightBsdf->hasNonDelta()) return Rgb(0.0f);
@@ -995,7 +996,7 @@ void Integrator::buildLitPatches() {
   auto patches = std::make_unique<const LitPatches>(
       scene_, points, passesStraight, rdb_.indices, rdb_.positionsM,
       [this](const Hit& hit, const vec3& d, uint64_t seed) { return directlyLitRadiance(hit, d, seed); },
-      [this](uint32_t t, bool front) { return faceRadiance(t, front); });
+      [this](uint32_t t, bool front) { return faceRadiance(t, front); }, settings_.litPatchMaps);
   if (!patches->empty()) litPatches_ = std::move(patches);
 }
 
@@ -1030,6 +1031,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   uint32_t patchCellLast = LitPatches::kNoCell;
   // v's triangle and |cos θ| of the ray that reached it, for that vertex's density of a patch sample of v.
   uint32_t triangleOfV = 0;
+  vec2 barycentricOfV(0.0f);
   float absCosOfV = 0.0f;
   // With rouletteAfterLight, v's survival probability (1: none) and its roulette number, applied once v's
   // lights are sampled.
@@ -1083,10 +1085,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       const Rgb& patchLight = settings_.litPatchSky ? sunSkyPart : sunPart;
       float sunSkyWeight = 1.0f;
       if (patchCellLast != LitPatches::kNoCell && !specular && maxComponent(patchLight) > 0.0f) {
-        const float pmf = litPatches_->pmf(patchCellLast, triangleOfV);
-        if (pmf > 0.0f) {
+        const float density = litPatches_->density(patchCellLast, triangleOfV, barycentricOfV);
+        if (density > 0.0f) {
           const float pdfPatch =
-              pmf / scene_.triangleAreaM2(triangleOfV) * travelledM * travelledM / absCosOfV;
+              density / scene_.triangleAreaM2(triangleOfV) * travelledM * travelledM / absCosOfV;
           if (std::isfinite(pdfPatch)) sunSkyWeight = 1.0f - patchWeight(pdfPatch, pdfLast);
         }
       }
@@ -1238,6 +1240,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     const Bsdf& bsdf = *v.bsdf;
     const vec3& wo = v.woLocal;
     triangleOfV = t;
+    barycentricOfV = hit->barycentric;
     absCosOfV = std::abs(cosLight);
 
     // Russian roulette from vertex kFirstRouletteVertex on, a weight window (IntegratorSettings::

@@ -103,7 +103,8 @@
 // room most light comes from the sun patches on the floor and the sky's light through the windows, reflected
 // once; a path from the ceiling finds such a patch only by chance. At a vertex x that samples lights, in a
 // region that LitPatches gives a distribution (its training rays mostly stay inside), a second strategy
-// picks a triangle by that distribution and a point y uniform on it (area density p_A(y) = P(t) / A_t), and
+// picks a triangle by that distribution and a point y on it, uniform or by the triangle's map of its sunlit
+// part (IntegratorSettings::litPatchMaps; area density p_A(y) = P(t) m_t(y) / A_t, LitPatches::density), and
 // adds f(x) |cos θ_x| V(x, y) L_d(y → x) / p_ω(y), p_ω = p_A r² / |cos θ_y|, where L_d(y → x) is the light
 // sampling of the sun at y (IntegratorSettings::litPatchSky: and of the sky, with the same MIS weight
 // against y's BSDF sampling that a path reaching y computes there), for y seen as the next vertex of the
@@ -232,6 +233,10 @@ struct IntegratorSettings {
   // weight for it is then 1, and the regions' distributions follow the sun's light alone. On gives the
   // estimator of bakes before the choice existed (resumed checkpoints), and a comparison.
   bool litPatchSky = false;
+  // Maps of where the sun lights large triangles (LitPatches, kMaxMapLevel): the patch sample's point drawn
+  // where the light is on a triangle that the sun lights in part, rather than uniformly. Off gives the
+  // estimator of bakes before the maps existed (resumed checkpoints), and a comparison.
+  bool litPatchMaps = true;
   // Russian roulette at a vertex after its lights are sampled (and before its continuation), rather than
   // when the vertex is reached: a path that ends there still gathers the vertex's direct light (above).
   // Off gives the estimator of bakes before it existed (resumed checkpoints), and a comparison.
@@ -277,6 +282,8 @@ class Integrator {
   bool usesLitPatches() const { return litPatches_ != nullptr; }
   // Its regions with a distribution (0 without).
   size_t litPatchCells() const { return litPatches_ ? litPatches_->cellCount() : 0; }
+  // Its triangles with a map of where the sun lights them (LitPatches::mapCount; 0 without).
+  size_t litPatchMaps() const { return litPatches_ ? litPatches_->mapCount() : 0; }
   // Whether some material has reflection fog (rdb::TraceMaterial::hasReflectionFog).
   bool hasReflectionFog() const { return !fogBsdfs_.empty(); }
 

@@ -17,6 +17,65 @@ constexpr uint32_t kTrainingPanes = 8;
 // Grid coordinates are kept in 20 bits each (±2^19 cells), the normal's bin in 3.
 constexpr int64_t kCoordinateBias = int64_t{1} << 19;
 
+// Sub-triangles of a map: the triangle (in barycentric coordinates (u, v) of p1 and p2, p0 at the origin)
+// split into its three corner triangles (children 0, 1, 2 at p0, p1, p2) and the middle one (child 3, turned
+// over), each of a quarter of the area. childToParent maps a point of the unit triangle into child k.
+vec2 childToParent(uint32_t k, const vec2& c) {
+  switch (k) {
+    case 0:
+      return 0.5f * c;
+    case 1:
+      return vec2(0.5f + 0.5f * c.x, 0.5f * c.y);
+    case 2:
+      return vec2(0.5f * c.x, 0.5f + 0.5f * c.y);
+    default:
+      return vec2(0.5f - 0.5f * c.x, 0.5f - 0.5f * c.y);
+  }
+}
+
+// The child (childToParent's k) that holds barycentric point b, and b in the child's own coordinates.
+uint32_t childOf(vec2& b) {
+  if (b.x >= 0.5f) {
+    b = vec2(2.0f * b.x - 1.0f, 2.0f * b.y);
+    return 1;
+  }
+  if (b.y >= 0.5f) {
+    b = vec2(2.0f * b.x, 2.0f * b.y - 1.0f);
+    return 2;
+  }
+  if (b.x + b.y < 0.5f) {
+    b = 2.0f * b;
+    return 0;
+  }
+  b = vec2(1.0f - 2.0f * b.x, 1.0f - 2.0f * b.y);
+  return 3;
+}
+
+// The sub-triangle of level `level` that holds barycentric point b (its base-4 index, the first split the
+// most significant digit).
+uint32_t subTriangleOf(vec2 b, uint32_t level) {
+  uint32_t index = 0;
+  for (uint32_t l = 0; l < level; ++l) index = 4 * index + childOf(b);
+  return index;
+}
+
+// The level of the maps' splits for a triangle of longest edge longestM: until the sub-triangles'
+// longest edge is at most targetEdgeM, at most kMaxMapLevel.
+uint32_t splitLevel(float longestM, float targetEdgeM) {
+  uint32_t level = 0;
+  while (level < kMaxMapLevel && longestM > targetEdgeM * float(1u << level)) ++level;
+  return level;
+}
+
+// The point of sub-triangle `index` of level `level` at c in its own unit triangle.
+vec2 subTrianglePoint(uint32_t index, uint32_t level, vec2 c) {
+  for (uint32_t l = 0; l < level; ++l) {
+    c = childToParent(index & 3u, c);
+    index >>= 2;
+  }
+  return c;
+}
+
 uint32_t normalBin(const vec3& n) {
   const vec3 a = glm::abs(n);
   if (a.x >= a.y && a.x >= a.z) return n.x >= 0.0f ? 0 : 1;
@@ -38,7 +97,7 @@ uint64_t LitPatches::keyOf(const vec3& p, const vec3& n) const {
 LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
                        std::span<const uint8_t> passesStraight,
                        std::span<const uint32_t> indices, std::span<const vec3> positionsM,
-                       const RadianceEstimate& radiance, const FaceRadiance& faceRadiance) {
+                       const RadianceEstimate& radiance, const FaceRadiance& faceRadiance, bool maps) {
   if (points.empty()) return;
   vec3 lo = points.front().p, hi = lo;
   for (const TrainingPoint& q : points) {
@@ -288,6 +347,8 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
     cells_.push_back({first, count, firstGuide});
   }
 
+  if (maps && !cells_.empty()) buildMaps(scene, indices, positionsM, faces, radiance);
+
   size_t slots = 1;
   while (slots < 2 * entries_.size()) slots *= 2;
   slots_.assign(slots, {kEmptySlot, 0.0f});
@@ -296,6 +357,120 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
       const uint64_t key = (uint64_t{c} << 32) | entries_[i].triangle;
       slots_[slotOf(key)] = {key, entries_[i].pmf};
     }
+  }
+}
+
+void LitPatches::buildMaps(const EmbreeScene& scene, std::span<const uint32_t> indices,
+                           std::span<const vec3> positionsM, std::span<const uint64_t> faces,
+                           const RadianceEstimate& radiance) {
+  // The triangles of some cell's distribution, with the faces of theirs that training reached (faces: 2 t +
+  // back, sorted), and the level each would take.
+  struct Candidate {
+    uint32_t triangle;
+    uint32_t faceBits;  // 1: front, 2: back
+    uint32_t level;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<uint8_t> inSome(indices.size() / 3, 0);
+  for (const Entry& e : entries_) inSome[e.triangle] = 1;
+  const float targetEdgeM = cellSizeM_ / kMapSubdivisionsPerCell;
+  for (uint64_t face : faces) {
+    const auto t = static_cast<uint32_t>(face / 2);
+    if (!inSome[t]) continue;
+    const uint32_t bit = face % 2 == 0 ? 1u : 2u;
+    if (!candidates.empty() && candidates.back().triangle == t) {
+      candidates.back().faceBits |= bit;
+      continue;
+    }
+    float longestM = 0.0f;
+    for (size_t c = 0; c < 3; ++c) {
+      longestM = std::max(longestM, glm::length(positionsM[indices[3 * size_t{t} + c]] -
+                                                positionsM[indices[3 * size_t{t} + (c + 1) % 3]]));
+    }
+    const uint32_t level = splitLevel(longestM, targetEdgeM);
+    if (level > 0) candidates.push_back({t, bit, level});
+  }
+  // The direct light at kMapPointsPerSubTriangle points of each sub-triangle of candidate c at `level` (its
+  // centroid and the points three quarters of the way from it to each corner), summed over its faces; empty
+  // where every point or none is lit (uniform).
+  const float kPoints[kMapPointsPerSubTriangle][2] = {
+      {1.0f / 3.0f, 1.0f / 3.0f}, {1.0f / 12.0f, 1.0f / 12.0f}, {5.0f / 6.0f, 1.0f / 12.0f}, {1.0f / 12.0f, 5.0f / 6.0f}};
+  auto evaluate = [&](const Candidate& c, uint32_t level) {
+    const vec3& ng = scene.triangleNormal(c.triangle);
+    const uint32_t subs = 1u << (2 * level);
+    std::vector<float> w(subs, 0.0f);
+    uint32_t lit = 0;
+    for (uint32_t s = 0; s < subs; ++s) {
+      for (uint32_t k = 0; k < kMapPointsPerSubTriangle; ++k) {
+        Hit hit;
+        hit.triangle = c.triangle;
+        hit.barycentric = subTrianglePoint(s, level, vec2(kPoints[k][0], kPoints[k][1]));
+        hit.geometricNormal = ng;
+        float sum = 0.0f;
+        for (uint32_t face = 0; face < 2; ++face) {
+          if (!(c.faceBits & (1u << face))) continue;
+          const uint64_t seed = detail::mix64(~((uint64_t{c.triangle} << 28) ^ (uint64_t{level} << 24) ^
+                                                (uint64_t{s} << 4) ^ (uint64_t{k} << 1) ^ face));
+          const float l = radiance(hit, face == 0 ? -ng : ng, seed);
+          if (std::isfinite(l) && l > 0.0f) sum += l;
+        }
+        w[s] += sum;
+        lit += sum > 0.0f ? 1 : 0;
+      }
+    }
+    if (lit == 0 || lit == subs * kMapPointsPerSubTriangle) w.clear();
+    return w;
+  };
+  // In parallel over candidates, per candidate into its own slot: deterministic.
+  auto parallel = [&](auto&& f) {
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+      for (size_t i; (i = next.fetch_add(1)) < candidates.size();) f(i);
+    };
+    const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<std::jthread> pool;
+    for (uint32_t k = 1; k < threads; ++k) pool.emplace_back(work);
+    work();
+  };
+  // A probe at level 2 at most first: triangles that the sun lights wholly, or not at all, get no map.
+  std::vector<uint8_t> partlyLit(candidates.size(), 0);
+  parallel([&](size_t i) {
+    partlyLit[i] = evaluate(candidates[i], std::min(candidates[i].level, 2u)).empty() ? 0 : 1;
+  });
+  size_t kept = 0;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (partlyLit[i]) candidates[kept++] = candidates[i];
+  }
+  candidates.resize(kept);
+  // Within the budget: the deepest levels lowered one at a time.
+  for (;;) {
+    uint64_t total = 0;
+    uint32_t deepest = 0;
+    for (const Candidate& c : candidates) {
+      total += uint64_t{1} << (2 * c.level);
+      deepest = std::max(deepest, c.level);
+    }
+    if (total <= kMapSubTriangleBudget || deepest <= 1) break;
+    for (Candidate& c : candidates) c.level = std::min(c.level, deepest - 1);
+  }
+  std::vector<std::vector<float>> weights(candidates.size());
+  parallel([&](size_t i) { weights[i] = evaluate(candidates[i], candidates[i].level); });
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const std::vector<float>& w = weights[i];
+    if (w.empty()) continue;
+    if (maps_.empty()) maps_.assign(indices.size() / 3, {0, 0});
+    double total = 0.0;
+    for (float x : w) total += x;
+    const auto first = static_cast<uint32_t>(mapCdf_.size());
+    const double uniform = double(kMapUniformShare) / double(w.size());
+    double running = 0.0;
+    for (float x : w) {
+      running += (1.0 - kMapUniformShare) * double(x) / total + uniform;
+      mapCdf_.push_back(static_cast<float>(running));
+    }
+    mapCdf_.back() = 1.0f;
+    maps_[candidates[i].triangle] = {first, candidates[i].level};
+    ++mapCount_;
   }
 }
 
@@ -330,6 +505,44 @@ float LitPatches::pmf(uint32_t cell, uint32_t t) const {
   const uint64_t key = (uint64_t{cell} << 32) | t;
   const Slot& slot = slots_[slotOf(key)];
   return slot.key == key ? slot.pmf : 0.0f;
+}
+
+float LitPatches::density(uint32_t cell, uint32_t t, const vec2& b) const {
+  const uint64_t key = (uint64_t{cell} << 32) | t;
+  const Slot& slot = slots_[slotOf(key)];
+  if (slot.key != key) return 0.0f;
+  return slot.pmf * mapFactor(t, b);
+}
+
+LitPatches::PointPick LitPatches::samplePoint(const Pick& pick, const vec2& u) const {
+  const uint32_t t = pick.triangle;
+  const MapRef map = maps_.empty() ? MapRef{0, 0} : maps_[t];
+  if (map.level == 0) {
+    const vec3 b = sampleUniformTriangle(u);
+    return {vec2(b.y, b.z), 1.0f};
+  }
+  const uint32_t subs = 1u << (2 * map.level);
+  const auto begin = mapCdf_.begin() + map.first;
+  const auto it = std::upper_bound(begin, begin + subs, u.x);
+  const auto s = static_cast<uint32_t>(std::min<std::ptrdiff_t>(it - begin, subs - 1));
+  const float below = s == 0 ? 0.0f : begin[s - 1];
+  const float width = begin[s] - below;
+  const float remapped = width > 0.0f ? std::clamp((u.x - below) / width, 0.0f, 0x1.fffffep-1f) : 0.0f;
+  const vec3 c = sampleUniformTriangle(vec2(remapped, u.y));
+  const vec2 b = subTrianglePoint(s, map.level, vec2(c.y, c.z));
+  // The density as density() evaluates it at the point (the same sub-triangle but where rounding puts the
+  // point on its edge into a neighbour's), so that both strategies' weights use one function.
+  return {b, mapFactor(t, b)};
+}
+
+float LitPatches::mapFactor(uint32_t t, const vec2& b) const {
+  if (maps_.empty()) return 1.0f;
+  const MapRef map = maps_[t];
+  if (map.level == 0) return 1.0f;
+  const uint32_t subs = 1u << (2 * map.level);
+  const uint32_t s = subTriangleOf(b, map.level);
+  const float below = s == 0 ? 0.0f : mapCdf_[map.first + s - 1];
+  return (mapCdf_[map.first + s] - below) * float(subs);
 }
 
 }  // namespace fly::raytracer

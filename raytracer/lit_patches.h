@@ -21,6 +21,16 @@
 // weights use the same densities for both strategies); the training only decides how much the variance
 // drops.
 //
+// Within a triangle, the point is uniform by default. A large triangle that the sun lights only in part (a
+// floor of two triangles with a sun patch from a window on it) gets a map (kMaxMapLevel): the triangle split
+// recursively into 4^L congruent sub-triangles (each corner's and the middle one, L levels), each with a
+// probability proportional to the direct light that kMapPointsPerSubTriangle points in it reflect along its
+// normal (for the faces that some cell's distribution holds), mixed with kMapUniformShare of the uniform
+// choice (a sliver of light between the points keeps some probability), and a point uniform in the chosen
+// sub-triangle. Uniform where every point, or none, is lit. The maps do not depend on the cell (the sun's
+// light at y does not depend on x); the integrator's weights evaluate the same density (density()), so
+// any map keeps the estimate unbiased.
+//
 // Deterministic: the training rays are Owen-scrambled Sobol' points seeded per cell, traced in parallel
 // with results per cell, so the distributions do not depend on the thread count.
 #pragma once
@@ -47,6 +57,16 @@ inline constexpr float kHitShare = 0.1f;
 inline constexpr float kCellsAlongLongestSide = 64.0f;
 // A grid cube's side in median triangle edges, at least.
 inline constexpr float kCellsPerEdgeLength = 2.0f;
+// A triangle's map splits it until the sub-triangles' longest edge is at most the cell's side over
+// kMapSubdivisionsPerCell, at most kMaxMapLevel times (4^5 = 1 024 sub-triangles); over all triangles at most
+// kMapSubTriangleBudget sub-triangles are evaluated (the deepest levels are lowered until they fit).
+inline constexpr float kMapSubdivisionsPerCell = 32.0f;
+inline constexpr uint32_t kMaxMapLevel = 5;
+inline constexpr uint64_t kMapSubTriangleBudget = uint64_t{1} << 18;
+// Points per sub-triangle at which a map evaluates the direct light.
+inline constexpr uint32_t kMapPointsPerSubTriangle = 4;
+// The share of a map's probability spread uniformly over its sub-triangles.
+inline constexpr float kMapUniformShare = 0.1f;
 
 class LitPatches {
  public:
@@ -70,9 +90,11 @@ class LitPatches {
   using RadianceEstimate = std::function<float(const Hit& hit, const vec3& d, uint64_t seed)>;
   using FaceRadiance = std::function<float(uint32_t t, bool front)>;
   // indices, positionsM: the TraceRdb's triangles (which are neighbours, how long their edges are).
+  // maps: whether partly lit triangles get maps (above); without, points are uniform on every triangle.
   LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
              std::span<const uint8_t> passesStraight, std::span<const uint32_t> indices,
-             std::span<const vec3> positionsM, const RadianceEstimate& radiance, const FaceRadiance& faceRadiance);
+             std::span<const vec3> positionsM, const RadianceEstimate& radiance, const FaceRadiance& faceRadiance,
+             bool maps = true);
 
   // Whether any cell has a distribution.
   bool empty() const { return cells_.empty(); }
@@ -90,6 +112,20 @@ class LitPatches {
   Pick sample(uint32_t cell, float u) const;
   // The probability with which sample() picks triangle t in the cell (0 for triangles not in it).
   float pmf(uint32_t cell, uint32_t t) const;
+
+  // A point on the picked triangle from u in [0, 1)²: by the triangle's map, uniform without one. Its barycentric coordinates (u, v) of p1 and p2 (as Hit's), and its
+  // density on the triangle relative to the uniform one (the area density is pmf × densityFactor / area).
+  struct PointPick {
+    vec2 barycentric;
+    float densityFactor;
+  };
+  PointPick samplePoint(const Pick& pick, const vec2& u) const;
+  // The probability with which sample() and samplePoint() pick triangle t in the cell times the point's
+  // density relative to the uniform one on t, at barycentric coordinates b (0 for triangles not in the
+  // cell): the patch strategy's area density is this over t's area.
+  float density(uint32_t cell, uint32_t t, const vec2& b) const;
+  // Triangles with a map.
+  size_t mapCount() const { return mapCount_; }
 
  private:
   uint64_t keyOf(const vec3& p, const vec3& n) const;
@@ -127,6 +163,20 @@ class LitPatches {
     float pmf;
   };
   std::vector<Slot> slots_;
+  // Per triangle (empty without maps): its map's level (0: none, uniform) and first running sum in mapCdf_
+  // (4^level of them, in the order of the sub-triangles' base-4 index, most significant digit the first
+  // split).
+  struct MapRef {
+    uint32_t first;
+    uint32_t level;
+  };
+  std::vector<MapRef> maps_;
+  std::vector<float> mapCdf_;
+  size_t mapCount_ = 0;
+  // The density factor of the map of triangle t (1: none) at b.
+  float mapFactor(uint32_t t, const vec2& b) const;
+  void buildMaps(const EmbreeScene& scene, std::span<const uint32_t> indices, std::span<const vec3> positionsM,
+                 std::span<const uint64_t> faces, const RadianceEstimate& radiance);
 };
 
 }  // namespace fly::raytracer

@@ -121,6 +121,20 @@ TEST_F(BakeCheckpointTest, LitPatchSkyIsKeptAndOlderCheckpointsResumeWithTheSkyA
   EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
 }
 
+// Whether the lit patches' points follow the maps of the triangles' sunlit parts travels with the checkpoint;
+// one written before the maps existed resumes with the point uniform on its triangle, as it started.
+TEST_F(BakeCheckpointTest, LitPatchMapsAreKeptAndOlderCheckpointsResumeWithoutThem) {
+  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
+  job_.settings.integrator.litPatchMaps = false;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
+  job_.settings.integrator.litPatchMaps = true;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
+  editJson([](nlohmann::json& j) { j["settings"].erase("lit_patch_maps"); });
+  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
+}
+
 // Russian roulette's weight window travels with the checkpoint; one written before the window existed resumes
 // with throughput roulette (a window of 1), the estimator it started with, and a window outside (0, 1] is bad
 // input.
