@@ -53,8 +53,8 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const Me
   coverage_ = std::isfinite(coverage) ? std::clamp(coverage, 0.0f, 1.0f) : 1.0f;
   init(m, frontFace, measured);
   lambertian_ = covered() && hasDiffuse_ && !hasReflection_ && !hasTransmission_;
-  nonDelta_ = coverage_ > 0.0f && (measured_ != nullptr || hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) ||
-                                   frostedTransmission());
+  nonDelta_ = coverage_ > 0.0f && (measured_ != nullptr || hasDiffuse_ ||
+                                   (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission());
   // albedoAt's sum is then 1 · (0 + diffuseKd_ · (1 − 0)) + 0: diffuseKd_ to the bit.
   constantAlbedo_ = lambertian_ && measured_ == nullptr && reflection_ == Rgb(0.0f);
 }

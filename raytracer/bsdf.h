@@ -193,9 +193,9 @@ class Bsdf {
   bool clearTransmission_ = false;
   float coverage_ = 1.0f;
   const MeasuredLobe* measured_ = nullptr;  // replaces the lobes above where set
-  bool lambertian_ = false;      // isLambertian()
-  bool nonDelta_ = false;        // hasNonDelta()
-  bool constantAlbedo_ = false;  // Lambertian with r = 0: albedo() is diffuseKd_ exactly
+  bool lambertian_ = false;                 // isLambertian()
+  bool nonDelta_ = false;                   // hasNonDelta()
+  bool constantAlbedo_ = false;             // Lambertian with r = 0: albedo() is diffuseKd_ exactly
 };
 
 // The diffuse albedo D(0) of the energy rule at normal incidence (sdb::applyEnergyRule, with Fresnel

@@ -102,7 +102,8 @@ inline constexpr std::array<uint8_t, 256> kReversedBytes = [] {
 // through kReversedBytes (fewer operations than reversing all 32 bits by shifts and masks).
 inline constexpr float reversedToUnitFloat(uint32_t x) {
   const uint32_t reversed24 = (uint32_t{kReversedBytes[x & 255u]} << 16) |
-                              (uint32_t{kReversedBytes[(x >> 8) & 255u]} << 8) | kReversedBytes[(x >> 16) & 255u];
+                              (uint32_t{kReversedBytes[(x >> 8) & 255u]} << 8) |
+                              kReversedBytes[(x >> 16) & 255u];
   return static_cast<float>(reversed24) * 0x1p-24f;
 }
 

@@ -241,8 +241,8 @@ TEST(Sampler, ValuesDependOnlyOnPointSampleAndDimension) {
   }
 }
 
-// Burley's shuffled, scrambled 4D Sobol' point computed from its definition: the group's seeds hashed from the
-// point and group, the index shuffled by a Laine–Karras permutation, the Sobol' product over the eight
+// Burley's shuffled, scrambled 4D Sobol' point computed from its definition: the group's seeds hashed from
+// the point and group, the index shuffled by a Laine–Karras permutation, the Sobol' product over the eight
 // nibbles of the shuffled index, each dimension's scramble, and the whole reversal of its bits; for groups
 // that share a slot of the sampler's cache (0, 64; 7, 71), read alternately.
 TEST(Sampler, SobolMatchesItsDefinition) {
@@ -261,11 +261,12 @@ TEST(Sampler, SobolMatchesItsDefinition) {
         sampler.startGroup(group);
         for (uint32_t d = 0; d < kGroupDimensions; ++d) {
           uint32_t reversed = 0;
-          for (uint32_t k = 0; k < 8; ++k) reversed ^= detail::kSobolNibbles[d][k][(shuffled >> (4 * k)) & 15u];
+          for (uint32_t k = 0; k < 8; ++k)
+            reversed ^= detail::kSobolNibbles[d][k][(shuffled >> (4 * k)) & 15u];
           const float expected =
               detail::toUnitFloat(detail::reverseBits(detail::laineKarrasPermutation(reversed, scramble[d])));
-          EXPECT_EQ(sampler.next1D(), expected) << "seed " << seed << " group " << group << " index " << index
-                                                << " dimension " << d;
+          EXPECT_EQ(sampler.next1D(), expected)
+              << "seed " << seed << " group " << group << " index " << index << " dimension " << d;
         }
       }
     }
@@ -280,7 +281,8 @@ TEST(Sampler, ReversedToUnitFloatIsTheReversedFraction) {
     EXPECT_EQ(detail::reversedToUnitFloat(x), detail::toUnitFloat(detail::reverseBits(x))) << x;
   }
   for (uint32_t bit = 0; bit < 32; ++bit) {
-    EXPECT_EQ(detail::reversedToUnitFloat(1u << bit), detail::toUnitFloat(detail::reverseBits(1u << bit))) << bit;
+    EXPECT_EQ(detail::reversedToUnitFloat(1u << bit), detail::toUnitFloat(detail::reverseBits(1u << bit)))
+        << bit;
   }
   EXPECT_EQ(detail::reversedToUnitFloat(0xffffffffu), 0x1.fffffep-1f);
   EXPECT_EQ(detail::reversedToUnitFloat(0u), 0.0f);
