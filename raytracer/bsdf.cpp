@@ -51,6 +51,15 @@ Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m) {
 
 Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const MeasuredLobe* measured) {
   coverage_ = std::isfinite(coverage) ? std::clamp(coverage, 0.0f, 1.0f) : 1.0f;
+  init(m, frontFace, measured);
+  lambertian_ = covered() && hasDiffuse_ && !hasReflection_ && !hasTransmission_;
+  nonDelta_ = coverage_ > 0.0f && (measured_ != nullptr || hasDiffuse_ ||
+                                   (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission());
+  // albedoAt's sum is then 1 · (0 + diffuseKd_ · (1 − 0)) + 0: diffuseKd_ to the bit.
+  constantAlbedo_ = lambertian_ && measured_ == nullptr && reflection_ == Rgb(0.0f);
+}
+
+void Bsdf::init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe* measured) {
   if (m.isMeasured() && measured != nullptr) {
     if (frontFace) measured_ = measured;
     return;
@@ -100,7 +109,7 @@ float Bsdf::reflectionLobe(const vec3& wo, const vec3& wi, vec3& h, float& pdf) 
   return g;
 }
 
-Rgb Bsdf::albedo(float cosO) const {
+Rgb Bsdf::albedoAt(float cosO) const {
   if (measured_) return coverage_ * measured_->albedo(cosO) + Rgb(1.0f - coverage_);
   const Rgb reflected = reflection_ * fresnel(cosO);
   Rgb a(0.0f);

@@ -127,22 +127,20 @@ class Bsdf {
     return Rgb(1.0f - coverage_) + coverage_ * clear;
   }
   // The albedo for light leaving towards ωo, cos θo = cosO (exact for the diffuse, mirror and clear lobes, an
-  // estimate for glossy ones): the lobe weights and Russian roulette's survival guide.
-  Rgb albedo(float cosO) const;
+  // estimate for glossy ones): the lobe weights and Russian roulette's survival guide. A Lambertian Bsdf
+  // without any reflection colour has lambertAlbedo() at every angle.
+  Rgb albedo(float cosO) const { return constantAlbedo_ ? diffuseKd_ : albedoAt(cosO); }
 
   bool isBlack() const {
     return covered() && measured_ == nullptr && !hasDiffuse_ && !hasReflection_ && !hasTransmission_;
   }
   // Diffuse only (no reflection, no transmission, full coverage): then f = lambertAlbedo() / π, sample()
   // draws cos θ / π, its weight is lambertAlbedo(), and uLobe is not used. The integrator's fast path for the
-  // common case.
-  bool isLambertian() const { return covered() && hasDiffuse_ && !hasReflection_ && !hasTransmission_; }
+  // common case, asked at every vertex and light sample: kept from the constructor.
+  bool isLambertian() const { return lambertian_; }
   const Rgb& lambertAlbedo() const { return diffuseKd_; }
-  // Whether eval() can be non-zero: light sampling is pointless otherwise.
-  bool hasNonDelta() const {
-    return coverage_ > 0.0f && (measured_ != nullptr || hasDiffuse_ || (hasReflection_ && alphaR_ > 0.0f) ||
-                                frostedTransmission());
-  }
+  // Whether eval() can be non-zero: light sampling is pointless otherwise. Kept from the constructor.
+  bool hasNonDelta() const { return nonDelta_; }
   // Whether non-delta light arrives from below the surface (frosted transmission).
   bool hasNonDeltaTransmission() const { return coverage_ > 0.0f && frostedTransmission(); }
   // Whether light passes straight through (clear glass or partial coverage).
@@ -151,6 +149,9 @@ class Bsdf {
   bool hasClearTransmission() const { return clearTransmission_; }
 
  private:
+  // The constructor's work; the constructor then keeps the flags below.
+  void init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe* measured);
+  Rgb albedoAt(float cosO) const;
   float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
   // The glossy reflection lobe's f for wi above the surface, before coverage.
@@ -192,6 +193,9 @@ class Bsdf {
   bool clearTransmission_ = false;
   float coverage_ = 1.0f;
   const MeasuredLobe* measured_ = nullptr;  // replaces the lobes above where set
+  bool lambertian_ = false;                 // isLambertian()
+  bool nonDelta_ = false;                   // hasNonDelta()
+  bool constantAlbedo_ = false;             // Lambertian with r = 0: albedo() is diffuseKd_ exactly
 };
 
 // The diffuse albedo D(0) of the energy rule at normal incidence (sdb::applyEnergyRule, with Fresnel

@@ -41,16 +41,18 @@ Distribution1D::Distribution1D(std::span<const float> weights) : func_(weights.b
   // bin (the largest i with cdf[i] ≤ u), found by one sweep since u grows with k. findBin's answer grows with
   // u, so every u of the interval has a bin between this and the next interval's.
   const auto size = static_cast<uint32_t>(func_.size());
-  guide_.resize(size_t{size} + 1);
+  guideIntervals_ = kGuideIntervalsPerBin * size;
+  guideScale_ = static_cast<float>(guideIntervals_);
+  guide_.resize(size_t{guideIntervals_} + 1);
   uint32_t bin = 0;
-  for (uint32_t k = 0; k < size; ++k) {
-    float u = static_cast<float>(k) / static_cast<float>(size);
+  for (uint32_t k = 0; k < guideIntervals_; ++k) {
+    float u = static_cast<float>(k) / guideScale_;
     while (u > 0.0f && guideInterval(std::nextafter(u, 0.0f)) >= k) u = std::nextafter(u, 0.0f);
     while (guideInterval(u) < k) u = std::nextafter(u, 1.0f);
     while (bin + 1 < size && cdf_[bin + 1] <= u) ++bin;
     guide_[k] = bin;
   }
-  guide_[size] = size - 1;
+  guide_[guideIntervals_] = size - 1;
 }
 
 Distribution1D::DiscreteSample Distribution1D::sampleDiscrete(float u) const {

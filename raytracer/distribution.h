@@ -64,12 +64,15 @@ class Distribution1D {
 
  private:
   static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+  // Guide intervals per bin (findBin): with four, a sky table's search mostly ends in its guide entry.
+  static constexpr uint32_t kGuideIntervalsPerBin = 4;
 
   // The bin i with cdf[i] ≤ u < cdf[i+1]: never one of probability 0.
   uint32_t findBin(float u) const {
     // The largest i < n with cdf[i] ≤ u (cdf[0] = 0 ≤ u). A guide table (Chen & Asau, "On generating random
     // variates from an empirical distribution", AIIE Trans. 6(2), 1974) narrows it to guide_[k] … guide_[k+1]
-    // for u in the k-th of n equal intervals — usually one or two bins — and a binary search whose step is a
+    // for u in the k-th of kGuideIntervalsPerBin · n equal intervals — usually one bin, so that the search
+    // below mostly has nothing left to do — and a binary search whose step is a
     // conditional move rather than a branch (Khuong & Morin, "Array layouts for comparison-based
     // searching", JEA 22, 2017) finishes it: the same bin as a search of the whole table, in O(1) for tables
     // without long runs of tiny bins and O(log n) always. Then cdf[i+1] > u, so bin i has a probability
@@ -84,15 +87,17 @@ class Distribution1D {
     return static_cast<uint32_t>(first - cdf_.data());
   }
   uint32_t guideInterval(float u) const {
-    return std::min(static_cast<uint32_t>(std::max(u, 0.0f) * static_cast<float>(size())), size() - 1);
+    return std::min(static_cast<uint32_t>(std::max(u, 0.0f) * guideScale_), guideIntervals_ - 1);
   }
   float remap(float u, uint32_t i) const { return std::min((u - cdf_[i]) * invWidth_[i], kOneMinusEpsilon); }
 
   std::vector<float> func_;  // the weights, or all 1 when they are all 0
   std::vector<float> cdf_;   // n + 1 values from 0 to 1
-  // n + 1 values: guide_[k] is the bin of the smallest u in guide interval k (findBin), guide_[n] = n − 1;
-  // the bin of every u in interval k lies in guide_[k] … guide_[k+1].
+  // guideIntervals_ + 1 values: guide_[k] is the bin of the smallest u in guide interval k (findBin), the
+  // last n − 1; the bin of every u in interval k lies in guide_[k] … guide_[k+1].
   std::vector<uint32_t> guide_;
+  uint32_t guideIntervals_ = 1;  // kGuideIntervalsPerBin · n
+  float guideScale_ = 1.0f;      // guideIntervals_ as a float: u's interval is u · guideScale_
   // 1 / (cdf[i+1] − cdf[i]) (0 for an empty bin, which is never chosen) and 1 / n: sampling multiplies
   // rather than divides.
   std::vector<float> invWidth_;

@@ -48,9 +48,7 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
                                 " triangles");
   }
   const size_t triangleCount = rdb.triangleCount();
-  normals_.assign(triangleCount, vec3(0.0f));
-  areasM2_.assign(triangleCount, 0.0f);
-  magnitudesM_.assign(triangleCount, 0.0f);
+  triangles_.assign(triangleCount, TriangleData{});
   triangleOfPrimitive_.reserve(triangleCount);
   for (size_t t = 0; t < triangleCount; ++t) {
     const uint32_t i0 = rdb.indices[3 * t], i1 = rdb.indices[3 * t + 1], i2 = rdb.indices[3 * t + 2];
@@ -69,11 +67,11 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
     if (!(twiceArea > 0.0) || !std::isfinite(twiceArea)) continue;
     const vec3 n(cross / twiceArea);
     if (!isFinite(n) || glm::dot(n, n) < 0.5f) continue;
-    normals_[t] = n;
-    areasM2_[t] = static_cast<float>(0.5 * twiceArea);
-    magnitudesM_[t] = std::max({maxAbs(p0), maxAbs(p1), maxAbs(p2)});
+    triangles_[t] = {n, static_cast<float>(0.5 * twiceArea), std::max({maxAbs(p0), maxAbs(p1), maxAbs(p2)})};
     triangleOfPrimitive_.push_back(static_cast<uint32_t>(t));
   }
+
+  primitivesAreTriangles_ = triangleOfPrimitive_.size() == triangleCount;
 
   device_ = rtcNewDevice(nullptr);
   if (device_ == nullptr) {
@@ -124,14 +122,19 @@ void EmbreeScene::filterHits(const RTCFilterFunctionNArguments* args) {
     if (args->valid[i] == 0) continue;
     const vec3 origin(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                       RTCRayN_org_z(args->ray, args->N, i));
-    const vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
-                   RTCRayN_dir_z(args->ray, args->N, i));
-    // The filter sees the candidate hit's distance in tfar.
+    // The filter sees the candidate hit's distance in tfar. Nearly every hit lies beyond the origin's
+    // offset: its triangle is looked up only where the hit may be rejected.
     const float t = RTCRayN_tfar(args->ray, args->N, i);
-    const uint32_t triangle = self->triangleOfPrimitive_[RTCHitN_primID(args->hit, args->N, i)];
-    if (t <= rayOffsetM(maxAbs(origin)) && glm::dot(self->normals_[triangle], dir) > 0.0f) {
-      args->valid[i] = 0;
-      continue;
+    const bool atOrigin = t <= rayOffsetM(maxAbs(origin));
+    if (!atOrigin && !self->hasCutOuts_) continue;
+    const uint32_t triangle = self->triangleOf(RTCHitN_primID(args->hit, args->N, i));
+    if (atOrigin) {
+      const vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_dir_z(args->ray, args->N, i));
+      if (glm::dot(self->triangles_[triangle].normal, dir) > 0.0f) {
+        args->valid[i] = 0;
+        continue;
+      }
     }
     if (self->hasCutOuts_) {
       const rdb::TraceMaterial& m = self->rdb_.materials[self->rdb_.triangleMaterial[triangle]];
@@ -170,8 +173,8 @@ std::optional<Hit> EmbreeScene::intersect(const vec3& origin, const vec3& dir, f
   rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rayHit);
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  const uint32_t triangle = triangleOfPrimitive_[rayHit.hit.primID];
-  return Hit{triangle, vec2(rayHit.hit.u, rayHit.hit.v), normals_[triangle], rayHit.ray.tfar};
+  const uint32_t triangle = triangleOf(rayHit.hit.primID);
+  return Hit{triangle, vec2(rayHit.hit.u, rayHit.hit.v), triangles_[triangle].normal, rayHit.ray.tfar};
 }
 
 }  // namespace fly::raytracer

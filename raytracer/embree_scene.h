@@ -84,9 +84,9 @@ class EmbreeScene {
 
   // Per TraceRdb triangle: its unit geometric normal (zero for a degenerate one), its area in m², and the
   // largest absolute coordinate of its vertices (for rayOffsetM()).
-  const vec3& triangleNormal(uint32_t t) const { return normals_[t]; }
-  float triangleAreaM2(uint32_t t) const { return areasM2_[t]; }
-  float triangleMagnitudeM(uint32_t t) const { return magnitudesM_[t]; }
+  const vec3& triangleNormal(uint32_t t) const { return triangles_[t].normal; }
+  float triangleAreaM2(uint32_t t) const { return triangles_[t].areaM2; }
+  float triangleMagnitudeM(uint32_t t) const { return triangles_[t].magnitudeM; }
   // Triangles given to Embree (the others are degenerate).
   uint32_t validTriangleCount() const { return static_cast<uint32_t>(triangleOfPrimitive_.size()); }
 
@@ -99,10 +99,20 @@ class EmbreeScene {
   bool hasCutOuts_ = false;  // some material is an alpha mask
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
+  // The TraceRdb triangle of an Embree primitive id: the id itself when no triangle is left out.
+  uint32_t triangleOf(uint32_t primitive) const {
+    return primitivesAreTriangles_ ? primitive : triangleOfPrimitive_[primitive];
+  }
+
   std::vector<uint32_t> triangleOfPrimitive_;  // Embree primitive id → TraceRdb triangle
-  std::vector<vec3> normals_;
-  std::vector<float> areasM2_;
-  std::vector<float> magnitudesM_;
+  bool primitivesAreTriangles_ = false;        // triangleOfPrimitive_ is the identity
+  // What a hit reads of its triangle, together: one cache line's load where the scene is large.
+  struct TriangleData {
+    vec3 normal{0.0f};
+    float areaM2 = 0.0f;
+    float magnitudeM = 0.0f;
+  };
+  std::vector<TriangleData> triangles_;
 };
 
 }  // namespace fly::raytracer

@@ -91,6 +91,22 @@ inline constexpr float toUnitFloat(uint32_t x) {
   return static_cast<float>(x >> 8) * 0x1p-24f;
 }
 
+// Each byte bit-reversed.
+inline constexpr std::array<uint8_t, 256> kReversedBytes = [] {
+  std::array<uint8_t, 256> table{};
+  for (uint32_t b = 0; b < 256; ++b) table[b] = static_cast<uint8_t>(reverseBits(b) >> 24);
+  return table;
+}();
+
+// toUnitFloat(reverseBits(x)): the 24 high bits of the reversed x are its 24 low bits reversed, three bytes
+// through kReversedBytes (fewer operations than reversing all 32 bits by shifts and masks).
+inline constexpr float reversedToUnitFloat(uint32_t x) {
+  const uint32_t reversed24 = (uint32_t{kReversedBytes[x & 255u]} << 16) |
+                              (uint32_t{kReversedBytes[(x >> 8) & 255u]} << 8) |
+                              kReversedBytes[(x >> 16) & 255u];
+  return static_cast<float>(reversed24) * 0x1p-24f;
+}
+
 // Sobol' of a bit-reversed index, bit-reversed, by nibbles: kSobolNibbles[d][k][x] = XOR of reverse(v_{32−j})
 // over the set bits j = 4k + b of the nibble x (v_1 … v_32: the direction numbers of Sobol' dimension d as
 // 32-bit binary fractions; sampler.cpp). XOR over the eight nibbles of reverse(i) then gives
@@ -151,7 +167,7 @@ class SobolSampler {
     const std::array<std::array<uint32_t, 16>, 8>& nibbles = detail::kSobolNibbles[d];
     uint32_t reversed = 0;
     for (uint32_t k = 0; k < 8; ++k) reversed ^= nibbles[k][(reversedIndex_ >> (4 * k)) & 15u];
-    return detail::toUnitFloat(detail::reverseBits(detail::laineKarrasPermutation(reversed, seeds_[d])));
+    return detail::reversedToUnitFloat(detail::laineKarrasPermutation(reversed, seeds_[d]));
   }
 
   // A group's hashed seeds: of its index shuffle, and of each dimension's scramble.
@@ -163,9 +179,10 @@ class SobolSampler {
     uint32_t group = ~0u;  // none: ~0u is never started (startSample's "before group 0")
     GroupSeeds seeds{};
   };
-  // Groups kept: those of the first ten path vertices (3 a vertex), and callers' own groups that are
-  // ≡ 31 mod 32 (raytracer/baker.cpp).
-  static constexpr uint32_t kCachedGroups = 32;
+  // Groups kept: those of the first 21 path vertices (3 a vertex). The integrator's and the baker's own
+  // groups (raytracer/integrator.cpp, raytracer/baker.cpp) fall in slots 27 … 63 while their vertex is among
+  // the first 17, so that they evict the groups of deep path vertices only.
+  static constexpr uint32_t kCachedGroups = 64;
 
   GroupSeeds groupSeeds(uint32_t group) const {
     const uint64_t groupHash = detail::mix64(pointHash_ + group);

@@ -39,7 +39,7 @@ TEST(Distribution, DiscreteChi2) {
 // The guide table only narrows the search: every u must get the bin whose cumulative interval holds it, with
 // positive weight, on tables made to stress it — empty bins, one bin holding almost everything next to
 // thousands of tiny ones (long runs inside one guide interval), geometric weights, one bin — and at every
-// guide interval's edges (k / n and the floats beside it).
+// guide interval's edges (k / 4n, four intervals per bin, and the floats beside them).
 TEST(Distribution, GuideTableFindsTheBinOfEveryU) {
   std::vector<std::vector<float>> tables = {kWeights, {5.0f}};
   std::vector<float> spike(10000, 1e-3f);
@@ -59,8 +59,8 @@ TEST(Distribution, GuideTableFindsTheBinOfEveryU) {
       random.startSample(i);
       us.push_back(random.next1D());
     }
-    const auto n = static_cast<float>(weights.size());
-    for (size_t k = 0; k <= weights.size(); ++k) {
+    const auto n = static_cast<float>(4 * weights.size());
+    for (size_t k = 0; k <= 4 * weights.size(); ++k) {
       const float edge = std::min(static_cast<float>(k) / n, 0x1.fffffep-1f);
       us.insert(us.end(), {edge, std::nextafter(edge, 0.0f), std::min(std::nextafter(edge, 1.0f), 0x1.fffffep-1f)});
     }

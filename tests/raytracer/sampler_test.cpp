@@ -241,6 +241,53 @@ TEST(Sampler, ValuesDependOnlyOnPointSampleAndDimension) {
   }
 }
 
+// Burley's shuffled, scrambled 4D Sobol' point computed from its definition: the group's seeds hashed from
+// the point and group, the index shuffled by a Laine–Karras permutation, the Sobol' product over the eight
+// nibbles of the shuffled index, each dimension's scramble, and the whole reversal of its bits; for groups
+// that share a slot of the sampler's cache (0, 64; 7, 71), read alternately.
+TEST(Sampler, SobolMatchesItsDefinition) {
+  for (uint64_t seed : kSeeds) {
+    SobolSampler sampler(seed);
+    for (uint32_t index : {0u, 1u, 5u, 65535u, 65536u, 1u << 20, 0xffffffffu, 3u}) {
+      sampler.startSample(index);
+      for (uint32_t group : {0u, 64u, 7u, 71u, 0u, (1u << 19) + 29u, (1u << 20) + 31u}) {
+        const uint64_t groupHash = detail::mix64(detail::mix64(seed) + group);
+        const uint64_t a = detail::mix64(groupHash + 1);
+        const uint64_t b = detail::mix64(groupHash + 2);
+        const std::array<uint32_t, 4> scramble = {static_cast<uint32_t>(a), static_cast<uint32_t>(a >> 32),
+                                                  static_cast<uint32_t>(b), static_cast<uint32_t>(b >> 32)};
+        const uint32_t shuffled =
+            detail::laineKarrasPermutation(detail::reverseBits(index), static_cast<uint32_t>(groupHash));
+        sampler.startGroup(group);
+        for (uint32_t d = 0; d < kGroupDimensions; ++d) {
+          uint32_t reversed = 0;
+          for (uint32_t k = 0; k < 8; ++k)
+            reversed ^= detail::kSobolNibbles[d][k][(shuffled >> (4 * k)) & 15u];
+          const float expected =
+              detail::toUnitFloat(detail::reverseBits(detail::laineKarrasPermutation(reversed, scramble[d])));
+          EXPECT_EQ(sampler.next1D(), expected)
+              << "seed " << seed << " group " << group << " index " << index << " dimension " << d;
+        }
+      }
+    }
+  }
+}
+
+// The byte table's reversal of the 24 bits a coordinate keeps is the whole reversal's.
+TEST(Sampler, ReversedToUnitFloatIsTheReversedFraction) {
+  Pcg32 rng(7, 11);
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint32_t x = rng.next();
+    EXPECT_EQ(detail::reversedToUnitFloat(x), detail::toUnitFloat(detail::reverseBits(x))) << x;
+  }
+  for (uint32_t bit = 0; bit < 32; ++bit) {
+    EXPECT_EQ(detail::reversedToUnitFloat(1u << bit), detail::toUnitFloat(detail::reverseBits(1u << bit)))
+        << bit;
+  }
+  EXPECT_EQ(detail::reversedToUnitFloat(0xffffffffu), 0x1.fffffep-1f);
+  EXPECT_EQ(detail::reversedToUnitFloat(0u), 0.0f);
+}
+
 TEST(Sampler, RandomValuesDependOnlyOnPointSampleAndDimension) {
   RandomSampler s(99);
   for (uint32_t i : {5u, 0u, 5u}) {
