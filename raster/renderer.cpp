@@ -98,12 +98,12 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
 }
 
 // A per-fragment draw's texture slots (kSurfaceFragment's uTextureSlots bits, in this order) and the texture
-// units they are bound to: base colour, emission, normal map, anisotropy, anisotropy rotation.
-constexpr int kTextureSlots = 5;
-constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17};
+// units they are bound to: base colour, emission, normal map, anisotropy, anisotropy rotation, glossiness.
+constexpr int kTextureSlots = 6;
+constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17, 18};
 std::array<const rdb::RasterTextureRef*, kTextureSlots> textureSlots(const rdb::RasterMaterial& m) {
   return {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
-          &m.anisotropyRotationTexture};
+          &m.anisotropyRotationTexture, &m.glossinessTexture};
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -222,6 +222,9 @@ enum VariantBit : uint32_t {
   // The light-map modes' per-fragment surfaces scale the diffuse albedo by the angle to the eye
   // (rdb::RasterVariants::diffuseByAngle): they interpolate the position and normal for it.
   kVariantDiffuseByAngle = 1u << 25,
+  // Glossiness textures (rdb::RasterMaterial::glossinessTexture; per-fragment surfaces): the lobe's width per
+  // pixel in the lamps', the sun's and the environment's specular terms.
+  kVariantGlossinessTexture = 1u << 26,
 };
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
@@ -578,20 +581,24 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantFrosted, "frosted", "FLY_FROSTED"},
                    {kVariantReflectionFog, "fog", "FLY_REFLECTION_FOG"},
                    {kVariantAnisotropy, "anisotropy", "FLY_ANISOTROPY"},
-                   {kVariantDiffuseByAngle, "diffusebyangle", "FLY_DIFFUSE_BY_ANGLE"}};
+                   {kVariantDiffuseByAngle, "diffusebyangle", "FLY_DIFFUSE_BY_ANGLE"},
+                   {kVariantGlossinessTexture, "glossinesstexture", "FLY_GLOSSINESS_TEXTURE"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
-  if ((variant & kVariantTextures) && (variant & kVariantAnisotropy)) {
+  // The anisotropy and glossiness slots' units lie above the 16 that OpenGL 4.5 guarantees.
+  if ((variant & kVariantTextures) && (variant & (kVariantAnisotropy | kVariantGlossinessTexture))) {
+    const GLuint highest =
+        (variant & kVariantGlossinessTexture) ? kTextureSlotUnits[5] : kTextureSlotUnits[4];
     GLint units = 0;
     glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
-    if (units <= GLint(kTextureSlotUnits[kTextureSlots - 1])) {
-      throw std::runtime_error("the OpenGL driver has " + std::to_string(units) +
-                               " fragment texture units; anisotropy textures need " +
-                               std::to_string(kTextureSlotUnits[kTextureSlots - 1] + 1));
+    if (units <= GLint(highest)) {
+      throw std::runtime_error("the OpenGL driver has " + std::to_string(units) + " fragment texture units; " +
+                               ((variant & kVariantGlossinessTexture) ? "glossiness" : "anisotropy") +
+                               " textures need " + std::to_string(highest + 1));
     }
   }
   const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kAoAmbientCommon + shaders::kSceneCommon +
@@ -1448,6 +1455,9 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         (v.textures ? kVariantTextures : 0u) |
         ((phong || sunDirect) && v.normalMaps ? kVariantNormalMap : 0u) |
         ((phong || sunDirect || ibl || v.cubeReflectors) && v.anisotropy ? kVariantAnisotropy : 0u) |
+        ((phong || sunDirect || ibl || v.cubeReflectors) && v.textures && v.glossinessTextures
+             ? kVariantGlossinessTexture
+             : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
         (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u) |
         (v.reflectionFog ? kVariantReflectionFog : 0u) | (lightMaps && v.diffuseByAngle ? kVariantDiffuseByAngle : 0u);

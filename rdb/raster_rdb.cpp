@@ -89,6 +89,13 @@ bool engineAnisotropic(const sdb::Material& m) {
          maxComponent(glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f))) > 0.0f;
 }
 
+// Whether the engine reads m's glossiness texture: a material whose textures it reads (not glass), with an
+// analytic lobe (not measured) that reflects something (otherwise the width it sets shows nowhere).
+bool engineGlossinessTextured(const sdb::Material& m) {
+  return m.reflectionGlossinessTexture && readsTextures(m) && !m.isMeasured() &&
+         maxComponent(glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f))) > 0.0f;
+}
+
 RasterTextureRef lowerTextureRef(const sdb::TextureRef& ref, bool srgb, TextureTable& table) {
   RasterTextureRef r;
   if (!ref) return r;
@@ -175,6 +182,9 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
       r.anisotropyTexture = lowerTextureRef(m.anisotropyTexture, false, table);
       r.anisotropyRotationTexture = lowerTextureRef(m.anisotropyRotationTexture, false, table);
     }
+    if (engineGlossinessTextured(m)) {
+      r.glossinessTexture = lowerTextureRef(m.reflectionGlossinessTexture, false, table);
+    }
     switch (m.alphaMode) {
       case sdb::AlphaMode::kOpaque:
         r.alphaMode = RasterAlphaMode::kOpaque;
@@ -214,7 +224,8 @@ bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
   };
   return same(a.baseColorTexture, b.baseColorTexture) && same(a.emissionTexture, b.emissionTexture) &&
          same(a.normalTexture, b.normalTexture) && same(a.anisotropyTexture, b.anisotropyTexture) &&
-         same(a.anisotropyRotationTexture, b.anisotropyRotationTexture) && a.anisotropic == b.anisotropic &&
+         same(a.anisotropyRotationTexture, b.anisotropyRotationTexture) &&
+         same(a.glossinessTexture, b.glossinessTexture) && a.anisotropic == b.anisotropic &&
          a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike &&
          a.cubeMapOnCurved == b.cubeMapOnCurved && a.cubeMapAlways == b.cubeMapAlways;
 }
@@ -286,6 +297,7 @@ AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
       if (*ref) n.uv[std::clamp(ref->texCoord, 0, 1)] = true;
     }
   }
+  if (engineGlossinessTextured(m)) n.uv[std::clamp(m.reflectionGlossinessTexture.texCoord, 0, 1)] = true;
   if (m.bumpTexture) {
     n.tangents = true;
     n.tangentSet = std::clamp(m.bumpTexture.texCoord, 0, 1);
@@ -944,14 +956,17 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     return maxComponent(x.transmission) > 0.0f && x.transmissionAlpha > 0.0f;
   });
   RasterVariants& v = rdb.variants;
-  v.textures = v.normalMaps = v.anisotropy = v.uv1 = v.vertexColors = v.alphaMask = v.alphaBlend = false;
+  v.textures = v.normalMaps = v.anisotropy = v.glossinessTextures = v.uv1 = v.vertexColors = v.alphaMask =
+      v.alphaBlend = false;
   for (const RasterMesh& mesh : rdb.meshes) {
     const RasterMaterial& m = rdb.materials[mesh.material];
     v.textures |= m.hasTexture();
     v.normalMaps |= bool(m.normalTexture);
     v.anisotropy |= m.anisotropic;
-    for (const RasterTextureRef* t : {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture,
-                                      &m.anisotropyTexture, &m.anisotropyRotationTexture})
+    v.glossinessTextures |= bool(m.glossinessTexture);
+    for (const RasterTextureRef* t :
+         {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
+          &m.anisotropyRotationTexture, &m.glossinessTexture})
       v.uv1 |= bool(*t) && t->texCoord == 1;
     v.vertexColors |= mesh.hasColors;
     v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;

@@ -107,6 +107,11 @@ struct RasterMaterial {
   // glossy lobe). environmentF90 is 0 for a material that reflects nothing and for measured BRDFs.
   Rgb environmentF90{0.0f};
   float ggxAlpha = 1.0f;
+  // The glossiness texture (sdb::Material::reflectionGlossinessTexture; linear) of an opaque analytic material
+  // that reflects: its red channel multiplies the glossiness per pixel, so the lobe's width there is
+  // α = ggxAlpha · red² (= (glossiness · red)², as the baker) in the lamps', the sun's and the environment's
+  // specular terms and the anisotropic widths. Meshes of such a material are shaded per fragment.
+  RasterTextureRef glossinessTexture;
   // Textures (each optional). The base colour's texel (sRGB-decoded) times COLOR_0 multiplies `diffuse` —
   // the energy rule is linear in the diffuse input, so this is the rule applied per texel
   // (sdb::applyEnergyRule) — and its alpha the coverage; the emission texel multiplies emissionCdM2; the
@@ -161,7 +166,7 @@ struct RasterMaterial {
 
   bool hasTexture() const {
     return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture) || bool(anisotropyTexture) ||
-           bool(anisotropyRotationTexture);
+           bool(anisotropyRotationTexture) || bool(glossinessTexture);
   }
   bool hasReflectionFog() const { return reflectionFogDistanceM < std::numeric_limits<float>::infinity(); }
 
@@ -296,6 +301,7 @@ struct RasterVariants {
   bool textures = false;      // some material samples a texture (RasterRdb::textures is not empty)
   bool normalMaps = false;    // some material has a normal map: RasterRdb::tangents
   bool anisotropy = false;    // some mesh's material is anisotropic (RasterMaterial::anisotropic): tangents
+  bool glossinessTextures = false;  // some material reads a glossiness texture (RasterMaterial)
   bool uv1 = false;           // some texture is read with the second UV set: RasterRdb::uv1
   bool vertexColors = false;  // some mesh has COLOR_0: RasterRdb::colors
   bool alphaMask = false;     // some material is a cut-out (kMask)
@@ -384,7 +390,7 @@ struct RasterRdb {
   std::vector<vec4> colors;
   std::vector<vec4> tangents;
   // The materials' textures, in the materials' first-use order (base colour, emission, normal map,
-  // anisotropy, anisotropy rotation).
+  // anisotropy, anisotropy rotation, glossiness).
   std::vector<RasterTexture> textures;
   // The measured BRDFs of the materials that have one (RasterMaterial::measured), in the materials' order.
   std::vector<RasterMeasuredBrdf> measuredBrdfs;

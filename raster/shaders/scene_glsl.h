@@ -34,6 +34,9 @@
 //   FLY_NORMAL_MAP    normal maps (per-vertex tangents) for the Phong and sun terms
 //   FLY_ANISOTROPY    anisotropic reflection lobes (per-vertex tangents; rdb::RasterMaterial::anisotropic) for
 //                     the lamps', the sun's and the environment's specular terms
+//   FLY_GLOSSINESS_TEXTURE  (with FLY_TEXTURES) glossiness textures: the GGX width per pixel
+//                     (rdb::RasterMaterial::glossinessTexture) for the lamps', the sun's and the environment's
+//                     specular terms
 //   FLY_UV1           a second UV set
 //   FLY_VERTEX_COLOR  COLOR_0 multiplies the base colour and the coverage
 //   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
@@ -978,14 +981,17 @@ layout(binding = 7) uniform sampler2D uNormalTexture;
 layout(binding = 16) uniform sampler2D uAnisotropyTexture;          // red U, green V
 layout(binding = 17) uniform sampler2D uAnisotropyRotationTexture;  // red × 2π: rotation (rad)
 #endif
+#ifdef FLY_GLOSSINESS_TEXTURE
+layout(binding = 18) uniform sampler2D uGlossinessTexture;  // red × the material's glossiness
+#endif
 // The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map, 3 anisotropy, 4 its
-// rotation; and per slot its affine
+// rotation, 5 glossiness; and per slot its affine
 // UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z), row0.w the
 // UV set (0 or 1). Uniforms (one material per draw), so that every invocation of a 2 × 2 quad — helper
 // invocations outside the triangle too — computes the UVs whose differences pick the mip level, and the
 // samples are taken in uniform control flow, before any discard.
 uniform uint uTextureSlots;
-uniform vec4 uUvRows[10];  // per slot row0, row1, in the bits' order
+uniform vec4 uUvRows[12];  // per slot row0, row1, in the bits' order
 #endif
 #ifdef FLY_VERTEX_COLOR
 in vec4 vColor;
@@ -1194,6 +1200,14 @@ void main() {
   if ((uTextureSlots & 16u) != 0u)
     anisotropy.z = 2.0 * kPi * texture(uAnisotropyRotationTexture, flyTextureUv(uUvRows[8], uUvRows[9])).r;
 #endif
+#endif
+#ifdef FLY_GLOSSINESS_TEXTURE
+  // The lobe's width at the pixel (rdb::RasterMaterial::glossinessTexture): α = (glossiness · red)², which
+  // every specular term and the anisotropic widths below take from m.environment.w.
+  if ((uTextureSlots & 32u) != 0u) {
+    float red = texture(uGlossinessTexture, flyTextureUv(uUvRows[10], uUvRows[11])).r;
+    m.environment.w *= red * red;
+  }
 #endif
 #ifdef FLY_VERTEX_COLOR
   base *= vColor;

@@ -258,6 +258,9 @@ struct Case {
   dvec3 tangent{0, 1, 0};  // quadXY without UVs: n × x̂ = +Y (rdb::RasterRdb::tangents)
   float u = 0.0f, v = 0.0f, rotationRad = 0.0f;
   bool textured = false;  // the pane has UVs (tangent +X) and the anisotropy comes from textures
+  // > 0: a flat glossiness texture of this red texel multiplies the glossiness (the pane has UVs); the
+  // reference takes glossiness · texel / 255.
+  uint8_t glossinessTexel = 0;
 };
 
 // A 2 × 2 linear texture of one RGB texel.
@@ -292,12 +295,22 @@ std::vector<Case> directLightCases() {
   Case t{"brushed-metal by textures", brushed, dvec3(1, 0, 0), kTexelU / 255.0f, kTexelV / 255.0f,
          float(2.0 * kPi * kTexelRotation / 255.0), true};
   cases.push_back(t);
+  // Glossiness textures: 0.6 · 102/255 = 0.24 (α 0.058) on an isotropic lobe, and 0.35 · 204/255 = 0.28 on the
+  // brushed metal, whose anisotropic widths follow the pixel's glossiness.
+  Case g{"matte-plastic by a glossiness texture", sdb::findMaterialPreset("matte-plastic")->material};
+  g.glossinessTexel = 102;
+  cases.push_back(g);
+  Case gb{"brushed-metal by a glossiness texture", brushed, dvec3(1, 0, 0), brushed.anisotropyU, brushed.anisotropyV,
+          brushed.anisotropyRotationRad};
+  gb.glossinessTexel = 204;
+  cases.push_back(gb);
   return cases;
 }
 
 // Under one directional light of illuminance E from ωi, a pane seen from ωo shows f(ωo, ωi) E cos θi: the engine's
 // lamp and sun terms (diffuse and reflection lobe) against the reference (the baker's Bsdf::eval, or the
-// anisotropic closed form), per preset, in simple mode without the ambient term, in the mirror configuration
+// anisotropic closed form), per preset and for two presets' glossiness read from a texture (the reference of
+// glossiness × texel), in simple mode without the ambient term, in the mirror configuration
 // (the lobe's peak), near it, and away from it, in planes of incidence along and across the pane's tangent.
 // Within 0.5 %: both evaluate the same GGX lobe in single precision, and at the peak of the narrowest lobes (α =
 // 0.0025: 10⁵–10⁷ cd/m²) the half vector's rounding moves D by up to 0.3 %. Presets that reflect by a delta lobe
@@ -318,7 +331,9 @@ TEST(MaterialAlbedo, DirectLightAgreesWithTheReference) {
                             {40, 35, 45, 215}, {60, 60, 90, 250}};
   int compared = 0, anisotropic = 0;
   for (const Case& c : directLightCases()) {
-    const sdb::Material& m = c.material;
+    // The material the engine reads per pixel: with a glossiness texture, the preset's glossiness times the texel.
+    sdb::Material m = c.material;
+    if (c.glossinessTexel > 0) m.reflectionGlossiness *= float(c.glossinessTexel) / 255.0f;
     // The baker's Bsdf with the anisotropy the engine reads (the texels where the pane has textures), in its
     // local frame of the unrotated tangent: it turns the lobe by the rotation itself.
     sdb::Material bakerMaterial = m;
@@ -337,12 +352,16 @@ TEST(MaterialAlbedo, DirectLightAgreesWithTheReference) {
       const dvec3 woD(std::sin(to) * std::cos(po), std::sin(to) * std::sin(po), std::cos(to));
       const vec3 wi(wiD), wo(woD);
       sdb::Scene scene;
-      sdb::Material material = m;
+      sdb::Material material = c.material;
       sdb::Mesh pane = raster::test::quadXY({});
       if (c.textured) {
         pane.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};  // +u along +X, the image's top at +Y
         material.anisotropyTexture.texture = flatTexture(scene, "anisotropy", kTexelU, kTexelV, 0);
         material.anisotropyRotationTexture.texture = flatTexture(scene, "rotation", kTexelRotation, 0, 0);
+      }
+      if (c.glossinessTexel > 0) {
+        pane.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+        material.reflectionGlossinessTexture.texture = flatTexture(scene, "glossiness", c.glossinessTexel, 0, 0);
       }
       const sdb::MaterialId id = scene.addMaterial(material).id;
       pane.material = id;
@@ -360,6 +379,7 @@ TEST(MaterialAlbedo, DirectLightAgreesWithTheReference) {
         ASSERT_EQ(r.tangents.size(), r.positionsM.size()) << c.name;
         EXPECT_LT(glm::distance(dvec3(vec3(r.tangents[0])), c.tangent), 1e-6) << c.name;
       }
+      ASSERT_EQ(r.variants.glossinessTextures, c.glossinessTexel > 0) << c.name;
       renderer.upload(r);
       raster::View view;
       view.worldFromCamera = sdb::lookAtTransform(3.0f * wo, vec3(0.0f), std::abs(wo.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0));
@@ -388,8 +408,8 @@ TEST(MaterialAlbedo, DirectLightAgreesWithTheReference) {
       anisotropic += m.isAnisotropic() ? 1 : 0;
     }
   }
-  EXPECT_EQ(compared, 15 * 10);
-  EXPECT_EQ(anisotropic, 4 * 10);
+  EXPECT_EQ(compared, 17 * 10);
+  EXPECT_EQ(anisotropic, 5 * 10);
 }
 
 }  // namespace

@@ -592,6 +592,56 @@ TEST(RasterRdbTextures, AnisotropicMaterialsCarryTangentsAndAreShadedPerFragment
   EXPECT_FALSE(r.materials[r.meshes[0].material].anisotropic);
 }
 
+// A glossiness texture (linear; read with its UV set and KHR_texture_transform) of a material that reflects is
+// carried and its meshes are shaded per fragment, without tangents; an edit that adds it equals a rebuild. A
+// material that reflects nothing, glass and a scene without one carry none and call for no variant.
+TEST(RasterRdbTextures, GlossinessTexturesOfReflectingMaterialsAreShadedPerFragment) {
+  Corner c = corner(floorUvs);
+  RasterRdb r = buildRasterRdb(c.scene);
+  EXPECT_FALSE(r.variants.glossinessTextures);
+
+  sdb::Material wood = c.scene.material(c.wood);
+  wood.reflectionGlossinessTexture.texture = c.scene.addTexture(texture("roughness", 2, 1, 1, 8, {51, 204})).id;
+  wood.reflectionGlossinessTexture.texCoord = 1;
+  wood.reflectionGlossinessTexture.transform = {vec2(0.0f, 1.0f), float(kPi / 2.0), vec2(0.5f)};
+  const sdb::ChangeSet changes = c.scene.setMaterial(c.wood, wood);
+  RasterRdb updated = r;
+  updateRasterRdb(updated, c.scene, changes);
+  r = buildRasterRdb(c.scene);
+  EXPECT_EQ(updated, r);
+  EXPECT_TRUE(r.variants.glossinessTextures && r.variants.textures && r.variants.uv1);
+  EXPECT_FALSE(r.variants.anisotropy || r.variants.normalMaps);
+  EXPECT_TRUE(r.tangents.empty());
+  ASSERT_EQ(r.textures.size(), 1u);
+  EXPECT_FALSE(r.textures[0].srgb);
+  EXPECT_EQ(r.textures[0].rgba8, (std::vector<uint8_t>{51, 51, 51, 255, 204, 204, 204, 255}));
+  const RasterMaterial& m = r.materials[r.meshes[0].material];
+  EXPECT_EQ(m.glossinessTexture.texture, 0u);
+  EXPECT_EQ(m.glossinessTexture.texCoord, 1u);
+  EXPECT_NEAR(m.ggxAlpha, 0.09f, 1e-7f);  // the factor's α; the texel's red² multiplies it per pixel
+  const vec2 corner = transformed(m.glossinessTexture, vec2(1.0f, 0.0f));  // the extension's (1,0) → (0,0.5)
+  EXPECT_NEAR(corner.x, 0.0f, 1e-6f);
+  EXPECT_NEAR(corner.y, 0.5f, 1e-6f);
+  EXPECT_TRUE(r.shadedPerFragment(r.meshes[0]));
+  EXPECT_FALSE(r.shadedPerFragment(r.meshes[1]));  // the paint
+
+  // Reflecting nothing, or glass: the width shows nowhere (glass reads no textures).
+  for (const bool glass : {false, true}) {
+    sdb::Material other = wood;
+    if (glass) {
+      other.transmissionColor = Rgb(0.9f);
+      other.diffuseColor = Rgb(0.0f);
+    } else {
+      other.reflectionColor = Rgb(0.0f);
+    }
+    c.scene.setMaterial(c.wood, other);
+    r = buildRasterRdb(c.scene);
+    EXPECT_FALSE(r.variants.glossinessTextures) << glass;
+    EXPECT_FALSE(r.materials[r.meshes[0].material].glossinessTexture) << glass;
+    EXPECT_TRUE(r.textures.empty()) << glass;
+  }
+}
+
 TEST(RasterRdbTextures, VertexColorsAndAlphaModes) {
   Corner c = corner([](sdb::Mesh& m) { m.colors = {{1, 0, 0, 1}, {0, 1, 0, 0.5f}, {0, 0, 1, 1}, {1, 1, 1, 0}}; });
   sdb::Material paint = c.scene.material(c.paint);
