@@ -36,6 +36,28 @@ MeshBuilder sunlitRoom() {
   return b;
 }
 
+struct TrainingInput {
+  std::vector<LitPatches::TrainingPoint> points;  // every triangle's three corners
+  std::vector<uint8_t> passesStraight;            // per triangle: 1 for clear glass
+};
+
+// The training points and glass flags of LitPatches built directly from a TraceRdb: each triangle's
+// corners with its face normal, and the triangles that transmit.
+TrainingInput trainingInput(const rdb::TraceRdb& rdb, const EmbreeScene& scene) {
+  TrainingInput in;
+  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
+    for (uint32_t c = 0; c < 3; ++c) {
+      const uint32_t v = rdb.indices[3 * size_t{t} + c];
+      in.points.push_back({rdb.positionsM[v], scene.triangleNormal(t), scene.triangleMagnitudeM(t)});
+    }
+  }
+  in.passesStraight.assign(rdb.triangleCount(), 0);
+  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
+    in.passesStraight[t] = rdb.materials[rdb.triangleMaterial[t]].transmission.x > 0.0f ? 1 : 0;
+  }
+  return in;
+}
+
 struct Bake {
   VertexLightMaps maps;
   bool usesPatches = false;
@@ -195,17 +217,9 @@ TEST(LitPatches, SamplingPicksEachTriangleWithTheProbabilityPmfReports) {
   const MeshBuilder b = sunlitRoom();
   const rdb::TraceRdb& rdb = b.rdb;
   const EmbreeScene scene(rdb);
-  std::vector<LitPatches::TrainingPoint> points;
-  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
-    for (uint32_t c = 0; c < 3; ++c) {
-      const uint32_t v = rdb.indices[3 * size_t{t} + c];
-      points.push_back({rdb.positionsM[v], scene.triangleNormal(t), scene.triangleMagnitudeM(t)});
-    }
-  }
-  std::vector<uint8_t> passesStraight(rdb.triangleCount(), 0);
-  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
-    passesStraight[t] = rdb.materials[rdb.triangleMaterial[t]].transmission.x > 0.0f ? 1 : 0;
-  }
+  const TrainingInput input = trainingInput(rdb, scene);
+  const std::vector<LitPatches::TrainingPoint>& points = input.points;
+  const std::vector<uint8_t>& passesStraight = input.passesStraight;
   // Uneven weights: some triangles' estimates 0 (only the defensive share keeps them), others up to 9.
   const LitPatches patches(
       scene, points, passesStraight, rdb.indices, rdb.positionsM,
@@ -242,17 +256,9 @@ TEST(LitPatches, PointsOnATriangleFollowTheDensityReported) {
   const MeshBuilder b = sunlitRoom();
   const rdb::TraceRdb& rdb = b.rdb;
   const EmbreeScene scene(rdb);
-  std::vector<LitPatches::TrainingPoint> points;
-  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
-    for (uint32_t c = 0; c < 3; ++c) {
-      const uint32_t v = rdb.indices[3 * size_t{t} + c];
-      points.push_back({rdb.positionsM[v], scene.triangleNormal(t), scene.triangleMagnitudeM(t)});
-    }
-  }
-  std::vector<uint8_t> passesStraight(rdb.triangleCount(), 0);
-  for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
-    passesStraight[t] = rdb.materials[rdb.triangleMaterial[t]].transmission.x > 0.0f ? 1 : 0;
-  }
+  const TrainingInput input = trainingInput(rdb, scene);
+  const std::vector<LitPatches::TrainingPoint>& points = input.points;
+  const std::vector<uint8_t>& passesStraight = input.passesStraight;
   auto lit = [](const vec2& bary) { return bary.x > 0.6f; };
   const LitPatches patches(
       scene, points, passesStraight, rdb.indices, rdb.positionsM,
