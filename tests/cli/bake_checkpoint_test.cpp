@@ -135,6 +135,31 @@ TEST_F(BakeCheckpointTest, LitPatchMapsAreKeptAndOlderCheckpointsResumeWithoutTh
   EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
 }
 
+// The continuations through portals and the lit patches' training points inside large triangles travel with
+// the checkpoint; one written before either existed resumes without it, as it started.
+TEST_F(BakeCheckpointTest, PortalContinuationAndInteriorTrainingAreKeptAndOlderCheckpointsResumeWithout) {
+  const auto settings = [&] { return loadBakeCheckpoint(job_.outDir).job.settings.integrator; };
+  EXPECT_TRUE(settings().portalContinuation);
+  EXPECT_TRUE(settings().litPatchInteriorTraining);
+  job_.settings.integrator.portalContinuation = false;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_FALSE(settings().portalContinuation);
+  EXPECT_TRUE(settings().litPatchInteriorTraining);
+  job_.settings.integrator.portalContinuation = true;
+  job_.settings.integrator.litPatchInteriorTraining = false;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  EXPECT_TRUE(settings().portalContinuation);
+  EXPECT_FALSE(settings().litPatchInteriorTraining);
+  job_.settings.integrator.litPatchInteriorTraining = true;
+  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+  editJson([](nlohmann::json& j) {
+    j["settings"].erase("portal_continuation");
+    j["settings"].erase("lit_patch_interior_training");
+  });
+  EXPECT_FALSE(settings().portalContinuation);
+  EXPECT_FALSE(settings().litPatchInteriorTraining);
+}
+
 // Russian roulette's weight window travels with the checkpoint; one written before the window existed resumes
 // with throughput roulette (a window of 1), the estimator it started with, and a window outside (0, 1] is bad
 // input.
