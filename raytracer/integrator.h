@@ -36,6 +36,18 @@
 // planes of more than kPanesWithoutGrid panes those of one cell of a grid over the plane. Without clear
 // glass, or with more than kMaxPortalPlanes planes of it, there are no portals.
 //
+// Continuations through portals (IntegratorSettings::portalContinuation): what a room sees through a window
+// is not only sky, which the sky's light sampling above finds through the portals, but the sunlit ground and
+// façades outside, which no light sampling aims at (the lit patches pick points on a lawn's huge triangles,
+// nearly all hidden by the walls) and a cosine-sampled path from the ceiling finds through a window a few
+// times in a hundred. Where the sensor or a Lambertian surface is on the inner side of portal planes, its
+// continuation is drawn from a mixture: with probability α(x) towards a point uniform over the panes, else
+// by the cosine; α(x) is kPortalContinuationFraction times the share of the panes' area below x (the
+// ground is seen looking down through a window; from below the sill it shows only sky). The path's weight
+// f |cos θ| / p and every MIS weight against the next vertex's light (sky, emitters, lit patches) use the
+// mixture's density (1 − α) cos θ / π + α p_portal(x, d), so the estimate stays unbiased (Veach's one-sample
+// model again).
+//
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based
 // Rendering", 4th ed., ch. 4), and combined with BSDF sampling likewise. Light found after a delta lobe
