@@ -304,6 +304,19 @@ std::vector<uint8_t> pointsTakingNextPass(const std::vector<IrradianceEstimate>&
   return takes;
 }
 
+std::vector<uint8_t> pointsFittingTheTimeLeft(const std::vector<IrradianceEstimate>& estimates,
+                                              const std::vector<uint32_t>& groups, float relativeErrorP95,
+                                              const EstimateSettings& settings,
+                                              const std::function<bool(std::vector<uint8_t>&)>& fits) {
+  EstimateSettings narrower = settings;
+  for (float f = settings.allocationFraction * kFitFractionStep; f <= kMaxFitFraction; f *= kFitFractionStep) {
+    narrower.allocationFraction = f;
+    std::vector<uint8_t> takes = pointsTakingNextPass(estimates, groups, relativeErrorP95, narrower);
+    if (fits(takes)) return takes;
+  }
+  return {};
+}
+
 uint32_t replicatesFor(const EstimateSettings& settings, size_t pointCount) {
   if (settings.replicates != 0) return settings.replicates;
   return std::min(settings.firstPassSamples, pointCount >= kMinPointsToPool ? 2u : 8u);
@@ -413,21 +426,33 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       std::vector<uint8_t> takes =
           total == 0 ? std::vector<uint8_t>(pointCount, 1)
                      : pointsTakingNextPass(result.points, acc.groups(), result.relativeErrorP95, settings);
-      uint64_t passPointSamples = 0;
-      for (size_t i = 0; i < pointCount; ++i) {
-        if (acc.settled(i)) takes[i] = 0;
-        if (takes[i]) passPointSamples += total + passSamples - state.pointSamples[i];
+      auto pointSamplesOf = [&](std::vector<uint8_t>& t) {
+        uint64_t sum = 0;
+        for (size_t i = 0; i < pointCount; ++i) {
+          if (acc.settled(i)) t[i] = 0;
+          if (t[i]) sum += total + passSamples - state.pointSamples[i];
+        }
+        return sum;
+      };
+      uint64_t passPointSamples = pointSamplesOf(takes);
+      auto predictedEndS = [&](uint64_t pointSamples) {
+        return elapsed() + state.lastPassS * static_cast<double>(pointSamples) /
+                               static_cast<double>(state.lastPassPointSamples);
+      };
+      // A pass that would end too late, narrowed to the points with the highest errors (kFitFractionStep).
+      if (total > 0 && state.lastPassPointSamples > 0 && settings.allocationFraction > 0.0f &&
+          passPointSamples > 0 && predictedEndS(passPointSamples) > settings.timeLimitS) {
+        std::vector<uint8_t> fewer = pointsFittingTheTimeLeft(
+            result.points, acc.groups(), result.relativeErrorP95, settings, [&](std::vector<uint8_t>& t) {
+              const uint64_t pointSamples = pointSamplesOf(t);
+              return pointSamples > 0 && predictedEndS(pointSamples) <= settings.timeLimitS;
+            });
+        if (!fewer.empty()) {
+          takes = std::move(fewer);
+          passPointSamples = pointSamplesOf(takes);
+        }
       }
-      // A pass without points ends the estimate: every group settled, or (with the allocation) every point
-      // not settled far below a p95 that settled groups' points set. The allocation alone cannot empty a
-      // pass: a point skips only when the others of its block are below f × max(p95, target) < p95 (the
-      // estimate stops before the p95 reaches the target), a block never spans two groups, and one point in
-      // 20 is at the p95 or above it.
-      if (passPointSamples == 0 && pointCount > 0) break;
-      if (total > 0 && state.lastPassPointSamples > 0 &&
-          elapsed() + state.lastPassS * static_cast<double>(passPointSamples) /
-                          static_cast<double>(state.lastPassPointSamples) >
-              settings.timeLimitS)
+      if (total > 0 && state.lastPassPointSamples > 0 && predictedEndS(passPointSamples) > settings.timeLimitS)
         break;
       state.lastPassPointSamples = passPointSamples;
       state.passTakes = std::move(takes);

@@ -117,6 +117,15 @@ struct EstimateSettings {
 // (docs/benchmarks.md, "Sample allocation by error").
 inline constexpr float kBakeAllocationFraction = 0.7f;
 
+// A last pass fitted to the time left: with the allocation on, when the next pass is predicted to end after
+// EstimateSettings::timeLimitS, the fraction is raised by factors of kFitFractionStep, up to
+// kMaxFitFraction, until the points that still take the pass (those in blocks with a high error, by the same
+// neighbours' rule) are predicted to finish in time; without such a fraction the estimate ends as before.
+// Passes double the samples, so a bake given a time limit would otherwise stop up to half its time early,
+// with its slowest points where they were.
+inline constexpr float kFitFractionStep = 1.25f;
+inline constexpr float kMaxFitFraction = 16.0f;
+
 // The allocation's rule (EstimateSettings::allocationFraction, kAllocationMinSamples): per point, whether it
 // takes the next pass (1) or skips it (0), given every point's estimate after the last pass, its group
 // (SampleSource::groupOf; empty: one group) and the p95 of their relative errors. Settled groups are the
@@ -124,6 +133,14 @@ inline constexpr float kBakeAllocationFraction = 0.7f;
 std::vector<uint8_t> pointsTakingNextPass(const std::vector<IrradianceEstimate>& estimates,
                                           const std::vector<uint32_t>& groups, float relativeErrorP95,
                                           const EstimateSettings& settings);
+
+// The points of a pass narrowed to the time left (kFitFractionStep): pointsTakingNextPass with the fraction
+// raised step by step from settings.allocationFraction until fits(takes) holds (fits may also drop points,
+// those of settled groups); empty when none up to kMaxFitFraction does.
+std::vector<uint8_t> pointsFittingTheTimeLeft(const std::vector<IrradianceEstimate>& estimates,
+                                              const std::vector<uint32_t>& groups, float relativeErrorP95,
+                                              const EstimateSettings& settings,
+                                              const std::function<bool(std::vector<uint8_t>&)>& fits);
 
 // The replicates an estimate of pointCount points takes with these settings (settings.replicates unless 0),
 // at most settings.firstPassSamples.

@@ -54,6 +54,41 @@ TEST(AllocationRuleTest, APointSkipsWhenItsBlockNeighboursAreFarBelowTheP95) {
   for (uint8_t t : pointsTakingNextPass(points, groups, 0.10f, settings)) EXPECT_EQ(t, 1);
 }
 
+// A pass narrowed to the time left: four blocks of 16 points with errors of 2 %, 6 %, 9 % and 30 % under a p95
+// of 10 % and a fraction of 0.7 (threshold 7 %): the first two blocks skip, the last two take the pass.
+// When only 16 points fit in the time left, the fraction rises (× 1.25 per step: 0.875, 1.09) until the
+// 9 % block skips too (at 1.09, threshold 10.9 %) and the block with the highest errors alone takes it; when
+// not even one block fits, nothing does.
+TEST(AllocationRuleTest, APassNarrowedToTheTimeLeftKeepsTheBlocksWithTheHighestErrors) {
+  std::vector<IrradianceEstimate> points;
+  for (const float error : {0.02f, 0.06f, 0.09f, 0.30f}) {
+    for (int i = 0; i < 16; ++i) points.push_back(estimate(100.0f, error, 64));
+  }
+  EstimateSettings settings;
+  settings.allocationFraction = 0.7f;
+  auto count = [](const std::vector<uint8_t>& t) {
+    size_t n = 0;
+    for (uint8_t x : t) n += x;
+    return n;
+  };
+  const std::vector<uint8_t> all = pointsTakingNextPass(points, {}, 0.10f, settings);
+  EXPECT_EQ(count(all), 32u);
+  for (size_t i = 32; i < 64; ++i) EXPECT_EQ(all[i], 1) << i;
+  uint32_t tries = 0;
+  const std::vector<uint8_t> fitted =
+      pointsFittingTheTimeLeft(points, {}, 0.10f, settings, [&](std::vector<uint8_t>& t) {
+        ++tries;
+        return count(t) > 0 && count(t) <= 16;
+      });
+  ASSERT_EQ(fitted.size(), 64u);
+  EXPECT_EQ(count(fitted), 16u);
+  for (size_t i = 48; i < 64; ++i) EXPECT_EQ(fitted[i], 1) << "the 30 % block: point " << i;
+  EXPECT_EQ(tries, 2u);
+  EXPECT_TRUE(pointsFittingTheTimeLeft(points, {}, 0.10f, settings, [&](std::vector<uint8_t>& t) {
+                return count(t) > 0 && count(t) < 16;
+              }).empty());
+}
+
 // With a target error above the p95, the threshold is the fraction of the target; a point exactly at the
 // threshold is not low; a point alone in its group (no neighbours) takes every pass.
 TEST(AllocationRuleTest, TheTargetRaisesTheThresholdAndLonePointsTakeEveryPass) {
