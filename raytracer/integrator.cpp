@@ -303,7 +303,9 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
-  if (settings_.skyPortals && skyDistribution_ && hasClearGlass_) buildPortals();
+  if (settings_.skyPortals && skyDistribution_ && (hasClearGlass_ || !rdb.portalCornersM.empty())) {
+    buildPortals();
+  }
 
   std::vector<float> fluxesLm;
   for (uint32_t i = 0; i < rdb.punctualLights.size(); ++i) {
@@ -353,26 +355,23 @@ uint32_t Integrator::skyCell(const vec3& d) const {
 }
 
 void Integrator::buildPortals() {
-  // Clear-glass triangles, grouped by plane: the same normal up to ±, and every corner within a relative 10⁻⁵
-  // of the plane.
+  // Clear-glass triangles and the declared portals' triangles (rdb.portalCornersM), grouped by plane: the same
+  // normal up to ±, and every corner within a relative 10⁻⁵ of the plane. magnitudeM is the largest absolute
+  // coordinate of the triangle's corners, for the ray offsets of the probe below.
   struct Candidate {
     uint32_t plane;
-    uint32_t triangle;
+    float magnitudeM;
     Portal portal;
     float areaM2;
   };
   std::vector<Candidate> candidates;
-  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
-    if (!frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() || !(scene_.triangleAreaM2(t) > 0.0f))
-      continue;
-    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
-    const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
-    const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+  // Adds the triangle (p0, p0 + e1, p0 + e2) of unit normal n; false when kMaxPortalPlanes are exceeded.
+  auto addCandidate = [&](const vec3& p0, const vec3& e1, const vec3& e2, const vec3& n, float areaM2,
+                          float magnitudeM) {
     const float e1e1 = glm::dot(e1, e1), e1e2 = glm::dot(e1, e2), e2e2 = glm::dot(e2, e2);
     const float denominator = e1e1 * e2e2 - e1e2 * e1e2;
-    if (!(denominator > 0.0f)) continue;
-    const vec3& n = scene_.triangleNormal(t);
-    const float tolerance = 1e-5f * std::max(1.0f, scene_.triangleMagnitudeM(t));
+    if (!(denominator > 0.0f)) return true;
+    const float tolerance = 1e-5f * std::max(1.0f, magnitudeM);
     uint32_t plane = 0;
     for (; plane < portalPlanes_.size(); ++plane) {
       const PortalPlane& q = portalPlanes_[plane];
@@ -383,10 +382,7 @@ void Integrator::buildPortals() {
       }
     }
     if (plane == portalPlanes_.size()) {
-      if (portalPlanes_.size() == kMaxPortalPlanes) {
-        portalPlanes_.clear();
-        return;
-      }
+      if (portalPlanes_.size() == kMaxPortalPlanes) return false;
       portalPlanes_.push_back({n, glm::dot(n, p0), p0, p0, 0, 0, 0.0f, n, 0.0f, 0.0f, p0, p0});
     }
     PortalPlane& q = portalPlanes_[plane];
@@ -395,7 +391,34 @@ void Integrator::buildPortals() {
       q.boxMaxM = glm::max(q.boxMaxM, x);
     }
     candidates.push_back(
-        {plane, t, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, scene_.triangleAreaM2(t)});
+        {plane, magnitudeM, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, areaM2});
+    return true;
+  };
+  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
+    if (!frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() || !(scene_.triangleAreaM2(t) > 0.0f))
+      continue;
+    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
+    const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
+    const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+    if (!addCandidate(p0, e1, e2, scene_.triangleNormal(t), scene_.triangleAreaM2(t),
+                      scene_.triangleMagnitudeM(t))) {
+      portalPlanes_.clear();
+      return;
+    }
+  }
+  for (size_t i = 0; i + 2 < rdb_.portalCornersM.size(); i += 3) {
+    const vec3& p0 = rdb_.portalCornersM[i];
+    const vec3 e1 = rdb_.portalCornersM[i + 1] - p0;
+    const vec3 e2 = rdb_.portalCornersM[i + 2] - p0;
+    const vec3 twiceArea = glm::cross(e1, e2);
+    const float twiceAreaM2 = glm::length(twiceArea);
+    if (!(twiceAreaM2 > 0.0f)) continue;
+    const float magnitudeM =
+        std::max({maxAbs(p0), maxAbs(rdb_.portalCornersM[i + 1]), maxAbs(rdb_.portalCornersM[i + 2])});
+    if (!addCandidate(p0, e1, e2, twiceArea / twiceAreaM2, 0.5f * twiceAreaM2, magnitudeM)) {
+      portalPlanes_.clear();
+      return;
+    }
   }
   // Each plane's inner side: rays from its panes' centres over the upper hemisphere on each side; the side
   // whose rays reach the sky less often, when the other's reach it at least 20 % of the time and at least
@@ -411,8 +434,8 @@ void Integrator::buildPortals() {
     const size_t tried = std::min(kPanesTried, panes.size());
     for (size_t k = 0; k < tried; ++k) {
       const Candidate& c = *panes[k * panes.size() / tried];
-      const vec3 origin = offsetRayOrigin(c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f, side,
-                                          scene_.triangleMagnitudeM(c.triangle));
+      const vec3 origin =
+          offsetRayOrigin(c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f, side, c.magnitudeM);
       for (int i = 0; i < kSphereDirections; ++i) {
         const float y = 1.0f - (2.0f * static_cast<float>(i) + 1.0f) / kSphereDirections;
         const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));

@@ -36,6 +36,10 @@
 // planes of more than kPanesWithoutGrid panes those of one cell of a grid over the plane. Without clear
 // glass, or with more than kMaxPortalPlanes planes of it, there are no portals.
 //
+// Declared portals (TraceRdb::portalCornersM: the scene file's "portals", openings without glass such as a
+// window hole) are candidates beside the clear-glass triangles, grouped by plane, probed for their inner side
+// and gridded alike; a scene that declares some has portals without clear glass too.
+//
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based
 // Rendering", 4th ed., ch. 4), and combined with BSDF sampling likewise. Light found after a delta lobe
@@ -369,8 +373,8 @@ class Integrator {
   float portalPdf(const vec3& x, const vec3& d, float areaM2) const;
   // Whether x is on plane q's inner side.
   bool insidePortal(const vec3& x, uint32_t q) const;
-  // Fills portals_ and portalPlanes_ from the clear-glass triangles; leaves them empty (no portals) beyond
-  // kMaxPortalPlanes.
+  // Fills portals_ and portalPlanes_ from the clear-glass triangles and the declared portals' triangles;
+  // leaves them empty (no portals) beyond kMaxPortalPlanes.
   void buildPortals();
   // Density per steradian with which directLight samples the point at distance distM on emissive triangle t,
   // seen at |cos θ_light| = absCosLight.
