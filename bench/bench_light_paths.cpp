@@ -191,6 +191,7 @@ int runLitPatches(const std::string& scenePath, const LitPatchRun& run) {
     raytracer::BakeSettings s;
     s.integrator.litPatches = patches;
     s.integrator.rouletteAfterLight = patches;
+    s.integrator.portalContinuation = patches;
     if (!patches) s.integrator.rouletteWindow = 1.0f;
     s.estimate.firstPassSamples = 16;
     s.estimate.maxSamples = run.seconds > 0.0 ? 1u << 20 : run.samples;

@@ -213,6 +213,8 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"roulette_window", job.settings.integrator.rouletteWindow},
         {"lit_patch_sky", job.settings.integrator.litPatchSky},
         {"lit_patch_maps", job.settings.integrator.litPatchMaps},
+        {"lit_patch_interior_training", job.settings.integrator.litPatchInteriorTraining},
+        {"portal_continuation", job.settings.integrator.portalContinuation},
         {"light_paths", job.settings.lightPaths.enabled},
         {"error_allocation", e.allocationFraction},
         {"export_gltf", job.exportGltf},
@@ -290,6 +292,10 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     c.job.settings.integrator.litPatchSky = s.value("lit_patch_sky", true);
     // ... and with the patch's point uniform on its triangle (no maps of where the sun lights it).
     c.job.settings.integrator.litPatchMaps = s.value("lit_patch_maps", false);
+    // ... and with training points at the vertices alone.
+    c.job.settings.integrator.litPatchInteriorTraining = s.value("lit_patch_interior_training", false);
+    // ... and with continuations by the cosine alone.
+    c.job.settings.integrator.portalContinuation = s.value("portal_continuation", false);
     // ... and without light paths.
     c.job.settings.lightPaths.enabled = s.value("light_paths", false);
     // ... and with every point taking every pass.

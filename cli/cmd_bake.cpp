@@ -235,6 +235,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       {"roulette_window", settings.integrator.rouletteWindow},
       {"lit_patch_sky", settings.integrator.litPatchSky},
       {"lit_patch_maps", settings.integrator.litPatchMaps},
+      {"lit_patch_interior_training", settings.integrator.litPatchInteriorTraining},
+      {"portal_continuation", settings.integrator.portalContinuation},
       {"light_paths", settings.lightPaths.enabled},
       {"error_allocation", e.allocationFraction}};
   d.targetRelativeError = e.targetRelativeError;

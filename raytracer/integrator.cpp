@@ -574,6 +574,23 @@ bool Integrator::insidePortal(const vec3& x, uint32_t q) const {
          !glm::any(glm::lessThan(x, plane.regionMinM)) && !glm::any(glm::greaterThan(x, plane.regionMaxM));
 }
 
+float Integrator::portalContinuationShare(const vec3& x, float& areaM2) const {
+  // The panes' area below x's height, for each plane the share of its box's height below x (exact for
+  // upright rectangular windows).
+  float below = 0.0f;
+  areaM2 = 0.0f;
+  for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
+    if (!insidePortal(x, q)) continue;
+    const PortalPlane& plane = portalPlanes_[q];
+    areaM2 += plane.areaM2;
+    const float heightM = plane.boxMaxM.y - plane.boxMinM.y;
+    const float share = heightM > 0.0f ? std::clamp((x.y - plane.boxMinM.y) / heightM, 0.0f, 1.0f)
+                                       : (x.y > plane.boxMinM.y ? 1.0f : 0.0f);
+    below += share * plane.areaM2;
+  }
+  return areaM2 > 0.0f ? kPortalContinuationFraction * below / areaM2 : 0.0f;
+}
+
 float Integrator::portalAreaM2(const vec3& x) const {
   float area = 0.0f;
   for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
@@ -691,7 +708,7 @@ bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb&
   if (bsdf == nullptr) {
     if (!(cosTheta > 0.0f)) return false;
     fCos = Rgb(cosTheta);
-    pdf = cosineHemispherePdf(cosTheta);
+    pdf = continuationPdf(v, cosTheta, d);
     return true;
   }
   // The geometric side decides which side light arrives on; the shading normal must agree.
@@ -700,7 +717,7 @@ bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb&
   if (bsdf->isLambertian()) {
     if (!(cosTheta > 0.0f)) return false;
     fCos = bsdf->lambertAlbedo() * (cosTheta / kPiF);
-    pdf = cosineHemispherePdf(cosTheta);
+    pdf = continuationPdf(v, cosTheta, d);
     return true;
   }
   if (!(cosTheta > 0.0f) && !(cosTheta < 0.0f && bsdf->hasNonDeltaTransmission())) return false;
@@ -711,6 +728,52 @@ bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb&
   if (!(maxComponent(fCos) > 0.0f)) return false;
   pdf = bsdf->pdf(v.woLocal, wi);
   return true;
+}
+
+float Integrator::continuationPdf(const Vertex& v, float cosTheta, const vec3& d) const {
+  const float cosine = cosineHemispherePdf(cosTheta);
+  if (!(v.portalShare > 0.0f)) return cosine;
+  return (1.0f - v.portalShare) * cosine + v.portalShare * portalPdf(v.p, d, v.portalAreaM2);
+}
+
+bool Integrator::sampleContinuation(const Vertex& v, vec2 u, vec3& d, float& cosTheta, float& pdf) const {
+  if (v.portalShare > 0.0f && u.x < v.portalShare) {
+    const vec3 toPortal = portalPoint(v.p, v.portalAreaM2, vec2(u.x / v.portalShare, u.y)) - v.p;
+    const float distM = glm::length(toPortal);
+    if (!(distM > 0.0f)) return false;
+    d = toPortal / distM;
+  } else {
+    if (v.portalShare > 0.0f) u.x = std::min((u.x - v.portalShare) / (1.0f - v.portalShare), 0x1.fffffep-1f);
+    d = glm::normalize(v.frame.toWorld(sampleCosineHemisphere(u)));
+  }
+  cosTheta = glm::dot(v.n, d);
+  if (!(cosTheta > 0.0f)) return false;
+  pdf = continuationPdf(v, cosTheta, d);
+  return pdf > 0.0f && std::isfinite(pdf);
+}
+
+vec3 Integrator::portalPoint(const vec3& x, float portalAreaM2, const vec2& u) const {
+  // u.x rescaled to the area of x's portal planes chooses the plane, the pane in it and, with what remains
+  // and u.y, the point on the pane.
+  float target = std::min(u.x, 0x1.fffffep-1f) * portalAreaM2;
+  uint32_t plane = ~0u;
+  for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
+    if (!insidePortal(x, q)) continue;
+    plane = q;
+    if (target < portalPlanes_[q].areaM2) break;
+    target -= portalPlanes_[q].areaM2;
+  }
+  const PortalPlane& q = portalPlanes_[plane];
+  target = std::clamp(target, 0.0f, q.areaM2);
+  const auto first = portals_.begin() + q.first;
+  const auto last = first + q.count;
+  auto pane = std::upper_bound(first, last, target, [](float a, const Portal& p) { return a < p.cumulativeAreaM2; });
+  if (pane == last) --pane;
+  const float start = pane == first ? 0.0f : (pane - 1)->cumulativeAreaM2;
+  const float paneArea = pane->cumulativeAreaM2 - start;
+  const float ux = std::clamp((target - start) / paneArea, 0.0f, 0x1.fffffep-1f);
+  const vec3 b = sampleUniformTriangle(vec2(ux, u.y));
+  return pane->p0 + b.y * pane->e1 + b.z * pane->e2;
 }
 
 Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const {
@@ -778,28 +841,8 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
     uint32_t cell = 0;
     float tablePdf = 0.0f;  // with portals, the mixture's density is computed once the direction is seen
     if (u.x < alpha) {
-      // Through a portal: u.x rescaled to the area of v's portal planes chooses the plane, the pane in it
-      // and, with what remains and u.y, the point on the pane.
-      float target = std::min(u.x / alpha, 0x1.fffffep-1f) * portalArea;
-      uint32_t plane = ~0u;
-      for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
-        if (!insidePortal(v.p, q)) continue;
-        plane = q;
-        if (target < portalPlanes_[q].areaM2) break;
-        target -= portalPlanes_[q].areaM2;
-      }
-      const PortalPlane& q = portalPlanes_[plane];
-      target = std::clamp(target, 0.0f, q.areaM2);
-      const auto first = portals_.begin() + q.first;
-      const auto last = first + q.count;
-      auto pane = std::upper_bound(first, last, target,
-                                   [](float a, const Portal& p) { return a < p.cumulativeAreaM2; });
-      if (pane == last) --pane;
-      const float start = pane == first ? 0.0f : (pane - 1)->cumulativeAreaM2;
-      const float paneArea = pane->cumulativeAreaM2 - start;
-      const float ux = std::clamp((target - start) / paneArea, 0.0f, 0x1.fffffep-1f);
-      const vec3 b = sampleUniformTriangle(vec2(ux, u.y));
-      const vec3 toPortal = pane->p0 + b.y * pane->e1 + b.z * pane->e2 - v.p;
+      // Through a portal: a point on the panes of v's portal planes, uniform by area.
+      const vec3 toPortal = portalPoint(v.p, portalArea, vec2(u.x / alpha, u.y)) - v.p;
       const float distM = glm::length(toPortal);
       // The sky is above the horizon only (TraceSky); directions below it find no sky light.
       if (distM > 0.0f && toPortal.y > 0.0f) {
@@ -1012,6 +1055,38 @@ void Integrator::buildLitPatches() {
       }
     }
   }
+  // Points inside the triangles that are large for the cells: a low-poly room's floor of two triangles has
+  // vertices only in its corners, and the cells over its middle would otherwise learn nothing.
+  const float spacingM = LitPatches::cellSizeM(points, rdb_.indices, rdb_.positionsM) / kTrainingPointsPerCellSide;
+  for (uint32_t t = 0; settings_.litPatchInteriorTraining && t < rdb_.triangleCount(); ++t) {
+    if (!(scene_.triangleAreaM2(t) > 0.0f)) continue;
+    const uint32_t* tri = &rdb_.indices[3 * size_t{t}];
+    const vec3 &p0 = rdb_.positionsM[tri[0]], &p1 = rdb_.positionsM[tri[1]], &p2 = rdb_.positionsM[tri[2]];
+    const float longestM = std::max({glm::length(p1 - p0), glm::length(p2 - p1), glm::length(p0 - p2)});
+    if (!(longestM > spacingM)) continue;
+    const uint32_t n = static_cast<uint32_t>(std::min(std::ceil(longestM / spacingM), float(kMaxTrainingSplit)));
+    const vec3& ng = scene_.triangleNormal(t);
+    const bool doubleSided = rdb_.materials[rdb_.triangleMaterial[t]].doubleSided;
+    const vec3 &n0 = rdb_.normals[tri[0]], &n1 = rdb_.normals[tri[1]], &n2 = rdb_.normals[tri[2]];
+    // Sub-triangle centroids at barycentric coordinates (b1, b2) of p1 and p2: n(n+1)/2 pointing one way and
+    // n(n−1)/2 the other.
+    auto add = [&](float b1, float b2) {
+      const float b0 = 1.0f - b1 - b2;
+      const vec3 p = b0 * p0 + b1 * p1 + b2 * p2;
+      vec3 nrm = b0 * n0 + b1 * n1 + b2 * n2;
+      nrm = glm::dot(nrm, ng) > 0.0f ? glm::normalize(nrm) : ng;
+      if (!std::isfinite(nrm.x)) nrm = ng;
+      points.push_back({p, nrm, scene_.triangleMagnitudeM(t)});
+      if (doubleSided) points.push_back({p, -nrm, scene_.triangleMagnitudeM(t)});
+    };
+    const float inv = 1.0f / float(n);
+    for (uint32_t i = 0; i < n; ++i) {
+      for (uint32_t j = 0; i + j < n; ++j) {
+        add((float(i) + 1.0f / 3.0f) * inv, (float(j) + 1.0f / 3.0f) * inv);
+        if (i + j + 1 < n) add((float(i) + 2.0f / 3.0f) * inv, (float(j) + 2.0f / 3.0f) * inv);
+      }
+    }
+  }
   std::vector<uint8_t> passesStraight(rdb_.triangleCount(), 0);
   for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
     passesStraight[t] = frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() ? 1 : 0;
@@ -1020,6 +1095,7 @@ void Integrator::buildLitPatches() {
       scene_, points, passesStraight, rdb_.indices, rdb_.positionsM,
       [this](const Hit& hit, const vec3& d, uint64_t seed) { return directlyLitRadiance(hit, d, seed); },
       [this](uint32_t t, bool front) { return faceRadiance(t, front); }, settings_.litPatchMaps);
+
   if (!patches->empty()) litPatches_ = std::move(patches);
 }
 
@@ -1070,6 +1146,11 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     // All lights where v has a non-delta lobe; the sun and punctual lights also where only its regularised
     // twin has one (a mirror without caustics).
     const bool lightSampling = !straightOnly && (v.bsdf == nullptr || v.bsdf->hasNonDelta());
+    v.portalShare = 0.0f;
+    if (settings_.portalContinuation && !portalPlanes_.empty() && !straightOnly &&
+        (v.bsdf == nullptr || v.bsdf->isLambertian())) {
+      v.portalShare = portalContinuationShare(v.p, v.portalAreaM2);
+    }
     const bool deltaLightSampling = lightSampling || (!straightOnly && v.deltaLightBsdf->hasNonDelta());
     const bool roulette = depth + 1 >= kFirstRouletteVertex;
     const bool lobeChoice = !straightOnly && v.bsdf != nullptr && !v.bsdf->isLambertian();
@@ -1142,12 +1223,10 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     // The continuation.
     vec3 d;
     if (v.bsdf == nullptr) {
-      // Cosine sampling at the sensor: cos θ / pdf = π.
-      d = v.frame.toWorld(sampleCosineHemisphere(uContinue));
-      const float cosTheta = glm::dot(v.n, d);
-      if (!(cosTheta > 0.0f)) break;
-      beta *= kPiF;
-      pdfLast = cosineHemispherePdf(cosTheta);
+      // At the sensor, whose integrand is L cos θ: cos θ / pdf (π for the cosine alone).
+      float cosTheta = 0.0f;
+      if (!sampleContinuation(v, uContinue, d, cosTheta, pdfLast)) break;
+      beta *= cosTheta / pdfLast;
       travelledM = 0.0f;
       misOrigin = v.p;
       patchCellLast = patchCell;
@@ -1155,15 +1234,13 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       d = v.frame.toWorld(-v.woLocal);
       beta *= v.bsdf->straightTransmittance(v.woLocal.z);
     } else if (v.bsdf->isLambertian()) {
-      // f |cos θ| / pdf = (ρ/π) cos θ / (cos θ / π) = ρ.
-      const vec3 wi = sampleCosineHemisphere(uContinue);
-      if (!(wi.z > 0.0f)) break;
-      d = glm::normalize(v.frame.toWorld(wi));
+      // f |cos θ| / pdf = (ρ/π) cos θ / pdf (ρ for the cosine alone).
+      float cosTheta = 0.0f;
+      if (!sampleContinuation(v, uContinue, d, cosTheta, pdfLast)) break;
       if (!(glm::dot(d, v.ng) > 0.0f)) break;  // below the geometric surface: no light comes from there
-      beta *= v.bsdf->lambertAlbedo();
+      beta *= v.bsdf->lambertAlbedo() * (cosTheta / (kPiF * pdfLast));
       ++reflections;
       specular = false;
-      pdfLast = cosineHemispherePdf(wi.z);
       travelledM = 0.0f;
       misOrigin = v.p;
       patchCellLast = patchCell;

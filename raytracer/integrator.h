@@ -40,6 +40,18 @@
 // window hole) are candidates beside the clear-glass triangles, grouped by plane, probed for their inner side
 // and gridded alike; a scene that declares some has portals without clear glass too.
 //
+// Continuations through portals (IntegratorSettings::portalContinuation): what a room sees through a window
+// is not only sky, which the sky's light sampling above finds through the portals, but the sunlit ground and
+// façades outside, which no light sampling aims at (the lit patches pick points on a lawn's huge triangles,
+// nearly all hidden by the walls) and a cosine-sampled path from the ceiling finds through a window a few
+// times in a hundred. Where the sensor or a Lambertian surface is on the inner side of portal planes, its
+// continuation is drawn from a mixture: with probability α(x) towards a point uniform over the panes, else
+// by the cosine; α(x) is kPortalContinuationFraction times the share of the panes' area below x (the
+// ground is seen looking down through a window; from below the sill it shows only sky). The path's weight
+// f |cos θ| / p and every MIS weight against the next vertex's light (sky, emitters, lit patches) use the
+// mixture's density (1 − α) cos θ / π + α p_portal(x, d), so the estimate stays unbiased (Veach's one-sample
+// model again).
+//
 // Emissive triangles: one chosen by area × luminance (× 2 when double-sided), a point uniform on it, its
 // density converted to solid angle by dω = |cos θ_light| dA / r² (Pharr, Jakob & Humphreys, "Physically Based
 // Rendering", 4th ed., ch. 4), and combined with BSDF sampling likewise. Light found after a delta lobe
@@ -185,6 +197,10 @@ inline constexpr float kRegularizedGlossiness = 0.3f;
 // The share of sky light samples that go through the clear-glass portals when the scene has them.
 inline constexpr float kPortalFraction = 0.25f;
 
+// The share of a continuation's samples that head through the portals where the sensor or a Lambertian
+// surface is on their inner side (IntegratorSettings::portalContinuation).
+inline constexpr float kPortalContinuationFraction = 0.25f;
+
 // Planes of clear glass beyond which sky portals are off: every sky density evaluation meets each one.
 inline constexpr uint32_t kMaxPortalPlanes = 64;
 
@@ -241,6 +257,17 @@ struct IntegratorSettings {
   // where the light is on a triangle that the sun lights in part, rather than uniformly. Off gives the
   // estimator of bakes before the maps existed (resumed checkpoints), and a comparison.
   bool litPatchMaps = true;
+  // Continuations through the portals (above): where a path leaves the sensor or a Lambertian surface on
+  // the inner side of some portal planes, kPortalContinuationFraction of its continuations head for a point
+  // uniform on their panes, the rest follow the cosine, and every weight uses the mixture's density. The
+  // light that comes in through windows is not the sky's alone: the sunlit ground and façades outside are
+  // seen through them too, and a cosine-sampled path from the ceiling finds them rarely. Off gives the
+  // estimator of bakes before it existed (resumed checkpoints), and a comparison.
+  bool portalContinuation = true;
+  // Training points spread over triangles that are large for the lit patches' regions (LitPatches,
+  // kTrainingPointsPerCellSide), besides the vertices. Off gives the estimator of bakes before they existed
+  // (resumed checkpoints).
+  bool litPatchInteriorTraining = true;
   // Russian roulette at a vertex after its lights are sampled (and before its continuation), rather than
   // when the vertex is reached: a path that ends there still gathers the vertex's direct light (above).
   // Off gives the estimator of bakes before it existed (resumed checkpoints), and a comparison.
@@ -309,6 +336,11 @@ class Integrator {
     // albedo fogColor that stands in for the reflection lobes where the fog wins (sampleIrradiance).
     float fogDistanceM = std::numeric_limits<float>::infinity();
     const Bsdf* fogBsdf = nullptr;
+    // Where v's continuation mixes the portals with the cosine (portalContinuationShare): the pane area (m²)
+    // of the portal planes whose inner side v is on, and the portals' share; sampling, response()'s density
+    // and every MIS weight use the mixture.
+    float portalAreaM2 = 0.0f;
+    float portalShare = 0.0f;  // the share α of v's continuations that head through the portals (0: none)
   };
 
   // Σ over the lights of ∫ L_i f |cos θ| dω at v by light sampling (f = 1 and the hemisphere of n at the
@@ -353,6 +385,15 @@ class Integrator {
   // apart, sampleIrradiance), and the density per steradian with which v's continuation samples d. False
   // when v takes no light from d, also where d lies on the other side of the geometric surface than of the
   // shading one (no light through the back of a surface). bsdf: v.bsdf or v.deltaLightBsdf.
+  // The density per steradian with which the continuation of v (the sensor, or a Lambertian surface) samples
+  // unit direction d at cos θ = n · d > 0: the cosine's, mixed with v's directional guide where it has one.
+  float continuationPdf(const Vertex& v, float cosTheta, const vec3& d) const;
+  // The continuation of v (the sensor, or a Lambertian surface) from u: the direction d, its cos θ and its
+  // density (continuationPdf). False where d lies below v's shading normal (no light comes from there).
+  bool sampleContinuation(const Vertex& v, vec2 u, vec3& d, float& cosTheta, float& pdf) const;
+  // A point uniform by area on the panes of the portal planes whose inner side x is on (their area
+  // portalAreaM2 > 0), from u ∈ [0, 1)².
+  vec3 portalPoint(const vec3& x, float portalAreaM2, const vec2& u) const;
   bool response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf,
                 float distM = std::numeric_limits<float>::infinity()) const;
   // The fraction of light that reaches origin from unit direction dir over [0, tMaxM] (tMaxM may be ∞): 1
@@ -364,6 +405,12 @@ class Integrator {
   // The sky table's cell towards world direction d with d.y ≥ 0: an index into rdb.sky.radianceCdM2 and
   // skyPdfPerSr_.
   uint32_t skyCell(const vec3& d) const;
+  // The share of the continuations at x that head through the portals (portalContinuation): at most
+  // kPortalContinuationFraction, times the share of the portals' panes that lie below x (what is seen
+  // through a window from below its sill is the sky, which the sky's light sampling finds through the
+  // portals already; the sunlit ground and façades outside are seen looking down). areaM2 receives
+  // portalAreaM2(x).
+  float portalContinuationShare(const vec3& x, float& areaM2) const;
   // The pane area of the portal planes whose inner side x is on (0: none, and always without portals).
   float portalAreaM2(const vec3& x) const;
   // Density per steradian with which directLight's sky sampling draws world direction d (d.y ≥ 0) from x,

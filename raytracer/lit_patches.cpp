@@ -94,16 +94,15 @@ uint64_t LitPatches::keyOf(const vec3& p, const vec3& n) const {
   return (coordinate(g.x) << 43) | (coordinate(g.y) << 23) | (coordinate(g.z) << 3) | normalBin(n);
 }
 
-LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
-                       std::span<const uint8_t> passesStraight,
-                       std::span<const uint32_t> indices, std::span<const vec3> positionsM,
-                       const RadianceEstimate& radiance, const FaceRadiance& faceRadiance, bool maps) {
-  if (points.empty()) return;
+float LitPatches::cellSizeM(std::span<const TrainingPoint> points, std::span<const uint32_t> indices,
+                            std::span<const vec3> positionsM, vec3* boxLoM) {
+  if (points.empty()) return 1.0f;
   vec3 lo = points.front().p, hi = lo;
   for (const TrainingPoint& q : points) {
     lo = glm::min(lo, q.p);
     hi = glm::max(hi, q.p);
   }
+  if (boxLoM) *boxLoM = lo;
   const float longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   std::vector<float> edgesM;
   for (size_t t = 0; t + 2 < indices.size(); t += 3) {
@@ -118,8 +117,17 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
                      edgesM.end());
     medianEdgeM = edgesM[edgesM.size() / 2];
   }
-  cellSizeM_ = std::max(longest / kCellsAlongLongestSide, kCellsPerEdgeLength * medianEdgeM);
-  if (!(cellSizeM_ > 0.0f) || !std::isfinite(cellSizeM_)) cellSizeM_ = 1.0f;
+  const float size = std::max(longest / kCellsAlongLongestSide, kCellsPerEdgeLength * medianEdgeM);
+  return size > 0.0f && std::isfinite(size) ? size : 1.0f;
+}
+
+LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> points,
+                       std::span<const uint8_t> passesStraight,
+                       std::span<const uint32_t> indices, std::span<const vec3> positionsM,
+                       const RadianceEstimate& radiance, const FaceRadiance& faceRadiance, bool maps) {
+  if (points.empty()) return;
+  vec3 lo = points.front().p;
+  cellSizeM_ = cellSizeM(points, indices, positionsM, &lo);
   originM_ = lo;
 
   // The training points of each cell, cells in order of their first point (deterministic).
@@ -184,6 +192,8 @@ LitPatches::LitPatches(const EmbreeScene& scene, std::span<const TrainingPoint> 
           break;
         }
         out.escapes += escaped ? 1 : 0;
+        // Past this many escapes the cell is open whatever its other rays find.
+        if (float(out.escapes) > kMaxEscapeFraction * float(kTrainingRaysPerCell)) break;
       }
       std::sort(hits.begin(), hits.end(), [](const TriangleHits& a, const TriangleHits& b) {
         return a.triangle < b.triangle || (a.triangle == b.triangle && a.front < b.front) ||

@@ -53,6 +53,11 @@ inline constexpr uint32_t kTrainingRaysPerCell = 2048;
 inline constexpr float kMaxEscapeFraction = 0.5f;
 // The defensive share of a cell's distribution given by its training rays' bare hit counts.
 inline constexpr float kHitShare = 0.1f;
+// Training points inside triangles: a triangle whose longest edge exceeds the cell's side over this also
+// trains from points spread over it (the centroids of a regular split into n² sub-triangles, n ≤
+// kMaxTrainingSplit), so that every cell that a large triangle crosses learns from points of its own.
+inline constexpr float kTrainingPointsPerCellSide = 8.0f;
+inline constexpr uint32_t kMaxTrainingSplit = 64;
 // Grid cubes along the scene box's longest side, at most.
 inline constexpr float kCellsAlongLongestSide = 64.0f;
 // A grid cube's side in median triangle edges, at least.
@@ -95,6 +100,11 @@ class LitPatches {
              std::span<const uint8_t> passesStraight, std::span<const uint32_t> indices,
              std::span<const vec3> positionsM, const RadianceEstimate& radiance, const FaceRadiance& faceRadiance,
              bool maps = true);
+
+  // The side (m) of the cells that the constructor gives these points and triangles, and the low corner of
+  // the points' box (the grid's origin) in boxLoM.
+  static float cellSizeM(std::span<const TrainingPoint> points, std::span<const uint32_t> indices,
+                         std::span<const vec3> positionsM, vec3* boxLoM = nullptr);
 
   // Whether any cell has a distribution.
   bool empty() const { return cells_.empty(); }

@@ -66,6 +66,8 @@ class BakeCheckpointTest : public ::testing::Test {
     return "no error";
   }
 
+  void expectChoiceIsKept(bool raytracer::IntegratorSettings::*choice, const char* key, bool legacy);
+
   fs::path parent_;
   BakeJob job_;
   raytracer::BakeCheckpoint state_;
@@ -107,32 +109,33 @@ TEST_F(BakeCheckpointTest, LoadGivesBackWhatWasSaved) {
   EXPECT_EQ(c.state.progress.sums.size(), 12u);
 }
 
-// Whether the lit patches' samples gather the sky's light too travels with the checkpoint; one written before
-// that choice existed resumes with the sky's light at the patches, the estimator it started with.
-TEST_F(BakeCheckpointTest, LitPatchSkyIsKeptAndOlderCheckpointsResumeWithTheSkyAtThePatches) {
-  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
-  job_.settings.integrator.litPatchSky = true;
+// An estimator choice travels with the checkpoint both ways, and one written before the choice existed (the
+// key absent) resumes with `legacy`, the estimator it started with.
+void BakeCheckpointTest::expectChoiceIsKept(bool raytracer::IntegratorSettings::*choice, const char* key,
+                                            bool legacy) {
+  const auto loaded = [&] { return loadBakeCheckpoint(job_.outDir).job.settings.integrator.*choice; };
+  EXPECT_EQ(loaded(), raytracer::IntegratorSettings{}.*choice) << key;
+  for (const bool value : {false, true}) {
+    job_.settings.integrator.*choice = value;
+    saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
+    EXPECT_EQ(loaded(), value) << key;
+  }
+  job_.settings.integrator.*choice = !legacy;
   saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
-  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
-  job_.settings.integrator.litPatchSky = false;
-  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
-  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
-  editJson([](nlohmann::json& j) { j["settings"].erase("lit_patch_sky"); });
-  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchSky);
+  editJson([&](nlohmann::json& j) { j["settings"].erase(key); });
+  EXPECT_EQ(loaded(), legacy) << key;
 }
 
-// Whether the lit patches' points follow the maps of the triangles' sunlit parts travels with the checkpoint;
-// one written before the maps existed resumes with the point uniform on its triangle, as it started.
-TEST_F(BakeCheckpointTest, LitPatchMapsAreKeptAndOlderCheckpointsResumeWithoutThem) {
-  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
-  job_.settings.integrator.litPatchMaps = false;
-  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
-  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
-  job_.settings.integrator.litPatchMaps = true;
-  saveBakeCheckpoint(job_, 0x0123456789abcdefull, state_);
-  EXPECT_TRUE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
-  editJson([](nlohmann::json& j) { j["settings"].erase("lit_patch_maps"); });
-  EXPECT_FALSE(loadBakeCheckpoint(job_.outDir).job.settings.integrator.litPatchMaps);
+// Whether the lit patches' samples gather the sky's light too: checkpoints from before resume with the sky's
+// light at the patches. Whether their points follow the maps of the triangles' sunlit parts, whether the
+// regions also train from points inside large triangles, and whether continuations head through the portals:
+// checkpoints from before resume without.
+TEST_F(BakeCheckpointTest, EstimatorChoicesAreKeptAndOlderCheckpointsResumeAsTheyStarted) {
+  using S = raytracer::IntegratorSettings;
+  expectChoiceIsKept(&S::litPatchSky, "lit_patch_sky", true);
+  expectChoiceIsKept(&S::litPatchMaps, "lit_patch_maps", false);
+  expectChoiceIsKept(&S::litPatchInteriorTraining, "lit_patch_interior_training", false);
+  expectChoiceIsKept(&S::portalContinuation, "portal_continuation", false);
 }
 
 // Russian roulette's weight window travels with the checkpoint; one written before the window existed resumes

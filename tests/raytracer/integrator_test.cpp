@@ -874,6 +874,82 @@ TEST(Integrator, DeclaredPortalsOverOpenHolesAreExactAndLowerTheError) {
   }
 }
 
+// The same black room with its wall window (x = 2, y ∈ [1, 2]), outside a ground that emits L_g upwards
+// (y = −0.01, 2 km across) under a uniform sky L_s. Inside, above the sill, E = ∫_window L(ω) T(θ_w) max(0,
+// n · ω) cos θ_w / r² dA, with L(ω) the sky's above the horizon and the ground's below it where the ray
+// through the window point lands on the ground: the window shows the bright ground as well as the sky. The
+// ground's light is found by emitter sampling (its two huge triangles, seen through the window from a few
+// % of their area) and by the continuation, which sends a share of its samples through the portal
+// (IntegratorSettings::portalContinuation, portalContinuationShare): both settings are exact, and with the
+// portals' continuation the error at the sensors that look down through the window is several times smaller.
+TEST(Integrator, ContinuationsThroughPortalsFindTheGroundOutsideAndStayExact) {
+  SceneBuilder b;
+  const uint32_t black = b.material(Rgb(0.0f));
+  const float h = 3.0f;
+  // Floor, ceiling and the walls z = ±2 and x = −2, facing in.
+  b.quad(vec3(-2, 0, -2), vec3(-2, 0, 2), vec3(2, 0, 2), vec3(2, 0, -2), black);
+  b.quad(vec3(-2, h, -2), vec3(2, h, -2), vec3(2, h, 2), vec3(-2, h, 2), black);
+  b.quad(vec3(-2, 0, -2), vec3(2, 0, -2), vec3(2, h, -2), vec3(-2, h, -2), black);
+  b.quad(vec3(2, 0, 2), vec3(-2, 0, 2), vec3(-2, h, 2), vec3(2, h, 2), black);
+  b.quad(vec3(-2, 0, 2), vec3(-2, 0, -2), vec3(-2, h, -2), vec3(-2, h, 2), black);
+  // Wall x = 2 facing −X around the window z ∈ [−0.5, 0.5], y ∈ [1, 2].
+  auto wall = [&](float z0, float z1, float y0, float y1) {
+    b.quad(vec3(2, y0, z0), vec3(2, y0, z1), vec3(2, y1, z1), vec3(2, y1, z0), black);
+  };
+  wall(-2, -0.5f, 0, h);
+  wall(0.5f, 2, 0, h);
+  wall(-0.5f, 0.5f, 0, 1);
+  wall(-0.5f, 0.5f, 2, h);
+  const uint32_t glass = b.add(clearGlass(true));
+  b.quad(vec3(2, 1, -0.5f), vec3(2, 2, -0.5f), vec3(2, 2, 0.5f), vec3(2, 1, 0.5f), glass);
+  const float groundHalfM = 1000.0f;
+  const float groundY = -0.01f;
+  const Rgb groundL(3000.0f, 2000.0f, 1000.0f);
+  b.plane(groundY, groundHalfM, true, b.material(Rgb(0.0f), groundL));
+  const Rgb skyL(1000.0f, 2000.0f, 3000.0f);
+  b.uniformSky(skyL);
+
+  auto throughWindow = [&](const vec3& p, const vec3& n) {
+    constexpr int kSteps = 400;
+    dvec3 e(0.0);
+    for (int i = 0; i < kSteps; ++i) {
+      for (int k = 0; k < kSteps; ++k) {
+        const dvec3 y(2.0, 1.0 + (i + 0.5) / kSteps, -0.5 + (k + 0.5) / kSteps);
+        const dvec3 w = y - dvec3(p);
+        const double r2 = glm::dot(w, w);
+        const dvec3 omega = w / std::sqrt(r2);
+        const double cosN = glm::dot(dvec3(n), omega);
+        if (cosN <= 0.0) continue;
+        dvec3 radiance(0.0);
+        if (omega.y > 0.0) {
+          radiance = dvec3(skyL);
+        } else if (omega.y < 0.0) {
+          const dvec3 land = dvec3(p) + ((double(groundY) - p.y) / omega.y) * omega;
+          if (std::abs(land.x) <= groundHalfM && std::abs(land.z) <= groundHalfM) radiance = dvec3(groundL);
+        }
+        const double cosWindow = std::abs(omega.x);
+        e += radiance * ((1.0 - schlick(cosWindow, 1.52)) * cosN * cosWindow / r2);
+      }
+    }
+    return Rgb(e / double(kSteps * kSteps));
+  };
+  Sensors s;
+  const vec3 down = glm::normalize(vec3(0.4f, -1.0f, 0.1f));
+  const vec3 towards = glm::normalize(vec3(1.0f, -0.2f, 0.1f));
+  s.add(vec3(0.0f, 2.9f, 0.0f), down, throughWindow(vec3(0.0f, 2.9f, 0.0f), down));
+  s.add(vec3(-1.0f, 2.2f, 0.5f), towards, throughWindow(vec3(-1.0f, 2.2f, 0.5f), towards));
+
+  IntegratorSettings cosineOnly;
+  cosineOnly.portalContinuation = false;
+  const EstimateResult withPortals = run(b.rdb, s, 4096);
+  const EstimateResult cosine = run(b.rdb, s, 4096, cosineOnly);
+  expectAgrees("continuation through the portal", withPortals, s, 0.02f);
+  expectAgrees("cosine continuation", cosine, s, 0.1f);
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    EXPECT_LT(2.0f * withPortals.points[i].stdErrorLux.r, cosine.points[i].stdErrorLux.r) << "sensor " << i;
+  }
+}
+
 // A mirror floor (uniform reflection r) under a rectangle that emits L downwards: a sensor facing down sees
 // the rectangle's mirror image, E = r × Lambert's formula for the image; one facing up sees the rectangle
 // itself. Light sampling cannot find the image; the mirror's sampled paths must.
