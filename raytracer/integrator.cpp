@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
+#include "base/log.h"
 #include "base/spot_cone.h"
 #include "raytracer/warp.h"
 
@@ -363,11 +365,12 @@ void Integrator::buildPortals() {
     float magnitudeM;
     Portal portal;
     float areaM2;
+    bool declared;  // from rdb.portalCornersM
   };
   std::vector<Candidate> candidates;
   // Adds the triangle (p0, p0 + e1, p0 + e2) of unit normal n; false when kMaxPortalPlanes are exceeded.
   auto addCandidate = [&](const vec3& p0, const vec3& e1, const vec3& e2, const vec3& n, float areaM2,
-                          float magnitudeM) {
+                          float magnitudeM, bool declared) {
     const float e1e1 = glm::dot(e1, e1), e1e2 = glm::dot(e1, e2), e2e2 = glm::dot(e2, e2);
     const float denominator = e1e1 * e2e2 - e1e2 * e1e2;
     if (!(denominator > 0.0f)) return true;
@@ -391,8 +394,16 @@ void Integrator::buildPortals() {
       q.boxMaxM = glm::max(q.boxMaxM, x);
     }
     candidates.push_back(
-        {plane, magnitudeM, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, areaM2});
+        {plane, magnitudeM, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, areaM2, declared});
     return true;
+  };
+  // Beyond kMaxPortalPlanes there are no portals; a scene that declares some is told.
+  auto tooManyPlanes = [&] {
+    portalPlanes_.clear();
+    if (!rdb_.portalCornersM.empty()) {
+      log::warn("sky portals are off: the clear glass and the declared portals lie in more than " +
+                std::to_string(kMaxPortalPlanes) + " planes");
+    }
   };
   for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
     if (!frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() || !(scene_.triangleAreaM2(t) > 0.0f))
@@ -401,9 +412,8 @@ void Integrator::buildPortals() {
     const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
     const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
     if (!addCandidate(p0, e1, e2, scene_.triangleNormal(t), scene_.triangleAreaM2(t),
-                      scene_.triangleMagnitudeM(t))) {
-      portalPlanes_.clear();
-      return;
+                      scene_.triangleMagnitudeM(t), false)) {
+      return tooManyPlanes();
     }
   }
   for (size_t i = 0; i + 2 < rdb_.portalCornersM.size(); i += 3) {
@@ -415,9 +425,8 @@ void Integrator::buildPortals() {
     if (!(twiceAreaM2 > 0.0f)) continue;
     const float magnitudeM =
         std::max({maxAbs(p0), maxAbs(rdb_.portalCornersM[i + 1]), maxAbs(rdb_.portalCornersM[i + 2])});
-    if (!addCandidate(p0, e1, e2, twiceArea / twiceAreaM2, 0.5f * twiceAreaM2, magnitudeM)) {
-      portalPlanes_.clear();
-      return;
+    if (!addCandidate(p0, e1, e2, twiceArea / twiceAreaM2, 0.5f * twiceAreaM2, magnitudeM, true)) {
+      return tooManyPlanes();
     }
   }
   // Each plane's inner side: rays from its panes' centres over the upper hemisphere on each side; the side
@@ -462,7 +471,20 @@ void Integrator::buildPortals() {
       skyFraction[side] = tried > 0 ? static_cast<float>(escaped) / static_cast<float>(tried) : 0.0f;
     }
     const int outer = skyFraction[0] >= skyFraction[1] ? 0 : 1;
-    if (skyFraction[outer] < 0.2f || skyFraction[1 - outer] > 0.5f * skyFraction[outer]) continue;
+    if (skyFraction[outer] < 0.2f || skyFraction[1 - outer] > 0.5f * skyFraction[outer]) {
+      if (std::any_of(panes.begin(), panes.end(), [](const Candidate* c) { return c->declared; })) {
+        const vec3 centreM = 0.5f * (q.boxMinM + q.boxMaxM);
+        char message[320];
+        std::snprintf(message, sizeof message,
+                      "the declared sky portal in the plane through (%.3f, %.3f, %.3f) m is not used: %.0f %% "
+                      "and %.0f %% of the rays from its two sides reach the sky; a portal serves an opening "
+                      "between an enclosed interior and the sky",
+                      centreM.x, centreM.y, centreM.z, 100.0f * skyFraction[outer],
+                      100.0f * skyFraction[1 - outer]);
+        log::warn(message);
+      }
+      continue;
+    }
     keep[plane] = true;
     q.inward = outer == 0 ? -q.n : q.n;
     // The depth of the room behind: the farthest hit of rays from the panes into it (unbounded when one

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/log.h"
 #include "raytracer/sampler.h"
 #include "raytracer/warp.h"
 
@@ -872,6 +873,32 @@ TEST(Integrator, DeclaredPortalsOverOpenHolesAreExactAndLowerTheError) {
     // With portals off the declared one is ignored: the estimator without it, sample for sample.
     EXPECT_EQ(greyOff.points[i].meanLux.g, b.meanLux.g) << "point " << i;
   }
+}
+
+// A portal declared where there is no opening between an interior and the sky (over an open ground: both its
+// sides see the sky alike) is dropped with a warning that says why: the estimate is the one without portals.
+TEST(Integrator, DeclaredPortalsInTheOpenAreDroppedWithAWarning) {
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.5f)));
+  b.uniformSky(Rgb(1000.0f));
+  Sensors s;
+  s.add(vec3(0.0f), vec3(0, 1, 0), Rgb(1000.0f * kPiF));
+  IntegratorSettings portalsOff;
+  portalsOff.skyPortals = false;
+  const EstimateResult without = run(b.rdb, s, 1024, portalsOff);
+  const vec3 c(1, 1, 0);  // a 1 m square standing at x = 1, facing ±X
+  b.rdb.portalCornersM = {c, c + vec3(0, 0, 1), c + vec3(0, 1, 1), c, c + vec3(0, 1, 1), c + vec3(0, 1, 0)};
+  std::vector<std::string> warnings;
+  const log::Sink previous =
+      log::setSink([&](log::Level, std::string_view m) { warnings.emplace_back(m); });
+  const EstimateResult with = run(b.rdb, s, 1024);
+  log::setSink(previous);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("the declared sky portal in the plane through (1.000, 1.500, 0.500) m is not used"),
+            std::string::npos)
+      << warnings[0];
+  EXPECT_EQ(with.points[0].meanLux.g, without.points[0].meanLux.g);
+  expectAgrees("sky over a ground, portal in the open", with, s, 0.02f);
 }
 
 // The same black room with its wall window (x = 2, y ∈ [1, 2]), outside a ground that emits L_g upwards
