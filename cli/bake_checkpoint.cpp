@@ -162,6 +162,9 @@ uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb) {
   h.value(rdb.sun.halfAngleRad);
   h.value(rdb.sky.resolution);
   h.array(rdb.sky.radianceCdM2);
+  // Declared portals change the estimator (where sky samples go), not its mean; only scenes that have them
+  // add them, so that the fingerprints of the others stay as they were.
+  if (!rdb.portalCornersM.empty()) h.array(rdb.portalCornersM);
   return h.hash();
 }
 

@@ -40,7 +40,8 @@ struct BakeJob {
 std::filesystem::path checkpointDirFor(const std::filesystem::path& outDir);
 
 // A 64-bit FNV-1a fingerprint of everything in the TraceRdb that a bake's result depends on (geometry,
-// materials, lights, sun, sky): a resumed bake refuses a scene that changed since the checkpoint.
+// materials, lights, sun, sky, declared portals): a resumed bake refuses a scene that changed since the
+// checkpoint.
 uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb);
 
 // Saves a checkpoint of `job` with `state` into checkpointDirFor(job.outDir) as described above; the

@@ -110,6 +110,21 @@ std::string lightText(const sdb::Light& l) {
   return s;
 }
 
+// "south window: 4.500 m², normal (0.000, 0.000, 1.000)": the normal by the right-hand rule over the corners.
+std::string portalText(const sdb::Portal& p) {
+  return p.name + ": " + fixed(sdb::portalAreaM2(p), 3) + " m², normal " + vecText(sdb::portalNormal(p), 3) +
+         ", " + std::to_string(p.cornersM.size()) + " corners";
+}
+
+nlohmann::json portalJson(const sdb::Portal& p) {
+  nlohmann::json corners = nlohmann::json::array();
+  for (const vec3& c : p.cornersM) corners.push_back(vecJson(c));
+  return {{"name", p.name},
+          {"area_m2", sdb::portalAreaM2(p)},
+          {"normal", vecJson(sdb::portalNormal(p))},
+          {"corners_m", corners}};
+}
+
 constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 
 // The anisotropic materials `fly info` lists one by one; a scene with more lists these and counts the rest.
@@ -181,6 +196,9 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   nlohmann::json lights = nlohmann::json::array();
   for (const auto& [id, l] : scene.lights()) lights.push_back(lightJson(l));
   j["lights"]["list"] = lights;
+  nlohmann::json portals = nlohmann::json::array();
+  for (const sdb::Portal& p : scene.portals()) portals.push_back(portalJson(p));
+  j["portals"] = portals;
   nlohmann::json cameras = nlohmann::json::array();
   for (const auto& [id, c] : scene.cameras()) cameras.push_back(c.name);
   j["cameras"] = cameras;
@@ -253,6 +271,10 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
       break;
     }
     o << "           " << lightText(l) << "\n";
+  }
+  if (!scene.portals().empty()) {
+    o << "portals    " << scene.portals().size() << " declared\n";
+    for (const sdb::Portal& p : scene.portals()) o << "           " << portalText(p) << "\n";
   }
   o << "cameras    " << st.cameras;
   std::string names;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
+#include "base/log.h"
 #include "base/spot_cone.h"
 #include "raytracer/warp.h"
 
@@ -303,7 +305,9 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     }
   }
 
-  if (settings_.skyPortals && skyDistribution_ && hasClearGlass_) buildPortals();
+  if (settings_.skyPortals && skyDistribution_ && (hasClearGlass_ || !rdb.portalCornersM.empty())) {
+    buildPortals();
+  }
 
   std::vector<float> fluxesLm;
   for (uint32_t i = 0; i < rdb.punctualLights.size(); ++i) {
@@ -353,26 +357,24 @@ uint32_t Integrator::skyCell(const vec3& d) const {
 }
 
 void Integrator::buildPortals() {
-  // Clear-glass triangles, grouped by plane: the same normal up to ±, and every corner within a relative 10⁻⁵
-  // of the plane.
+  // Clear-glass triangles and the declared portals' triangles (rdb.portalCornersM), grouped by plane: the same
+  // normal up to ±, and every corner within a relative 10⁻⁵ of the plane. magnitudeM is the largest absolute
+  // coordinate of the triangle's corners, for the ray offsets of the probe below.
   struct Candidate {
     uint32_t plane;
-    uint32_t triangle;
+    float magnitudeM;
     Portal portal;
     float areaM2;
+    bool declared;  // from rdb.portalCornersM
   };
   std::vector<Candidate> candidates;
-  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
-    if (!frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() || !(scene_.triangleAreaM2(t) > 0.0f))
-      continue;
-    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
-    const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
-    const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+  // Adds the triangle (p0, p0 + e1, p0 + e2) of unit normal n; false when kMaxPortalPlanes are exceeded.
+  auto addCandidate = [&](const vec3& p0, const vec3& e1, const vec3& e2, const vec3& n, float areaM2,
+                          float magnitudeM, bool declared) {
     const float e1e1 = glm::dot(e1, e1), e1e2 = glm::dot(e1, e2), e2e2 = glm::dot(e2, e2);
     const float denominator = e1e1 * e2e2 - e1e2 * e1e2;
-    if (!(denominator > 0.0f)) continue;
-    const vec3& n = scene_.triangleNormal(t);
-    const float tolerance = 1e-5f * std::max(1.0f, scene_.triangleMagnitudeM(t));
+    if (!(denominator > 0.0f)) return true;
+    const float tolerance = 1e-5f * std::max(1.0f, magnitudeM);
     uint32_t plane = 0;
     for (; plane < portalPlanes_.size(); ++plane) {
       const PortalPlane& q = portalPlanes_[plane];
@@ -383,10 +385,7 @@ void Integrator::buildPortals() {
       }
     }
     if (plane == portalPlanes_.size()) {
-      if (portalPlanes_.size() == kMaxPortalPlanes) {
-        portalPlanes_.clear();
-        return;
-      }
+      if (portalPlanes_.size() == kMaxPortalPlanes) return false;
       portalPlanes_.push_back({n, glm::dot(n, p0), p0, p0, 0, 0, 0.0f, n, 0.0f, 0.0f, p0, p0});
     }
     PortalPlane& q = portalPlanes_[plane];
@@ -395,7 +394,40 @@ void Integrator::buildPortals() {
       q.boxMaxM = glm::max(q.boxMaxM, x);
     }
     candidates.push_back(
-        {plane, t, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, scene_.triangleAreaM2(t)});
+        {plane, magnitudeM, {p0, e1, e2, n, 0.0f, e1e1, e1e2, e2e2, 1.0f / denominator}, areaM2, declared});
+    return true;
+  };
+  // Beyond kMaxPortalPlanes there are no portals; a scene that declares some is told.
+  auto tooManyPlanes = [&] {
+    portalPlanes_.clear();
+    if (!rdb_.portalCornersM.empty()) {
+      log::warn("sky portals are off: the clear glass and the declared portals lie in more than " +
+                std::to_string(kMaxPortalPlanes) + " planes");
+    }
+  };
+  for (uint32_t t = 0; t < rdb_.triangleCount(); ++t) {
+    if (!frontBsdfs_[rdb_.triangleMaterial[t]].hasClearTransmission() || !(scene_.triangleAreaM2(t) > 0.0f))
+      continue;
+    const vec3& p0 = rdb_.positionsM[rdb_.indices[3 * size_t{t}]];
+    const vec3 e1 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 1]] - p0;
+    const vec3 e2 = rdb_.positionsM[rdb_.indices[3 * size_t{t} + 2]] - p0;
+    if (!addCandidate(p0, e1, e2, scene_.triangleNormal(t), scene_.triangleAreaM2(t),
+                      scene_.triangleMagnitudeM(t), false)) {
+      return tooManyPlanes();
+    }
+  }
+  for (size_t i = 0; i + 2 < rdb_.portalCornersM.size(); i += 3) {
+    const vec3& p0 = rdb_.portalCornersM[i];
+    const vec3 e1 = rdb_.portalCornersM[i + 1] - p0;
+    const vec3 e2 = rdb_.portalCornersM[i + 2] - p0;
+    const vec3 twiceArea = glm::cross(e1, e2);
+    const float twiceAreaM2 = glm::length(twiceArea);
+    if (!(twiceAreaM2 > 0.0f)) continue;
+    const float magnitudeM =
+        std::max({maxAbs(p0), maxAbs(rdb_.portalCornersM[i + 1]), maxAbs(rdb_.portalCornersM[i + 2])});
+    if (!addCandidate(p0, e1, e2, twiceArea / twiceAreaM2, 0.5f * twiceAreaM2, magnitudeM, true)) {
+      return tooManyPlanes();
+    }
   }
   // Each plane's inner side: rays from its panes' centres over the upper hemisphere on each side; the side
   // whose rays reach the sky less often, when the other's reach it at least 20 % of the time and at least
@@ -411,8 +443,8 @@ void Integrator::buildPortals() {
     const size_t tried = std::min(kPanesTried, panes.size());
     for (size_t k = 0; k < tried; ++k) {
       const Candidate& c = *panes[k * panes.size() / tried];
-      const vec3 origin = offsetRayOrigin(c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f, side,
-                                          scene_.triangleMagnitudeM(c.triangle));
+      const vec3 origin =
+          offsetRayOrigin(c.portal.p0 + (c.portal.e1 + c.portal.e2) / 3.0f, side, c.magnitudeM);
       for (int i = 0; i < kSphereDirections; ++i) {
         const float y = 1.0f - (2.0f * static_cast<float>(i) + 1.0f) / kSphereDirections;
         const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
@@ -439,7 +471,20 @@ void Integrator::buildPortals() {
       skyFraction[side] = tried > 0 ? static_cast<float>(escaped) / static_cast<float>(tried) : 0.0f;
     }
     const int outer = skyFraction[0] >= skyFraction[1] ? 0 : 1;
-    if (skyFraction[outer] < 0.2f || skyFraction[1 - outer] > 0.5f * skyFraction[outer]) continue;
+    if (skyFraction[outer] < 0.2f || skyFraction[1 - outer] > 0.5f * skyFraction[outer]) {
+      if (std::any_of(panes.begin(), panes.end(), [](const Candidate* c) { return c->declared; })) {
+        const vec3 centreM = 0.5f * (q.boxMinM + q.boxMaxM);
+        char message[320];
+        std::snprintf(message, sizeof message,
+                      "the declared sky portal in the plane through (%.3f, %.3f, %.3f) m is not used: %.0f %% "
+                      "and %.0f %% of the rays from its two sides reach the sky; a portal serves an opening "
+                      "between an enclosed interior and the sky",
+                      centreM.x, centreM.y, centreM.z, 100.0f * skyFraction[outer],
+                      100.0f * skyFraction[1 - outer]);
+        log::warn(message);
+      }
+      continue;
+    }
     keep[plane] = true;
     q.inward = outer == 0 ? -q.n : q.n;
     // The depth of the room behind: the farthest hit of rays from the panes into it (unbounded when one

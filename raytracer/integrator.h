@@ -36,6 +36,10 @@
 // planes of more than kPanesWithoutGrid panes those of one cell of a grid over the plane. Without clear
 // glass, or with more than kMaxPortalPlanes planes of it, there are no portals.
 //
+// Declared portals (TraceRdb::portalCornersM: the scene file's "portals", openings without glass such as a
+// window hole) are candidates beside the clear-glass triangles, grouped by plane, probed for their inner side
+// and gridded alike; a scene that declares some has portals without clear glass too.
+//
 // Continuations through portals (IntegratorSettings::portalContinuation): what a room sees through a window
 // is not only sky, which the sky's light sampling above finds through the portals, but the sunlit ground and
 // façades outside, which no light sampling aims at (the lit patches pick points on a lawn's huge triangles,
@@ -416,8 +420,8 @@ class Integrator {
   float portalPdf(const vec3& x, const vec3& d, float areaM2) const;
   // Whether x is on plane q's inner side.
   bool insidePortal(const vec3& x, uint32_t q) const;
-  // Fills portals_ and portalPlanes_ from the clear-glass triangles; leaves them empty (no portals) beyond
-  // kMaxPortalPlanes.
+  // Fills portals_ and portalPlanes_ from the clear-glass triangles and the declared portals' triangles;
+  // leaves them empty (no portals) beyond kMaxPortalPlanes.
   void buildPortals();
   // Density per steradian with which directLight samples the point at distance distM on emissive triangle t,
   // seen at |cos θ_light| = absCosLight.

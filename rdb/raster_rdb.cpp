@@ -1039,6 +1039,7 @@ RasterRdbChanges updateRasterRdb(RasterRdb& rdb, const sdb::Scene& scene, const 
         if (c.kind != sdb::ChangeKind::kAdded) r.geometry = true;
         break;
       case sdb::EntityType::kBake:
+      case sdb::EntityType::kPortals:  // no geometry: the GL engine draws no portal
         break;
     }
   }

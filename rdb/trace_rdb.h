@@ -232,6 +232,9 @@ struct TraceRdb {
   bool hasSun = false;
   TraceSun sun;
   TraceSky sky;
+  // Declared sky portals (sdb/portal.h) as triangles, 3 world corners each (m); a quad is two. No geometry:
+  // not in the Embree scene, never hit; the integrator aims sky samples through them as through clear glass.
+  std::vector<vec3> portalCornersM;
 
   Bounds3 boundsM;
   size_t skippedTriangles = 0;  // zero-area triangles of the SDB meshes, left out of `indices`

@@ -260,6 +260,10 @@ class Builder {
       if (node.light) addLight(node, worldFromLocal);
     });
     addDaylight();
+    for (const sdb::Portal& portal : scene_.portals()) {
+      const std::vector<vec3> cornersM = sdb::portalTrianglesM(portal);
+      rdb_.portalCornersM.insert(rdb_.portalCornersM.end(), cornersM.begin(), cornersM.end());
+    }
     return std::move(rdb_);
   }
 

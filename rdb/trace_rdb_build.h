@@ -1,6 +1,7 @@
 // Lowering an SDB scene into the TraceRdb (rdb/trace_rdb.h): geometry flattened into world space, materials with
 // the energy rule applied (measured BRDFs as shared tables or car-paint parameters), punctual and goniometric
-// lights in world space, and the sun and tabulated sky of the scene's site and time (rdb/site_lowering.h).
+// lights in world space, the sun and tabulated sky of the scene's site and time (rdb/site_lowering.h), and the
+// declared sky portals as triangles.
 // Only what the scene needs is built: no sky table without a sky, no goniometric tables without goniometric
 // lights, no measured tables without measured materials.
 #pragma once

@@ -6,7 +6,19 @@
 
 namespace fly::sdb {
 
-enum class EntityType : uint8_t { kNode, kMesh, kMaterial, kTexture, kLight, kCamera, kSite, kTime, kSky, kBake };
+enum class EntityType : uint8_t {
+  kNode,
+  kMesh,
+  kMaterial,
+  kTexture,
+  kLight,
+  kCamera,
+  kSite,
+  kTime,
+  kSky,
+  kBake,
+  kPortals,  // the declared sky portals (sdb/portal.h), as a whole
+};
 enum class ChangeKind : uint8_t { kAdded, kModified, kRemoved };
 
 // Which aspect of an entity changed; kAll when the whole entity was replaced, added or removed.
@@ -20,7 +32,7 @@ enum class Aspect : uint8_t {
 
 struct Change {
   EntityType type;
-  uint32_t id;  // the entity's id value; 0 for scene-wide settings (site, time, sky, bake)
+  uint32_t id;  // the entity's id value; 0 for scene-wide settings (site, time, sky, bake, portals)
   ChangeKind kind;
   Aspect aspect = Aspect::kAll;
 

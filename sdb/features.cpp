@@ -52,6 +52,7 @@ std::vector<std::string> SceneFeatures::names() const {
       {planarReflectors, "planar-reflectors"},
       {curvedReflectors, "curved-reflectors"},
       {reflectionFog, "reflection-fog"},
+      {skyPortals, "sky-portals"},
   };
   for (const auto& [present, name] : all) {
     if (present) out.emplace_back(name);
@@ -63,6 +64,7 @@ SceneFeatures computeFeatures(const Scene& scene) {
   SceneFeatures f;
   f.sun = scene.sky().sun;
   f.sky = scene.sky().model != SkyModel::kNone;
+  f.skyPortals = !scene.portals().empty();
   std::set<MeshId> instanced;
   std::set<LightId> placedLights;
   scene.forEachNode([&](NodeId id, const mat4&) {

@@ -31,6 +31,7 @@ struct SceneFeatures {
   bool curvedReflectors = false;     // cube-map reflectors: mirror-like materials on curved meshes, "cubemap" ones
   // reflecting materials (neither glass nor measured) with reflection fog (Material::reflectionFogDistanceM)
   bool reflectionFog = false;
+  bool skyPortals = false;           // declared sky portals (sdb/portal.h), openings the baker aims at
   // How the OpenGL engine shows each reflecting material's reflection (FLY §5's automatic choice by shape and
   // material, or the scene file's "engineReflection"), by material name: "planar" (its flat meshes), "cubemap"
   // (its curved meshes, or all with "cubemap"), or "planar, cubemap"; materials that get neither are absent.
@@ -39,7 +40,7 @@ struct SceneFeatures {
   // The names of the features present, in the order above: "sun", "sky", "punctual-lights",
   // "goniometric-lights", "emissive-surfaces", "two-sided-surfaces", "light-textured-meshes", "measured-brdf",
   // "transmissive-materials", "frosted-glass", "anisotropic-materials", "textured-materials", "bump-maps", "vertex-colors",
-  // "planar-reflectors", "curved-reflectors", "reflection-fog".
+  // "planar-reflectors", "curved-reflectors", "reflection-fog", "sky-portals".
   std::vector<std::string> names() const;
 };
 

@@ -148,6 +148,16 @@ ChangeSet Scene::setBakeSettings(const BakeSettings& bake) {
   return single(EntityType::kBake, 0, ChangeKind::kModified);
 }
 
+ChangeSet Scene::setPortals(std::vector<Portal> portals) {
+  for (const Portal& p : portals) {
+    if (const std::optional<PortalProblem> problem = checkPortal(p.cornersM)) {
+      requireValid(problem->message, ("portal \"" + p.name + "\"").c_str());
+    }
+  }
+  portals_ = std::move(portals);
+  return single(EntityType::kPortals, 0, ChangeKind::kModified);
+}
+
 ChangeSet Scene::removeNode(NodeId id) {
   const Node& n = mustFind(nodes_, id, "node");
   ChangeSet cs;

@@ -14,6 +14,7 @@
 #include "sdb/material.h"
 #include "sdb/mesh.h"
 #include "sdb/node.h"
+#include "sdb/portal.h"
 #include "sdb/site.h"
 #include "sdb/texture.h"
 
@@ -49,6 +50,8 @@ class Scene {
   ChangeSet setTime(const SiteTime& time);
   ChangeSet setSky(const SkySettings& sky);
   ChangeSet setBakeSettings(const BakeSettings& bake);
+  // Replaces the declared sky portals; each must pass checkPortal.
+  ChangeSet setPortals(std::vector<Portal> portals);
   // Removes a node and its subtree (meshes, lights and cameras stay; they may be shared).
   ChangeSet removeNode(NodeId id);
 
@@ -73,6 +76,7 @@ class Scene {
   const SiteTime& time() const { return time_; }
   const SkySettings& sky() const { return sky_; }
   const BakeSettings& bakeSettings() const { return bake_; }
+  const std::vector<Portal>& portals() const { return portals_; }
 
   // Product of parentFromLocal from the root down to `id`.
   mat4 worldFromLocal(NodeId id) const;
@@ -113,6 +117,7 @@ class Scene {
   SiteTime time_;
   SkySettings sky_;
   BakeSettings bake_;
+  std::vector<Portal> portals_;
 };
 
 }  // namespace fly::sdb

@@ -524,7 +524,8 @@ class SceneFileReader {
     }
     readVersion(root);
     const ObjectReader top(
-        src_, root, {"fly", "models", "site", "time", "sky", "lights", "overrides", "bake", "cameras"});
+        src_, root,
+        {"fly", "models", "site", "time", "sky", "lights", "overrides", "bake", "cameras", "portals"});
     // Models first: overrides and bake settings refer to the names they bring.
     readModels(top.find("models"));
     readSiteTimeAndSky(top);
@@ -532,6 +533,7 @@ class SceneFileReader {
     readOverrides(top.find("overrides"));
     if (const JsonValue* bake = top.find("bake")) readBake(*bake);
     readCameras(top.find("cameras"));
+    readPortals(top.find("portals"));
   }
 
  private:
@@ -1261,6 +1263,34 @@ class SceneFileReader {
       node.camera = scene_.addCamera(std::move(cam)).id;
       scene_.addNode(std::move(node));
     }
+  }
+
+  // --- portals
+
+  void readPortals(const JsonValue* portals) {
+    const std::span<const JsonValue> all =
+        arrayOf(src_, portals, "portals { \"name\": ..., \"corners\": [[x, y, z], ...] }");
+    if (all.empty()) return;
+    std::vector<Portal> read;
+    for (size_t i = 0; i < all.size(); ++i) {
+      const ObjectReader r(src_, all[i], {"name", "corners"});
+      Portal portal;
+      portal.name = r.string("name", "the portal's name").value_or("portal " + std::to_string(i));
+      const JsonValue& corners =
+          r.require("corners", "3 or 4 corners [[x, y, z], ...] in metres, in order around the opening");
+      const std::span<const JsonValue> points = arrayOf(src_, &corners, "3 or 4 corners [x, y, z] in metres");
+      if (points.size() != 3 && points.size() != 4) {
+        src_.fail(corners, "expected 3 or 4 corners; got " + describeValue(corners),
+                  "give a triangle of 3 corners or a convex quad of 4, in order around the opening's edge "
+                  "(an opening of more corners: declare several portals)");
+      }
+      for (const JsonValue& p : points) portal.cornersM.push_back(src_.vector3(p, "metres"));
+      if (const std::optional<PortalProblem> problem = checkPortal(portal.cornersM)) {
+        src_.fail(problem->corner ? points[*problem->corner] : corners, problem->message, problem->hint);
+      }
+      read.push_back(std::move(portal));
+    }
+    scene_.setPortals(std::move(read));
   }
 
   const JsonDocument& doc_;

@@ -42,6 +42,12 @@
 # for a sky of uniform radiance L above the horizon and black below (fly's CIE sky of type 5, which the
 # driver spells out so).
 #
+# Portals. The scene file's `portals` (docs/scene-format.md) become Cycles portal lights: an area light of shape
+# RECTANGLE over each quad (which must be a rectangle: Cycles' area lights are), marked is_portal, facing
+# (its −Z) into the room. Which side is the room is decided as fly decides it (raytracer/integrator.h, "Sky
+# portals"): rays from the portal's centre over the upper hemisphere on each side, the room's side being the
+# one whose rays escape less often. A portal changes Cycles' sampling of the world, not its result.
+#
 # Measurement. Each sensor is a square of side --quad-size metres centred on its point, facing its normal,
 # invisible to every ray that the bake traces (diffuse, glossy, transmission, shadow, volume; the scene has no
 # camera), so that it changes nothing in the scene. It is baked with bake type DIFFUSE, passes direct + indirect without colour: the value is
@@ -108,7 +114,7 @@ def load_scene_file(path):
     with open(path, encoding="utf-8-sig") as f:
         scene = json.load(f)
     base = os.path.dirname(os.path.abspath(path))
-    allowed = {"fly", "models", "lights", "overrides", "bake", "sky", "world"}
+    allowed = {"fly", "models", "lights", "overrides", "bake", "sky", "world", "portals"}
     for key in scene:
         if key not in allowed:
             fail(f"{path}: key '{key}' is not supported by the Cycles reference (supported: {sorted(allowed)})")
@@ -221,6 +227,59 @@ def add_scene_lights(scene, sun_angle_rad):
             fail(f"light '{obj.name}' of type {data.type} is not supported by the Cycles reference")
         data.cycles.max_bounces = 1024
         data.cycles.use_multiple_importance_sampling = True
+
+
+def add_scene_portals(scene):
+    """Each of the scene's portals as a Cycles portal light (see Portals above); call after the models are
+    imported, since the room's side is found by casting rays against them."""
+    portals = scene.get("portals", [])
+    if not portals:
+        return
+    bpy.context.view_layer.update()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    for i, portal in enumerate(portals):
+        name = portal.get("name", f"portal {i}")
+        corners = [to_blender(c) for c in portal["corners"]]
+        if len(corners) != 4:
+            fail(f"portals[{i}] '{name}': only quads (4 corners) are supported by the Cycles reference")
+        u, v = corners[1] - corners[0], corners[3] - corners[0]
+        width, height = u.length, v.length
+        diagonal = corners[2] - corners[0]
+        if abs(u.dot(v)) > 1e-4 * width * height or (diagonal - u - v).length > 1e-4 * max(width, height):
+            fail(f"portals[{i}] '{name}': the Cycles reference needs a rectangle (Cycles' area lights are)")
+        centre = sum(corners, mathutils.Vector()) / 4.0
+        normal = u.cross(v).normalized()
+
+        def escaped(side):
+            """How many of 256 rays from just off the centre to `side` over the upper hemisphere (Blender +Z)
+            hit nothing."""
+            origin = centre + side * 1e-4 * max(1.0, max(abs(c) for c in centre))
+            count = 0
+            for k in range(256):
+                z = 1.0 - (2.0 * k + 1.0) / 256
+                r = math.sqrt(max(0.0, 1.0 - z * z))
+                d = mathutils.Vector((r * math.cos(2.39996323 * k), r * math.sin(2.39996323 * k), z))
+                if d.dot(side) > 0.0 and d.z > 0.0:
+                    hit = bpy.context.scene.ray_cast(depsgraph, origin, d)[0]
+                    count += 0 if hit else 1
+            return count
+
+        inward = -normal if escaped(normal) > escaped(-normal) else normal
+        x_axis = u.normalized()
+        z_axis = -inward
+        y_axis = z_axis.cross(x_axis)
+        data = bpy.data.lights.new(name, "AREA")
+        data.shape = "RECTANGLE"
+        data.size = width
+        data.size_y = height
+        data.cycles.is_portal = True
+        obj = bpy.data.objects.new(name, data)
+        obj.matrix_world = mathutils.Matrix.Translation(centre) @ mathutils.Matrix(
+            (x_axis, y_axis, z_axis)).transposed().to_4x4()
+        bpy.context.scene.collection.objects.link(obj)
+        at = tuple(round(c, 3) for c in to_gltf(centre))
+        facing = tuple(round(c, 3) for c in to_gltf(inward))
+        print(f"cycles_irradiance: portal '{name}', {width:.3f} × {height:.3f} m at {at} (glTF frame), facing {facing}")
 
 
 def upstream_node(socket, node_type):
@@ -534,6 +593,7 @@ def cmd_irradiance(args):
     clear_blend()
     gltf_materials = import_models(scene, args.normals)
     add_scene_lights(scene, math.radians(args.sun_angle_deg))
+    add_scene_portals(scene)
     report = setup_materials(scene, gltf_materials)
     header, sensors = read_sensors(args.points)
     configure_cycles(args.samples, args.seed, args.threads, scene.get("world", {}).get("skyRadianceCdM2", 0.0))

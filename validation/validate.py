@@ -300,7 +300,8 @@ def case_sunlit_room(work):
     (none within 5 cm of its edges, which the sun's disc blurs by 2 cm), on a work plane 0.85 m up, on the
     four walls and the ceiling, and one on the open ground 49 m from the room, where E ≈ E_n sin(elevation) +
     the sky's diffuse horizontal illuminance (the room hides a few 0.01 % of the sky: not exact, so the
-    driver prints both programs' difference from it rather than testing it)."""
+    driver prints both programs' difference from it rather than testing it). Both programs get the opening as
+    a sky portal."""
     site = {"latitude": 60.17, "longitude": 24.94, "timeZone": "Europe/Helsinki"}
     time_local = "2026-04-15T13:00"
     to_sun, dni = sun_of(site, time_local)
@@ -329,8 +330,11 @@ def case_sunlit_room(work):
          {"name": "Walls", "triangles": walls, "material": 2}, {"name": "Ground", "triangles": ground, "material": 3}],
         [{"name": name, "pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1], "metallicFactor": 0}}
          for name, rho in (("Floor", 0.4), ("Ceiling", 0.8), ("Wall", 0.6), ("Ground", 0.3))])
+    # The opening as a sky portal for both programs (docs/scene-format.md, portals; Cycles: a portal light).
+    portals = [{"name": "opening", "corners": [[win_x[0], win_y[0], 3], [win_x[1], win_y[0], 3],
+                                               [win_x[1], win_y[1], 3], [win_x[0], win_y[1], 3]]}]
     scene = {"fly": 1, "models": [{"file": os.path.join(work, "room.gltf")}], "site": site, "time": time_local,
-             "sky": {"model": "cie", "cieType": 5, "sun": True}}
+             "sky": {"model": "cie", "cieType": 5, "sun": True}, "portals": portals}
     probe = os.path.join(work, "sky-probe.json")
     with open(probe, "w") as f:
         json.dump(scene, f)
@@ -338,7 +342,7 @@ def case_sunlit_room(work):
     cycles_scene = {"fly": 1, "models": scene["models"],
                     "lights": [{"name": "sun", "type": "directional", "direction": [-c for c in to_sun],
                                 "intensity": dni, "angleDeg": 0.533}],
-                    "world": {"skyRadianceCdM2": sky_lux / math.pi}}
+                    "world": {"skyRadianceCdM2": sky_lux / math.pi}, "portals": portals}
 
     def sunlit(p):
         """Does the ray from p towards the sun pass through the opening, at least 5 cm inside its edges?"""

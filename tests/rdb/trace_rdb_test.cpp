@@ -606,6 +606,28 @@ TEST(TraceRdbDaylight, NoSiteNoSunNoSky) {
   EXPECT_FALSE(lowerDaylight(helsinki("2026-06-21T12:00", sdb::SkyModel::kNone, false)));
 }
 
+// Declared portals reach the baker as triangles, 3 corners each (a quad as (0, 1, 2) and (0, 2, 3)), and are
+// no geometry: the triangle arrays and bounds are those of the scene without them.
+TEST(TraceRdbPortals, DeclaredPortalsAreTrianglesNotGeometry) {
+  Scene s;
+  s.addNode({.meshes = {s.addMesh(quadXZ({})).id}});
+  const TraceRdb without = buildTraceRdb(s);
+  EXPECT_TRUE(without.portalCornersM.empty());
+  const std::vector<vec3> quad = {vec3(1.5f, 0.8f, 3), vec3(-1.5f, 0.8f, 3), vec3(-1.5f, 2.3f, 3),
+                                  vec3(1.5f, 2.3f, 3)};
+  const std::vector<vec3> triangle = {vec3(0, 3, 0), vec3(0, 3, 2), vec3(1, 3, 0)};
+  s.setPortals({{"window", quad}, {"roof light", triangle}});
+  const TraceRdb r = buildTraceRdb(s);
+  ASSERT_EQ(r.portalCornersM.size(), 9u);
+  const vec3 expected[9] = {quad[0], quad[1], quad[2], quad[0], quad[2], quad[3],
+                            triangle[0], triangle[1], triangle[2]};
+  for (size_t i = 0; i < 9; ++i) expectVec(r.portalCornersM[i], expected[i], 0.0f);
+  EXPECT_EQ(r.positionsM, without.positionsM);
+  EXPECT_EQ(r.indices, without.indices);
+  expectVec(r.boundsM.min, without.boundsM.min, 0.0f);
+  expectVec(r.boundsM.max, without.boundsM.max, 0.0f);
+}
+
 TEST(TraceRdbDaylight, BadTimeOrZoneIsAnInputErrorThatNamesIt) {
   Scene badZone = helsinki("2026-06-21T12:00", sdb::SkyModel::kClear, true);
   sdb::Site site = badZone.site();

@@ -491,3 +491,75 @@ TEST(SceneFile, MapGridOfTheModel) {
 
 }  // namespace
 }  // namespace fly::sdb
+
+namespace fly::sdb {
+namespace {
+
+// The opening of a 3 × 1.5 m window in the wall z = 3 (x ∈ [−1.5, 1.5], y ∈ [0.8, 2.3]), counter-clockwise
+// seen from −Z (facing −Z), and a triangular roof light.
+TEST(SceneFile, PortalsDeclareOpenings) {
+  const Scene s = parse(R"({"fly": 1, "portals": [
+    {"name": "south window", "corners": [[1.5, 0.8, 3], [-1.5, 0.8, 3], [-1.5, 2.3, 3], [1.5, 2.3, 3]]},
+    {"corners": [[0, 3, 0], [0, 3, 2], [1, 3, 0]]}
+  ]})");
+  ASSERT_EQ(s.portals().size(), 2u);
+  const Portal& window = s.portals()[0];
+  const Portal& roof = s.portals()[1];
+  EXPECT_EQ(window.name, "south window");
+  EXPECT_EQ(roof.name, "portal 1");
+  ASSERT_EQ(window.cornersM.size(), 4u);
+  expectNear(window.cornersM[2], vec3(-1.5f, 2.3f, 3.0f));
+  // A quad is the triangles (0, 1, 2) and (0, 2, 3); a triangle is itself.
+  const std::vector<vec3> quad = portalTrianglesM(window);
+  ASSERT_EQ(quad.size(), 6u);
+  const int order[6] = {0, 1, 2, 0, 2, 3};
+  for (int i = 0; i < 6; ++i) expectNear(quad[i], window.cornersM[order[i]]);
+  EXPECT_EQ(portalTrianglesM(roof).size(), 3u);
+  EXPECT_NEAR(portalAreaM2(window), 3.0 * 1.5, 1e-5);
+  EXPECT_NEAR(portalAreaM2(roof), 0.5 * 2.0 * 1.0, 1e-6);
+  // (−3, 0, 0) × (−3, 1.5, 0) = (0, 0, −4.5): facing −Z; (0, 0, 2) × (1, 0, 0) = (0, 2, 0): facing up.
+  expectNear(portalNormal(window), vec3(0, 0, -1));
+  expectNear(portalNormal(roof), vec3(0, 1, 0));
+  EXPECT_EQ(computeFeatures(s).names(), std::vector<std::string>{"sky-portals"});
+  EXPECT_TRUE(parse(R"({"fly": 1, "portals": []})").portals().empty());
+  EXPECT_TRUE(computeFeatures(parse(R"({"fly": 1})")).names().empty());
+  // A quad 1° out of plane over 0.01 of its longest edge is refused; one within 0.001 is kept.
+  EXPECT_EQ(parse(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0.0019]]}]})")
+                .portals()
+                .size(),
+            1u);
+}
+
+TEST(SceneFile, BadPortals) {
+  expectError(R"({"fly": 1, "portals": {"corners": []}})", "1:23", "/portals", {"expected an array of portals"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0]]}]})", "1:36", "/portals/0/corners",
+              {"expected 3 or 4 corners; got an array of 2 elements", "hint: give a triangle of 3 corners"});
+  expectError(R"({"fly": 1, "portals": [{"name": "w"}]})", "1:24", "/portals/0", {"missing key \"corners\""});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0], [1, "1", 0]]}]})", "1:63",
+              "/portals/0/corners/2/1", {"expected a number in metres; got a string (\"1\")"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0], [1, 1]]}]})", "1:59",
+              "/portals/0/corners/2", {"expected an array of 3 numbers [x, y, z] in metres"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0], [1, 1e39, 0]]}]})", "1:63",
+              "/portals/0/corners/2/1", {"too large"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0], [2, 0.0000001, 0]]}]})", "1:36",
+              "/portals/0/corners", {"the portal's area is 5e-08 m², below 1e-06 m²", "hint: give the corners"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0.01]]}]})", "1:70",
+              "/portals/0/corners/3",
+              {"corner 3 lies 0.01 m off the plane of corners 0, 1 and 2", "hint: a portal is flat"});
+  // A bow tie (its edges cross) and a dart (turns back at corner 3).
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [2, 0, 0], [0, 1, 0], [2, 1, 0]]}]})", "1:59",
+              "/portals/0/corners/2", {"the quad is not convex at corner 2", "hint: give the 4 corners in order"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [2, 0, 0], [2, 2, 0], [1.5, 0.5, 0]]}]})",
+              "1:70", "/portals/0/corners/3", {"the quad is not convex at corner 3"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]]}]})", "1:48",
+              "/portals/0/corners/1", {"corner 1 lies on the line through corners 0 and 2"});
+  expectError(R"({"fly": 1, "portals": [{"corners": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "normal": [0, 0, 1]}]})",
+              "1:71", "/portals/0/normal", {"unknown key \"normal\" in /portals/0; expected one of: name, corners"});
+  // The SDB's own precondition, for scenes built in code.
+  Scene s;
+  EXPECT_THROW(s.setPortals({{"flat", {vec3(0.0f), vec3(1, 0, 0), vec3(2, 0, 0)}}}), std::invalid_argument);
+  EXPECT_TRUE(s.portals().empty());
+}
+
+}  // namespace
+}  // namespace fly::sdb
