@@ -229,7 +229,8 @@ void drawConvergencePlot(std::span<const ConvergenceCurve> curves, const std::st
   p.line(at + glm::dvec2(0, row), at + glm::dvec2(swatch, row), 1.5);
   cairo_set_dash(cr, nullptr, 0, 0.0);
   p.colour(0.13, 0.13, 0.13);
-  p.text("slope -1/2 (error ∝ 1/√time)", at + glm::dvec2(swatch + 8 * p.unit, row), 13, 0.0, 0.5);
+  // ASCII only: without fontconfig (a bare machine) cairo falls back to a font without ∝ and √.
+  p.text("slope -1/2 (error ~ 1/sqrt(time))", at + glm::dvec2(swatch + 8 * p.unit, row), 13, 0.0, 0.5);
   row += step;
   if (request.targetRelativeError > 0.0f) {
     p.colour(0.80, 0.15, 0.15);
