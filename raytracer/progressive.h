@@ -122,9 +122,11 @@ inline constexpr float kBakeAllocationFraction = 0.7f;
 // kMaxFitFraction, until the points that still take the pass (those in blocks with a high error, by the same
 // neighbours' rule) are predicted to finish in time; without such a fraction the estimate ends as before.
 // Passes double the samples, so a bake given a time limit would otherwise stop up to half its time early,
-// with its slowest points where they were.
-inline constexpr float kFitFractionStep = 1.25f;
-inline constexpr float kMaxFitFraction = 16.0f;
+// with its slowest points where they were. The fraction stays at most 1: blocks whose errors lie just
+// below the p95 keep taking the pass, so that the p95 itself still falls (with fractions up to 16 only the
+// worst blocks took it, and on the house the p95 stalled: docs/benchmarks.md).
+inline constexpr float kFitFractionStep = 1.1f;
+inline constexpr float kMaxFitFraction = 1.0f;
 
 // The allocation's rule (EstimateSettings::allocationFraction, kAllocationMinSamples): per point, whether it
 // takes the next pass (1) or skips it (0), given every point's estimate after the last pass, its group

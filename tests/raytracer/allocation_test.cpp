@@ -56,9 +56,9 @@ TEST(AllocationRuleTest, APointSkipsWhenItsBlockNeighboursAreFarBelowTheP95) {
 
 // A pass narrowed to the time left: four blocks of 16 points with errors of 2 %, 6 %, 9 % and 30 % under a p95
 // of 10 % and a fraction of 0.7 (threshold 7 %): the first two blocks skip, the last two take the pass.
-// When only 16 points fit in the time left, the fraction rises (× 1.25 per step: 0.875, 1.09) until the
-// 9 % block skips too (at 1.09, threshold 10.9 %) and the block with the highest errors alone takes it; when
-// not even one block fits, nothing does.
+// When only 16 points fit in the time left, the fraction rises (× 1.1 per step: 0.77, 0.847, 0.932) until
+// the 9 % block skips too (at 0.932, threshold 9.32 %) and the block with the highest errors alone takes it;
+// when not even one block fits below a fraction of 1, nothing does.
 TEST(AllocationRuleTest, APassNarrowedToTheTimeLeftKeepsTheBlocksWithTheHighestErrors) {
   std::vector<IrradianceEstimate> points;
   for (const float error : {0.02f, 0.06f, 0.09f, 0.30f}) {
@@ -83,7 +83,7 @@ TEST(AllocationRuleTest, APassNarrowedToTheTimeLeftKeepsTheBlocksWithTheHighestE
   ASSERT_EQ(fitted.size(), 64u);
   EXPECT_EQ(count(fitted), 16u);
   for (size_t i = 48; i < 64; ++i) EXPECT_EQ(fitted[i], 1) << "the 30 % block: point " << i;
-  EXPECT_EQ(tries, 2u);
+  EXPECT_EQ(tries, 3u);
   EXPECT_TRUE(pointsFittingTheTimeLeft(points, {}, 0.10f, settings, [&](std::vector<uint8_t>& t) {
                 return count(t) > 0 && count(t) < 16;
               }).empty());
