@@ -36,26 +36,22 @@ MeshBuilder sunlitRoom() {
   return b;
 }
 
-struct TrainingInput {
-  std::vector<LitPatches::TrainingPoint> points;  // every triangle's three corners
-  std::vector<uint8_t> passesStraight;            // per triangle: 1 for clear glass
-};
-
-// The training points and glass flags of LitPatches built directly from a TraceRdb: each triangle's
-// corners with its face normal, and the triangles that transmit.
-TrainingInput trainingInput(const rdb::TraceRdb& rdb, const EmbreeScene& scene) {
-  TrainingInput in;
+// LitPatches built directly from a TraceRdb with the given radiance estimates: training points at each
+// triangle's corners with its face normal, passing straight through the triangles that transmit.
+LitPatches litPatchesOf(const rdb::TraceRdb& rdb, const EmbreeScene& scene,
+                        const LitPatches::RadianceEstimate& radiance, const LitPatches::FaceRadiance& faceRadiance) {
+  std::vector<LitPatches::TrainingPoint> points;
   for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
     for (uint32_t c = 0; c < 3; ++c) {
       const uint32_t v = rdb.indices[3 * size_t{t} + c];
-      in.points.push_back({rdb.positionsM[v], scene.triangleNormal(t), scene.triangleMagnitudeM(t)});
+      points.push_back({rdb.positionsM[v], scene.triangleNormal(t), scene.triangleMagnitudeM(t)});
     }
   }
-  in.passesStraight.assign(rdb.triangleCount(), 0);
+  std::vector<uint8_t> passesStraight(rdb.triangleCount(), 0);
   for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
-    in.passesStraight[t] = rdb.materials[rdb.triangleMaterial[t]].transmission.x > 0.0f ? 1 : 0;
+    passesStraight[t] = rdb.materials[rdb.triangleMaterial[t]].transmission.x > 0.0f ? 1 : 0;
   }
-  return in;
+  return LitPatches(scene, points, passesStraight, rdb.indices, rdb.positionsM, radiance, faceRadiance);
 }
 
 struct Bake {
@@ -217,12 +213,9 @@ TEST(LitPatches, SamplingPicksEachTriangleWithTheProbabilityPmfReports) {
   const MeshBuilder b = sunlitRoom();
   const rdb::TraceRdb& rdb = b.rdb;
   const EmbreeScene scene(rdb);
-  const TrainingInput input = trainingInput(rdb, scene);
-  const std::vector<LitPatches::TrainingPoint>& points = input.points;
-  const std::vector<uint8_t>& passesStraight = input.passesStraight;
   // Uneven weights: some triangles' estimates 0 (only the defensive share keeps them), others up to 9.
-  const LitPatches patches(
-      scene, points, passesStraight, rdb.indices, rdb.positionsM,
+  const LitPatches patches = litPatchesOf(
+      rdb, scene,
       [](const Hit& hit, const vec3&, uint64_t seed) { return float((hit.triangle * 7 + seed % 3) % 10); },
       [](uint32_t t, bool) { return float(t % 5); });
   ASSERT_GT(patches.cellCount(), 0u);
@@ -256,13 +249,9 @@ TEST(LitPatches, PointsOnATriangleFollowTheDensityReported) {
   const MeshBuilder b = sunlitRoom();
   const rdb::TraceRdb& rdb = b.rdb;
   const EmbreeScene scene(rdb);
-  const TrainingInput input = trainingInput(rdb, scene);
-  const std::vector<LitPatches::TrainingPoint>& points = input.points;
-  const std::vector<uint8_t>& passesStraight = input.passesStraight;
   auto lit = [](const vec2& bary) { return bary.x > 0.6f; };
-  const LitPatches patches(
-      scene, points, passesStraight, rdb.indices, rdb.positionsM,
-      [&](const Hit& hit, const vec3&, uint64_t) { return lit(hit.barycentric) ? 1.0f : 0.0f; },
+  const LitPatches patches = litPatchesOf(
+      rdb, scene, [&](const Hit& hit, const vec3&, uint64_t) { return lit(hit.barycentric) ? 1.0f : 0.0f; },
       [](uint32_t, bool) { return 0.16f; });
   ASSERT_GT(patches.cellCount(), 0u);
   ASSERT_GT(patches.mapCount(), 0u);

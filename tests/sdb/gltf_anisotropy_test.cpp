@@ -253,24 +253,38 @@ TEST_F(GltfImport, AnisotropyFollowsARoughnessTexture) {
       << (r.warnings.empty() ? "no warning" : r.warnings[0]);
 }
 
-// The seam of the rotation texture (where the stored angle wraps from 2π to 0) is put where no texel points:
-// directions spread over 0°…120° get stored without a jump between neighbours.
-TEST(GltfAnisotropyConversion, RotationTextureAvoidsTheWrapWhereTheDirectionsAllow) {
-  Texture directions;
-  directions.width = 13;
-  directions.height = 1;
-  directions.channels = 4;
-  for (int i = 0; i < directions.width; ++i) {
-    const double a = degToRad(10.0 * i);
-    directions.pixels.insert(directions.pixels.end(),
-                             {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
-                              uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
+// A width × height RGBA anisotropy texture whose texel (x, y) points at angle(x, y) (radians from the
+// tangent): red and green the direction's cosine and sine in [0, 255], blue (strength) and alpha 255.
+template <class Angle>
+Texture directionTexture(int width, int height, Angle angle) {
+  Texture t;
+  t.width = width;
+  t.height = height;
+  t.channels = 4;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const double a = angle(x, y);
+      t.pixels.insert(t.pixels.end(), {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
+                                       uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
+    }
   }
+  return t;
+}
+
+// The conversion of a material of roughness 0.5 and strength 1 whose directions come from `directions`.
+GltfAnisotropyConversion convertDirections(const Texture& directions) {
   GltfAnisotropyInput in;
   in.roughness = 0.5f;
   in.strength = 1.0f;
   in.anisotropyTexture = &directions;
-  const GltfAnisotropyConversion c = convertGltfAnisotropy(in);
+  return convertGltfAnisotropy(in);
+}
+
+// The seam of the rotation texture (where the stored angle wraps from 2π to 0) is put where no texel points:
+// directions spread over 0°…120° get stored without a jump between neighbours.
+TEST(GltfAnisotropyConversion, RotationTextureAvoidsTheWrapWhereTheDirectionsAllow) {
+  const Texture directions = directionTexture(13, 1, [](int x, int) { return degToRad(10.0 * x); });
+  const GltfAnisotropyConversion c = convertDirections(directions);
   ASSERT_TRUE(c.rotationTexture);
   for (int i = 0; i + 1 < directions.width; ++i) {
     const int step =
@@ -284,22 +298,10 @@ TEST(GltfAnisotropyConversion, RotationTextureAvoidsTheWrapWhereTheDirectionsAll
 // radius (about 8 neighbour pairs on a 16 × 16 grid), not along two as modulo a half turn.
 TEST(GltfAnisotropyConversion, RotationTextureOfADiscJumpsAlongOneRadius) {
   constexpr int kSize = 16;
-  Texture directions;
-  directions.width = directions.height = kSize;
-  directions.channels = 4;
-  for (int y = 0; y < kSize; ++y) {
-    for (int x = 0; x < kSize; ++x) {
-      const double a = std::atan2(y - 7.5, x - 7.5) + kPi / 2.0;  // tangential
-      directions.pixels.insert(directions.pixels.end(),
-                               {uint8_t(std::lround(127.5 + 127.5 * std::cos(a))),
-                                uint8_t(std::lround(127.5 + 127.5 * std::sin(a))), 255, 255});
-    }
-  }
-  GltfAnisotropyInput in;
-  in.roughness = 0.5f;
-  in.strength = 1.0f;
-  in.anisotropyTexture = &directions;
-  const GltfAnisotropyConversion c = convertGltfAnisotropy(in);
+  const Texture directions = directionTexture(kSize, kSize, [](int x, int y) {
+    return std::atan2(y - 7.5, x - 7.5) + kPi / 2.0;  // tangential
+  });
+  const GltfAnisotropyConversion c = convertDirections(directions);
   ASSERT_TRUE(c.rotationTexture);
   const std::vector<uint8_t>& red = c.rotationTexture->pixels;
   int jumps = 0;
