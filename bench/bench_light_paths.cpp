@@ -28,13 +28,15 @@
 // the convergence curves in one PNG. --allocation F1,F2,… bakes the lit patches with each fraction;
 // --samples N bakes N samples each instead of SECONDS (then SECONDS is ignored: the CPU time is the measure,
 // steadier than a time limit on a loaded machine); --no-gathering leaves out the first bake (the ratios are
-// then against the lit patches with every point every pass).
+// then against the lit patches with every point every pass); --breakdown prints after each bake which
+// points make its p95 (printBreakdown).
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <limits>
+#include <map>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -170,12 +172,70 @@ double sampleShare(const raytracer::VertexLightMaps& m) {
   return full > 0.0 ? taken / full : 1.0;
 }
 
+// Which points make a bake's p95 (--breakdown): the vertex sides of each node of the scene (inside the rooms
+// or out, by interior()) and the baked texels of each light-textured node, each group with its points, how
+// many lie at or above the p95 over all points and at or above the allocation's threshold (f × p95,
+// kBakeAllocationFraction), and its mean relative error of luminance.
+void printBreakdown(const sdb::Scene& sdbScene, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& m) {
+  struct Group {
+    size_t points = 0, atP95 = 0, atThreshold = 0;
+    double sum = 0.0;
+  };
+  std::vector<std::pair<std::string, float>> points;  // group name, relative error
+  auto nodeName = [&](uint32_t mesh) {
+    const auto it = sdbScene.nodes().find(sdb::NodeId{rdb.meshes[mesh].sdbNodeId});
+    return it == sdbScene.nodes().end() || it->second.name.empty() ? "mesh " + std::to_string(mesh)
+                                                                   : it->second.name;
+  };
+  for (uint32_t mi = 0; mi < rdb.meshes.size(); ++mi) {
+    const rdb::TraceMesh& mesh = rdb.meshes[mi];
+    for (uint32_t v = mesh.firstVertex; v < mesh.firstVertex + mesh.vertexCount; ++v) {
+      for (int back = 0; back < (mesh.twoSided ? 2 : 1); ++back) {
+        const double l = luminance(back ? m.backLux[v] : m.frontLux[v]);
+        if (!(l > 0.0)) continue;
+        const bool inside = interior(rdb.positionsM[v], back ? -rdb.normals[v] : rdb.normals[v]);
+        points.emplace_back("vertex sides, " + nodeName(mi) + (inside ? ", inside" : ", outside"),
+                            static_cast<float>(luminance(back ? m.backStdErrorLux[v] : m.frontStdErrorLux[v]) / l));
+      }
+    }
+  }
+  for (const raytracer::LightTexture& t : m.lightTextures) {
+    for (size_t i = 0; i < t.frontLux.size(); ++i) {
+      const double l = luminance(t.frontLux[i]);
+      if (!t.baked[i] || !(l > 0.0)) continue;
+      points.emplace_back("texels, " + nodeName(t.mesh), static_cast<float>(luminance(t.frontStdErrorLux[i]) / l));
+    }
+  }
+  if (points.empty()) return;
+  std::vector<float> errors;
+  for (const auto& p : points) errors.push_back(p.second);
+  const size_t k = std::min(errors.size() - 1, static_cast<size_t>(std::ceil(0.95 * static_cast<double>(errors.size()))) - 1);
+  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(k), errors.end());
+  const float p95 = errors[k];
+  std::map<std::string, Group> groups;
+  for (const auto& [name, error] : points) {
+    Group& g = groups[name];
+    ++g.points;
+    g.atP95 += error >= p95;
+    g.atThreshold += error >= raytracer::kBakeAllocationFraction * p95;
+    g.sum += error;
+  }
+  std::printf("where the p95 (%.2f %% over %zu points) is:\n| points | count | at or above the p95 | at or above %.2f × p95 | "
+              "mean relative error |\n|---|---|---|---|---|\n",
+              100.0 * p95, points.size(), double(raytracer::kBakeAllocationFraction));
+  for (const auto& [name, g] : groups) {
+    std::printf("| %s | %zu | %zu | %zu | %.2f %% |\n", name.c_str(), g.points, g.atP95, g.atThreshold,
+                100.0 * g.sum / static_cast<double>(g.points));
+  }
+}
+
 struct LitPatchRun {
   double seconds = 0.0;         // per bake; 0: samples instead
   uint32_t samples = 0;         // per bake when seconds is 0
   uint32_t referenceSamples = 0;
   std::vector<float> allocations;  // a bake of the lit patches with each allocation fraction
   bool gathering = true;           // the bake before lit patches, the baseline of the ratios
+  bool breakdown = false;          // printBreakdown() after each bake
   std::string plotPath;
 };
 
@@ -256,6 +316,7 @@ int runLitPatches(const std::string& scenePath, const LitPatchRun& run) {
     const double scale = (p95 / 0.02) * (p95 / 0.02);
     bake.secondsTo2Percent = last.seconds * scale;
     bake.cpuSecondsTo2Percent = cpu * scale;
+    if (run.breakdown) printBreakdown(lit.scene, rdb, m);
     const InteriorError ie = interiorError(rdb, m, reference);
     std::printf(
         "CPU %.1f s (p95² × CPU s %.3f); p95 2 %% extrapolated at %.0f s (%.0f CPU s); interior (%zu vertex "
@@ -311,6 +372,10 @@ int run(int argc, char** argv) {
       litRun.gathering = false;
       continue;
     }
+    if (a == "--breakdown") {
+      litRun.breakdown = true;
+      continue;
+    }
     if (a == "--plot" && i + 1 < argc) {
       plotPath = argv[++i];
       continue;
@@ -346,7 +411,7 @@ int run(int argc, char** argv) {
                    "usage: fly-bench-light-paths [SCENE] [--samples 64,256,1024] [--reference N] "
                    "[--paths-per-sample X] [--pilot-fraction F]\n"
                    "       fly-bench-light-paths [SCENE] --lit-patches SECONDS [--reference N] [--plot PNG] "
-                   "[--allocation F,...] [--samples N] [--no-gathering]\n");
+                   "[--allocation F,...] [--samples N] [--no-gathering] [--breakdown]\n");
       return 2;
     }
   }
