@@ -2,6 +2,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -19,6 +21,19 @@ void logEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
 }
 
 thread_local std::vector<LoggedRay>* tRayLog = nullptr;
+
+// Every query's context: Embree's, and for transmittance() what the filter needs to pass surfaces and what
+// it has passed (Embree hands the filter the context it was given; the extension follows its first member).
+struct QueryContext {
+  RTCIntersectContext embree;
+  const EmbreeScene::PassThrough* pass = nullptr;
+  Rgb transmittance{1.0f};
+  uint32_t passedCount = 0;
+  // The surfaces passed, as triangle and distance, so that a repeated report, or the second triangle of a
+  // crossing through the edge that two share, counts once.
+  std::array<uint32_t, 64> passed{};
+  std::array<float, 64> passedAtM{};
+};
 
 // Fills the ray in place: built in a temporary and copied, its scalar stores would be read back by the copy's
 // vector loads, which stalls on store forwarding.
@@ -103,7 +118,7 @@ EmbreeScene::EmbreeScene(const rdb::TraceRdb& rdb) : rdb_(rdb) {
     }
     rtcSetGeometryUserData(geometry, this);
     rtcSetGeometryIntersectFilterFunction(geometry, filterHits);
-    rtcSetGeometryOccludedFilterFunction(geometry, filterHits);
+    rtcSetGeometryOccludedFilterFunction(geometry, filterPassing);
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene_, geometry);
     rtcReleaseGeometry(geometry);
@@ -147,6 +162,42 @@ void EmbreeScene::filterHits(const RTCFilterFunctionNArguments* args) {
   }
 }
 
+void EmbreeScene::filterPassing(const RTCFilterFunctionNArguments* args) {
+  filterHits(args);
+  auto* context = reinterpret_cast<QueryContext*>(args->context);
+  if (context->pass == nullptr) return;
+  const auto* self = static_cast<const EmbreeScene*>(args->geometryUserPtr);
+  const EmbreeScene::PassThrough& pass = *context->pass;
+  for (unsigned int i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const uint32_t triangle = self->triangleOf(RTCHitN_primID(args->hit, args->N, i));
+    if (!pass.passes[triangle]) continue;  // blocks: the query ends
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const vec3 origin(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                      RTCRayN_org_z(args->ray, args->N, i));
+    const float sameM = rayOffsetM(std::max(maxAbs(origin), t));
+    bool repeated = false;
+    for (uint32_t k = 0; k < context->passedCount && !repeated; ++k) {
+      repeated = context->passed[k] == triangle || std::abs(context->passedAtM[k] - t) <= sameM;
+    }
+    if (repeated) {
+      args->valid[i] = 0;  // this crossing was passed already
+      continue;
+    }
+    if (context->passedCount == std::min(pass.maxPassed, static_cast<uint32_t>(context->passed.size()))) continue;
+    const vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                   RTCRayN_dir_z(args->ray, args->N, i));
+    const Hit hit{triangle, vec2(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)),
+                  self->triangles_[triangle].normal, t};
+    const Rgb passing = pass.transmittance(pass.user, hit, dir);
+    if (!(maxComponent(passing) > 0.0f)) continue;  // blocks here
+    context->transmittance *= passing;
+    context->passed[context->passedCount] = triangle;
+    context->passedAtM[context->passedCount++] = t;
+    args->valid[i] = 0;
+  }
+}
+
 void EmbreeScene::logRaysOfThisThread(std::vector<LoggedRay>* log) {
   tRayLog = log;
 }
@@ -154,24 +205,37 @@ void EmbreeScene::logRaysOfThisThread(std::vector<LoggedRay>* log) {
 bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tMaxM) const {
   if (tRayLog != nullptr) [[unlikely]]
     tRayLog->push_back({origin, dir, tMaxM, true});
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
   RTCRay ray;
   setRay(ray, origin, dir, tMaxM);
-  rtcOccluded1(scene_, &context, &ray);
+  rtcOccluded1(scene_, &context.embree, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+Rgb EmbreeScene::transmittance(const vec3& origin, const vec3& dir, float tMaxM, const PassThrough& pass) const {
+  if (tRayLog != nullptr) [[unlikely]]
+    tRayLog->push_back({origin, dir, tMaxM, true});
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.pass = &pass;
+  RTCRay ray;
+  setRay(ray, origin, dir, tMaxM);
+  rtcOccluded1(scene_, &context.embree, &ray);
+  if (ray.tfar == -std::numeric_limits<float>::infinity()) return Rgb(0.0f);
+  return context.transmittance;
 }
 
 std::optional<Hit> EmbreeScene::intersect(const vec3& origin, const vec3& dir, float tMaxM) const {
   if (tRayLog != nullptr) [[unlikely]]
     tRayLog->push_back({origin, dir, tMaxM, false});
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
   RTCRayHit rayHit;
   setRay(rayHit.ray, origin, dir, tMaxM);
   rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(scene_, &context, &rayHit);
+  rtcIntersect1(scene_, &context.embree, &rayHit);
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const uint32_t triangle = triangleOf(rayHit.hit.primID);
   return Hit{triangle, vec2(rayHit.hit.u, rayHit.hit.v), triangles_[triangle].normal, rayHit.ray.tfar};

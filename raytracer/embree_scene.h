@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "base/color.h"
 #include "base/math.h"
 #include "rdb/trace_rdb.h"
 
@@ -78,6 +79,22 @@ class EmbreeScene {
   // The nearest hit before tMaxM, if any. dir is unit. Safe to call from many threads.
   std::optional<Hit> intersect(const vec3& origin, const vec3& dir, float tMaxM) const;
 
+  // Surfaces that let light through along a ray (clear glass, partial coverage): passes(t) says whether
+  // triangle t may (else it blocks), and transmittance(user, hit, dir) what share of each channel passes at
+  // the hit (0: blocks there).
+  struct PassThrough {
+    const uint8_t* passes;  // per TraceRdb triangle
+    Rgb (*transmittance)(const void* user, const Hit& hit, const vec3& dir);
+    const void* user;
+    uint32_t maxPassed;  // surfaces passed beyond which the ray counts as blocked
+  };
+  // The share of light that travels from origin along unit dir over [0, tMaxM] (tMaxM may be infinite): 0
+  // when a surface that does not pass light is hit, else the product of the transmittances of the distinct
+  // surfaces that pass it. One occlusion query: Embree reports the candidate hits in any order, stops at
+  // the first blocking one, and passes the others; each triangle counts once. Safe to call from many
+  // threads.
+  Rgb transmittance(const vec3& origin, const vec3& dir, float tMaxM, const PassThrough& pass) const;
+
   // While `log` is set (not null), every query made on the calling thread is appended to it; null stops.
   // For benchmarks: one pointer test per query otherwise.
   static void logRaysOfThisThread(std::vector<LoggedRay>* log);
@@ -94,6 +111,8 @@ class EmbreeScene {
   // Embree's intersection and occlusion filter: rejects the hits at the origin and in cut-outs described
   // above.
   static void filterHits(const RTCFilterFunctionNArguments* args);
+  // The occlusion filter: filterHits, then for transmittance() the surfaces that pass light.
+  static void filterPassing(const RTCFilterFunctionNArguments* args);
 
   const rdb::TraceRdb& rdb_;
   bool hasCutOuts_ = false;  // some material is an alpha mask

@@ -285,14 +285,22 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
     backBsdfs_.emplace_back(m, m.doubleSided, coverage, materialLobe_[mi]);
     varies_.push_back(m.hasTextures() || coloured[mi] ? 1 : 0);
     hasClearGlass_ = hasClearGlass_ || frontBsdfs_.back().hasClearTransmission();
-    passesStraight_ =
-        passesStraight_ || frontBsdfs_.back().passesStraight() || m.alpha == rdb::TraceAlpha::kBlend;
+    const bool materialPasses =
+        frontBsdfs_.back().passesStraight() || m.alpha == rdb::TraceAlpha::kBlend;
+    passesStraight_ = passesStraight_ || materialPasses;
+    // Whether a point of the material may pass light (its textures may make some points opaque).
+    materialMayPass_.push_back(materialPasses ? 1 : 0);
     rdb::TraceMaterial regularised = m;
     if (!settings_.caustics) {
       regularised.reflectionGlossiness = std::max(m.reflectionGlossiness, kRegularizedGlossiness);
     }
     deltaLightFrontBsdfs_.emplace_back(regularised, true, coverage, deltaLightMaterialLobe_[mi]);
     deltaLightBackBsdfs_.emplace_back(regularised, m.doubleSided, coverage, deltaLightMaterialLobe_[mi]);
+  }
+  if (passesStraight_) {
+    trianglePasses_.resize(rdb.triangleCount());
+    for (uint32_t t = 0; t < rdb.triangleCount(); ++t) trianglePasses_[t] = materialMayPass_[rdb.triangleMaterial[t]];
+    passThrough_ = {trianglePasses_.data(), &Integrator::paneTransmittance, this, kMaxPanesPassed};
   }
   if (std::any_of(rdb.materials.begin(), rdb.materials.end(),
                   [](const rdb::TraceMaterial& m) { return m.hasReflectionFog(); })) {
@@ -307,6 +315,16 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
 
   if (settings_.skyPortals && skyDistribution_ && (hasClearGlass_ || !rdb.portalCornersM.empty())) {
     buildPortals();
+    if (!portalPlanes_.empty()) {
+      vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+      for (const PortalPlane& q : portalPlanes_) {
+        lo = glm::min(lo, q.boxMinM);
+        hi = glm::max(hi, q.boxMaxM);
+      }
+      portalGridOriginM_ = lo;
+      portalCellSizeM_ = std::max(glm::length(hi - lo) / kPortalCellsAlongPortals, 1e-3f);
+      portalVisibility_ = std::make_unique<PortalVisibilityTable>(portalPlanes_.size());
+    }
   }
 
   std::vector<float> fluxesLm;
@@ -596,33 +614,130 @@ bool Integrator::insidePortal(const vec3& x, uint32_t q) const {
          !glm::any(glm::lessThan(x, plane.regionMinM)) && !glm::any(glm::greaterThan(x, plane.regionMaxM));
 }
 
-float Integrator::portalContinuationShare(const vec3& x, float& areaM2) const {
+float Integrator::portalContinuationShare(const vec3& x, float& weight) const {
   // The panes' area below x's height, for each plane the share of its box's height below x (exact for
-  // upright rectangular windows).
+  // upright rectangular windows), weighted as portalPoint() chooses the planes.
   float below = 0.0f;
-  areaM2 = 0.0f;
+  weight = 0.0f;
+  const float* visibility = nullptr;
   for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
     if (!insidePortal(x, q)) continue;
     const PortalPlane& plane = portalPlanes_[q];
-    areaM2 += plane.areaM2;
+    if (!visibility) visibility = portalVisibilityAt(x);
+    const float w = portalPlaneWeight(x, q, visibility);
+    weight += w;
     const float heightM = plane.boxMaxM.y - plane.boxMinM.y;
     const float share = heightM > 0.0f ? std::clamp((x.y - plane.boxMinM.y) / heightM, 0.0f, 1.0f)
                                        : (x.y > plane.boxMinM.y ? 1.0f : 0.0f);
-    below += share * plane.areaM2;
+    below += share * w;
   }
-  return areaM2 > 0.0f ? kPortalContinuationFraction * below / areaM2 : 0.0f;
+  return weight > 0.0f ? kPortalContinuationFraction * below / weight : 0.0f;
 }
 
-float Integrator::portalAreaM2(const vec3& x) const {
-  float area = 0.0f;
+float Integrator::portalPlaneWeight(const vec3& x, uint32_t q, const float* visibility) const {
+  const PortalPlane& plane = portalPlanes_[q];
+  const vec3 toCentre = 0.5f * (plane.boxMinM + plane.boxMaxM) - x;
+  const float t2 = glm::dot(toCentre, toCentre);
+  const float cosTheta =
+      t2 > 0.0f ? std::max(kPortalMinCosine, std::abs(glm::dot(plane.n, toCentre)) / std::sqrt(t2)) : 1.0f;
+  return plane.areaM2 * cosTheta / (t2 + plane.areaM2 * (1.0f / kPiF)) * (kPortalVisibilityFloor + visibility[q]);
+}
+
+float Integrator::portalWeight(const vec3& x) const {
+  float weight = 0.0f;
+  const float* visibility = nullptr;
   for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
-    if (insidePortal(x, q)) area += portalPlanes_[q].areaM2;
+    if (!insidePortal(x, q)) continue;
+    if (!visibility) visibility = portalVisibilityAt(x);
+    weight += portalPlaneWeight(x, q, visibility);
   }
-  return area;
+  return weight;
 }
 
-float Integrator::portalPdf(const vec3& x, const vec3& d, float areaM2) const {
-  float sum = 0.0f;  // Σ t² / |cos θ| over the panes met
+// The visibility table: open addressing with linear probing over kSlots slots of a key (the cell's packed
+// coordinates, kEmpty where free) and a ready flag, and per slot one share per portal plane.
+struct Integrator::PortalVisibilityTable {
+  static constexpr uint64_t kEmpty = std::numeric_limits<uint64_t>::max();
+  static constexpr size_t kSlots = size_t{1} << 15;
+  static constexpr size_t kMaxProbes = 64;
+  struct Slot {
+    std::atomic<uint64_t> key{kEmpty};
+    std::atomic<uint32_t> ready{0};
+  };
+  explicit PortalVisibilityTable(size_t planeCount) : planes(planeCount), slots(kSlots), shares(kSlots * planeCount) {}
+  size_t planes;
+  std::vector<Slot> slots;
+  std::vector<float> shares;
+};
+
+Integrator::~Integrator() = default;
+
+const float* Integrator::portalVisibilityAt(const vec3& x) const {
+  constexpr float kLimit = float(1 << 20);
+  const vec3 c = glm::clamp(glm::floor((x - portalGridOriginM_) / portalCellSizeM_), vec3(-kLimit), vec3(kLimit - 1.0f));
+  const glm::ivec3 cell(c);
+  const uint64_t key = (uint64_t(uint32_t(cell.x + (1 << 20))) << 42) | (uint64_t(uint32_t(cell.y + (1 << 20))) << 21) |
+                       uint64_t(uint32_t(cell.z + (1 << 20)));
+  PortalVisibilityTable& table = *portalVisibility_;
+  // SplitMix64's finaliser as the hash (Steele, Lea & Flood, "Fast splittable pseudorandom number
+  // generators", OOPSLA 2014).
+  uint64_t h = key;
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+  h ^= h >> 31;
+  for (size_t probe = 0; probe < PortalVisibilityTable::kMaxProbes; ++probe) {
+    const size_t slot = (h + probe) & (PortalVisibilityTable::kSlots - 1);
+    PortalVisibilityTable::Slot& s = table.slots[slot];
+    float* shares = table.shares.data() + slot * table.planes;
+    uint64_t k = s.key.load(std::memory_order_acquire);
+    if (k == PortalVisibilityTable::kEmpty &&
+        s.key.compare_exchange_strong(k, key, std::memory_order_acq_rel, std::memory_order_acquire)) {
+      computePortalVisibility(cell, shares);
+      s.ready.store(1, std::memory_order_release);
+      return shares;
+    }
+    if (k == key) {
+      if (s.ready.load(std::memory_order_acquire)) return shares;
+      break;
+    }
+  }
+  // Still being filled, or the table is full around this key: the same values, computed here.
+  thread_local std::vector<float> own;
+  own.resize(table.planes);
+  computePortalVisibility(cell, own.data());
+  return own.data();
+}
+
+void Integrator::computePortalVisibility(const glm::ivec3& cell, float* out) const {
+  // Points and pane points from the Hammersley set (Pharr, Jakob & Humphreys, "Physically Based
+  // Rendering", 4th ed., ch. 8): i / n and radical inverses in bases 2 and 3.
+  auto radicalInverse = [](uint32_t i, uint32_t base) {
+    float inverse = 1.0f / static_cast<float>(base), f = inverse, r = 0.0f;
+    for (; i > 0; i /= base, f *= inverse) r += f * static_cast<float>(i % base);
+    return r;
+  };
+  uint64_t rays = 0;
+  for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
+    uint32_t reached = 0;
+    for (uint32_t o = 0; o < kPortalVisibilityOrigins; ++o) {
+      const vec3 inCell((static_cast<float>(o) + 0.5f) / kPortalVisibilityOrigins, radicalInverse(o + 1, 2),
+                        radicalInverse(o + 1, 3));
+      const vec3 origin = portalGridOriginM_ + (vec3(cell) + inCell) * portalCellSizeM_;
+      for (uint32_t k = 0; k < kPortalVisibilityRays; ++k) {
+        const vec2 u((static_cast<float>(k) + 0.5f) / kPortalVisibilityRays, radicalInverse(k + 1, 2));
+        const vec3 toPane = planePoint(q, u) - origin;
+        const float distM = glm::length(toPane);
+        if (!(distM > 0.0f)) continue;
+        if (maxComponent(visibility(origin, toPane / distM, distM * (1.0f - 1e-4f), rays)) > 0.0f) ++reached;
+      }
+    }
+    out[q] = static_cast<float>(reached) / static_cast<float>(kPortalVisibilityOrigins * kPortalVisibilityRays);
+  }
+}
+
+float Integrator::portalPdf(const vec3& x, const vec3& d, float weight) const {
+  float pdf = 0.0f;  // Σ over the planes met of P(plane) t² / (A_plane |cos θ|) for the panes met
+  const float* visibility = nullptr;
   for (uint32_t qi = 0; qi < portalPlanes_.size(); ++qi) {
     if (!insidePortal(x, qi)) continue;
     const PortalPlane& q = portalPlanes_[qi];
@@ -639,6 +754,7 @@ float Integrator::portalPdf(const vec3& x, const vec3& d, float areaM2) const {
       items = portalCellItems_.data() + portalCellStart_[cell];
       itemCount = portalCellStart_[cell + 1] - portalCellStart_[cell];
     }
+    float sum = 0.0f;  // Σ t² / |cos θ| over the plane's panes met
     for (uint32_t k = 0; k < itemCount; ++k) {
       const Portal& p = portals_[items ? items[k] : q.first + k];
       // Barycentrics of y in the triangle's plane (Ericson, "Real-Time Collision Detection", 2005, §3.4).
@@ -650,15 +766,19 @@ float Integrator::portalPdf(const vec3& x, const vec3& d, float areaM2) const {
       const float cosPane = std::abs(glm::dot(p.n, d));
       if (cosPane > 0.0f) sum += t * t / cosPane;
     }
+    if (sum > 0.0f) {
+      if (!visibility) visibility = portalVisibilityAt(x);
+      pdf += portalPlaneWeight(x, qi, visibility) / (weight * q.areaM2) * sum;
+    }
   }
-  const float pdf = sum / areaM2;
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
-float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float portalAreaM2) const {
+float Integrator::skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float portalWeight,
+                              float portalFraction) const {
   const float table = skyPdfPerSr_[cell];
-  if (!(portalAreaM2 > 0.0f)) return table;
-  return (1.0f - kPortalFraction) * table + kPortalFraction * portalPdf(x, d, portalAreaM2);
+  if (!(portalWeight > 0.0f)) return table;
+  return (1.0f - portalFraction) * table + portalFraction * portalPdf(x, d, portalWeight);
 }
 
 Integrator::PointBsdfs Integrator::bsdfsAt(uint32_t mi, bool front, const TrianglePoint& at,
@@ -697,31 +817,16 @@ vec3 Integrator::hitPoint(const Hit& hit) const {
 Rgb Integrator::visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const {
   ++rays;
   if (!passesStraight_) return scene_.occluded(origin, dir, tMaxM) ? Rgb(0.0f) : Rgb(1.0f);
-  const bool bounded = std::isfinite(tMaxM);
-  const vec3 end = bounded ? origin + tMaxM * dir : vec3(0.0f);
-  Rgb transmittance(1.0f);
-  vec3 o = origin;
-  float tMax = tMaxM;
-  for (uint32_t panes = 0;; ++panes) {
-    const std::optional<Hit> hit = scene_.intersect(o, dir, tMax);
-    if (!hit) return transmittance;
-    const uint32_t mi = rdb_.triangleMaterial[hit->triangle];
-    std::optional<Bsdf> point, pointDeltaLight;
-    const Bsdf& pane = *bsdfsAt(mi, true, {hit->triangle, hit->barycentric}, point, pointDeltaLight).bsdf;
-    if (!pane.passesStraight() || panes == kMaxPanesPassed) return Rgb(0.0f);
-    const float cosPane = glm::dot(hit->geometricNormal, dir);
-    transmittance *= pane.straightTransmittance(std::abs(cosPane));
-    if (!(maxComponent(transmittance) > 0.0f)) return Rgb(0.0f);
-    // On through the pane: from its far side.
-    const vec3 x = hitPoint(*hit);
-    o = offsetRayOrigin(x, cosPane > 0.0f ? hit->geometricNormal : -hit->geometricNormal,
-                        std::max(maxAbs(x), scene_.triangleMagnitudeM(hit->triangle)));
-    if (bounded) {
-      tMax = glm::dot(end - o, dir);
-      if (!(tMax > 0.0f)) return transmittance;
-    }
-    ++rays;
-  }
+  return scene_.transmittance(origin, dir, tMaxM, passThrough_);
+}
+
+Rgb Integrator::paneTransmittance(const void* user, const Hit& hit, const vec3& dir) {
+  const auto& self = *static_cast<const Integrator*>(user);
+  const uint32_t mi = self.rdb_.triangleMaterial[hit.triangle];
+  std::optional<Bsdf> point, pointDeltaLight;
+  const Bsdf& pane = *self.bsdfsAt(mi, true, {hit.triangle, hit.barycentric}, point, pointDeltaLight).bsdf;
+  if (!pane.passesStraight()) return Rgb(0.0f);
+  return pane.straightTransmittance(std::abs(glm::dot(hit.geometricNormal, dir)));
 }
 
 bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf,
@@ -755,12 +860,12 @@ bool Integrator::response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb&
 float Integrator::continuationPdf(const Vertex& v, float cosTheta, const vec3& d) const {
   const float cosine = cosineHemispherePdf(cosTheta);
   if (!(v.portalShare > 0.0f)) return cosine;
-  return (1.0f - v.portalShare) * cosine + v.portalShare * portalPdf(v.p, d, v.portalAreaM2);
+  return (1.0f - v.portalShare) * cosine + v.portalShare * portalPdf(v.p, d, v.portalWeight);
 }
 
 bool Integrator::sampleContinuation(const Vertex& v, vec2 u, vec3& d, float& cosTheta, float& pdf) const {
   if (v.portalShare > 0.0f && u.x < v.portalShare) {
-    const vec3 toPortal = portalPoint(v.p, v.portalAreaM2, vec2(u.x / v.portalShare, u.y)) - v.p;
+    const vec3 toPortal = portalPoint(v.p, v.portalWeight, vec2(u.x / v.portalShare, u.y)) - v.p;
     const float distM = glm::length(toPortal);
     if (!(distM > 0.0f)) return false;
     d = toPortal / distM;
@@ -774,19 +879,27 @@ bool Integrator::sampleContinuation(const Vertex& v, vec2 u, vec3& d, float& cos
   return pdf > 0.0f && std::isfinite(pdf);
 }
 
-vec3 Integrator::portalPoint(const vec3& x, float portalAreaM2, const vec2& u) const {
-  // u.x rescaled to the area of x's portal planes chooses the plane, the pane in it and, with what remains
-  // and u.y, the point on the pane.
-  float target = std::min(u.x, 0x1.fffffep-1f) * portalAreaM2;
+vec3 Integrator::portalPoint(const vec3& x, float weight, const vec2& u) const {
+  // u.x rescaled to the weight of x's portal planes chooses the plane; what remains, rescaled to [0, 1),
+  // and u.y the point on it.
+  float target = std::min(u.x, 0x1.fffffep-1f) * weight;
   uint32_t plane = ~0u;
+  float planeWeight = 0.0f;
+  const float* visibility = portalVisibilityAt(x);
   for (uint32_t q = 0; q < portalPlanes_.size(); ++q) {
     if (!insidePortal(x, q)) continue;
     plane = q;
-    if (target < portalPlanes_[q].areaM2) break;
-    target -= portalPlanes_[q].areaM2;
+    planeWeight = portalPlaneWeight(x, q, visibility);
+    if (target < planeWeight) break;
+    target -= planeWeight;
   }
+  return planePoint(plane, vec2(std::clamp(target / planeWeight, 0.0f, 0x1.fffffep-1f), u.y));
+}
+
+vec3 Integrator::planePoint(uint32_t plane, const vec2& u) const {
+  // u.x rescaled to the plane's area chooses the pane and, with what remains and u.y, the point on it.
   const PortalPlane& q = portalPlanes_[plane];
-  target = std::clamp(target, 0.0f, q.areaM2);
+  const float target = u.x * q.areaM2;
   const auto first = portals_.begin() + q.first;
   const auto last = first + q.count;
   auto pane = std::upper_bound(first, last, target, [](float a, const Portal& p) { return a < p.cumulativeAreaM2; });
@@ -857,14 +970,14 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
     if (sunOneMinusCos_ <= 0.0f) sampler.skip(2);
     vec2 u = sampler.next2D();
     // The portals' share α where v is inside some portal plane, else 0.
-    const float portalArea = portalAreaM2(v.p);
-    const float alpha = portalArea > 0.0f ? kPortalFraction : 0.0f;
+    const float portalWeightAtV = portalWeight(v.p);
+    const float alpha = portalWeightAtV > 0.0f ? (v.bsdf ? kPortalFraction : kSensorPortalFraction) : 0.0f;
     std::optional<vec3> d;
     uint32_t cell = 0;
     float tablePdf = 0.0f;  // with portals, the mixture's density is computed once the direction is seen
     if (u.x < alpha) {
-      // Through a portal: a point on the panes of v's portal planes, uniform by area.
-      const vec3 toPortal = portalPoint(v.p, portalArea, vec2(u.x / alpha, u.y)) - v.p;
+      // Through a portal: a point on the panes of v's portal planes (portalPoint).
+      const vec3 toPortal = portalPoint(v.p, portalWeightAtV, vec2(u.x / alpha, u.y)) - v.p;
       const float distM = glm::length(toPortal);
       // The sky is above the horizon only (TraceSky); directions below it find no sky light.
       if (distM > 0.0f && toPortal.y > 0.0f) {
@@ -881,7 +994,7 @@ Rgb Integrator::directLight(const Vertex& v, bool allLights, uint32_t group, con
     if (d && (alpha > 0.0f || tablePdf > 0.0f) && response(v, v.bsdf, *d, fCos, pdfBsdf)) {
       const Rgb seen = visibility(originTowards(*d), *d, std::numeric_limits<float>::infinity(), rays);
       if (maxComponent(seen) > 0.0f) {
-        const float pdf = alpha > 0.0f ? skyLightPdf(v.p, *d, cell, portalArea) : tablePdf;
+        const float pdf = alpha > 0.0f ? skyLightPdf(v.p, *d, cell, portalWeightAtV, alpha) : tablePdf;
         if (pdf > 0.0f && std::isfinite(pdf)) {
           sum += rdb_.sky.radianceCdM2[cell] * fCos * (powerHeuristic(pdf, pdfBsdf) / pdf) * seen;
         }
@@ -1140,6 +1253,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
   float pdfLast = 0.0f;
   float travelledM = 0.0f;
   vec3 misOrigin = p;  // that vertex's position, for the sky portals' density (skyLightPdf)
+  float misPortalFraction = kSensorPortalFraction;  // and its share of sky samples through the portals
   // Reflections so far (straight passages through clear panes are none); a vertex's light-sampled light has
   // been reflected reflections + 1 times.
   uint32_t reflections = 0;
@@ -1171,7 +1285,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
     v.portalShare = 0.0f;
     if (settings_.portalContinuation && !portalPlanes_.empty() && !straightOnly &&
         (v.bsdf == nullptr || v.bsdf->isLambertian())) {
-      v.portalShare = portalContinuationShare(v.p, v.portalAreaM2);
+      v.portalShare = portalContinuationShare(v.p, v.portalWeight);
     }
     const bool deltaLightSampling = lightSampling || (!straightOnly && v.deltaLightBsdf->hasNonDelta());
     const bool roulette = depth + 1 >= kFirstRouletteVertex;
@@ -1251,6 +1365,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       beta *= cosTheta / pdfLast;
       travelledM = 0.0f;
       misOrigin = v.p;
+      misPortalFraction = kSensorPortalFraction;
       patchCellLast = patchCell;
     } else if (straightOnly) {
       d = v.frame.toWorld(-v.woLocal);
@@ -1265,6 +1380,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
       specular = false;
       travelledM = 0.0f;
       misOrigin = v.p;
+      misPortalFraction = kPortalFraction;
       patchCellLast = patchCell;
     } else {
       Bsdf::Sample s;
@@ -1290,6 +1406,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
         pdfLast = s.pdf;
         travelledM = 0.0f;
         misOrigin = v.p;
+        misPortalFraction = kPortalFraction;
         patchCellLast = specular ? LitPatches::kNoCell : patchCell;
       }
     }
@@ -1331,7 +1448,7 @@ Rgb Integrator::sampleIrradiance(const vec3& p, const vec3& n, S& sampler, uint6
         const uint32_t cell = skyCell(d);
         sum += beta * rdb_.sky.radianceCdM2[cell] *
                (specular ? 1.0f
-                         : powerHeuristic(pdfLast, skyLightPdf(misOrigin, d, cell, portalAreaM2(misOrigin))));
+                         : powerHeuristic(pdfLast, skyLightPdf(misOrigin, d, cell, portalWeight(misOrigin), misPortalFraction)));
       }
       // Within the sun's cone: 1 − cos = |d − s|² / 2, without cancellation.
       if (specular && settings_.caustics && sunOneMinusCos_ > 0.0f) {

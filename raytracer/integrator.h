@@ -25,10 +25,13 @@
 // the panes into that side) of its panes' box. Inside a building the sky table's directions are nearly all
 // blocked by walls and roof, while the portals' pass through the windows. At a point x that is on the inner
 // side of some portal planes, the sky's light sampling draws its direction from a mixture: with probability
-// kPortalFraction towards a point uniform over those planes' panes (area A(x)), else from the sky table. The
-// mixture's density per steradian, (1 − α) p_table(d) + α p_portal(x, d), with p_portal the sum of t² / (A(x)
-// |cos θ|) over the panes of those planes that the ray meets at distances t, is what the MIS weights use, for
-// sampled and escaping directions alike: unbiased whatever the glass (a one-sample mixture of two
+// α (kPortalFraction, kSensorPortalFraction at the sensor) towards a point on those planes' panes, else from
+// the sky table. The plane q is chosen with probability w_q(x) / Σ w (portalPlaneWeight: the solid angle of
+// a disc of its pane area at its distance, times the share of rays from x's cell that reach its panes,
+// portalVisibilityAt), the point uniform by area A_q on its panes. The mixture's density per steradian,
+// (1 − α) p_table(d) + α p_portal(x, d), with p_portal the sum of w_q / Σ w · t² / (A_q |cos θ|) over the
+// panes that the ray meets at distances t, is what the MIS weights use, for sampled and escaping
+// directions alike: unbiased whatever the glass and the weights (a one-sample mixture of two
 // techniques: Veach, "Robust Monte Carlo methods for light transport simulation", PhD thesis, 1997, ch. 9;
 // portals as in Bitterli, Novák & Jarosz, "Portal-masked environment map sampling", EGSR 2015, and Cycles'
 // portal lights). Points outside every portal plane's inner side sample the table alone. A density
@@ -154,6 +157,7 @@
 // light and reflects none. A double-sided material reflects and emits on both faces.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -196,10 +200,23 @@ inline constexpr float kRegularizedGlossiness = 0.3f;
 
 // The share of sky light samples that go through the clear-glass portals when the scene has them.
 inline constexpr float kPortalFraction = 0.25f;
+// The same at the sensor, whose light straight from the sky is the largest part of a floor's noise indoors
+// (docs/benchmarks.md, "Where the house's p95 is now"); the table keeps the rest for MIS.
+inline constexpr float kSensorPortalFraction = 0.75f;
 
 // The share of a continuation's samples that head through the portals where the sensor or a Lambertian
 // surface is on their inner side (IntegratorSettings::portalContinuation).
 inline constexpr float kPortalContinuationFraction = 0.25f;
+
+// The least cos θ with which Integrator::portalPlaneWeight sees a portal plane.
+inline constexpr float kPortalMinCosine = 0.2f;
+
+// Integrator::portalVisibilityAt: the grid's cells along the diagonal of the portal planes' boxes, the
+// points per cell and rays per point and plane, and the share added to every plane's.
+inline constexpr float kPortalCellsAlongPortals = 24.0f;
+inline constexpr uint32_t kPortalVisibilityOrigins = 4;
+inline constexpr uint32_t kPortalVisibilityRays = 8;
+inline constexpr float kPortalVisibilityFloor = 0.05f;
 
 // Planes of clear glass beyond which sky portals are off: every sky density evaluation meets each one.
 inline constexpr uint32_t kMaxPortalPlanes = 64;
@@ -284,6 +301,7 @@ class Integrator {
   // settings.rouletteWindow is not in (0, 1], the sky table's size is not resolution², or a material index
   // is out of range.
   Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, IntegratorSettings settings = {});
+  ~Integrator();
 
   // One sample of the irradiance in lux at p (world, metres) on the side of unit normal n. The caller starts
   // the sample (sampler.startSample); this uses 3 groups of dimensions per path vertex from group 0: (sun,
@@ -336,10 +354,9 @@ class Integrator {
     // albedo fogColor that stands in for the reflection lobes where the fog wins (sampleIrradiance).
     float fogDistanceM = std::numeric_limits<float>::infinity();
     const Bsdf* fogBsdf = nullptr;
-    // Where v's continuation mixes the portals with the cosine (portalContinuationShare): the pane area (m²)
-    // of the portal planes whose inner side v is on, and the portals' share; sampling, response()'s density
-    // and every MIS weight use the mixture.
-    float portalAreaM2 = 0.0f;
+    // Where v's continuation mixes the portals with the cosine (portalContinuationShare): portalWeight(v.p),
+    // and the portals' share; sampling, response()'s density and every MIS weight use the mixture.
+    float portalWeight = 0.0f;
     float portalShare = 0.0f;  // the share α of v's continuations that head through the portals (0: none)
   };
 
@@ -391,14 +408,16 @@ class Integrator {
   // The continuation of v (the sensor, or a Lambertian surface) from u: the direction d, its cos θ and its
   // density (continuationPdf). False where d lies below v's shading normal (no light comes from there).
   bool sampleContinuation(const Vertex& v, vec2 u, vec3& d, float& cosTheta, float& pdf) const;
-  // A point uniform by area on the panes of the portal planes whose inner side x is on (their area
-  // portalAreaM2 > 0), from u ∈ [0, 1)².
-  vec3 portalPoint(const vec3& x, float portalAreaM2, const vec2& u) const;
+  // A point on the panes of the portal planes whose inner side x is on (weight = portalWeight(x) > 0), from
+  // u ∈ [0, 1)²: a plane with probability portalPlaneWeight(x, q) / weight, a point uniform by area on its
+  // panes.
+  vec3 portalPoint(const vec3& x, float weight, const vec2& u) const;
   bool response(const Vertex& v, const Bsdf* bsdf, const vec3& d, Rgb& fCos, float& pdf,
                 float distM = std::numeric_limits<float>::infinity()) const;
   // The fraction of light that reaches origin from unit direction dir over [0, tMaxM] (tMaxM may be ∞): 1
-  // when nothing is in the way, the product of T(θ) of the clear panes crossed, 0 when anything else is hit.
-  // `rays` grows by the rays traced.
+  // when nothing is in the way, the product of T(θ) of the clear panes crossed, 0 when anything else is hit:
+  // one occlusion query (EmbreeScene::transmittance), which stops at the first opaque surface it meets.
+  // `rays` grows by one.
   Rgb visibility(const vec3& origin, const vec3& dir, float tMaxM, uint64_t& rays) const;
   // The point of a hit from its barycentrics, more precise than origin + t·d (Wächter & Binder 2019).
   vec3 hitPoint(const Hit& hit) const;
@@ -409,15 +428,39 @@ class Integrator {
   // kPortalContinuationFraction, times the share of the portals' panes that lie below x (what is seen
   // through a window from below its sill is the sky, which the sky's light sampling finds through the
   // portals already; the sunlit ground and façades outside are seen looking down). areaM2 receives
-  // portalAreaM2(x).
-  float portalContinuationShare(const vec3& x, float& areaM2) const;
-  // The pane area of the portal planes whose inner side x is on (0: none, and always without portals).
-  float portalAreaM2(const vec3& x) const;
+  // portalWeight(x).
+  float portalContinuationShare(const vec3& x, float& weight) const;
+  // How much portalPoint() favours plane q seen from x: the solid angle of a disc of the plane's pane area
+  // facing x at the distance of its box's centre, A cos θ / (t² + A / π) (the on-axis solid angle of a disc,
+  // 2π (1 − t / √(t² + A / π)), to first order in A / t², bounded by π near it), with cos θ at least
+  // kPortalMinCosine (a window seen edge-on from beside it still fills part of the view). Any positive
+  // weight keeps the estimate unbiased; this one spends the samples on the windows that light x the most.
+  // visibility: portalVisibilityAt(x).
+  float portalPlaneWeight(const vec3& x, uint32_t q, const float* visibility) const;
+  // A point on plane q's panes, uniform by area for u uniform in [0, 1)².
+  vec3 planePoint(uint32_t q, const vec2& u) const;
+  // Per cell of a grid of side portalCellSizeM_, for each portal plane the share of the rays from
+  // kPortalVisibilityOrigins points in the cell to kPortalVisibilityRays points on the plane's panes that
+  // reach the pane (through clear glass): which windows the points of the cell see, and which inner walls
+  // and deep reveals hide from them. portalPlaneWeight scales by it, plus kPortalVisibilityFloor (a
+  // window that the cell's rays missed keeps some weight). A pure function of the cell, kept in a table that
+  // the threads fill as they first meet a cell (each slot written once, by the thread that claims it; a
+  // thread that finds a slot still being filled computes its own copy), so the bake is deterministic for any
+  // thread count. The shares of x's cell, one per portal plane; valid until the calling thread's next call.
+  const float* portalVisibilityAt(const vec3& x) const;
+  void computePortalVisibility(const glm::ivec3& cell, float* out) const;
+  struct PortalVisibilityTable;
+  std::unique_ptr<PortalVisibilityTable> portalVisibility_;
+  float portalCellSizeM_ = 1.0f;
+  vec3 portalGridOriginM_{0.0f};
+  // Σ portalPlaneWeight(x, q) over the portal planes whose inner side x is on (0: none, and always without
+  // portals).
+  float portalWeight(const vec3& x) const;
   // Density per steradian with which directLight's sky sampling draws world direction d (d.y ≥ 0) from x,
-  // given portalAreaM2(x): the sky table's for d's cell, mixed with the portals' when that area is not 0.
-  float skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float portalAreaM2) const;
-  // p_portal(x, d) for areaM2 = portalAreaM2(x) > 0.
-  float portalPdf(const vec3& x, const vec3& d, float areaM2) const;
+  // given portalWeight(x): the sky table's for d's cell, mixed with the portals' when that weight is not 0.
+  float skyLightPdf(const vec3& x, const vec3& d, uint32_t cell, float portalWeight, float portalFraction) const;
+  // p_portal(x, d), the density per steradian of portalPoint()'s direction, for weight = portalWeight(x) > 0.
+  float portalPdf(const vec3& x, const vec3& d, float weight) const;
   // Whether x is on plane q's inner side.
   bool insidePortal(const vec3& x, uint32_t q) const;
   // Fills portals_ and portalPlanes_ from the clear-glass triangles and the declared portals' triangles;
@@ -464,6 +507,12 @@ class Integrator {
   std::vector<uint8_t> varies_;
   // Some material passes light straight through (clear glass or partial coverage: visibility()).
   bool passesStraight_ = false;
+  // visibility()'s surfaces that pass light: per material and per triangle whether they may (clear glass,
+  // partial coverage), and paneTransmittance (T(θ) of the point's Bsdf, 0 where it does not pass).
+  std::vector<uint8_t> materialMayPass_;
+  std::vector<uint8_t> trianglePasses_;
+  EmbreeScene::PassThrough passThrough_{};
+  static Rgb paneTransmittance(const void* user, const Hit& hit, const vec3& dir);
   bool hasClearGlass_ = false;  // some material is clear glass (sky portals)
   // Sky portals: a clear-glass triangle as a corner and two edges, with its unit normal, its area summed
   // with those before it in its plane, and what a barycentric test of a point in its plane needs.
