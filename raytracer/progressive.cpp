@@ -419,7 +419,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       // Start the next pass: the first, or one that doubles the total. Each costs about as much per sample
       // as the last.
       const uint32_t total = state.samplesPerPoint;
-      const uint32_t passSamples = total == 0 ? settings.firstPassSamples : total;
+      uint32_t passSamples = total == 0 ? settings.firstPassSamples : total;
       if (uint64_t{total} + passSamples > settings.maxSamples) break;
       // The points it will sample (not those of settled groups, nor those the allocation by error lets
       // skip it), and their samples against those of the last pass.
@@ -452,8 +452,20 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
           passPointSamples = pointSamplesOf(takes);
         }
       }
-      if (total > 0 && state.lastPassPointSamples > 0 && predictedEndS(passPointSamples) > settings.timeLimitS)
-        break;
+      // One that still would, shortened: half the samples, a quarter … (whole per replicate), the largest that
+      // fits, over the points that the allocation by error lets take it. The time limit is then spent rather
+      // than left when a doubling no longer fits.
+      if (total > 0 && state.lastPassPointSamples > 0 && predictedEndS(passPointSamples) > settings.timeLimitS) {
+        const uint32_t k = acc.replicates();
+        const uint32_t doubling = passSamples;
+        for (uint32_t shorter = doubling / 2; shorter >= k && shorter % k == 0; shorter /= 2) {
+          passSamples = shorter;
+          takes = pointsTakingNextPass(result.points, acc.groups(), result.relativeErrorP95, settings);
+          passPointSamples = pointSamplesOf(takes);
+          if (passPointSamples > 0 && predictedEndS(passPointSamples) <= settings.timeLimitS) break;
+        }
+        if (!(passPointSamples > 0) || predictedEndS(passPointSamples) > settings.timeLimitS) break;
+      }
       state.lastPassPointSamples = passPointSamples;
       state.passTakes = std::move(takes);
       state.passSamples = passSamples;

@@ -120,9 +120,11 @@ inline constexpr float kBakeAllocationFraction = 0.7f;
 // A last pass fitted to the time left: with the allocation on, when the next pass is predicted to end after
 // EstimateSettings::timeLimitS, the fraction is raised by factors of kFitFractionStep, up to
 // kMaxFitFraction, until the points that still take the pass (those in blocks with a high error, by the same
-// neighbours' rule) are predicted to finish in time; without such a fraction the estimate ends as before.
-// Passes double the samples, so a bake given a time limit would otherwise stop up to half its time early,
-// with its slowest points where they were. The fraction stays at most 1: blocks whose errors lie just
+// neighbours' rule) are predicted to finish in time. Without such a fraction (and without the allocation),
+// the pass is shortened instead: half the samples of a doubling, a quarter … (whole per replicate), the
+// largest predicted to fit, over the points that the allocation lets take it; the estimate ends when not
+// even a replicate's share fits. Passes double the samples, so a bake given a time limit would otherwise
+// stop up to half its time early, with its slowest points where they were. The fraction stays at most 1: blocks whose errors lie just
 // below the p95 keep taking the pass, so that the p95 itself still falls (with fractions up to 16 only the
 // worst blocks took it, and on the house the p95 stalled: docs/benchmarks.md).
 inline constexpr float kFitFractionStep = 1.1f;

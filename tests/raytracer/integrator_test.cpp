@@ -1129,6 +1129,41 @@ TEST(Integrator, StopsAtTargetErrorAndTimeLimit) {
 }
 
 
+// Under a time limit that a doubling of the samples no longer fits, the last pass is shortened rather than the
+// time left unused: given 1.25 × the time of the first two passes (n samples each, 2n in all), a third pass
+// of 2n would end at about twice that, one of n/2 or fewer (whole per replicate) fits, and the estimate ends
+// between 2n and 4n samples. The passes' times are measured, so an attempt whose machine slowed down or sped
+// up by more than the margins may end at 2n or 4n; one of three attempts must show the shortened pass.
+TEST(Integrator, ATimeLimitThatADoublingDoesNotFitGetsAShorterLastPass) {
+  SceneBuilder b;
+  b.ground(kHugeGroundHalfM, b.material(Rgb(0.5f)));
+  b.uniformSky(Rgb(1000.0f));
+  Sensors s;
+  for (int i = 0; i < 4096; ++i) s.add(vec3(0.01f * static_cast<float>(i), 1, 0), vec3(0, 1, 0), Rgb(0.0f));
+  const EmbreeScene scene(b.rdb);
+  const Integrator integrator(b.rdb, scene);
+  EstimateSettings settings;
+  settings.firstPassSamples = 64;
+  settings.maxSamples = 128;
+  settings.threads = 1;
+  bool shortened = false;
+  for (int attempt = 0; attempt < 3 && !shortened; ++attempt) {
+    settings.maxSamples = 128;
+    settings.timeLimitS = std::numeric_limits<double>::infinity();
+    const EstimateResult twoPasses = estimateIrradiance(integrator, s.points, s.normals, settings);
+    ASSERT_EQ(twoPasses.samplesPerPoint, 128u);
+    settings.maxSamples = 1u << 20;
+    settings.timeLimitS = 1.25 * twoPasses.seconds;
+    const EstimateResult timed = estimateIrradiance(integrator, s.points, s.normals, settings);
+    EXPECT_EQ(timed.samplesPerPoint % timed.replicates, 0u);
+    for (const IrradianceEstimate& e : timed.points) EXPECT_TRUE(std::isfinite(e.meanLux.g) && e.meanLux.g > 0.0f);
+    std::cout << "[ time limit ] " << settings.timeLimitS << " s: " << timed.samplesPerPoint << " samples in "
+              << timed.seconds << " s\n";
+    shortened = timed.samplesPerPoint > 128u && timed.samplesPerPoint < 256u;
+  }
+  EXPECT_TRUE(shortened);
+}
+
 // Reflection fog: a floor of fog distance D and fog colour c under an emissive ceiling of radiance L at
 // height H (both 10 km wide, as infinite planes), seen by a sensor facing down. The floor's irradiance is
 // E = π L, so the fog's radiance is L_fog = c E / π = c L, and a ray reflected at μ = cos θ from the normal
