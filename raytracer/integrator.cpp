@@ -1,6 +1,7 @@
 #include "raytracer/integrator.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -321,9 +322,15 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
         lo = glm::min(lo, q.boxMinM);
         hi = glm::max(hi, q.boxMaxM);
       }
-      portalGridOriginM_ = lo;
-      portalCellSizeM_ = std::max(glm::length(hi - lo) / kPortalCellsAlongPortals, 1e-3f);
-      portalVisibility_ = std::make_unique<PortalVisibilityTable>(portalPlanes_.size());
+      // Cells aligned with the boxes' low corner, a whole number of them in the margin.
+      const float diagonalM = glm::length(hi - lo);
+      portalCellSizeM_ = std::max(diagonalM / kPortalCellsAlongPortals, 1e-3f);
+      const float marginCells = std::ceil(kPortalGridMargin * diagonalM / portalCellSizeM_);
+      portalGridOriginM_ = lo - vec3(marginCells * portalCellSizeM_);
+      portalGridCells_ = glm::uvec3(glm::ceil((hi - lo) / portalCellSizeM_)) + glm::uvec3(1 + 2 * uint32_t(marginCells));
+      portalVisibility_ = std::make_unique<PortalVisibilityTable>(
+          portalPlanes_.size(), size_t{portalGridCells_.x} * portalGridCells_.y * portalGridCells_.z);
+      portalOutsideGrid_.assign(portalPlanes_.size(), 1.0f);
     }
   }
 
@@ -654,17 +661,22 @@ float Integrator::portalWeight(const vec3& x) const {
   return weight;
 }
 
-// The visibility table: open addressing with linear probing over kSlots slots of a key (the cell's packed
-// coordinates, kEmpty where free) and a ready flag, and per slot one share per portal plane.
+// The visibility table: open addressing with linear probing over a power-of-two number of slots (at least
+// twice the grid's cells, at most kMaxShareBytes of shares) of a key (the cell's index in the grid, kEmpty
+// where free) and a ready flag, and per slot one share per portal plane.
 struct Integrator::PortalVisibilityTable {
   static constexpr uint64_t kEmpty = std::numeric_limits<uint64_t>::max();
-  static constexpr size_t kSlots = size_t{1} << 15;
   static constexpr size_t kMaxProbes = 64;
+  static constexpr size_t kMaxShareBytes = size_t{64} << 20;
   struct Slot {
     std::atomic<uint64_t> key{kEmpty};
     std::atomic<uint32_t> ready{0};
   };
-  explicit PortalVisibilityTable(size_t planeCount) : planes(planeCount), slots(kSlots), shares(kSlots * planeCount) {}
+  PortalVisibilityTable(size_t planeCount, size_t cells)
+      : planes(planeCount),
+        slots(std::clamp(std::bit_ceil(2 * cells), size_t{1024},
+                         std::bit_floor(std::max(size_t{1024}, kMaxShareBytes / sizeof(float) / planeCount)))),
+        shares(slots.size() * planeCount) {}
   size_t planes;
   std::vector<Slot> slots;
   std::vector<float> shares;
@@ -673,12 +685,14 @@ struct Integrator::PortalVisibilityTable {
 Integrator::~Integrator() = default;
 
 const float* Integrator::portalVisibilityAt(const vec3& x) const {
-  constexpr float kLimit = float(1 << 20);
-  const vec3 c = glm::clamp(glm::floor((x - portalGridOriginM_) / portalCellSizeM_), vec3(-kLimit), vec3(kLimit - 1.0f));
+  const vec3 c = glm::floor((x - portalGridOriginM_) / portalCellSizeM_);
+  if (!(glm::all(glm::greaterThanEqual(c, vec3(0.0f))) && glm::all(glm::lessThan(c, vec3(portalGridCells_)))))
+    return portalOutsideGrid_.data();
   const glm::ivec3 cell(c);
-  const uint64_t key = (uint64_t(uint32_t(cell.x + (1 << 20))) << 42) | (uint64_t(uint32_t(cell.y + (1 << 20))) << 21) |
-                       uint64_t(uint32_t(cell.z + (1 << 20)));
+  const uint64_t key =
+      (uint64_t(uint32_t(cell.x)) * portalGridCells_.y + uint32_t(cell.y)) * portalGridCells_.z + uint32_t(cell.z);
   PortalVisibilityTable& table = *portalVisibility_;
+  const size_t mask = table.slots.size() - 1;
   // SplitMix64's finaliser as the hash (Steele, Lea & Flood, "Fast splittable pseudorandom number
   // generators", OOPSLA 2014).
   uint64_t h = key;
@@ -686,7 +700,7 @@ const float* Integrator::portalVisibilityAt(const vec3& x) const {
   h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
   h ^= h >> 31;
   for (size_t probe = 0; probe < PortalVisibilityTable::kMaxProbes; ++probe) {
-    const size_t slot = (h + probe) & (PortalVisibilityTable::kSlots - 1);
+    const size_t slot = (h + probe) & mask;
     PortalVisibilityTable::Slot& s = table.slots[slot];
     float* shares = table.shares.data() + slot * table.planes;
     uint64_t k = s.key.load(std::memory_order_acquire);

@@ -211,9 +211,12 @@ inline constexpr float kPortalContinuationFraction = 0.25f;
 // The least cos θ with which Integrator::portalPlaneWeight sees a portal plane.
 inline constexpr float kPortalMinCosine = 0.2f;
 
-// Integrator::portalVisibilityAt: the grid's cells along the diagonal of the portal planes' boxes, the
-// points per cell and rays per point and plane, and the share added to every plane's.
+// Integrator::portalVisibilityAt: the grid's cells along the diagonal of the portal planes' boxes, the margin
+// around those boxes that the grid covers (a share of that diagonal on each side: the floors and ceilings
+// of the rooms behind), the points per cell and rays per point and plane, and the share added to every
+// plane's.
 inline constexpr float kPortalCellsAlongPortals = 24.0f;
+inline constexpr float kPortalGridMargin = 0.5f;
 inline constexpr uint32_t kPortalVisibilityOrigins = 4;
 inline constexpr uint32_t kPortalVisibilityRays = 8;
 inline constexpr float kPortalVisibilityFloor = 0.05f;
@@ -439,7 +442,9 @@ class Integrator {
   float portalPlaneWeight(const vec3& x, uint32_t q, const float* visibility) const;
   // A point on plane q's panes, uniform by area for u uniform in [0, 1)².
   vec3 planePoint(uint32_t q, const vec2& u) const;
-  // Per cell of a grid of side portalCellSizeM_, for each portal plane the share of the rays from
+  // Per cell of a grid of side portalCellSizeM_ over the portal planes' boxes grown by kPortalGridMargin of
+  // their diagonal on every side (portalGridCells_ cells from portalGridOriginM_; outside it every share is
+  // 1, portalOutsideGrid_), for each portal plane the share of the rays from
   // kPortalVisibilityOrigins points in the cell to kPortalVisibilityRays points on the plane's panes that
   // reach the pane (through clear glass): which windows the points of the cell see, and which inner walls
   // and deep reveals hide from them. portalPlaneWeight scales by it, plus kPortalVisibilityFloor (a
@@ -453,6 +458,8 @@ class Integrator {
   std::unique_ptr<PortalVisibilityTable> portalVisibility_;
   float portalCellSizeM_ = 1.0f;
   vec3 portalGridOriginM_{0.0f};
+  glm::uvec3 portalGridCells_{0};
+  std::vector<float> portalOutsideGrid_;
   // Σ portalPlaneWeight(x, q) over the portal planes whose inner side x is on (0: none, and always without
   // portals).
   float portalWeight(const vec3& x) const;
