@@ -30,9 +30,10 @@ struct QueryContext {
   Rgb transmittance{1.0f};
   uint32_t passedCount = 0;
   // The surfaces passed, as triangle and distance, so that a repeated report, or the second triangle of a
-  // crossing through the edge that two share, counts once.
-  std::array<uint32_t, 64> passed{};
-  std::array<float, 64> passedAtM{};
+  // crossing through the edge that two share, counts once. Only the first passedCount entries are read, so
+  // the arrays are left uninitialised: every ray's query builds this context.
+  std::array<uint32_t, 64> passed;
+  std::array<float, 64> passedAtM;
 };
 
 // Fills the ray in place: built in a temporary and copied, its scalar stores would be read back by the copy's
