@@ -1,6 +1,7 @@
 #include "raytracer/integrator.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdio>

@@ -157,7 +157,6 @@
 // light and reflects none. A double-sided material reflects and emits on both faces.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <limits>
