@@ -218,6 +218,7 @@ void saveBakeCheckpoint(const BakeJob& job, uint64_t fingerprint, const raytrace
         {"light_paths", job.settings.lightPaths.enabled},
         {"error_allocation", e.allocationFraction},
         {"export_gltf", job.exportGltf},
+        {"automatic_light_textures", job.automaticLightTextures},
         {"checkpoint_interval_s", job.checkpointIntervalS}}},
       {"daylight", job.daylight},
       {"trace_rdb_fingerprint", hex(fingerprint)},
@@ -302,6 +303,8 @@ LoadedCheckpoint loadBakeCheckpoint(const std::filesystem::path& outDir) {
     e.allocationFraction = s.value("error_allocation", 0.0f);
     if (!(e.allocationFraction >= 0.0f && e.allocationFraction <= 1.0f)) throw bad("error_allocation is not in [0, 1]");
     c.job.exportGltf = s.at("export_gltf").get<bool>();
+    // ... and with automatic light textures on large flat meshes alone, which the trace RDB gave them.
+    c.job.automaticLightTextures = s.value("automatic_light_textures", false);
     c.job.checkpointIntervalS = s.at("checkpoint_interval_s").get<double>();
     c.fingerprint = std::stoull(j.at("trace_rdb_fingerprint").get<std::string>(), nullptr, 16);
     for (const nlohmann::json& row : j.at("history")) {

@@ -32,6 +32,8 @@ struct BakeJob {
   raytracer::BakeSettings settings;
   std::string samplerName;  // "sobol" or "random", as the manifest records it
   bool exportGltf = false;
+  // Light textures where vertices cannot carry the light (raytracer/light_resolution.h); off: only those asked.
+  bool automaticLightTextures = true;
   double checkpointIntervalS = 0.0;  // > 0
   nlohmann::json daylight;           // the scene's site, time and sky (cli/scene_daylight.h, daylightJson)
 };

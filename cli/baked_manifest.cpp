@@ -132,6 +132,7 @@ json parseBakedManifest(std::string_view text, const std::string& fileName) {
       require(*t, "front", Kind::kString, fileName, tAt);
       require(*t, "back", Kind::kString, fileName, tAt, true);
       require(*t, "automatic", Kind::kBoolean, fileName, tAt, true);
+      require(*t, "automatic_reason", Kind::kString, fileName, tAt, true);
     }
   }
   return manifest;
@@ -226,7 +227,10 @@ std::string bakeSummaryText(const json& m, bool sourceFound) {
     o << "light tex  object " << t.at("object").get<size_t>() << " \"" << t.at("name").get<std::string>()
       << "\": " << t.at("width").get<uint32_t>() << " x " << t.at("height").get<uint32_t>() << " texels, "
       << fixed(t.at("texels_per_metre").get<double>(), 1) << " texels/m"
-      << (t.value("automatic", false) ? " (automatic)" : "") << ", " << t.at("front").get<std::string>()
+      << (!t.value("automatic", false)             ? ""
+          : t.contains("automatic_reason") ? " (automatic: " + t.at("automatic_reason").get<std::string>() + ")"
+                                           : std::string(" (automatic)"))
+      << ", " << t.at("front").get<std::string>()
       << (t.contains("back") ? " + back" : "") << "\n";
   }
   o << "sunlight   " << bakedSunlightText(m) << "\n";

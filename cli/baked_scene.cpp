@@ -590,6 +590,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       t["height"] = lt.height;
       t["texels_per_metre"] = lt.texelsPerMetre;
       t["automatic"] = lt.automatic;
+      if (lt.automatic) t["automatic_reason"] = lt.automaticReason;
       t["uv"] = lt.fromTexcoord1 ? "TEXCOORD_1" : "generated";
       t["baked_texels"] = tex.bakedTexels;
       t["empty_texels"] = tex.emptyTexels;

@@ -22,6 +22,7 @@
 #include "cli/scene_daylight.h"
 #include "raytracer/baker.h"
 #include "raytracer/embree_scene.h"
+#include "raytracer/light_resolution.h"
 #include "rdb/trace_rdb_build.h"
 
 namespace fly::cli {
@@ -37,6 +38,7 @@ struct BakeOptions {
   std::string resume;      // DIR of an interrupted bake with a checkpoint; "" = a new bake
   std::string lightPaths = "off";  // on or off: raytracer::LightPathBakeSettings::enabled
   bool noErrorAllocation = false;  // EstimateSettings::allocationFraction = 0
+  bool noAutomaticLightTextures = false;  // BakeJob::automaticLightTextures = false
   DaylightOptions daylight;
   double dotsPerInch = 0.0;  // --dpi: convergence.png's print resolution; 0 = none
 };
@@ -56,12 +58,13 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
     job.outDir = o.out;
     job.samplerName = o.sampling.sampler;
     job.exportGltf = o.exportGltf;
+    job.automaticLightTextures = !o.noAutomaticLightTextures;
     if (!o.checkpoint.empty()) job.checkpointIntervalS = parseDuration(o.checkpoint, "--checkpoint");
     return job;
   }
   for (const char* name : {"SCENE", "--out", "--target-error", "--time", "--samples", "--sampler",
                            "--max-bounces", "--export-gltf", "--light-paths", "--no-lit-patches",
-                           "--no-error-allocation"}) {
+                           "--no-error-allocation", "--no-automatic-light-textures"}) {
     if (sub.count(name) > 0) {
       throw UsageError(
           std::string("bake --resume DIR continues with the settings saved in the checkpoint; ") + name +
@@ -79,18 +82,13 @@ BakeJob resolveJob(const BakeOptions& o, const CLI::App& sub, std::optional<Load
   return job;
 }
 
-// Seconds until the bake stops, from whichever rule stops it first: the sample limit (time grows with the
-// samples), the time limit, or the target error (the error falls as 1/√samples, so reaching it takes
-// (error / target)² times as long as it took so far). Infinite when no rule bounds it.
+// Seconds until the passes stop, from whichever rule stops them first: the sample limit (time grows with the
+// samples), the passes' time limit (the driver shortens the last pass to end at it), or the target error (the
+// error falls as 1/√samples, so reaching it takes (error / target)² times as long as it took so far). Infinite
+// when no rule bounds it.
 double secondsLeft(const raytracer::ConvergencePoint& p, const raytracer::EstimateSettings& s) {
   double left = p.seconds * (double(s.maxSamples) / double(p.samples) - 1.0);
-  if (std::isfinite(s.timeLimitS)) {
-    // Passes double the samples, so each lasts about as long as all before it, and none starts that would end
-    // after the limit: the bake ends at the last of T, 2T, 4T … within it.
-    double end = p.seconds;
-    while (end > 0.0 && 2.0 * end <= s.timeLimitS) end *= 2.0;
-    left = std::min(left, end - p.seconds);
-  }
+  if (std::isfinite(s.timeLimitS)) left = std::min(left, s.timeLimitS - p.seconds);
   if (s.targetRelativeError > 0.0f) {
     const double ratio = double(p.relativeErrorP95) / double(s.targetRelativeError);
     left = std::min(left, p.seconds * std::max(ratio * ratio - 1.0, 0.0));
@@ -113,12 +111,15 @@ std::string formatSeconds(double s) {
 }
 
 // One progress line per pass: a bar of the time done against the time estimated in all, the samples, the
-// error against the target and the time left. On a terminal it redraws one line; in a log, one line each.
-void printProgress(const raytracer::ConvergencePoint& p, const raytracer::EstimateSettings& s,
-                   bool terminal) {
+// error against the target and the time left, as wall-clock time of the command: beforeS (start-up, training)
+// before the passes, afterS (writing the results) after them. On a terminal it redraws one line; in a log,
+// one line each.
+void printProgress(const raytracer::ConvergencePoint& p, const raytracer::EstimateSettings& s, double beforeS,
+                   double afterS, bool terminal) {
   constexpr int kBar = 24;
-  const double left = secondsLeft(p, s);
-  const double done = p.seconds + left > 0.0 ? p.seconds / (p.seconds + left) : 1.0;
+  const double left = secondsLeft(p, s) + afterS;
+  const double now = beforeS + p.seconds;
+  const double done = now + left > 0.0 ? now / (now + left) : 1.0;
   const int filled = static_cast<int>(std::lround(done * kBar));
   const std::string bar = std::string(size_t(filled), '#') + std::string(size_t(kBar - filled), '.');
   char target[48] = "";
@@ -127,15 +128,19 @@ void printProgress(const raytracer::ConvergencePoint& p, const raytracer::Estima
   }
   std::fprintf(stderr, "%s[%s] %u/%u samples, error %.3g %%%s, %s, ~%s left%s", terminal ? "\r\033[K" : "",
                bar.c_str(), p.samples, s.maxSamples, 100.0 * p.relativeErrorP95, target,
-               formatSeconds(p.seconds).c_str(), formatSeconds(left).c_str(), terminal ? "" : "\n");
+               formatSeconds(now).c_str(), formatSeconds(left).c_str(), terminal ? "" : "\n");
   std::fflush(stderr);
 }
+
+// Seconds that writing a baked scene takes per vertex and texel (glTF, EXR, manifest), an upper bound.
+constexpr double kWriteSecondsPerPoint = 3e-6;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 int runBake(const BakeOptions& options, const CLI::App& sub) {
+  const auto commandStart = std::chrono::steady_clock::now();
   std::optional<LoadedCheckpoint> loaded;
   BakeJob job = resolveJob(options, sub, loaded);
   BakeOptions o = options;
@@ -160,11 +165,20 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   checkBakeOutput(o.out);  // before the bake, so that an hour's work is not refused at the end
 
   auto t = std::chrono::steady_clock::now();
-  const rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
+  rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
   const double buildRdbS = secondsSince(t);
   t = std::chrono::steady_clock::now();
   const raytracer::EmbreeScene embree(rdb);
   const double buildEmbreeS = secondsSince(t);
+  // Light textures where vertices cannot carry the light (before the fingerprint: they are part of the job).
+  t = std::chrono::steady_clock::now();
+  if (job.automaticLightTextures) {
+    raytracer::LightResolutionSettings resolution;
+    resolution.texelsPerMetre = float(scene.bakeSettings().texelsPerMetre);
+    resolution.threads = settings.estimate.threads;
+    raytracer::addNeededLightTextures(rdb, embree, resolution);
+  }
+  const double lightResolutionS = secondsSince(t);
 
   // Checkpoints: a resumed bake must see the scene it started with.
   const uint64_t fingerprint = traceRdbFingerprint(rdb);
@@ -198,22 +212,34 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
     };
   }
 
-  const bool terminal = ::isatty(STDERR_FILENO) != 0;
-  const raytracer::VertexLightMaps maps = raytracer::bakeVertexLightMaps(
-      rdb, embree, settings,
-      [&](const raytracer::ConvergencePoint& p, uint32_t) {
-        printProgress(p, settings.estimate, terminal);
-        return true;
-      },
-      checkpointing);
-  if (terminal) std::fputc('\n', stderr);
-
   BakeDescription d;
   d.scenePath = o.scene;
   if (settings.integrator.maxBounces < raytracer::kPathLengthGuard) {
     d.bounceCapBias = warnBounceCapBias(raytracer::estimateBounceCapBiasOnSurfaces(
         rdb, embree, settings.integrator, settings.estimate.threads, settings.estimate.seed));
   }
+
+  // --time is the command's wall-clock limit: the passes get what start-up left, less the time that writing
+  // the results will take (kWriteSecondsPerPoint per vertex and texel, measured on the house and the living
+  // room at about a third of it, plus a second for the images); the baker takes its training out of it too.
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  size_t points = rdb.positionsM.size();
+  for (const rdb::TraceLightTexture& lt : rdb.lightTextures) points += size_t(lt.width) * lt.height;
+  const double writeS = 1.0 + kWriteSecondsPerPoint * double(points);
+  raytracer::BakeSettings passSettings = settings;
+  const double beforeS = secondsSince(commandStart);
+  if (std::isfinite(settings.estimate.timeLimitS) && !loaded) {
+    passSettings.estimate.timeLimitS = std::max(0.0, settings.estimate.timeLimitS - beforeS - writeS);
+  }
+  const raytracer::VertexLightMaps maps = raytracer::bakeVertexLightMaps(
+      rdb, embree, passSettings,
+      [&](const raytracer::ConvergencePoint& p, uint32_t) {
+        printProgress(p, passSettings.estimate, beforeS + p.trainingSeconds, writeS, terminal);
+        return true;
+      },
+      checkpointing);
+  if (terminal) std::fputc('\n', stderr);
+  const auto writeStart = std::chrono::steady_clock::now();
   d.daylight = job.daylight;
   d.imageSettings = daylightSettings(scene);
   d.dotsPerInch = o.dotsPerInch;
@@ -247,9 +273,14 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   for (const rdb::TraceMaterial& m : rdb.materials) {
     d.materialNames.push_back(scene.material(sdb::MaterialId{m.sdbMaterialId}).name);
   }
-  d.timingsS = {{"build_trace_rdb", buildRdbS}, {"build_embree", buildEmbreeS}, {"bake", maps.seconds}};
+  d.settings["automatic_light_textures"] = job.automaticLightTextures;
+  d.timingsS = {{"build_trace_rdb", buildRdbS},
+                {"build_embree", buildEmbreeS},
+                {"light_resolution", lightResolutionS},
+                {"bake", maps.seconds}};
   d.exportGltf = o.exportGltf;
   writeDirectoryAtomic(o.out, [&](const std::filesystem::path& tmp) { writeBakedScene(tmp, rdb, maps, d); });
+  const double writeSeconds = secondsSince(writeStart);
   // The bake is complete: its checkpoint (this run's, or a stale one) is no longer needed.
   std::error_code ignored;
   std::filesystem::remove_all(checkpointDirFor(o.out), ignored);
@@ -279,6 +310,12 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
       "%.3g Mrays/s -> %s\n",
       rdb.positionsM.size(), maps.samplesPerVertex, settledText.c_str(), 100.0 * error, sunText, maps.seconds,
       maps.seconds > 0.0 ? double(maps.rays) / maps.seconds * 1e-6 : 0.0, o.out.c_str());
+  std::fprintf(stderr, "time: %.1f s in all (start-up %.1f s, training %.1f s, passes %.1f s, writing %.1f s)%s\n",
+               secondsSince(commandStart), beforeS, maps.litPatchSeconds + maps.lightPathSeconds, maps.seconds,
+               writeSeconds,
+               std::isfinite(settings.estimate.timeLimitS) && !loaded
+                   ? (" of the " + formatSeconds(settings.estimate.timeLimitS) + " limit").c_str()
+                   : "");
   if (maps.litPatchCells > 0) {
     std::fprintf(stderr, "lit patches: sampled from %zu enclosed regions (trained in %.1f s)\n", maps.litPatchCells,
                  maps.litPatchSeconds);
@@ -302,8 +339,8 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
     std::fprintf(stderr,
                  "light texture: object %u \"%s\"%s, %u x %u texels at %.3g texels/m, %zu baked, %zu seam "
                  "edges, %u samples\n",
-                 tex.mesh, name.c_str(), lt.automatic ? " (automatic: large flat surface)" : "", tex.width,
-                 tex.height, double(lt.texelsPerMetre), tex.bakedTexels, tex.seamEdges, tex.samples);
+                 tex.mesh, name.c_str(), lt.automatic ? (" (automatic: " + lt.automaticReason + ")").c_str() : "",
+                 tex.width, tex.height, double(lt.texelsPerMetre), tex.bakedTexels, tex.seamEdges, tex.samples);
     if (tex.emptyTexels > 0) {
       std::fprintf(stderr,
                    "warning: light texture of object %u: %zu texels are touched by triangles without area in "
@@ -346,6 +383,10 @@ Command addBakeCommand(CLI::App& app) {
                 "every vertex and texel takes every pass; by default, points whose neighbours' error is far "
                 "below the 95th percentile skip passes, so that the time goes where the error is "
                 "(docs/sample-allocation.md)");
+  sub->add_flag("--no-automatic-light-textures", o->noAutomaticLightTextures,
+                "light textures only for the meshes that ask for them (lightTexture, bake.lightTextures); by "
+                "default a mesh also gets one where its vertices cannot carry the light: sun patches, shadow "
+                "edges, lamp pools, triangles of a metre or more");
   sub->add_option("--light-paths", o->lightPaths,
                   "on: light paths from the sun combined with the gathering estimate of every vertex "
                   "(docs/light-paths.md); off (the default): gathering alone");

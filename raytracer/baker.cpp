@@ -4,12 +4,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <span>
 #include <thread>
 #include <utility>
 
 #include "raytracer/sampler.h"
+#include "rdb/vertex_weld.h"
 #include "raytracer/warp.h"
 
 namespace fly::raytracer {
@@ -53,14 +55,31 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   friend SampleSourceOf<OneRingSource>;
 
  public:
-  OneRingSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator)
+  // weld: coincident vertices of a mesh with equal normals are one point (rdb/vertex_weld.h), whose ring is
+  // the union of theirs; off, every vertex is a point of its own.
+  OneRingSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator, bool weld)
       : rdb_(rdb), scene_(scene), integrator_(integrator) {
     const size_t vertexCount = rdb.positionsM.size();
-    // The one-rings in compressed rows: every triangle of non-zero area once per corner.
+    weldRep_.resize(vertexCount);
+    std::iota(weldRep_.begin(), weldRep_.end(), 0u);
+    if (weld && !rdb.normals.empty()) {
+      for (const rdb::TraceMesh& mesh : rdb.meshes) {
+        if (size_t{mesh.firstVertex} + mesh.vertexCount > vertexCount) continue;
+        const auto positions = std::span<const vec3>(rdb.positionsM).subspan(mesh.firstVertex, mesh.vertexCount);
+        Bounds3 bounds;
+        for (const vec3& p : positions) bounds.extend(p);
+        const std::vector<uint32_t> rep = rdb::weldCoincidentVertices(
+            positions, std::span<const vec3>(rdb.normals).subspan(mesh.firstVertex, mesh.vertexCount),
+            rdb::weldToleranceM(glm::length(bounds.max - bounds.min)));
+        for (uint32_t i = 0; i < mesh.vertexCount; ++i) weldRep_[mesh.firstVertex + i] = mesh.firstVertex + rep[i];
+      }
+    }
+    // The one-rings in compressed rows: every triangle of non-zero area once per corner, in the ring of the
+    // corner's welded point.
     ringOffsets_.assign(vertexCount + 1, 0);
     for (size_t t = 0; t < rdb.triangleCount(); ++t) {
       if (!isValid(static_cast<uint32_t>(t))) continue;
-      for (int c = 0; c < 3; ++c) ++ringOffsets_[rdb.indices[3 * t + static_cast<size_t>(c)] + 1];
+      for (int c = 0; c < 3; ++c) ++ringOffsets_[weldRep_[rdb.indices[3 * t + static_cast<size_t>(c)]] + 1];
     }
     for (size_t v = 0; v < vertexCount; ++v) ringOffsets_[v + 1] += ringOffsets_[v];
     ringTriangles_.resize(ringOffsets_.back());
@@ -70,7 +89,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     for (uint32_t t = 0; t < rdb.triangleCount(); ++t) {
       if (!isValid(t)) continue;
       for (uint8_t c = 0; c < 3; ++c) {
-        const uint32_t slot = fill[rdb.indices[3 * size_t{t} + c]]++;
+        const uint32_t slot = fill[weldRep_[rdb.indices[3 * size_t{t} + c]]]++;
         ringTriangles_[slot] = t;
         ringCorners_[slot] = c;
       }
@@ -135,6 +154,8 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   }
 
   bool hasRing(uint32_t v) const { return ringOffsets_[v + 1] > ringOffsets_[v]; }
+  // The vertex whose point carries v's values (v itself unless welded to a lower-numbered vertex).
+  uint32_t weldedTo(uint32_t v) const { return weldRep_[v]; }
   bool isTwoSided(uint32_t v) const { return twoSided_[v]; }
   uint32_t pointVertex(size_t point) const { return pointVertex_[point]; }
   bool isBack(size_t point) const { return point >= frontCount_; }
@@ -263,6 +284,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   const rdb::TraceRdb& rdb_;
   const EmbreeScene& scene_;
   const Integrator& integrator_;
+  std::vector<uint32_t> weldRep_;      // per vertex: weldedTo
   std::vector<uint32_t> ringOffsets_;  // vertex v's ring: entries ringOffsets_[v] … ringOffsets_[v + 1] − 1
   std::vector<uint32_t> ringTriangles_;
   // Which corner of the triangle the vertex is (bits 0–1), and kReversedCorners.
@@ -449,7 +471,8 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
                                     const BakeCheckpointing& checkpointing) {
   const auto integratorStart = std::chrono::steady_clock::now();
   const Integrator integrator(rdb, scene, settings.integrator);
-  OneRingSource vertexSource(rdb, scene, integrator);
+  // Welding would give a light path's deposit at one vertex to the ring of all: only for gathering alone.
+  OneRingSource vertexSource(rdb, scene, integrator, !settings.lightPaths.enabled);
   VertexLightMaps maps;
   maps.litPatchCells = integrator.litPatchCells();
   maps.litPatchSeconds =
@@ -491,6 +514,7 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     point.samples = soFar.samplesPerPoint;
     point.relativeErrorP95 = soFar.relativeErrorP95;
     point.raysPerSecond = passSeconds > 0.0 ? static_cast<double>(passRays) / passSeconds : 0.0;
+    point.trainingSeconds = maps.litPatchSeconds + maps.lightPathSeconds;
     if (source.keepsSunDirect()) point.sunDirectRelativeErrorP95 = sunDirectRelativeErrorP95(soFar.points);
     maps.history.push_back(point);
     state.history = maps.history;
@@ -501,8 +525,12 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     driverCheckpoints.intervalS = checkpointing.intervalS;
     driverCheckpoints.save = [&](const ProgressState&) { checkpointing.save(state); };
   }
+  // The time limit bounds the training before the passes too.
+  const double trainingS = maps.litPatchSeconds + maps.lightPathSeconds;
+  EstimateSettings estimate = settings.estimate;
+  if (std::isfinite(estimate.timeLimitS)) estimate.timeLimitS = std::max(0.0, estimate.timeLimitS - trainingS);
   const EstimateResult result =
-      estimateProgressively(source, settings.estimate, afterPass, state.progress, driverCheckpoints);
+      estimateProgressively(source, estimate, afterPass, state.progress, driverCheckpoints);
 
   const size_t vertexCount = rdb.positionsM.size();
   maps.frontLux.assign(vertexCount, Rgb(0.0f));
@@ -542,8 +570,19 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     }
     if (!back) maps.frontSamples[v] = e.samples;
   }
+  // Welded vertices take their point's values.
+  for (uint32_t v = 0; v < vertexCount; ++v) {
+    const uint32_t r = vertexSource.weldedTo(v);
+    if (r == v) continue;
+    for (std::vector<Rgb>* m : {&maps.frontLux, &maps.frontStdErrorLux, &maps.backLux, &maps.backStdErrorLux,
+                                &maps.frontSunDirectLux, &maps.frontSunDirectStdErrorLux, &maps.backSunDirectLux,
+                                &maps.backSunDirectStdErrorLux}) {
+      if (!m->empty()) (*m)[v] = (*m)[r];
+    }
+    maps.frontSamples[v] = maps.frontSamples[r];
+  }
   std::vector<bool> known(vertexCount);
-  for (uint32_t v = 0; v < vertexCount; ++v) known[v] = vertexSource.hasRing(v);
+  for (uint32_t v = 0; v < vertexCount; ++v) known[v] = vertexSource.hasRing(vertexSource.weldedTo(v));
   maps.unfilledVertices = fillFromNeighbours(rdb, vertexSource, known, maps);
   maps.lightTextures =
       texelSource.finish(std::span<const IrradianceEstimate>(result.points).subspan(vertexPoints));

@@ -50,6 +50,9 @@ struct ConvergencePoint {
   // With a sun (VertexLightMaps::hasSunDirect): the 95th percentile of the relative standard error of
   // luminance of the sun-direct part, over the vertex sides and texels that receive it; 0 otherwise.
   float sunDirectRelativeErrorP95 = 0.0f;
+  // Seconds spent before the passes on training (lit patches, light paths): not in `seconds`, but taken out
+  // of EstimateSettings::timeLimitS, which bounds training and passes together.
+  double trainingSeconds = 0.0;
 };
 
 // Called after every pass (from the calling thread); return false to stop after it.

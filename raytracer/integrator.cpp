@@ -926,6 +926,23 @@ vec3 Integrator::planePoint(uint32_t plane, const vec2& u) const {
   return pane->p0 + b.y * pane->e1 + b.z * pane->e2;
 }
 
+Rgb Integrator::deltaDirectIrradiance(const vec3& p, const vec3& n, uint64_t& rays,
+                                      float surfaceMagnitudeM) const {
+  const Vertex v{p, n, n, std::max(maxAbs(p), surfaceMagnitudeM), nullptr, nullptr, onb(n), vec3(0.0f)};
+  Rgb sum(0.0f);
+  if (sunOneMinusCos_ > 0.0f) {
+    const vec3& toSun = rdb_.sun.directionWorld;
+    const float cosTheta = glm::dot(n, toSun);
+    if (cosTheta > 0.0f) {
+      const vec3 origin = offsetRayOrigin(p, n, v.magnitudeM);
+      sum += rdb_.sun.normalIlluminanceLux * cosTheta *
+             visibility(origin, toSun, std::numeric_limits<float>::infinity(), rays);
+    }
+  }
+  for (const rdb::TracePunctualLight& light : rdb_.punctualLights) sum += punctualLight(light, v, rays);
+  return sum;
+}
+
 Rgb Integrator::punctualLight(const rdb::TracePunctualLight& light, const Vertex& v, uint64_t& rays) const {
   Rgb fCos;
   float pdfUnused;

@@ -326,6 +326,12 @@ class Integrator {
                        float surfaceMagnitudeM = 0.0f, Rgb* sunDirectLux = nullptr,
                        Rgb* sunLux = nullptr) const;
 
+  // The irradiance in lux at p on the side of unit normal n from the sun's disc centre and the punctual lights
+  // alone, each with one shadow ray (through clear panes, with their transmittance): deterministic, no sky,
+  // emitters or reflected light. What the light-resolution analysis compares between a triangle's corners and
+  // its interior (raytracer/light_resolution.h). surfaceMagnitudeM as for sampleIrradiance.
+  Rgb deltaDirectIrradiance(const vec3& p, const vec3& n, uint64_t& rays, float surfaceMagnitudeM = 0.0f) const;
+
   // Whether the scene has a sun that lights it (sunLights): only then has sampleIrradiance a sun-direct part.
   bool hasSun() const { return sunOneMinusCos_ > 0.0f; }
   // Whether next-event estimation to lit patches runs: IntegratorSettings::litPatches, a sun, and some

@@ -131,6 +131,9 @@ struct TraceMesh {
   uint32_t firstTriangle = 0;
   uint32_t triangleCount = 0;
   bool twoSided = false;  // bake both faces
+  // The scene neither asks for a light texture nor forbids one ("lightTexture": false): the bake may give it
+  // one where vertices cannot carry the light (raytracer/light_resolution.h).
+  bool automaticLightTextureAllowed = true;
   static constexpr uint32_t kNoLightTexture = std::numeric_limits<uint32_t>::max();
   uint32_t lightTexture = kNoLightTexture;  // index into TraceRdb::lightTextures, or none
 };
@@ -143,8 +146,11 @@ struct TraceLightTexture {
   uint32_t width = 0;           // atlas size, texels, ≥ 1
   uint32_t height = 0;
   float texelsPerMetre = 0.0f;  // achieved density, texels/m (for TEXCOORD_1: the mean over the mesh)
-  bool automatic = false;       // chosen by the large-flat-surface rule (rdb/trace_rdb_build.h), unasked
+  bool automatic = false;       // unasked: added where vertices cannot carry the light (addAutomaticLightTexture)
+  std::string automaticReason;  // why, in words, for the bake's summary and manifest (automatic only)
   bool fromTexcoord1 = false;   // the UVs are the SDB mesh's TEXCOORD_1, else generated (rdb/lightmap_uv.h)
+  bool densityReduced = false;  // generated UVs at less than the requested density, to fit the atlas
+  uint32_t chartCount = 0;      // generated UVs: charts in the atlas
   // Light-map UV per triangle corner: 3 per triangle of the mesh, in TraceMesh triangle order. Corners of one
   // vertex differ where charts meet (seams).
   std::vector<vec2> cornerUv;

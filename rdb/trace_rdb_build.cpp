@@ -1,10 +1,12 @@
 #include "rdb/trace_rdb_build.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,8 +16,35 @@
 #include "rdb/lightmap_uv.h"
 #include "rdb/placed_mesh.h"
 #include "rdb/site_lowering.h"
+#include "rdb/vertex_weld.h"
 
 namespace fly::rdb {
+
+// Generated light-map UVs for mesh tm of rdb into lt: charts over its triangles with coincident vertices of
+// equal normals welded (rdb/vertex_weld.h), so that faces written with vertices of their own chart together.
+static void generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texelsPerMetre, int maxSize,
+                   int paddingTexels, TraceLightTexture& lt) {
+  const std::span<const vec3> positions = std::span<const vec3>(rdb.positionsM).subspan(tm.firstVertex, tm.vertexCount);
+  const std::span<const vec3> normals = std::span<const vec3>(rdb.normals).subspan(tm.firstVertex, tm.vertexCount);
+  Bounds3 bounds;
+  for (const vec3& p : positions) bounds.extend(p);
+  const std::vector<uint32_t> weld =
+      weldCoincidentVertices(positions, normals, weldToleranceM(glm::length(bounds.max - bounds.min)));
+  const uint32_t* corners = rdb.indices.data() + 3 * size_t(tm.firstTriangle);
+  std::vector<uint32_t> local(corners, corners + 3 * size_t(tm.triangleCount));
+  for (uint32_t& i : local) i = weld[i - tm.firstVertex];
+  const LightmapUv uv = generateLightmapUv(positions, local,
+                                           {.texelsPerMetre = texelsPerMetre,
+                                            .paddingTexels = paddingTexels,
+                                            .maxAtlasSize = maxSize});
+  lt.width = uv.width;
+  lt.height = uv.height;
+  lt.texelsPerMetre = uv.texelsPerMetre;
+  lt.densityReduced = uv.densityReduced;
+  lt.chartCount = uv.chartCount;
+  lt.cornerUv.clear();
+  for (uint32_t i : uv.indices) lt.cornerUv.push_back(uv.uv[i]);
+}
 
 TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   TraceMaterial t;
@@ -387,62 +416,34 @@ class Builder {
     rdb_.meshes.push_back(tm);
   }
 
-  // Sum of the areas of tm's triangles (m²) and whether they all lie in one plane (face normals within
-  // options_.autoLightTextureMaxAngleDeg of their area-weighted mean).
-  std::pair<double, bool> areaAndFlatness(const TraceMesh& tm) const {
-    auto faceNormal = [&](uint32_t t) {  // length = twice the area
-      const uint32_t* v = &rdb_.indices[3 * size_t(t)];
-      const dvec3 p0(rdb_.positionsM[v[0]]);
-      return glm::cross(dvec3(rdb_.positionsM[v[1]]) - p0, dvec3(rdb_.positionsM[v[2]]) - p0);
-    };
-    const uint32_t end = tm.firstTriangle + tm.triangleCount;
-    dvec3 sum(0.0);
-    double area = 0.0;
-    for (uint32_t t = tm.firstTriangle; t < end; ++t) {
-      const dvec3 n = faceNormal(t);
-      sum += n;
-      area += 0.5 * glm::length(n);
-    }
-    const std::optional<vec3> mean = unitOrNone(sum);
-    const double cosMax = std::cos(degToRad(double(options_.autoLightTextureMaxAngleDeg)));
-    bool flat = mean.has_value();
-    for (uint32_t t = tm.firstTriangle; flat && t < end; ++t) {
-      const dvec3 n = faceNormal(t);
-      flat = glm::dot(n, dvec3(*mean)) >= cosMax * glm::length(n);
-    }
-    return {area, flat};
-  }
-
   void addLightTexture(const sdb::Mesh& mesh, TraceMesh& tm) {
-    if (tm.triangleCount == 0 || tm.vertexCount == 0) return;
-    const auto [areaM2, flat] = areaAndFlatness(tm);
-    const double areaPerVertexM2 = areaM2 / double(tm.vertexCount);
-    const bool automatic = !mesh.lightTexture.enabled && mesh.lightTexture.allowAutomatic && flat &&
-                           areaPerVertexM2 >= double(options_.autoLightTextureMinAreaPerVertexM2);
-    if (!mesh.lightTexture.enabled && !automatic) return;
-    const float density = mesh.lightTexture.enabled && mesh.lightTexture.texelsPerMetre > 0.0f
-                              ? mesh.lightTexture.texelsPerMetre
-                              : float(scene_.bakeSettings().texelsPerMetre);
-    const int maxSize = automatic ? options_.autoLightTextureMaxSize : options_.lightTextureMaxSize;
+    tm.automaticLightTextureAllowed = !mesh.lightTexture.enabled && mesh.lightTexture.allowAutomatic;
+    if (tm.triangleCount == 0 || tm.vertexCount == 0 || !mesh.lightTexture.enabled) return;
+    const float density = mesh.lightTexture.texelsPerMetre > 0.0f ? mesh.lightTexture.texelsPerMetre
+                                                                  : float(scene_.bakeSettings().texelsPerMetre);
+    const int maxSize = options_.lightTextureMaxSize;
     TraceLightTexture lt;
     lt.mesh = uint32_t(rdb_.meshes.size());
-    lt.automatic = automatic;
     const uint32_t* corners = rdb_.indices.data() + 3 * size_t(tm.firstTriangle);
     const size_t cornerCount = 3 * size_t(tm.triangleCount);
     if (!mesh.uv1.empty()) {
       // The UV area the triangles cover; TEXCOORD_1 outside [0, 1]² would wrap onto other charts.
       double uvArea = 0.0;
+      double areaM2 = 0.0;
       bool inside = true;
       for (size_t c = 0; c < cornerCount; c += 3) {
         const dvec2 a(mesh.uv1[corners[c] - tm.firstVertex]);
         const dvec2 b(mesh.uv1[corners[c + 1] - tm.firstVertex]);
         const dvec2 d(mesh.uv1[corners[c + 2] - tm.firstVertex]);
         uvArea += 0.5 * std::abs((b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x));
+        const dvec3 p0(rdb_.positionsM[corners[c]]);
+        areaM2 += 0.5 * glm::length(glm::cross(dvec3(rdb_.positionsM[corners[c + 1]]) - p0,
+                                               dvec3(rdb_.positionsM[corners[c + 2]]) - p0));
         for (const dvec2& uv : {a, b, d}) {
           inside = inside && uv.x >= 0.0 && uv.x <= 1.0 && uv.y >= 0.0 && uv.y <= 1.0;
         }
       }
-      if (inside && uvArea > 0.0 && std::isfinite(uvArea)) {
+      if (inside && uvArea > 0.0 && std::isfinite(uvArea) && areaM2 > 0.0) {
         // A square atlas whose mean density over the mesh is the requested one.
         const double side = std::ceil(double(density) * std::sqrt(areaM2 / uvArea));
         lt.width = lt.height = uint32_t(std::clamp(side, 1.0, double(maxSize)));
@@ -456,20 +457,10 @@ class Builder {
       }
     }
     if (!lt.fromTexcoord1) {
-      std::vector<uint32_t> local(corners, corners + cornerCount);
-      for (uint32_t& i : local) i -= tm.firstVertex;
-      const LightmapUv uv = generateLightmapUv(
-          std::span<const vec3>(rdb_.positionsM).subspan(tm.firstVertex, tm.vertexCount), local,
-          {.texelsPerMetre = density,
-           .paddingTexels = options_.lightTexturePaddingTexels,
-           .maxAtlasSize = maxSize});
-      lt.width = uv.width;
-      lt.height = uv.height;
-      lt.texelsPerMetre = uv.texelsPerMetre;
-      for (uint32_t i : uv.indices) lt.cornerUv.push_back(uv.uv[i]);
-      if (uv.densityReduced && !automatic) {
+      generateAtlas(rdb_, tm, density, maxSize, options_.lightTexturePaddingTexels, lt);
+      if (lt.densityReduced) {
         log::warn("mesh \"" + mesh.name + "\": light texture density reduced from " +
-                  std::to_string(density) + " to " + std::to_string(uv.texelsPerMetre) + " texels/m to fit " +
+                  std::to_string(density) + " to " + std::to_string(lt.texelsPerMetre) + " texels/m to fit " +
                   std::to_string(maxSize) + "² texels");
       }
     }
@@ -535,14 +526,30 @@ class Builder {
 TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options) {
   if (options.skyResolution < 1 || options.skyResolution > 1024 || options.skyCellSamples < 1 ||
       options.skyCellSamples > 64 || options.goniometricGammaSteps < 2 || options.goniometricCSteps < 1 ||
-      !(options.autoLightTextureMinAreaPerVertexM2 > 0.0f) || !(options.autoLightTextureMaxAngleDeg > 0.0f) ||
-      !(options.autoLightTextureMaxAngleDeg <= 90.0f) || options.autoLightTextureMaxSize < 8 ||
-      options.autoLightTextureMaxSize > 4096 || options.lightTextureMaxSize < 8 ||
+      options.lightTextureMaxSize < 8 ||
       options.lightTextureMaxSize > 16384 || options.lightTexturePaddingTexels < 0 ||
       options.lightTexturePaddingTexels > 16) {
     throw std::invalid_argument("buildTraceRdb: an option is out of range (see TraceBuildOptions)");
   }
   return Builder(scene, options).build();
+}
+
+TraceLightTexture& addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float texelsPerMetre, int maxSize,
+                                            int paddingTexels) {
+  if (mesh >= rdb.meshes.size() || rdb.meshes[mesh].lightTexture != TraceMesh::kNoLightTexture ||
+      rdb.meshes[mesh].triangleCount == 0 || !(texelsPerMetre > 0.0f) || maxSize < 8 || paddingTexels < 0) {
+    throw std::invalid_argument("addAutomaticLightTexture: no such mesh, it has a light texture, or bad settings");
+  }
+  TraceLightTexture lt;
+  lt.mesh = mesh;
+  lt.automatic = true;
+  generateAtlas(rdb, rdb.meshes[mesh], texelsPerMetre, maxSize, paddingTexels, lt);
+  // Keep lightTextures in mesh order.
+  auto at = std::find_if(rdb.lightTextures.begin(), rdb.lightTextures.end(),
+                         [&](const TraceLightTexture& t) { return t.mesh > mesh; });
+  at = rdb.lightTextures.insert(at, std::move(lt));
+  for (uint32_t k = 0; k < rdb.lightTextures.size(); ++k) rdb.meshes[rdb.lightTextures[k].mesh].lightTexture = k;
+  return *at;
 }
 
 }  // namespace fly::rdb

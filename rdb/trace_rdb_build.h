@@ -30,17 +30,6 @@ struct TraceBuildOptions {
   uint32_t goniometricGammaSteps = 181;
   uint32_t goniometricCSteps = 72;
 
-  // Light textures unasked ("large flat surfaces", issue 4): a mesh that does not ask for a light texture,
-  // and whose scene file does not forbid one ("lightTexture": false), gets one when all its triangles lie in
-  // one plane (every face normal within autoLightTextureMaxAngleDeg of their area-weighted mean) and its area
-  // per vertex is at least autoLightTextureMinAreaPerVertexM2: there the vertices are so far apart that
-  // interpolated vertex colours cannot show a shadow (a 10 m × 10 m floor of 2 triangles has 25 m² per
-  // vertex). The atlas is at most autoLightTextureMaxSize² texels (the density is reduced to fit), so that a
-  // large terrain costs no more than a 256² texture (65 536 texels). Area per vertex in m², > 0; ∞ = never;
-  // default 1 m².
-  float autoLightTextureMinAreaPerVertexM2 = 1.0f;
-  float autoLightTextureMaxAngleDeg = 1.0f;  // (0, 90]
-  int autoLightTextureMaxSize = 256;         // texels per side, [8, 4096]
   // Light textures asked for: atlas at most lightTextureMaxSize² texels (generated UVs: density reduced to
   // fit, rdb/lightmap_uv.h; TEXCOORD_1: the square atlas side clamped), with lightTexturePaddingTexels free
   // texels around each generated chart. [8, 16384] and [0, 16].
@@ -52,12 +41,19 @@ struct TraceBuildOptions {
 // the placed meshes use, in the order first met. Every placed (node, mesh) pair adds all of its vertices (so
 // the vertex light maps index SDB vertices as firstVertex + i) and its triangles of non-zero area; the others
 // are left out and counted in TraceRdb::skippedTriangles. Meshes with triangles that ask for a light texture
-// (sdb::Mesh::lightTexture, at its density or else the scene's bake texelsPerMetre) or fit the automatic rule
-// above get a TraceLightTexture: UVs from TEXCOORD_1 when the mesh has them (finite, in [0, 1]², covering a
+// (sdb::Mesh::lightTexture, at its density or else the scene's bake texelsPerMetre) get a TraceLightTexture: UVs from TEXCOORD_1 when the mesh has them (finite, in [0, 1]², covering a
 // non-zero area; otherwise a warning and generated ones), else from generateLightmapUv on the world positions.
 // Errors: InputError from sunsky and the weather file (see lowerDaylight), InputError for a light placed by a
 // singular transform; std::invalid_argument for options out of range.
 TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options = {});
+
+// Gives mesh `mesh` of rdb an automatic light texture (TraceLightTexture::automatic) with generated UVs at
+// texelsPerMetre (reduced to fit maxSize² texels), keeping rdb.lightTextures in mesh order (the meshes'
+// lightTexture indices are renumbered). Coincident vertices with equal normals are welded for charting
+// (rdb/vertex_weld.h). Returns the new entry. std::invalid_argument when the mesh does not exist, has no
+// triangles or already has a light texture, or a setting is out of range.
+TraceLightTexture& addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float texelsPerMetre, int maxSize,
+                                            int paddingTexels);
 
 // The TraceMaterial of an SDB material (its energy rule evaluated at normal incidence), without its texture
 // slots (buildTraceRdb fills them).

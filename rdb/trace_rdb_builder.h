@@ -64,6 +64,29 @@ struct TraceRdbBuilder {
     mesh.triangleCount = static_cast<uint32_t>(rdb.triangleCount()) - mesh.firstTriangle;
     rdb.meshes.push_back(mesh);
   }
+  // The same n × n quads, each with 4 vertices of its own (unwelded, as many exporters write them).
+  void tiles(const vec3& origin, const vec3& edgeU, const vec3& edgeV, uint32_t n, uint32_t mat) {
+    TraceMesh mesh;
+    mesh.firstVertex = static_cast<uint32_t>(rdb.positionsM.size());
+    mesh.firstTriangle = static_cast<uint32_t>(rdb.triangleCount());
+    const vec3 normal = glm::normalize(glm::cross(edgeU, edgeV));
+    const float step = 1.0f / static_cast<float>(n);
+    for (uint32_t j = 0; j < n; ++j) {
+      for (uint32_t i = 0; i < n; ++i) {
+        const auto first = static_cast<uint32_t>(rdb.positionsM.size());
+        for (auto [di, dj] : {std::pair{0u, 0u}, {1u, 0u}, {1u, 1u}, {0u, 1u}}) {
+          rdb.positionsM.push_back(origin + edgeU * (static_cast<float>(i + di) * step) +
+                                   edgeV * (static_cast<float>(j + dj) * step));
+          rdb.normals.push_back(normal);
+        }
+        rdb.indices.insert(rdb.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+        rdb.triangleMaterial.insert(rdb.triangleMaterial.end(), {mat, mat});
+      }
+    }
+    mesh.vertexCount = static_cast<uint32_t>(rdb.positionsM.size()) - mesh.firstVertex;
+    mesh.triangleCount = static_cast<uint32_t>(rdb.triangleCount()) - mesh.firstTriangle;
+    rdb.meshes.push_back(mesh);
+  }
   // y = 0 from −half to half in x and z, facing +Y.
   void ground(float halfM, uint32_t n, uint32_t mat, bool twoSided = false) {
     grid(vec3(-halfM, 0, -halfM), vec3(0, 0, 2 * halfM), vec3(2 * halfM, 0, 0), n, mat, twoSided);

@@ -631,5 +631,26 @@ TEST(Baker, PerformanceOn10kTrianglePlane) {
   EXPECT_EQ(hits, 0u);
 }
 
+// Tiles with vertices of their own are welded for baking: the coincident corners of neighbouring tiles get
+// one estimate (no patchwork), and under a uniform sky it is the exact π L.
+TEST(Baker, CoincidentVerticesOfTilesShareOneEstimate) {
+  MeshBuilder b;
+  b.tiles(vec3(-1, 0, -1), vec3(0, 0, 2), vec3(2, 0, 0), 4, b.material(Rgb(0.5f)));
+  const float radiance = 1000.0f;
+  b.uniformSky(Rgb(radiance));
+  const VertexLightMaps maps = bake(b.rdb, 256);
+  size_t shared = 0;
+  for (size_t v = 0; v < b.rdb.positionsM.size(); ++v) {
+    EXPECT_NEAR(maps.frontLux[v].g, kPiF * radiance, 4.0f * maps.frontStdErrorLux[v].g + 1e-3f * radiance);
+    for (size_t w = 0; w < v; ++w) {
+      if (b.rdb.positionsM[w] != b.rdb.positionsM[v]) continue;
+      ++shared;
+      EXPECT_EQ(maps.frontLux[v], maps.frontLux[w]) << v << " and " << w;
+      EXPECT_EQ(maps.frontStdErrorLux[v], maps.frontStdErrorLux[w]);
+    }
+  }
+  EXPECT_EQ(shared, 9u * 6u + 12u);  // pairs: 9 inner positions of 4 corners, 12 edge ones of 2
+}
+
 }  // namespace
 }  // namespace fly::raytracer

@@ -277,48 +277,34 @@ TEST(TexelBaker, TexelsWithoutAreaAreReportedAndFilled) {
   for (const Rgb& v : tex.frontLux) EXPECT_NEAR(v.g, kPiF, 0.05f * kPiF);  // uniform sky: π·L everywhere
 }
 
-// The automatic rule (rdb/trace_rdb_build.h): a 10 m floor of 2 triangles gets a light texture unasked; a
-// small detailed object does not; "lightTexture": false (allowAutomatic = false) keeps the floor without.
-TEST(TexelBaker, LargeFlatSurfacesGetLightTexturesUnasked) {
-  auto scene = [](bool allowAutomatic) {
-    sdb::Scene s;
-    sdb::Mesh floor;
-    floor.name = "floor";
-    floor.positions = {{-5, 0, -5}, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}};
-    floor.indices = {0, 1, 2, 0, 2, 3};
-    floor.lightTexture.allowAutomatic = allowAutomatic;
-    sdb::Mesh detail;  // a 0.5 m grid of 10 × 10 quads: 0.25 m² over 121 vertices
-    detail.name = "detail";
-    for (int j = 0; j <= 10; ++j) {
-      for (int i = 0; i <= 10; ++i) detail.positions.emplace_back(0.05f * float(i), 1.0f, 0.05f * float(j));
-    }
-    for (uint32_t j = 0; j < 10; ++j) {
-      for (uint32_t i = 0; i < 10; ++i) {
-        const uint32_t v = j * 11 + i;
-        detail.indices.insert(detail.indices.end(), {v, v + 11, v + 12, v, v + 12, v + 1});
-      }
-    }
-    sdb::Node node;
-    node.meshes = {s.addMesh(floor).id, s.addMesh(detail).id};
-    s.addNode(node);
-    return s;
-  };
-  const rdb::TraceRdb on = rdb::buildTraceRdb(scene(true));
-  ASSERT_EQ(on.meshes.size(), 2u);
-  ASSERT_EQ(on.lightTextures.size(), 1u);
-  EXPECT_EQ(on.meshes[0].lightTexture, 0u);
-  EXPECT_EQ(on.meshes[1].lightTexture, rdb::TraceMesh::kNoLightTexture);
-  const rdb::TraceLightTexture& lt = on.lightTextures[0];
-  EXPECT_TRUE(lt.automatic);
-  EXPECT_FALSE(lt.fromTexcoord1);
-  EXPECT_EQ(lt.texelsPerMetre, 20.0f);  // the scene's default bake density
-  EXPECT_EQ(lt.cornerUv.size(), 6u);
-  EXPECT_GE(lt.width, 200u);  // 10 m at 20 texels/m plus padding
-  EXPECT_GE(lt.height, 200u);
-
-  const rdb::TraceRdb off = rdb::buildTraceRdb(scene(false));
-  EXPECT_TRUE(off.lightTextures.empty());
-  EXPECT_EQ(off.meshes[0].lightTexture, rdb::TraceMesh::kNoLightTexture);
+// Lowering marks which meshes the bake may give an automatic light texture (raytracer/light_resolution.h)
+// and gives none itself; "lightTexture": false (allowAutomatic = false) keeps a mesh out, and one asked for
+// is made at once.
+TEST(TexelBaker, LoweringMarksMeshesForAutomaticLightTextures) {
+  sdb::Scene s;
+  sdb::Mesh floor;
+  floor.name = "floor";
+  floor.positions = {{-5, 0, -5}, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}};
+  floor.indices = {0, 1, 2, 0, 2, 3};
+  sdb::Mesh forbidden = floor;
+  forbidden.name = "forbidden";
+  forbidden.lightTexture.allowAutomatic = false;
+  sdb::Mesh asked = floor;
+  asked.name = "asked";
+  asked.lightTexture = {true, 4.0f};
+  sdb::Node node;
+  node.meshes = {s.addMesh(floor).id, s.addMesh(forbidden).id, s.addMesh(asked).id};
+  s.addNode(node);
+  const rdb::TraceRdb r = rdb::buildTraceRdb(s);
+  ASSERT_EQ(r.meshes.size(), 3u);
+  EXPECT_TRUE(r.meshes[0].automaticLightTextureAllowed);
+  EXPECT_FALSE(r.meshes[1].automaticLightTextureAllowed);
+  EXPECT_FALSE(r.meshes[2].automaticLightTextureAllowed);
+  ASSERT_EQ(r.lightTextures.size(), 1u);
+  EXPECT_EQ(r.lightTextures[0].mesh, 2u);
+  EXPECT_FALSE(r.lightTextures[0].automatic);
+  EXPECT_EQ(r.meshes[2].lightTexture, 0u);
+  EXPECT_EQ(r.lightTextures[0].texelsPerMetre, 4.0f);
 }
 
 // TEXCOORD_1 is used as given: a square atlas with the requested mean density.
