@@ -22,6 +22,7 @@ Command addSkyCommand(CLI::App& app);
 Command addIlluminanceCommand(CLI::App& app);
 Command addDaylightFactorCommand(CLI::App& app);
 Command addBakeCommand(CLI::App& app);
+Command addProbeCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
 

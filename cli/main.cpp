@@ -39,6 +39,7 @@ int run(int argc, char** argv) {
       fly::cli::addIlluminanceCommand(app),
       fly::cli::addDaylightFactorCommand(app),
       fly::cli::addBakeCommand(app),
+      fly::cli::addProbeCommand(app),
       fly::cli::addRenderCommand(app),
       fly::cli::addViewCommand(app),
   };

@@ -93,6 +93,7 @@ SensorTable parseSensorCsv(std::string_view text, const std::string& fileName) {
     t.lines.push_back(line);
     t.positionsM.emplace_back(v[0], v[1], v[2]);
     t.normals.emplace_back(n / length);
+    t.lineNumbers.push_back(lineNo);
   }
   if (t.header.empty())
     throw InputError({fileName}, "the sensor file has no header line", "start with x,y,z,nx,ny,nz");

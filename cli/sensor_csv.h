@@ -16,6 +16,7 @@ struct SensorTable {
   std::vector<std::string> lines;  // one per sensor, as written (a trailing '\r' removed)
   std::vector<vec3> positionsM;    // world space, metres
   std::vector<vec3> normals;       // unit length
+  std::vector<int> lineNumbers;    // each sensor's line in the file (1-based); empty for a generated table
 };
 
 // The comma-separated fields of one line, as written (an empty last field after a trailing comma included).

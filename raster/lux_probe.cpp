@@ -43,8 +43,13 @@ std::optional<vec2> projectToImage(const View& view, const vec3& pointWorld, uin
 }
 
 std::optional<SurfaceHit> pickSurface(const rdb::RasterRdb& rdb, const PickRay& ray) {
+  return pickSurfaceNear(rdb, ray, 0.0f, std::numeric_limits<float>::infinity());
+}
+
+std::optional<SurfaceHit> pickSurfaceNear(const rdb::RasterRdb& rdb, const PickRay& ray,
+                                          float targetDistanceM, float maxDistanceM) {
   std::optional<SurfaceHit> best;
-  float nearest = std::numeric_limits<float>::infinity();
+  float nearest = std::numeric_limits<float>::infinity();  // |t − targetDistanceM| of the best hit
   for (uint32_t m = 0; m < rdb.meshes.size(); ++m) {
     const rdb::RasterMesh& mesh = rdb.meshes[m];
     for (uint32_t i = mesh.firstIndex; i + 3 <= mesh.firstIndex + mesh.indexCount; i += 3) {
@@ -64,8 +69,8 @@ std::optional<SurfaceHit> pickSurface(const rdb::RasterRdb& rdb, const PickRay& 
       const float v = glm::dot(ray.dirWorld, qv) * inv;
       if (v < 0.0f || u + v > 1.0f) continue;
       const float t = glm::dot(e2, qv) * inv;
-      if (!(t > 0.0f) || t >= nearest) continue;
-      nearest = t;
+      if (!(t > 0.0f) || t > maxDistanceM || std::abs(t - targetDistanceM) >= nearest) continue;
+      nearest = std::abs(t - targetDistanceM);
       SurfaceHit hit;
       hit.triangle = i / 3;
       hit.mesh = m;

@@ -43,6 +43,11 @@ struct SurfaceHit {
   bool back = false;
 };
 std::optional<SurfaceHit> pickSurface(const rdb::RasterRdb& rdb, const PickRay& ray);
+// Of the hits at 0 < distance ≤ maxDistanceM, the one nearest the ray's point at targetDistanceM (metres
+// along it): the surface nearest a given point, on either side of it (fly probe). pickSurface: target 0, no
+// limit.
+std::optional<SurfaceHit> pickSurfaceNear(const rdb::RasterRdb& rdb, const PickRay& ray,
+                                          float targetDistanceM, float maxDistanceM);
 
 // What the probe reads at a hit on a baked surface.
 struct LuxReading {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "base/error.h"
 
@@ -17,6 +18,7 @@ TEST(SensorCsv, ColumnsInAnyOrderAndExtraColumnsKept) {
   EXPECT_EQ(t.positionsM[0], vec3(1, 2, 3));
   EXPECT_EQ(t.normals[0], vec3(0, 1, 0));  // (0, 2, 0) normalised
   EXPECT_EQ(t.normals[1], vec3(0, 0, -1));
+  EXPECT_EQ(t.lineNumbers, (std::vector<int>{2, 4}));  // the blank line 3 counts
 }
 
 // Normals at the ends of the float range: their squared length overflows (3e38) or underflows (1e-30) in

@@ -209,6 +209,25 @@ TEST(LuxProbe, TheNearestOfTwoSurfacesIsHit) {
   EXPECT_NEAR(hit->distanceM, 3.0f, 1e-5f);
 }
 
+// pickSurfaceNear: of the hits within the limit, the one nearest the target distance, before or beyond it.
+TEST(LuxProbe, NearATargetDistanceTheClosestHitWithinTheLimitIsPicked) {
+  Scene s = floorScene();
+  for (uint32_t v = 3; v < 6; ++v) s.rdb.positionsM[v].x -= 5.0f;  // the shelf 1 m over the floor
+  const PickRay ray = down(0.5f, -1.0f);                           // the shelf at 3 m, the floor at 4 m
+  const auto mesh = [&](float target, float max) {
+    const std::optional<SurfaceHit> hit = pickSurfaceNear(s.rdb, ray, target, max);
+    return hit ? int(hit->mesh) : -1;
+  };
+  EXPECT_EQ(mesh(3.4f, 10.0f), 1);
+  EXPECT_EQ(mesh(3.6f, 10.0f), 0);
+  EXPECT_EQ(mesh(5.0f, 10.0f), 0);
+  EXPECT_EQ(mesh(3.9f, 3.5f), 1);   // the floor lies beyond the limit
+  EXPECT_EQ(mesh(3.9f, 2.5f), -1);  // both do
+  const std::optional<SurfaceHit> hit = pickSurfaceNear(s.rdb, ray, 3.6f, 10.0f);
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->distanceM, 4.0f, 1e-5f);
+}
+
 // A pick ray through the pixel where the renderer's projection puts a point passes through that point, and
 // projectToImage finds that pixel; a point behind the eye has none.
 TEST(LuxProbe, PickRayInvertsTheRenderersProjection) {
