@@ -69,18 +69,24 @@ std::optional<SurfaceHit> pickSurfaceNear(const rdb::RasterRdb& rdb, const PickR
       const float v = glm::dot(ray.dirWorld, qv) * inv;
       if (v < 0.0f || u + v > 1.0f) continue;
       const float t = glm::dot(e2, qv) * inv;
-      if (!(t > 0.0f) || t > maxDistanceM || std::abs(t - targetDistanceM) >= nearest) continue;
-      nearest = std::abs(t - targetDistanceM);
+      if (!(t > 0.0f) || t > maxDistanceM) continue;
+      const vec3 n = (1.0f - u - v) * rdb.normals[rdb.indices[i]] + u * rdb.normals[rdb.indices[i + 1]] +
+                     v * rdb.normals[rdb.indices[i + 2]];
+      const bool back = glm::dot(n, ray.dirWorld) > 0.0f;
+      // Coincident surfaces (a floor and the underside of a block on it, duplicated faces): the one whose
+      // front faces the ray wins, as back-face culling shows it.
+      const float offset = std::abs(t - targetDistanceM);
+      const float tie = 1e-5f * std::max(t, 1e-3f);
+      const bool same = best && std::abs(offset - nearest) <= tie;
+      if (same ? !(best->back && !back) : offset >= nearest) continue;
+      nearest = offset;
       SurfaceHit hit;
       hit.triangle = i / 3;
       hit.mesh = m;
       hit.distanceM = t;
       hit.barycentric = vec3(1.0f - u - v, u, v);
       hit.pointWorld = ray.originWorld + t * ray.dirWorld;
-      const vec3 n = hit.barycentric.x * rdb.normals[rdb.indices[i]] +
-                     hit.barycentric.y * rdb.normals[rdb.indices[i + 1]] +
-                     hit.barycentric.z * rdb.normals[rdb.indices[i + 2]];
-      hit.back = glm::dot(n, ray.dirWorld) > 0.0f;
+      hit.back = back;
       best = hit;
     }
   }

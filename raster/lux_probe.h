@@ -46,6 +46,7 @@ std::optional<SurfaceHit> pickSurface(const rdb::RasterRdb& rdb, const PickRay& 
 // Of the hits at 0 < distance ≤ maxDistanceM, the one nearest the ray's point at targetDistanceM (metres
 // along it): the surface nearest a given point, on either side of it (fly probe). pickSurface: target 0, no
 // limit.
+// Of coincident surfaces at the same distance, the one whose front faces the ray (as back-face culling shows).
 std::optional<SurfaceHit> pickSurfaceNear(const rdb::RasterRdb& rdb, const PickRay& ray,
                                           float targetDistanceM, float maxDistanceM);
 

@@ -228,6 +228,24 @@ TEST(LuxProbe, NearATargetDistanceTheClosestHitWithinTheLimitIsPicked) {
   EXPECT_NEAR(hit->distanceM, 4.0f, 1e-5f);
 }
 
+// Coincident surfaces (a floor and the underside of a block lying on it): the one whose front faces the ray
+// is read, whichever comes first in the arrays.
+TEST(LuxProbe, OfCoincidentSurfacesTheOneFacingTheRayIsPicked) {
+  for (bool downFirst : {true, false}) {
+    Scene s = floorScene();
+    // The shelf lowered onto the floor and turned to face down (its back up), over the floor's triangle.
+    s.rdb.positionsM[3] = {0, 0, 0};
+    s.rdb.positionsM[4] = {0, 0, -3};
+    s.rdb.positionsM[5] = {2, 0, 0};
+    for (uint32_t v = 3; v < 6; ++v) s.rdb.normals[v] = vec3(0, -1, 0);
+    if (downFirst) std::swap(s.rdb.meshes[0], s.rdb.meshes[1]);
+    const std::optional<SurfaceHit> hit = pickSurfaceNear(s.rdb, down(0.5f, -1.0f), 4.0f, 10.0f);
+    ASSERT_TRUE(hit);
+    EXPECT_FALSE(hit->back);
+    EXPECT_EQ(s.rdb.meshes[hit->mesh].sdbNodeId, 7u) << (downFirst ? "down first" : "up first");
+  }
+}
+
 // A pick ray through the pixel where the renderer's projection puts a point passes through that point, and
 // projectToImage finds that pixel; a point behind the eye has none.
 TEST(LuxProbe, PickRayInvertsTheRenderersProjection) {
