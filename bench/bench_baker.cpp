@@ -19,7 +19,7 @@
 //   7. Scaling in a sunlit interior (--part scaling-room): the room of part 1 tessellated to 20k and 1M
 //      triangles, 1 thread against all, with rays/s and peak memory.
 //
-// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|scaling-room|textures|measured]...
+// Usage: fly-bench-baker [--quick] [--part throughput|qmc|scaling|scaling-room|textures|measured|atlas]...
 // (--quick: 10k triangles only (part 7: 20k), a smaller QMC reference; --part: only the parts named)
 #include <sys/resource.h>
 
@@ -43,6 +43,7 @@
 #include "base/math.h"
 #include "raytracer/baker.h"
 #include "raytracer/bsdf.h"
+#include "raytracer/light_resolution.h"
 #include "raytracer/car_paint_lobe.h"
 #include "raytracer/embree_scene.h"
 #include "raytracer/integrator.h"
@@ -647,6 +648,44 @@ void benchScalingRoom(uint32_t maxThreads, bool quick) {
   std::printf("   peak resident set size %.0f MiB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
 }
 
+// Automatic light textures at scale (raytracer/light_resolution.h): the analysis of where vertices cannot
+// carry the light and the atlases it asks for, on the open ground and the sunlit room at about 1M triangles
+// (--quick: 20k), against the BVH build of the same scene (the baseline of this run). Memory: the texels'
+// values a bake keeps (irradiance, sun-direct part, their errors and spread: 7 RGB floats per texel side)
+// and the atlas's corner UVs, besides the process's peak resident set size.
+void benchAtlas(uint32_t maxThreads, bool quick) {
+  std::printf("\n8. Automatic light textures: analysis and atlases, %u threads\n", maxThreads);
+  std::printf("   %-12s %10s %10s %10s %12s %8s %10s %12s %12s\n", "scene", "triangles", "BVH build",
+              "analysis", "analysis/BVH", "meshes", "textured", "texels", "atlas MiB");
+  const uint32_t ground = quick ? 20000 : 1000000;
+  const uint32_t room = quick ? 12000 : 600000;
+  for (int which = 0; which < 2; ++which) {
+    rdb::TraceRdb rdb = which == 0 ? makeScene(cellsFor(ground)) : makeRoomScene(room);
+    const Clock::time_point start = Clock::now();
+    const EmbreeScene scene(rdb);
+    const double buildSeconds = secondsSince(start);
+    const Clock::time_point analysisStart = Clock::now();
+    LightResolutionSettings settings;
+    settings.threads = maxThreads;
+    const std::vector<MeshLightResolution> analysis = addNeededLightTextures(rdb, scene, settings);
+    const double analysisSeconds = secondsSince(analysisStart);
+    size_t textured = 0, texels = 0, bytes = 0;
+    for (const rdb::TraceLightTexture& lt : rdb.lightTextures) {
+      textured += lt.automatic ? 1 : 0;
+      const size_t n = size_t(lt.width) * lt.height;
+      const size_t sides = rdb.meshes[lt.mesh].twoSided ? 2 : 1;
+      texels += n;
+      bytes += n * sides * 7 * sizeof(Rgb) + lt.cornerUv.size() * sizeof(vec2);
+    }
+    std::printf("   %-12s %10zu %8.2f s %8.2f s %12.2f %8zu %10zu %12zu %12.1f\n", which == 0 ? "open ground" : "sunlit room",
+                rdb.triangleCount(), buildSeconds, analysisSeconds, analysisSeconds / buildSeconds, analysis.size(),
+                textured, texels, double(bytes) / (1024.0 * 1024.0));
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf("   peak resident set size %.0f MiB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+}
+
 }  // namespace
 }  // namespace fly::raytracer
 
@@ -659,6 +698,7 @@ int main(int argc, char** argv) {
   bool textures = false;
   bool measured = false;
   bool scalingRoom = false;
+  bool atlas = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -676,21 +716,23 @@ int main(int argc, char** argv) {
         measured = true;
       } else if (part == "scaling-room") {
         scalingRoom = true;
+      } else if (part == "atlas") {
+        atlas = true;
       } else {
-        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, scaling-room, textures or measured\n",
+        std::fprintf(stderr, "fly-bench-baker: unknown part '%s'; use throughput, qmc, scaling, scaling-room, textures, measured or atlas\n",
                      part.c_str());
         return 2;
       }
     } else {
       std::fprintf(stderr,
                    "fly-bench-baker: unknown option '%s'; usage: fly-bench-baker [--quick] "
-                   "[--part throughput|qmc|scaling|scaling-room|textures|measured]...\n",
+                   "[--part throughput|qmc|scaling|scaling-room|textures|measured|atlas]...\n",
                    argv[i]);
       return 2;
     }
   }
-  if (!throughput && !qmc && !scaling && !textures && !measured && !scalingRoom) {
-    throughput = qmc = scaling = textures = measured = scalingRoom = true;
+  if (!throughput && !qmc && !scaling && !textures && !measured && !scalingRoom && !atlas) {
+    throughput = qmc = scaling = textures = measured = scalingRoom = atlas = true;
   }
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
   if (throughput) {
@@ -708,5 +750,6 @@ int main(int argc, char** argv) {
   if (textures) fly::raytracer::benchTextures(threads);
   if (measured) fly::raytracer::benchMeasured(threads);
   if (scalingRoom) fly::raytracer::benchScalingRoom(threads, quick);
+  if (atlas) fly::raytracer::benchAtlas(threads, quick);
   return 0;
 }

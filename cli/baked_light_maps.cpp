@@ -268,7 +268,29 @@ rdb::BakedSun readBakedSun(const json& entry, const fs::path& manifestPath) {
 
 }  // namespace
 
-rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps) {
+namespace {
+
+void foldSpread(std::vector<Rgb>& stdErrorLux, const std::vector<Rgb>& spreadLux) {
+  if (spreadLux.size() != stdErrorLux.size()) return;
+  for (size_t i = 0; i < stdErrorLux.size(); ++i)
+    stdErrorLux[i] = glm::sqrt(stdErrorLux[i] * stdErrorLux[i] + spreadLux[i] * spreadLux[i]);
+}
+
+}  // namespace
+
+raytracer::VertexLightMaps withPointReadErrors(const raytracer::VertexLightMaps& baked) {
+  raytracer::VertexLightMaps maps = baked;
+  foldSpread(maps.frontStdErrorLux, maps.frontSunDirectSpreadLux);
+  foldSpread(maps.backStdErrorLux, maps.backSunDirectSpreadLux);
+  for (raytracer::LightTexture& tex : maps.lightTextures) {
+    foldSpread(tex.frontStdErrorLux, tex.frontSunDirectSpreadLux);
+    foldSpread(tex.backStdErrorLux, tex.backSunDirectSpreadLux);
+  }
+  return maps;
+}
+
+rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& bakedMaps) {
+  const raytracer::VertexLightMaps maps = withPointReadErrors(bakedMaps);
   const size_t n = rdb.positionsM.size();
   if (maps.frontLux.size() != n || maps.backLux.size() != n || maps.frontStdErrorLux.size() != n ||
       maps.backStdErrorLux.size() != n) {

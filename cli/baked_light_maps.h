@@ -20,6 +20,12 @@ namespace fly::cli {
 // match its mesh.
 rdb::LightMapStore lightMapStoreFromBake(const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps);
 
+// The light maps with the errors a reader sees at any point of a vertex's ring or a texel's footprint: the
+// Monte-Carlo error of the footprint's mean combined (in quadrature) with the spread of the sun's direct light
+// over the footprint (raytracer::IrradianceEstimate::sunDirectSpreadLux), what a value read at one spot of it
+// may differ from the mean; the mean's error alone without a sun. What a bake writes and a store holds.
+raytracer::VertexLightMaps withPointReadErrors(const raytracer::VertexLightMaps& maps);
+
 // The light maps of a baked scene directory: manifest.json's objects give each baked mesh's SDB ids, vertex
 // count, sidedness and glTF mesh; scene.gltf's _IRRADIANCE_FRONT and _IRRADIANCE_FRONT_STDERR (and, for
 // two-sided meshes, _IRRADIANCE_BACK and its _STDERR) attributes hold the values and their standard errors,

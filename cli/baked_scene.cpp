@@ -14,6 +14,7 @@
 #include "base/image_io.h"
 #include "base/math.h"
 #include "base/tone_map.h"
+#include "cli/baked_light_maps.h"
 #include "cli/command.h"
 #include "cli/convergence_plot.h"
 #include "cli/image_metadata.h"
@@ -491,8 +492,9 @@ std::string convergenceCsv(const std::vector<raytracer::ConvergencePoint>& histo
   return csv;
 }
 
-void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& maps,
+void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytracer::VertexLightMaps& bakedMaps,
                      const BakeDescription& d) {
+  const raytracer::VertexLightMaps maps = withPointReadErrors(bakedMaps);
   const size_t n = rdb.positionsM.size();
   if (maps.frontLux.size() != n || maps.frontStdErrorLux.size() != n || maps.backLux.size() != n ||
       maps.backStdErrorLux.size() != n || rdb.normals.size() != n) {
@@ -574,6 +576,8 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
               {"samples", objectSamples(maps, m)},
               {"front", sideSummary(range(maps.frontLux, m), range(maps.frontStdErrorLux, m))}};
     if (m.twoSided) o["back"] = sideSummary(range(maps.backLux, m), range(maps.backStdErrorLux, m));
+    if (i < maps.hiddenVertexSides.size() && maps.hiddenVertexSides[i] > 0)
+      o["hidden_vertex_sides"] = maps.hiddenVertexSides[i];
     if (maps.hasSunDirect()) {
       o["front_sun_direct"] =
           sideSummary(range(maps.frontSunDirectLux, m), range(maps.frontSunDirectStdErrorLux, m));
@@ -596,6 +600,7 @@ void writeBakedScene(const fs::path& dir, const rdb::TraceRdb& rdb, const raytra
       t["empty_texels"] = tex.emptyTexels;
       t["seam_edges"] = tex.seamEdges;
       t["samples"] = tex.samples;
+      if (tex.hiddenTexelSides > 0) t["hidden_texel_sides"] = tex.hiddenTexelSides;
       t["front_summary"] = textureSummary(tex.frontLux, tex.frontStdErrorLux, tex.baked);
       if (m.twoSided) t["back_summary"] = textureSummary(tex.backLux, tex.backStdErrorLux, tex.baked);
       if (maps.hasSunDirect()) {

@@ -17,6 +17,9 @@
 #include "cli/baked_manifest.h"
 #include "cli/command.h"
 #include "cli/scene_daylight.h"
+#include "raytracer/embree_scene.h"
+#include "raytracer/light_resolution.h"
+#include "rdb/trace_rdb_build.h"
 #include "sdb/features.h"
 #include "sdb/light.h"
 #include "sdb/scene_load.h"
@@ -331,6 +334,40 @@ void printText(const sdb::Scene& scene, const sdb::SceneStats& st, const sdb::Sc
   std::cout << o.str();
 }
 
+// What a bake gives each object with triangles: a light texture asked for, one the bake adds where vertices
+// cannot carry the light (raytracer/light_resolution.h, and why), or vertex light maps alone.
+struct LightMapPlanEntry {
+  std::string name;
+  std::string gets;  // "light texture", "light texture (automatic)", "vertex light map"
+  std::string why;
+};
+std::vector<LightMapPlanEntry> lightMapPlan(const sdb::Scene& scene) {
+  rdb::TraceRdb rdb = rdb::buildTraceRdb(scene);
+  const raytracer::EmbreeScene embree(rdb);
+  raytracer::LightResolutionSettings settings;
+  settings.texelsPerMetre = float(scene.bakeSettings().texelsPerMetre);
+  const std::vector<raytracer::MeshLightResolution> analysis = raytracer::addNeededLightTextures(rdb, embree, settings);
+  std::vector<LightMapPlanEntry> plan;
+  for (const rdb::TraceMesh& m : rdb.meshes) {
+    if (m.triangleCount == 0) continue;
+    LightMapPlanEntry e;
+    e.name = scene.mesh(sdb::MeshId{m.sdbMeshId}).name;
+    if (e.name.empty()) e.name = scene.node(sdb::NodeId{m.sdbNodeId}).name;
+    if (m.lightTexture == rdb::TraceMesh::kNoLightTexture) {
+      e.gets = "vertex light map";
+      e.why = m.automaticLightTextureAllowed ? "its vertices carry the light" : "\"lightTexture\": false";
+    } else if (rdb.lightTextures[m.lightTexture].automatic) {
+      e.gets = "light texture (automatic)";
+      e.why = rdb.lightTextures[m.lightTexture].automaticReason;
+    } else {
+      e.gets = "light texture";
+      e.why = "asked for in the scene file";
+    }
+    plan.push_back(std::move(e));
+  }
+  return plan;
+}
+
 }  // namespace
 
 Command addInfoCommand(CLI::App& app) {
@@ -369,16 +406,36 @@ Command addInfoCommand(CLI::App& app) {
             const sdb::Scene& scene = lit.scene;
             const sdb::SceneStats stats = sdb::computeStats(scene);
             const sdb::SceneFeatures features = sdb::computeFeatures(scene);
+            // Before a bake: what each object would get (after one, the manifest says what it got).
+            std::vector<LightMapPlanEntry> plan;
+            if (!bake) plan = lightMapPlan(scene);
             if (opts->json) {
               nlohmann::json j = infoJson(scene, stats, features, lit);
               if (bake) {
                 j["bake"] = bakeSummaryJson(*bake);
                 j["bake"]["source_scene_found"] = sourceFound;
+              } else {
+                j["light_maps"] = nlohmann::json::array();
+                for (const LightMapPlanEntry& e : plan)
+                  j["light_maps"].push_back({{"object", e.name}, {"gets", e.gets}, {"why", e.why}});
               }
               std::cout << j.dump(2) << "\n";
             } else {
               printText(scene, stats, features, lit);
               if (bake) std::cout << bakeSummaryText(*bake, sourceFound);
+              // Objects with light textures one by one; those with vertex maps alone counted.
+              size_t vertexOnly = 0;
+              for (const LightMapPlanEntry& e : plan) {
+                if (e.gets == "vertex light map") {
+                  ++vertexOnly;
+                  continue;
+                }
+                std::cout << "light map  \"" << e.name << "\": " << e.gets << ", " << e.why << "\n";
+              }
+              if (vertexOnly > 0) {
+                std::cout << "light map  " << vertexOnly << " other object" << (vertexOnly == 1 ? "" : "s")
+                          << ": vertex light maps\n";
+              }
             }
             return 0;
           }};

@@ -10,6 +10,7 @@
 #include <thread>
 #include <utility>
 
+#include "raytracer/enclosure.h"
 #include "raytracer/sampler.h"
 #include "rdb/vertex_weld.h"
 #include "raytracer/warp.h"
@@ -127,10 +128,23 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     for (size_t i = 0; i < frontCount_; ++i) {
       if (twoSided_[pointVertex_[i]]) pointVertex_.push_back(pointVertex_[i]);
     }
+    // Vertex sides inside closed objects (raytracer/enclosure.h), tested from the vertex along its normal.
+    hidden_.assign(pointVertex_.size(), 0);
+    uint64_t rays = 0;
+    for (size_t i = 0; i < pointVertex_.size(); ++i) {
+      const uint32_t v = pointVertex_[i];
+      const uint32_t t = ringTriangles_[ringOffsets_[v]];
+      const vec3& ng = scene.triangleNormal(t);
+      vec3 n = rdb.normals.empty() ? ng : rdb.normals[v];
+      n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
+      if (isBack(i)) n = -n;
+      hidden_[i] = isEnclosed(scene, rdb.positionsM[v], n, scene.triangleMagnitudeM(t), rays) ? 1 : 0;
+    }
   }
 
   size_t pointCount() const override { return pointVertex_.size(); }
   bool keepsSunDirect() const override { return integrator_.hasSun(); }
+  bool isHidden(size_t point) const override { return hidden_[point] != 0; }
   // Per mesh, its fronts and its backs.
   uint32_t groupCount() const override {
     return 2 * std::max<uint32_t>(1, static_cast<uint32_t>(rdb_.meshes.size()));
@@ -293,6 +307,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
   std::vector<bool> twoSided_;          // per vertex: of a two-sided mesh
   std::vector<uint32_t> meshOfVertex_;  // per vertex: its TraceMesh (0 for none)
   std::vector<uint32_t> pointVertex_;   // per point: the fronts, then the backs
+  std::vector<uint8_t> hidden_;         // per point: inside a closed object (isHidden)
   size_t frontCount_ = 0;
   std::vector<float> sunReflectedWeights_;  // per point (setSunReflectedWeights)
 };
@@ -391,7 +406,9 @@ size_t fillFromNeighbours(const rdb::TraceRdb& rdb, const OneRingSource& source,
                               {&maps.frontSunDirectLux, false},
                               {&maps.frontSunDirectStdErrorLux, false},
                               {&maps.backSunDirectLux, true},
-                              {&maps.backSunDirectStdErrorLux, true}}) {
+                              {&maps.backSunDirectStdErrorLux, true},
+                              {&maps.frontSunDirectSpreadLux, false},
+                              {&maps.backSunDirectSpreadLux, true}}) {
     if (!values->empty()) all.push_back({values, back});
   }
   std::vector<std::vector<Rgb>> sums(all.size());
@@ -435,6 +452,10 @@ class JoinedSource final : public SampleSourceOf<JoinedSource> {
   uint32_t groupCount() const override { return first_.groupCount() + second_.groupCount(); }
   // Both sources use the same integrator, so they keep the sun's direct part alike.
   bool keepsSunDirect() const override { return first_.keepsSunDirect(); }
+  bool isHidden(size_t point) const override {
+    const size_t n = first_.pointCount();
+    return point < n ? first_.isHidden(point) : second_.isHidden(point - n);
+  }
   uint32_t groupOf(size_t point) const override {
     const size_t n = first_.pointCount();
     return point < n ? first_.groupOf(point) : first_.groupCount() + second_.groupOf(point - n);
@@ -541,11 +562,13 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
   const bool sun = source.keepsSunDirect();
   if (sun) {
     for (std::vector<Rgb>* m : {&maps.frontSunDirectLux, &maps.frontSunDirectStdErrorLux,
-                                &maps.backSunDirectLux, &maps.backSunDirectStdErrorLux}) {
+                                &maps.backSunDirectLux, &maps.backSunDirectStdErrorLux,
+                                &maps.frontSunDirectSpreadLux, &maps.backSunDirectSpreadLux}) {
       m->assign(vertexCount, Rgb(0.0f));
     }
   }
   const size_t vertexPoints = vertexSource.pointCount();
+  maps.hiddenVertexSides.assign(std::max<size_t>(1, rdb.meshes.size()), 0);
   for (size_t i = 0; i < vertexPoints; ++i) {
     const uint32_t v = vertexSource.pointVertex(i);
     const IrradianceEstimate& e = result.points[i];
@@ -567,8 +590,10 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     if (sun) {
       (back ? maps.backSunDirectLux : maps.frontSunDirectLux)[v] = e.sunDirectMeanLux;
       (back ? maps.backSunDirectStdErrorLux : maps.frontSunDirectStdErrorLux)[v] = e.sunDirectStdErrorLux;
+      (back ? maps.backSunDirectSpreadLux : maps.frontSunDirectSpreadLux)[v] = e.sunDirectSpreadLux;
     }
     if (!back) maps.frontSamples[v] = e.samples;
+    if (vertexSource.isHidden(i)) ++maps.hiddenVertexSides[vertexSource.groupOf(i) / 2];
   }
   // Welded vertices take their point's values.
   for (uint32_t v = 0; v < vertexCount; ++v) {
@@ -576,7 +601,8 @@ VertexLightMaps bakeVertexLightMaps(const rdb::TraceRdb& rdb, const EmbreeScene&
     if (r == v) continue;
     for (std::vector<Rgb>* m : {&maps.frontLux, &maps.frontStdErrorLux, &maps.backLux, &maps.backStdErrorLux,
                                 &maps.frontSunDirectLux, &maps.frontSunDirectStdErrorLux, &maps.backSunDirectLux,
-                                &maps.backSunDirectStdErrorLux}) {
+                                &maps.backSunDirectStdErrorLux, &maps.frontSunDirectSpreadLux,
+                                &maps.backSunDirectSpreadLux}) {
       if (!m->empty()) (*m)[v] = (*m)[r];
     }
     maps.frontSamples[v] = maps.frontSamples[r];

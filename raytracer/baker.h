@@ -74,6 +74,11 @@ struct VertexLightMaps {
   std::vector<Rgb> frontSunDirectStdErrorLux;
   std::vector<Rgb> backSunDirectLux;
   std::vector<Rgb> backSunDirectStdErrorLux;
+  // With them, the spread of the sun's direct light over each vertex's one-ring (IrradianceEstimate::
+  // sunDirectSpreadLux): what a value read between the vertices may differ from theirs (cli/baked_scene.h
+  // folds it into the errors a bake's reader sees).
+  std::vector<Rgb> frontSunDirectSpreadLux;
+  std::vector<Rgb> backSunDirectSpreadLux;
   bool hasSunDirect() const { return !frontSunDirectLux.empty(); }
   // Samples per point of the points still sampled at the end (the most any point took); groups settled
   // earlier (kSettledPercentile) took fewer: frontSamples per vertex and LightTexture::samples tell.
@@ -83,6 +88,9 @@ struct VertexLightMaps {
   std::vector<ConvergencePoint> history;
   uint64_t rays = 0;
   double seconds = 0.0;
+  // Per TraceMesh: its vertex sides inside closed objects (raytracer/enclosure.h), sampled in the first pass
+  // only and left out of the error (their values keep their errors).
+  std::vector<size_t> hiddenVertexSides;
   // Vertices whose every sample was invalid (no triangle of non-zero area around them), filled from the
   // neighbours along the mesh's edges or, with none, set to 0 and counted here.
   size_t unfilledVertices = 0;

@@ -153,6 +153,7 @@ class Accumulators {
           k == 1 ? v.naive : (priorDof * eta2[groupOf(i)] * v.naive + dof * v.replicate) / (priorDof + dof);
       (channel == 0 ? e.meanLux : e.sunDirectMeanLux) = Rgb(v.mean);
       (channel == 0 ? e.stdErrorLux : e.sunDirectStdErrorLux) = Rgb(glm::sqrt(variance));
+      if (channel == 1 && e.samples > 1) e.sunDirectSpreadLux = Rgb(glm::sqrt(v.naive * double(e.samples)));
     }
   }
 
@@ -184,11 +185,14 @@ float nearestRankQuantile(std::vector<float>& values, double p) {
   return values[k];
 }
 
-float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates) {
+// Over the points not hidden (hidden: one flag per point, or empty for none).
+float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates, const std::vector<uint8_t>& hidden) {
   std::vector<float> rel;
   rel.reserve(estimates.size());
-  for (const IrradianceEstimate& e : estimates) rel.push_back(relativeErrorOf(e));
-  return nearestRankQuantile(rel, 0.95);
+  for (size_t i = 0; i < estimates.size(); ++i) {
+    if (hidden.empty() || !hidden[i]) rel.push_back(relativeErrorOf(estimates[i]));
+  }
+  return rel.empty() ? 0.0f : nearestRankQuantile(rel, 0.95);
 }
 
 // The samples of points [pointBegin, pointEnd) that take the pass, from the samples each has up to
@@ -251,10 +255,11 @@ void runPass(const SampleSource& source, const EstimateSettings& settings, size_
 // Settles the groups of which kSettledPercentile of the points have a relative error of luminance at most
 // the target (ProgressState::settledSamples).
 void settleGroups(const EstimateResult& result, const Accumulators& acc, const EstimateSettings& settings,
-                  ProgressState& state) {
+                  const std::vector<uint8_t>& hidden, ProgressState& state) {
   std::vector<std::vector<float>> errors(acc.groupCount());
   for (size_t i = 0; i < result.points.size(); ++i) {
-    if (!acc.settled(i)) errors[acc.groupOf(i)].push_back(relativeErrorOf(result.points[i]));
+    if (!acc.settled(i) && (hidden.empty() || !hidden[i]))
+      errors[acc.groupOf(i)].push_back(relativeErrorOf(result.points[i]));
   }
   state.settledSamples.resize(acc.groupCount(), 0);
   for (uint32_t g = 0; g < acc.groupCount(); ++g) {
@@ -378,6 +383,10 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     }
   }
   Accumulators acc(state, std::move(groups), source.groupCount());
+  std::vector<uint8_t> hidden(pointCount, 0);
+  bool anyHidden = false;
+  for (size_t i = 0; i < pointCount; ++i) anyHidden |= (hidden[i] = source.isHidden(i) ? 1 : 0) != 0;
+  if (!anyHidden) hidden.clear();
   if (state.pointSamples.empty()) {
     // A state of a format before 5: every point took every pass but its settled group's.
     state.pointSamples.resize(pointCount);
@@ -397,7 +406,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
   result.replicates = replicates;
   auto fillResult = [&](uint32_t total) {
     acc.estimates(result.points);
-    result.relativeErrorP95 = relativeErrorP95(result.points);
+    result.relativeErrorP95 = relativeErrorP95(result.points, hidden);
     result.samplesPerPoint = total;
   };
   if (state.samplesPerPoint > 0) fillResult(state.samplesPerPoint);
@@ -429,7 +438,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
       auto pointSamplesOf = [&](std::vector<uint8_t>& t) {
         uint64_t sum = 0;
         for (size_t i = 0; i < pointCount; ++i) {
-          if (acc.settled(i)) t[i] = 0;
+          if (acc.settled(i) || (total > 0 && !hidden.empty() && hidden[i])) t[i] = 0;
           if (t[i]) sum += total + passSamples - state.pointSamples[i];
         }
         return sum;
@@ -503,7 +512,7 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
     ++state.passes;
     fillResult(state.samplesPerPoint);
     if (settings.targetRelativeError > 0.0f && acc.groupCount() > 1)
-      settleGroups(result, acc, settings, state);
+      settleGroups(result, acc, settings, hidden, state);
     result.seconds = elapsed();
     const bool more = !afterPass || afterPass(result, passRays, state.lastPassS);
     if (checkpoints && elapsed() - lastCheckpointS >= checkpointing.intervalS) save();

@@ -27,6 +27,10 @@ struct IrradianceEstimate {
   // sources that do not keep it apart.
   Rgb sunDirectMeanLux{0.0f};
   Rgb sunDirectStdErrorLux{0.0f};
+  // The standard deviation of the sun-direct samples themselves (not of their mean): how much the sun's direct
+  // light varies over the point's footprint (a vertex's one-ring, a texel), where it is not uniform (a shadow
+  // edge or sun patch crosses it): what a value read at one spot of the footprint may differ from its mean.
+  Rgb sunDirectSpreadLux{0.0f};
 };
 
 // One sample of a point: its irradiance (lux) and the part of it that came straight from the sun's disc
@@ -175,6 +179,10 @@ class SampleSource {
   // statistics too (IrradianceEstimate::sunDirectMeanLux). The stopping rules and settled groups look at
   // the irradiance alone.
   virtual bool keepsSunDirect() const { return false; }
+  // Points that no view reaches (raytracer/enclosure.h): they take the first pass only and stay out of the
+  // 95th percentile and of the settled groups' rule, so that light nobody sees holds no estimate back. Their
+  // estimates keep their (large) honest errors.
+  virtual bool isHidden(size_t /*point*/) const { return false; }
   virtual PointSample sample(size_t point, SobolSampler& sampler, uint64_t& rays) const = 0;
   virtual PointSample sample(size_t point, RandomSampler& sampler, uint64_t& rays) const = 0;
 };

@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "raytracer/enclosure.h"
 #include "raytracer/sampler.h"
 
 namespace fly::raytracer {
@@ -228,7 +229,7 @@ TexelSource::TexelSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, con
       texel.endPiece = uint32_t(pieces_.size());
       texel.fullSquare = std::abs(sum - 1.0f) <= kFullSquareTolerance;
       texel.cornerTexels = vec2(float(texel.index % lt.width), float(texel.index / lt.width));
-      placeAnchor(texel);
+      placeAnchor(texel, rdb.meshes[lt.mesh].twoSided);
       texels_.push_back(texel);
     }
   }
@@ -272,28 +273,48 @@ float TexelSource::liftM(uint32_t k, float magnitudeM) const {
   return std::max(1e-3f * texelM, 16.0f * rayOffsetM(magnitudeM));
 }
 
-void TexelSource::placeAnchor(Texel& texel) {
+void TexelSource::placeAnchor(Texel& texel, bool twoSided) {
   const rdb::TraceLightTexture& lt = rdb_.lightTextures[texel.texture];
   const vec2 centre(float(texel.index % lt.width) + 0.5f, float(texel.index / lt.width) + 0.5f);
-  uint32_t chosen = texel.firstPiece;
-  vec2 at = (pieces_[chosen].a + pieces_[chosen].b + pieces_[chosen].c) / 3.0f;
-  float largest = -1.0f;
-  bool centreInside = false;
-  for (uint32_t p = texel.firstPiece; p < texel.endPiece && !centreInside; ++p) {
+  // Candidates: the texel's centre on the piece under it, then the pieces' centroids, largest first.
+  std::vector<std::pair<uint32_t, vec2>> candidates;
+  for (uint32_t p = texel.firstPiece; p < texel.endPiece; ++p) {
     const Piece& q = pieces_[p];
     const float d = cross2(q.b - q.a, q.c - q.a);
     const float w1 = cross2(centre - q.a, q.c - q.a) / d, w2 = cross2(q.b - q.a, centre - q.a) / d;
     if (w1 >= 0.0f && w2 >= 0.0f && w1 + w2 <= 1.0f) {
-      centreInside = true;
-      chosen = p;
-      at = centre;
-    } else if (std::abs(d) > largest) {
-      largest = std::abs(d);
-      chosen = p;
-      at = (q.a + q.b + q.c) / 3.0f;
+      candidates.insert(candidates.begin(), {p, centre});
+      break;
     }
   }
-  texel.anchorTriangle = pieces_[chosen].triangle;
+  std::vector<uint32_t> byArea;
+  for (uint32_t p = texel.firstPiece; p < texel.endPiece; ++p) byArea.push_back(p);
+  std::stable_sort(byArea.begin(), byArea.end(), [&](uint32_t x, uint32_t y) {
+    const Piece& a = pieces_[x];
+    const Piece& b = pieces_[y];
+    return std::abs(cross2(a.b - a.a, a.c - a.a)) > std::abs(cross2(b.b - b.a, b.c - b.a));
+  });
+  for (uint32_t p : byArea) {
+    const Piece& q = pieces_[p];
+    candidates.emplace_back(p, (q.a + q.b + q.c) / 3.0f);
+  }
+  // The first candidate that is not inside a closed object (raytracer/enclosure.h); the first of all when
+  // every one is: the texel then lies inside and is hidden.
+  uint64_t rays = 0;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    Texel t = texel;
+    const vec3 front = anchorAt(t, candidates[c].first, candidates[c].second);
+    const float magnitude = std::max(scene_.triangleMagnitudeM(t.anchorTriangle), maxAbs(t.anchorM));
+    t.enclosed[0] = isEnclosed(scene_, t.anchorM, front, magnitude, rays);
+    t.enclosed[1] = !twoSided || isEnclosed(scene_, t.anchorM, -front, magnitude, rays);
+    if (c == 0 || !(t.enclosed[0] && t.enclosed[1])) texel = t;
+    if (!(t.enclosed[0] && t.enclosed[1])) break;
+  }
+}
+
+vec3 TexelSource::anchorAt(Texel& texel, uint32_t piece, const vec2& at) {
+  const rdb::TraceLightTexture& lt = rdb_.lightTextures[texel.texture];
+  texel.anchorTriangle = pieces_[piece].triangle;
   vec3 n;
   surfaceAt(texel.texture, texel.anchorTriangle, at, texel.anchorM, n);
   const vec3& ng = scene_.triangleNormal(texel.anchorTriangle);
@@ -321,6 +342,7 @@ void TexelSource::placeAnchor(Texel& texel) {
     }
   }
   if (std::isfinite(nearest)) texel.anchorM += (nearest + lift) * nearestDir;
+  return ngFront;
 }
 
 uint32_t TexelSource::groupCount() const {
@@ -424,7 +446,9 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
                                   {&tex.frontSunDirectLux, sun},
                                   {&tex.frontSunDirectStdErrorLux, sun},
                                   {&tex.backSunDirectLux, sun && twoSided},
-                                  {&tex.backSunDirectStdErrorLux, sun && twoSided}}) {
+                                  {&tex.backSunDirectStdErrorLux, sun && twoSided},
+                                  {&tex.frontSunDirectSpreadLux, sun},
+                                  {&tex.backSunDirectSpreadLux, sun && twoSided}}) {
       if (wanted) values->assign(n, Rgb(0.0f));
     }
     baked[k].assign(n, 0);
@@ -439,9 +463,12 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
       (back ? tex.backSunDirectLux : tex.frontSunDirectLux)[texel.index] = estimates[i].sunDirectMeanLux;
       (back ? tex.backSunDirectStdErrorLux : tex.frontSunDirectStdErrorLux)[texel.index] =
           estimates[i].sunDirectStdErrorLux;
+      (back ? tex.backSunDirectSpreadLux : tex.frontSunDirectSpreadLux)[texel.index] =
+          estimates[i].sunDirectSpreadLux;
     }
     baked[texel.texture][texel.index] = 1;
-    tex.samples = std::max(tex.samples, estimates[i].samples);
+    tex.hiddenTexelSides += isHidden(i) ? 1 : 0;
+    if (!isHidden(i)) tex.samples = std::max(tex.samples, estimates[i].samples);
   }
 
   for (size_t k = 0; k < out.size(); ++k) {
@@ -453,7 +480,8 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
     std::vector<std::vector<Rgb>*> maps;
     for (std::vector<Rgb>* m :
          {&tex.frontLux, &tex.frontStdErrorLux, &tex.backLux, &tex.backStdErrorLux, &tex.frontSunDirectLux,
-          &tex.frontSunDirectStdErrorLux, &tex.backSunDirectLux, &tex.backSunDirectStdErrorLux}) {
+          &tex.frontSunDirectStdErrorLux, &tex.backSunDirectLux, &tex.backSunDirectStdErrorLux,
+          &tex.frontSunDirectSpreadLux, &tex.backSunDirectSpreadLux}) {
       if (!m->empty()) maps.push_back(m);
     }
     dilate(tex.width, tex.height, baked[k], maps);

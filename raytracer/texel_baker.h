@@ -71,11 +71,18 @@ struct LightTexture {
   std::vector<Rgb> frontSunDirectStdErrorLux;
   std::vector<Rgb> backSunDirectLux;
   std::vector<Rgb> backSunDirectStdErrorLux;
+  // With them, the spread of the sun's direct light over each texel's footprint (IrradianceEstimate::
+  // sunDirectSpreadLux), filled alike.
+  std::vector<Rgb> frontSunDirectSpreadLux;
+  std::vector<Rgb> backSunDirectSpreadLux;
   std::vector<uint8_t> baked;  // per texel: 1 where baked, 0 where filled (dilated, empty)
   size_t bakedTexels = 0;      // texels with footprint area: the progressive run's points
   size_t emptyTexels = 0;      // touched by a triangle but without area to sample: filled from neighbours
   size_t seamEdges = 0;        // mesh edges whose two copies in the atlas were made consistent
   uint32_t samples = 0;        // per baked texel (the most any took; its group may have settled earlier)
+  // Baked texel sides inside closed objects (TexelSource::isHidden): sampled in the first pass only, left out
+  // of the bake's error, their values kept with their errors.
+  size_t hiddenTexelSides = 0;
 };
 
 // The progressive run's points for the light textures: every baked texel on its front, then on its back for
@@ -91,6 +98,9 @@ class TexelSource final : public SampleSource {
   uint32_t groupCount() const override;
   uint32_t groupOf(size_t point) const override;
   bool keepsSunDirect() const override { return integrator_.hasSun(); }
+  bool isHidden(size_t point) const override {
+    return texels_[points_[point].texel].enclosed[points_[point].back ? 1 : 0];
+  }
   PointSample sample(size_t point, SobolSampler& sampler, uint64_t& rays) const override;
   PointSample sample(size_t point, RandomSampler& sampler, uint64_t& rays) const override;
 
@@ -120,6 +130,9 @@ class TexelSource final : public SampleSource {
     // stratified (the same uniform density as choosing a piece by area).
     bool fullSquare = false;
     vec2 cornerTexels{0.0f};  // the square's lower corner in texel space: (i, j)
+    // The anchor lies inside a closed object on the front / back (raytracer/enclosure.h): no view reaches
+    // that side of the texel. The back of a one-sided texture counts as enclosed.
+    bool enclosed[2] = {false, true};
   };
   struct Point {
     uint32_t texel = 0;  // index into texels_
@@ -133,7 +146,12 @@ class TexelSource final : public SampleSource {
   void surfaceAt(uint32_t k, uint32_t t, const vec2& x, vec3& pM, vec3& n) const;
   // The lift off the surface of anchor segments and probes, metres.
   float liftM(uint32_t k, float magnitudeM) const;
-  void placeAnchor(Texel& texel);
+  // Chooses the texel's anchor (of its centre and its pieces' centroids, the first not inside a closed
+  // object) and sets enclosed.
+  void placeAnchor(Texel& texel, bool twoSided);
+  // The anchor at texel-space point `at` of piece `piece`, moved out of one-sided objects; returns the
+  // geometric normal on the front.
+  vec3 anchorAt(Texel& texel, uint32_t piece, const vec2& at);
 
   const rdb::TraceRdb& rdb_;
   const EmbreeScene& scene_;

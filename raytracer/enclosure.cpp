@@ -1,0 +1,27 @@
+#include "raytracer/enclosure.h"
+
+#include <cmath>
+#include <limits>
+
+#include "raytracer/warp.h"
+
+namespace fly::raytracer {
+
+bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float magnitudeM, uint64_t& rays) {
+  const Onb frame = onb(n);
+  const vec3 origin = offsetRayOrigin(p, n, std::max(maxAbs(p), magnitudeM));
+  constexpr float kGoldenAngle = 2.39996323f;
+  for (int k = 0; k < kEnclosureRays; ++k) {
+    // Equal solid angles: cos θ uniform in (0, 1), φ by the golden angle.
+    const float cosTheta = 1.0f - (float(k) + 0.5f) / float(kEnclosureRays);
+    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    const float phi = kGoldenAngle * float(k);
+    const vec3 dir = frame.toWorld(vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
+    ++rays;
+    const std::optional<Hit> hit = scene.intersect(origin, dir, std::numeric_limits<float>::infinity());
+    if (!hit || !(glm::dot(dir, hit->geometricNormal) > 0.0f)) return false;
+  }
+  return true;
+}
+
+}  // namespace fly::raytracer
