@@ -404,17 +404,28 @@ std::vector<std::string> writeExportGltf(const fs::path& dir, const rdb::TraceRd
       if (s.back) {
         for (size_t t = 0; t < indices.size(); t += 3) std::swap(indices[t + 1], indices[t + 2]);
       }
-      json attributes = {{"POSITION", position}, {"NORMAL", s.back ? backNormal : normal}};
-      if (sp) {
-        attributes["TEXCOORD_1"] = texcoord;
-      } else {
+      // A light-textured mesh's triangles outside its atlas (rdb::inLightTexture) keep vertex colours.
+      std::vector<uint32_t> textured, vertexLit;
+      for (size_t t = 0; t < indices.size(); t += 3) {
+        const bool inAtlas = sp && rdb::inLightTexture(sp->uv1[indices[t]]);
+        (inAtlas ? textured : vertexLit).insert((inAtlas ? textured : vertexLit).end(), indices.begin() + std::ptrdiff_t(t),
+                                               indices.begin() + std::ptrdiff_t(t + 3));
+      }
+      if (!textured.empty()) {
+        primitives.push_back({{"attributes", {{"POSITION", position}, {"NORMAL", s.back ? backNormal : normal},
+                                              {"TEXCOORD_1", texcoord}}},
+                              {"indices", b.indices(textured)},
+                              {"material", textureMaterial[s.back]}});
+      }
+      if (!vertexLit.empty()) {
         std::vector<vec3> colours;
         for (const Rgb& l : s.luminanceCdM2) colours.push_back(toneMap(l, ev100, ToneOperator::kReinhard));
-        attributes["COLOR_0"] = b.vec3s(colours);
+        if (sp) colours = gather(colours, sp);
+        primitives.push_back({{"attributes", {{"POSITION", position}, {"NORMAL", s.back ? backNormal : normal},
+                                              {"COLOR_0", b.vec3s(colours)}}},
+                              {"indices", b.indices(vertexLit)},
+                              {"material", int(s.group->material)}});
       }
-      primitives.push_back({{"attributes", std::move(attributes)},
-                            {"indices", b.indices(indices)},
-                            {"material", sp ? textureMaterial[s.back] : int(s.group->material)}});
     }
     meshes.push_back(meshJson(d, i, std::move(primitives)));
     nodes.push_back(node(d, i, meshes.size() - 1));

@@ -108,20 +108,51 @@ std::optional<LuxReading> probeIlluminance(const rdb::RasterRdb& rdb, const rdb:
   r.pointWorld = hit.pointWorld;
   r.sdbNodeId = mesh.sdbNodeId;
   r.back = back;
-  if (mesh.lightTexture != rdb::RasterMesh::kNoLightTexture && mesh.lightTexture < rdb.lightTextures.size()) {
+  if (mesh.lightTexture != rdb::RasterMesh::kNoLightTexture && mesh.lightTexture < rdb.lightTextures.size() &&
+      rdb::inLightTexture(rdb.lightMapUv[v[0]])) {
+    // Bilinear between the four texel centres around the point, as the GL engine filters the light texture;
+    // the texels' estimates are independent, so the error is √(Σ wᵢ² σᵢ²).
     const rdb::RasterLightTexture& tex = rdb.lightTextures[mesh.lightTexture];
     const vec2 uv = w[0] * rdb.lightMapUv[v[0]] + w[1] * rdb.lightMapUv[v[1]] + w[2] * rdb.lightMapUv[v[2]];
-    const uint32_t i = std::min(uint32_t(std::clamp(uv.x, 0.0f, 1.0f) * float(tex.width)), tex.width - 1);
-    const uint32_t j = std::min(uint32_t(std::clamp(uv.y, 0.0f, 1.0f) * float(tex.height)), tex.height - 1);
+    const vec2 x = glm::clamp(uv, 0.0f, 1.0f) * vec2(float(tex.width), float(tex.height)) - 0.5f;
+    const vec2 lo = glm::floor(x);
+    const vec2 f = x - lo;
     const bool backTexels = back && !tex.backLux.empty();
-    const size_t texel = size_t(j) * tex.width + i;
-    r.illuminanceLux = (backTexels ? tex.backLux : tex.frontLux)[texel];
-    r.fromLightTexture = true;
+    const std::vector<Rgb>& texels = backTexels ? tex.backLux : tex.frontLux;
     const rdb::MeshLightTexture* stored = map && map->lightTexture ? &*map->lightTexture : nullptr;
     const std::vector<Rgb>* errors =
         stored ? (backTexels ? &stored->backStdErrorLux : &stored->frontStdErrorLux) : nullptr;
-    if (errors && stored->width == tex.width && stored->height == tex.height && texel < errors->size())
-      r.stdErrorLuminanceLux = luminance((*errors)[texel]);
+    const bool withErrors = errors && stored->width == tex.width && stored->height == tex.height &&
+                            errors->size() == texels.size();
+    // The four texels (clamped at the border, as GL_CLAMP_TO_EDGE: one texel may come twice, its weights
+    // then add before the error's square).
+    size_t texel[4];
+    float weight[4];
+    for (int k = 0; k < 4; ++k) {
+      const int di = k & 1, dj = k >> 1;
+      weight[k] = (di ? f.x : 1.0f - f.x) * (dj ? f.y : 1.0f - f.y);
+      const uint32_t i = uint32_t(std::clamp(int(lo.x) + di, 0, int(tex.width) - 1));
+      const uint32_t j = uint32_t(std::clamp(int(lo.y) + dj, 0, int(tex.height) - 1));
+      texel[k] = size_t(j) * tex.width + i;
+      for (int q = 0; q < k; ++q) {
+        if (texel[q] == texel[k]) {
+          weight[q] += weight[k];
+          weight[k] = 0.0f;
+          break;
+        }
+      }
+    }
+    double variance = 0.0;
+    r.illuminanceLux = Rgb(0.0f);
+    for (int k = 0; k < 4; ++k) {
+      r.illuminanceLux += weight[k] * texels[texel[k]];
+      if (withErrors) {
+        const double s = luminance((*errors)[texel[k]]);
+        variance += double(weight[k]) * double(weight[k]) * s * s;
+      }
+    }
+    r.fromLightTexture = true;
+    if (withErrors) r.stdErrorLuminanceLux = float(std::sqrt(variance));
   } else {
     const std::vector<Rgb>& lux = back ? rdb.backLux : rdb.frontLux;
     r.illuminanceLux = w[0] * lux[v[0]] + w[1] * lux[v[1]] + w[2] * lux[v[2]];

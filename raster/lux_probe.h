@@ -12,6 +12,7 @@
 #include "base/math.h"
 #include "raster/renderer.h"
 #include "rdb/light_map_store.h"
+#include "rdb/lightmap_uv.h"
 #include "rdb/raster_rdb.h"
 
 namespace fly::raster {

@@ -22,6 +22,7 @@
 #include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
 #include "raster/sun_glass.h"
+#include "rdb/lightmap_uv.h"
 
 namespace fly::raster {
 
@@ -840,8 +841,10 @@ void Renderer::uploadLightTextures() {
   for (const rdb::RasterMesh& m : r.meshes) {
     if (m.lightTexture == rdb::RasterMesh::kNoLightTexture) continue;
     const bool back = !r.lightTextures[m.lightTexture].backLux.empty();
-    std::fill_n(vertexSlots.begin() + std::ptrdiff_t(m.firstVertex), m.vertexCount,
-                firstSlot[m.lightTexture] | (back ? kLightSlotHasBack : 0u));
+    // Vertices of triangles outside the atlas (rdb::inLightTexture) keep their vertex light map.
+    for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) {
+      if (rdb::inLightTexture(r.lightMapUv[v])) vertexSlots[v] = firstSlot[m.lightTexture] | (back ? kLightSlotHasBack : 0u);
+    }
   }
   storeBuffer(gpu_->lightMapUv, r.lightMapUv);
   storeBuffer(gpu_->lightSlots, vertexSlots);

@@ -219,11 +219,25 @@ std::vector<MeshLightResolution> addNeededLightTextures(rdb::TraceRdb& rdb, cons
     uint64_t rays = 0;
     analysis = analyseLightResolution(rdb, scene, integrator, settings, rays);
   }
-  for (const MeshLightResolution& r : analysis) {
+  for (MeshLightResolution& r : analysis) {
     if (!r.needsTexels) continue;
-    rdb::TraceLightTexture& lt =
+    rdb::TraceLightTexture* lt =
         rdb::addAutomaticLightTexture(rdb, r.mesh, settings.texelsPerMetre, maxAtlasSize, paddingTexels);
-    lt.automaticReason = r.reason;
+    if (!lt) {
+      // Every chart is finer in vertices than texels would be.
+      r.needsTexels = false;
+      r.reason.clear();
+      continue;
+    }
+    const rdb::TraceMesh& tm = rdb.meshes[r.mesh];
+    double texturedM2 = 0.0;
+    for (uint32_t k = 0; k < tm.triangleCount; ++k) {
+      if (rdb::inLightTexture(lt->cornerUv[3 * size_t(k)])) texturedM2 += scene.triangleAreaM2(tm.firstTriangle + k);
+    }
+    if (texturedM2 < r.areaM2 * (1.0 - 1e-6)) {
+      r.reason += "; in texels " + areaText(texturedM2) + ", the rest finer in vertices";
+    }
+    lt->automaticReason = r.reason;
   }
   return analysis;
 }

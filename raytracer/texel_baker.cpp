@@ -176,6 +176,7 @@ TexelSource::TexelSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, con
     for (uint32_t local = 0; local < mesh.triangleCount; ++local) {
       const uint32_t t = mesh.firstTriangle + local;
       if (!(scene.triangleAreaM2(t) > 0.0f)) continue;  // Embree left it out: nothing to sample on it
+      if (!rdb::inLightTexture(lt.cornerUv[3 * size_t{local}])) continue;  // on the vertex light map
       const vec2 a = lt.cornerUv[3 * size_t{local}] * size;
       const vec2 b = lt.cornerUv[3 * size_t{local} + 1] * size;
       const vec2 c = lt.cornerUv[3 * size_t{local} + 2] * size;
@@ -500,7 +501,7 @@ std::vector<LightTexture> TexelSource::finish(std::span<const IrradianceEstimate
         const size_t d = (c + 1) % 3;
         uint32_t va = rdb_.indices[3 * t + c], vb = rdb_.indices[3 * t + d];
         vec2 ua = lt.cornerUv[3 * size_t{local} + c], ub = lt.cornerUv[3 * size_t{local} + d];
-        if (va == vb) continue;
+        if (va == vb || !rdb::inLightTexture(ua)) continue;
         if (va > vb) {
           std::swap(va, vb);
           std::swap(ua, ub);

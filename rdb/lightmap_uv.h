@@ -48,6 +48,14 @@ struct LightmapUv {
   float utilisation = 0.0f;  // fraction of the atlas's area covered by triangles, [0, 1]
 };
 
+// The light-map UV of a triangle corner outside its mesh's atlas (the triangle shows its vertex light map),
+// and the test for it: atlas UVs lie in (0, 1)².
+inline vec2 noLightTextureUv() { return vec2(-1.0f); }
+inline bool inLightTexture(const vec2& uv) { return uv.x >= 0.0f; }
+// Automatic light textures leave out charts with fewer texels than this per triangle: their vertices are at
+// least as dense as texels would be.
+inline constexpr double kMinTexelsPerTriangle = 2.0;
+
 // Generates light-map UVs for a triangle mesh given in world space (metres): 3 indices per triangle,
 // counter-clockwise seen from the front. Output vertices are the input vertices split where charts meet;
 // input vertices that no triangle uses are left out. Degenerate triangles (zero area, up to float rounding)

@@ -16,6 +16,7 @@
 #include "base/car_paint.h"
 #include "base/color.h"
 #include "base/math.h"
+#include "rdb/lightmap_uv.h"
 
 namespace fly::rdb {
 
@@ -152,9 +153,11 @@ struct TraceLightTexture {
   bool densityReduced = false;  // generated UVs at less than the requested density, to fit the atlas
   uint32_t chartCount = 0;      // generated UVs: charts in the atlas
   // Light-map UV per triangle corner: 3 per triangle of the mesh, in TraceMesh triangle order. Corners of one
-  // vertex differ where charts meet (seams).
+  // vertex differ where charts meet (seams). A triangle whose corners are noLightTextureUv() is not in the
+  // atlas: it shows its vertex light map (automatic textures leave out charts finer in vertices than texels).
   std::vector<vec2> cornerUv;
 };
+
 
 // A measured BRDF table that materials share, one per distinct file.
 struct TraceBrdfTable {

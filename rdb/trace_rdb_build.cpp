@@ -22,8 +22,12 @@ namespace fly::rdb {
 
 // Generated light-map UVs for mesh tm of rdb into lt: charts over its triangles with coincident vertices of
 // equal normals welded (rdb/vertex_weld.h), so that faces written with vertices of their own chart together.
-static void generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texelsPerMetre, int maxSize,
-                   int paddingTexels, TraceLightTexture& lt) {
+// Unless allCharts, a chart whose triangles are at least as dense as its texels would be (fewer than
+// kMinTexelsPerTriangle texels per triangle: a curved detail, a bevel, a finely tessellated patch) is left
+// out of the atlas: its vertex light maps carry its light at least as finely, and a texel would average over
+// its differently turned triangles. Its corners get noLightTextureUv(). Returns the area in texels.
+static double generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texelsPerMetre, int maxSize,
+                            int paddingTexels, bool allCharts, TraceLightTexture& lt) {
   const std::span<const vec3> positions = std::span<const vec3>(rdb.positionsM).subspan(tm.firstVertex, tm.vertexCount);
   const std::span<const vec3> normals = std::span<const vec3>(rdb.normals).subspan(tm.firstVertex, tm.vertexCount);
   Bounds3 bounds;
@@ -33,17 +37,51 @@ static void generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texels
   const uint32_t* corners = rdb.indices.data() + 3 * size_t(tm.firstTriangle);
   std::vector<uint32_t> local(corners, corners + 3 * size_t(tm.triangleCount));
   for (uint32_t& i : local) i = weld[i - tm.firstVertex];
-  const LightmapUv uv = generateLightmapUv(positions, local,
-                                           {.texelsPerMetre = texelsPerMetre,
-                                            .paddingTexels = paddingTexels,
-                                            .maxAtlasSize = maxSize});
+  const LightmapUvSettings settings{
+      .texelsPerMetre = texelsPerMetre, .paddingTexels = paddingTexels, .maxAtlasSize = maxSize};
+  auto areaM2 = [&](size_t k) {
+    const dvec3 p0(positions[local[3 * k]]);
+    return 0.5 * glm::length(glm::cross(dvec3(positions[local[3 * k + 1]]) - p0, dvec3(positions[local[3 * k + 2]]) - p0));
+  };
+  std::vector<uint8_t> keep(tm.triangleCount, 1);
+  if (!allCharts) {
+    const LightmapUv charts = generateLightmapUv(positions, local, settings);
+    std::vector<double> chartArea(charts.chartCount, 0.0);
+    std::vector<size_t> chartTriangles(charts.chartCount, 0);
+    for (size_t k = 0; k < tm.triangleCount; ++k) {
+      chartArea[charts.chartOfTriangle[k]] += areaM2(k);
+      ++chartTriangles[charts.chartOfTriangle[k]];
+    }
+    const double texelsPerM2 = double(texelsPerMetre) * double(texelsPerMetre);
+    for (size_t k = 0; k < tm.triangleCount; ++k) {
+      const uint32_t c = charts.chartOfTriangle[k];
+      keep[k] = chartArea[c] * texelsPerM2 >= kMinTexelsPerTriangle * double(chartTriangles[c]) ? 1 : 0;
+    }
+  }
+  std::vector<uint32_t> kept;
+  double keptAreaM2 = 0.0;
+  for (size_t k = 0; k < tm.triangleCount; ++k) {
+    if (!keep[k]) continue;
+    kept.insert(kept.end(), local.begin() + std::ptrdiff_t(3 * k), local.begin() + std::ptrdiff_t(3 * k + 3));
+    keptAreaM2 += areaM2(k);
+  }
+  lt.cornerUv.assign(3 * size_t(tm.triangleCount), noLightTextureUv());
+  if (kept.empty()) {
+    lt.width = lt.height = 0;
+    return 0.0;
+  }
+  const LightmapUv uv = generateLightmapUv(positions, kept, settings);
   lt.width = uv.width;
   lt.height = uv.height;
   lt.texelsPerMetre = uv.texelsPerMetre;
   lt.densityReduced = uv.densityReduced;
   lt.chartCount = uv.chartCount;
-  lt.cornerUv.clear();
-  for (uint32_t i : uv.indices) lt.cornerUv.push_back(uv.uv[i]);
+  size_t next = 0;
+  for (size_t k = 0; k < tm.triangleCount; ++k) {
+    if (!keep[k]) continue;
+    for (size_t c = 0; c < 3; ++c) lt.cornerUv[3 * k + c] = uv.uv[uv.indices[next++]];
+  }
+  return keptAreaM2 * double(uv.texelsPerMetre) * double(uv.texelsPerMetre);
 }
 
 TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
@@ -457,7 +495,7 @@ class Builder {
       }
     }
     if (!lt.fromTexcoord1) {
-      generateAtlas(rdb_, tm, density, maxSize, options_.lightTexturePaddingTexels, lt);
+      generateAtlas(rdb_, tm, density, maxSize, options_.lightTexturePaddingTexels, true, lt);
       if (lt.densityReduced) {
         log::warn("mesh \"" + mesh.name + "\": light texture density reduced from " +
                   std::to_string(density) + " to " + std::to_string(lt.texelsPerMetre) + " texels/m to fit " +
@@ -534,7 +572,7 @@ TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options
   return Builder(scene, options).build();
 }
 
-TraceLightTexture& addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float texelsPerMetre, int maxSize,
+TraceLightTexture* addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float texelsPerMetre, int maxSize,
                                             int paddingTexels) {
   if (mesh >= rdb.meshes.size() || rdb.meshes[mesh].lightTexture != TraceMesh::kNoLightTexture ||
       rdb.meshes[mesh].triangleCount == 0 || !(texelsPerMetre > 0.0f) || maxSize < 8 || paddingTexels < 0) {
@@ -543,13 +581,14 @@ TraceLightTexture& addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float 
   TraceLightTexture lt;
   lt.mesh = mesh;
   lt.automatic = true;
-  generateAtlas(rdb, rdb.meshes[mesh], texelsPerMetre, maxSize, paddingTexels, lt);
+  generateAtlas(rdb, rdb.meshes[mesh], texelsPerMetre, maxSize, paddingTexels, false, lt);
+  if (lt.width == 0) return nullptr;
   // Keep lightTextures in mesh order.
   auto at = std::find_if(rdb.lightTextures.begin(), rdb.lightTextures.end(),
                          [&](const TraceLightTexture& t) { return t.mesh > mesh; });
   at = rdb.lightTextures.insert(at, std::move(lt));
   for (uint32_t k = 0; k < rdb.lightTextures.size(); ++k) rdb.meshes[rdb.lightTextures[k].mesh].lightTexture = k;
-  return *at;
+  return &*at;
 }
 
 }  // namespace fly::rdb

@@ -50,9 +50,12 @@ TraceRdb buildTraceRdb(const sdb::Scene& scene, const TraceBuildOptions& options
 // Gives mesh `mesh` of rdb an automatic light texture (TraceLightTexture::automatic) with generated UVs at
 // texelsPerMetre (reduced to fit maxSize² texels), keeping rdb.lightTextures in mesh order (the meshes'
 // lightTexture indices are renumbered). Coincident vertices with equal normals are welded for charting
-// (rdb/vertex_weld.h). Returns the new entry. std::invalid_argument when the mesh does not exist, has no
-// triangles or already has a light texture, or a setting is out of range.
-TraceLightTexture& addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float texelsPerMetre, int maxSize,
+// (rdb/vertex_weld.h). Charts whose triangles are denser than their texels would be (fewer than
+// kMinTexelsPerTriangle texels per triangle) stay on the vertex light maps: their corners get
+// noLightTextureUv(). Returns the new entry, or null when every chart stays on the vertex maps.
+// std::invalid_argument when the mesh does not exist, has no triangles or already has a light texture, or a
+// setting is out of range.
+TraceLightTexture* addAutomaticLightTexture(TraceRdb& rdb, uint32_t mesh, float texelsPerMetre, int maxSize,
                                             int paddingTexels);
 
 // The TraceMaterial of an SDB material (its energy rule evaluated at normal incidence), without its texture

@@ -161,8 +161,9 @@ TEST(LuxProbe, MissesAndSurfacesWithoutLightMapsReadNothing) {
   EXPECT_FALSE(r->stdErrorLuminanceLux);
 }
 
-// A light-textured floor: the reading is the texel under the interpolated light-map UV, with that texel's
-// standard error from the store.
+// A light-textured floor: the reading is the light texture filtered bilinearly at the interpolated light-map
+// UV (as GL_LINEAR with GL_CLAMP_TO_EDGE), with the error √(Σ wᵢ² σᵢ²) of the independent texels (a texel
+// that the clamp takes twice counts once with both weights).
 TEST(LuxProbe, OnALightTextureReadsTheTexelUnderTheHit) {
   Scene s = floorScene();
   // Light-map UV u = x/2, v = −z/3 on the floor triangle: (0,0), (1,0), (0,1); a 4 × 2 texture.
@@ -182,21 +183,30 @@ TEST(LuxProbe, OnALightTextureReadsTheTexelUnderTheHit) {
   s.rdb.meshes[0].twoSided = false;
   s.rdb.meshes[0].lightTexture = 0;
   s.store.meshes[0].lightTexture = stored;
-  // (x, z) = (1.1, −0.6): u = 0.55 → column 2, v = 0.2 → row 0: texel 2, 300 lux ± 3.
+  // (x, z) = (1.1, −0.6): u = 0.55, v = 0.2, texel-centre coordinates (1.7, −0.1): columns 1 and 2 with
+  // weights 0.3 and 0.7, row 0 (the row above is clamped onto it): 0.3 · 200 + 0.7 · 300 = 270 lux,
+  // error √(0.3² · 2² + 0.7² · 3²) = √4.77.
   const std::optional<SurfaceHit> hit = pickSurface(s.rdb, down(1.1f, -0.6f));
   ASSERT_TRUE(hit);
   const std::optional<LuxReading> r = probeIlluminance(s.rdb, &s.store, *hit);
   ASSERT_TRUE(r);
   EXPECT_TRUE(r->fromLightTexture);
-  EXPECT_NEAR(r->illuminanceLuminanceLux, 300.0f, 1e-3f);
+  EXPECT_NEAR(r->illuminanceLuminanceLux, 270.0f, 1e-2f);
   ASSERT_TRUE(r->stdErrorLuminanceLux);
-  EXPECT_NEAR(*r->stdErrorLuminanceLux, 3.0f, 1e-5f);
-  // (0.3, −1.8): u = 0.15 → column 0, v = 0.6 → row 1: texel 4, 500 lux ± 5.
+  EXPECT_NEAR(*r->stdErrorLuminanceLux, std::sqrt(4.77f), 1e-4f);
+  // (0.3, −1.8): u = 0.15, v = 0.6, coordinates (0.1, 0.7): texels 0, 1, 4, 5 (100, 200, 500, 600 lux ± 1,
+  // 2, 5, 6) with weights 0.27, 0.03, 0.63, 0.07: 390 lux, error √(0.27² + 0.03²·4 + 0.63²·25 + 0.07²·36).
   const std::optional<LuxReading> r2 =
       probeIlluminance(s.rdb, &s.store, *pickSurface(s.rdb, down(0.3f, -1.8f)));
   ASSERT_TRUE(r2);
-  EXPECT_NEAR(r2->illuminanceLuminanceLux, 500.0f, 1e-3f);
-  EXPECT_NEAR(*r2->stdErrorLuminanceLux, 5.0f, 1e-5f);
+  EXPECT_NEAR(r2->illuminanceLuminanceLux, 390.0f, 1e-2f);
+  EXPECT_NEAR(*r2->stdErrorLuminanceLux, std::sqrt(0.0729f + 0.0036f + 9.9225f + 0.1764f), 1e-4f);
+  // A triangle outside the atlas (light-map UVs rdb::noLightTextureUv()) reads its vertex light map.
+  for (uint32_t v = 0; v < 3; ++v) s.rdb.lightMapUv[v] = rdb::noLightTextureUv();
+  const std::optional<LuxReading> r3 = probeIlluminance(s.rdb, &s.store, *hit);
+  ASSERT_TRUE(r3);
+  EXPECT_FALSE(r3->fromLightTexture);
+  EXPECT_NEAR(r3->illuminanceLuminanceLux, luminance(affineLux(hit->pointWorld)), 1e-2f);
 }
 
 TEST(LuxProbe, TheNearestOfTwoSurfacesIsHit) {
