@@ -84,6 +84,45 @@ static double generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texe
   return keptAreaM2 * double(uv.texelsPerMetre) * double(uv.texelsPerMetre);
 }
 
+// The share of the texels that the corner UVs' triangles cover (texel centres inside them) which more than one
+// triangle covers: TEXCOORD_1 that overlaps itself would bake two places of the surface into one texel.
+// TEXCOORD_1 with more of its texels under two triangles than this is not used as light-map UVs: 0.5 %,
+// above the centres that rounding puts on both sides of a shared edge.
+constexpr double kMaxUvOverlapShare = 0.005;
+
+static double uvOverlapShare(const std::vector<vec2>& cornerUv, uint32_t width, uint32_t height) {
+  std::vector<uint8_t> count(size_t(width) * height, 0);
+  const dvec2 size(width, height);
+  for (size_t c = 0; c + 2 < cornerUv.size(); c += 3) {
+    const dvec2 a = dvec2(cornerUv[c]) * size, b = dvec2(cornerUv[c + 1]) * size, d = dvec2(cornerUv[c + 2]) * size;
+    const double area = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
+    if (!(std::abs(area) > 0.0)) continue;
+    const int i0 = std::max(0, int(std::floor(std::min({a.x, b.x, d.x}))));
+    const int i1 = std::min(int(width) - 1, int(std::floor(std::max({a.x, b.x, d.x}))));
+    const int j0 = std::max(0, int(std::floor(std::min({a.y, b.y, d.y}))));
+    const int j1 = std::min(int(height) - 1, int(std::floor(std::max({a.y, b.y, d.y}))));
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const dvec2 p(i + 0.5, j + 0.5);
+        const double w0 = ((b.x - p.x) * (d.y - p.y) - (b.y - p.y) * (d.x - p.x)) / area;
+        const double w1 = ((d.x - p.x) * (a.y - p.y) - (d.y - p.y) * (a.x - p.x)) / area;
+        const double w2 = 1.0 - w0 - w1;
+        // Strictly inside: a centre on an edge that two neighbours share counts for neither.
+        if (w0 > 0.0 && w1 > 0.0 && w2 > 0.0) {
+          uint8_t& n = count[size_t(j) * width + size_t(i)];
+          n = uint8_t(std::min(255, n + 1));
+        }
+      }
+    }
+  }
+  size_t covered = 0, overlapped = 0;
+  for (uint8_t n : count) {
+    covered += n > 0 ? 1 : 0;
+    overlapped += n > 1 ? 1 : 0;
+  }
+  return covered > 0 ? double(overlapped) / double(covered) : 0.0;
+}
+
 TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   TraceMaterial t;
   t.diffuse = m.effective().diffuse;
@@ -456,7 +495,12 @@ class Builder {
 
   void addLightTexture(const sdb::Mesh& mesh, TraceMesh& tm) {
     tm.automaticLightTextureAllowed = !mesh.lightTexture.enabled && mesh.lightTexture.allowAutomatic;
-    if (tm.triangleCount == 0 || tm.vertexCount == 0 || !mesh.lightTexture.enabled) return;
+    if (!mesh.lightTexture.enabled) return;
+    if (tm.triangleCount == 0 || tm.vertexCount == 0) {
+      log::warn("mesh \"" + mesh.name + "\" asks for a light texture but has no triangles of non-zero area; it gets "
+                "none");
+      return;
+    }
     const float density = mesh.lightTexture.texelsPerMetre > 0.0f ? mesh.lightTexture.texelsPerMetre
                                                                   : float(scene_.bakeSettings().texelsPerMetre);
     const int maxSize = options_.lightTextureMaxSize;
@@ -488,6 +532,18 @@ class Builder {
         lt.texelsPerMetre = float(double(lt.width) * std::sqrt(uvArea / areaM2));
         lt.fromTexcoord1 = true;
         for (size_t c = 0; c < cornerCount; ++c) lt.cornerUv.push_back(mesh.uv1[corners[c] - tm.firstVertex]);
+        // Overlapping UVs (mirrored or stacked charts, a texture-painting layout) would share texels between
+        // places of the surface.
+        const double overlap = uvOverlapShare(lt.cornerUv, lt.width, lt.height);
+        if (overlap > kMaxUvOverlapShare) {
+          char share[32];
+          std::snprintf(share, sizeof share, "%.1f %%", 100.0 * overlap);
+          log::warn("mesh \"" + mesh.name + "\": TEXCOORD_1 overlaps itself (" + share +
+                    " of its texels lie under more than one triangle), so it cannot hold a light texture; "
+                    "generating light-map UVs instead");
+          lt = TraceLightTexture{};
+          lt.mesh = uint32_t(rdb_.meshes.size());
+        }
       } else {
         log::warn("mesh \"" + mesh.name + "\": TEXCOORD_1 is not usable as light-map UVs (" +
                   (inside ? "the triangles cover no area" : "coordinates outside [0, 1]") +

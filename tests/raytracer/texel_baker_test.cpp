@@ -307,6 +307,38 @@ TEST(TexelBaker, LoweringMarksMeshesForAutomaticLightTextures) {
   EXPECT_EQ(r.lightTextures[0].texelsPerMetre, 4.0f);
 }
 
+// TEXCOORD_1 that overlaps itself (two quads mapped onto the same square, as a mirrored texture layout does)
+// cannot hold a light texture: fly warns and generates light-map UVs, which never overlap.
+TEST(TexelBaker, OverlappingTexcoord1IsReplacedByGeneratedUvs) {
+  sdb::Scene s;
+  sdb::Mesh m;
+  m.name = "mirrored";
+  m.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {2, 0, 0}, {2, 0, 1}, {3, 0, 1}, {3, 0, 0}};
+  m.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+  const std::vector<vec2> square = {{0.1f, 0.1f}, {0.1f, 0.9f}, {0.9f, 0.9f}, {0.9f, 0.1f}};
+  m.uv1 = square;
+  m.uv1.insert(m.uv1.end(), square.begin(), square.end());
+  m.lightTexture = {true, 10.0f};
+  sdb::Node node;
+  node.meshes = {s.addMesh(m).id};
+  s.addNode(node);
+  const rdb::TraceRdb r = rdb::buildTraceRdb(s);
+  ASSERT_EQ(r.lightTextures.size(), 1u);
+  const rdb::TraceLightTexture& lt = r.lightTextures[0];
+  EXPECT_FALSE(lt.fromTexcoord1);
+  EXPECT_EQ(lt.cornerUv.size(), 12u);
+  // The generated atlas keeps the two quads apart: no corner UV of one lies inside the other's box.
+  vec2 lo0(1.0f), hi0(0.0f);
+  for (size_t c = 0; c < 6; ++c) {
+    lo0 = glm::min(lo0, lt.cornerUv[c]);
+    hi0 = glm::max(hi0, lt.cornerUv[c]);
+  }
+  for (size_t c = 6; c < 12; ++c) {
+    const vec2 uv = lt.cornerUv[c];
+    EXPECT_FALSE(uv.x > lo0.x && uv.x < hi0.x && uv.y > lo0.y && uv.y < hi0.y) << c;
+  }
+}
+
 // TEXCOORD_1 is used as given: a square atlas with the requested mean density.
 TEST(TexelBaker, Texcoord1IsUsedWhenPresent) {
   sdb::Scene s;
