@@ -11,6 +11,7 @@ bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float ma
   const Onb frame = onb(n);
   const vec3 origin = offsetRayOrigin(p, n, std::max(maxAbs(p), magnitudeM));
   constexpr float kGoldenAngle = 2.39996323f;
+  int backs = 0;
   for (int k = 0; k < kEnclosureRays; ++k) {
     // Equal solid angles: cos θ uniform in (0, 1), φ by the golden angle.
     const float cosTheta = 1.0f - (float(k) + 0.5f) / float(kEnclosureRays);
@@ -19,9 +20,11 @@ bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float ma
     const vec3 dir = frame.toWorld(vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
     ++rays;
     const std::optional<Hit> hit = scene.intersect(origin, dir, std::numeric_limits<float>::infinity());
-    if (!hit || !(glm::dot(dir, hit->geometricNormal) > 0.0f)) return false;
+    if (!hit) return false;  // open to the sky
+    backs += glm::dot(dir, hit->geometricNormal) > 0.0f ? 1 : 0;
+    if (kEnclosureRays - (k + 1) + backs < kEnclosureBackRays) return false;  // too many fronts already
   }
-  return true;
+  return backs >= kEnclosureBackRays;
 }
 
 }  // namespace fly::raytracer

@@ -47,7 +47,68 @@ TrianglePointAt pointOf(const rdb::TraceRdb& rdb, const EmbreeScene& scene, uint
   return {p, back ? -n : n};
 }
 
+// Emitters as point sources for the analysis: each emissive triangle (the brightest kMaxEmitterTriangles by
+// luminance × area) split into 4 parts, each a Lambertian point at its centroid with the part's L·A (cd/m² ×
+// m² = cd at normal emission). Deterministic; near an emitter it overstates the variation, which only gives
+// such a surface texels.
+constexpr size_t kMaxEmitterTriangles = 64;
+struct EmitterPoint {
+  vec3 pM;
+  vec3 normal;        // unit, the emitting front
+  bool bothSides;     // a double-sided emitter emits from both faces
+  Rgb intensityCd;    // L · A of the part
+  float minDistM2;    // its area: distances below its size are clamped to it
+};
+
+std::vector<EmitterPoint> emitterPoints(const rdb::TraceRdb& rdb, const EmbreeScene& scene) {
+  std::vector<std::pair<float, uint32_t>> byPower;
+  for (uint32_t t : rdb.emissiveTriangles) {
+    const rdb::TraceMaterial& m = rdb.materials[rdb.triangleMaterial[t]];
+    const float power = luminance(m.emissionCdM2) * scene.triangleAreaM2(t);
+    if (power > 0.0f && std::isfinite(power)) byPower.emplace_back(power, t);
+  }
+  std::stable_sort(byPower.begin(), byPower.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (byPower.size() > kMaxEmitterTriangles) byPower.resize(kMaxEmitterTriangles);
+  std::vector<EmitterPoint> out;
+  const vec3 parts[4] = {{2.0f / 3, 1.0f / 6, 1.0f / 6}, {1.0f / 6, 2.0f / 3, 1.0f / 6}, {1.0f / 6, 1.0f / 6, 2.0f / 3},
+                         {1.0f / 3, 1.0f / 3, 1.0f / 3}};
+  for (const auto& [power, t] : byPower) {
+    const rdb::TraceMaterial& m = rdb.materials[rdb.triangleMaterial[t]];
+    const float areaM2 = scene.triangleAreaM2(t) / 4.0f;
+    for (const vec3& b : parts) {
+      vec3 p(0.0f);
+      for (int k = 0; k < 3; ++k) p += b[k] * rdb.positionsM[rdb.indices[3 * size_t(t) + size_t(k)]];
+      out.push_back({p, scene.triangleNormal(t), m.doubleSided, m.emissionCdM2 * areaM2, areaM2});
+    }
+  }
+  return out;
+}
+
+// The emitters' direct irradiance at p (normal n), lux, with one shadow ray each.
+Rgb emitterIrradiance(const EmbreeScene& scene, const std::vector<EmitterPoint>& emitters, const vec3& p,
+                      const vec3& n, float magnitudeM, uint64_t& rays) {
+  Rgb sum(0.0f);
+  const vec3 origin = offsetRayOrigin(p, n, std::max(maxAbs(p), magnitudeM));
+  for (const EmitterPoint& e : emitters) {
+    const vec3 toEmitter = e.pM - p;
+    const float d2 = glm::dot(toEmitter, toEmitter);
+    if (!(d2 > 0.0f)) continue;
+    const float d = std::sqrt(d2);
+    const vec3 dir = toEmitter / d;
+    const float cosReceiver = glm::dot(n, dir);
+    float cosEmitter = -glm::dot(e.normal, dir);
+    if (e.bothSides) cosEmitter = std::abs(cosEmitter);
+    if (!(cosReceiver > 0.0f) || !(cosEmitter > 0.0f)) continue;
+    ++rays;
+    // Stop short of the emitter's own surface.
+    if (scene.occluded(origin, dir, d * (1.0f - 1e-3f))) continue;
+    sum += e.intensityCd * (cosEmitter * cosReceiver / std::max(d2, e.minDistM2));
+  }
+  return sum;
+}
+
 TriangleResult examine(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator,
+                       const std::vector<EmitterPoint>& emitters,
                        const LightResolutionSettings& s, bool directLights, uint32_t t, bool twoSided,
                        uint64_t& rays) {
   TriangleResult r;
@@ -76,7 +137,8 @@ TriangleResult examine(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const
     float cornerLux[3];
     for (int i = 0; i < 3; ++i) {
       const TrianglePointAt q = pointOf(rdb, scene, t, corners[i], back);
-      cornerLux[i] = luminance(integrator.deltaDirectIrradiance(q.p, q.n, rays, magnitudeM));
+      cornerLux[i] = luminance(integrator.deltaDirectIrradiance(q.p, q.n, rays, magnitudeM) +
+                               emitterIrradiance(scene, emitters, q.p, q.n, magnitudeM, rays));
       r.maxDirectLux = std::max(r.maxDirectLux, cornerLux[i]);
     }
     // Centroids of the k² sub-triangles of the lattice that splits each edge into k.
@@ -87,7 +149,8 @@ TriangleResult examine(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const
           const float v = (float(j) + (up ? 2.0f : 1.0f) / 3.0f) / float(k);
           const vec3 bary(1.0f - u - v, u, v);
           const TrianglePointAt q = pointOf(rdb, scene, t, bary, back);
-          const float e = luminance(integrator.deltaDirectIrradiance(q.p, q.n, rays, magnitudeM));
+          const float e = luminance(integrator.deltaDirectIrradiance(q.p, q.n, rays, magnitudeM) +
+                                    emitterIrradiance(scene, emitters, q.p, q.n, magnitudeM, rays));
           const float interpolated = bary.x * cornerLux[0] + bary.y * cornerLux[1] + bary.z * cornerLux[2];
           const float scale = std::max(e, interpolated);
           r.maxDirectLux = std::max(r.maxDirectLux, e);
@@ -128,7 +191,8 @@ std::vector<MeshLightResolution> analyseLightResolution(const rdb::TraceRdb& rdb
         tm.triangleCount > 0)
       meshes.push_back(m);
   }
-  const bool directLights = integrator.hasSun() || !rdb.punctualLights.empty();
+  const std::vector<EmitterPoint> emitters = emitterPoints(rdb, scene);
+  const bool directLights = integrator.hasSun() || !rdb.punctualLights.empty() || !emitters.empty();
   // Every examined triangle, in mesh order, so that the work is split into equal blocks.
   std::vector<uint32_t> triangles;
   std::vector<uint8_t> twoSided;
@@ -149,7 +213,7 @@ std::vector<MeshLightResolution> analyseLightResolution(const rdb::TraceRdb& rdb
     for (size_t begin; (begin = next.fetch_add(kBlock)) < triangles.size();) {
       const size_t end = std::min(triangles.size(), begin + kBlock);
       for (size_t i = begin; i < end; ++i)
-        results[i] = examine(rdb, scene, integrator, settings, directLights, triangles[i], twoSided[i] != 0,
+        results[i] = examine(rdb, scene, integrator, emitters, settings, directLights, triangles[i], twoSided[i] != 0,
                              threadRays[w]);
     }
   };
@@ -188,8 +252,9 @@ std::vector<MeshLightResolution> analyseLightResolution(const rdb::TraceRdb& rdb
     if (res.needsTexels) {
       std::string why;
       if (res.directVariationAreaM2 > 0.0) {
-        why = (integrator.hasSun() ? (rdb.punctualLights.empty() ? "sun patches or shadow edges"
-                                                                 : "sun patches, shadows or lamp pools")
+        why = (integrator.hasSun() ? (rdb.punctualLights.empty() && emitters.empty()
+                                          ? "sun patches or shadow edges"
+                                          : "sun patches, shadows or lamp pools")
                                    : "lamp pools or shadow edges") +
               std::string(" on ") + areaText(res.directVariationAreaM2);
       }

@@ -1,8 +1,9 @@
 // Where vertex light maps cannot carry the light, and which meshes therefore get automatic light textures.
 // A vertex light map is linear across each triangle: it shows a sun patch, a shadow edge or the pool under a
 // lamp only where vertices lie closer together than the pattern. For every triangle larger than two texels,
-// the direct light of the sun's disc centre and of the punctual lights (Integrator::deltaDirectIrradiance:
-// noise-free, one shadow ray per light) is evaluated at its corners and on a lattice inside it; a triangle
+// the direct light of the sun's disc centre, of the punctual lights (Integrator::deltaDirectIrradiance:
+// noise-free, one shadow ray per light) and of the emitters (each emissive triangle as four Lambertian point
+// sources, the 64 brightest triangles) is evaluated at its corners and on a lattice inside it; a triangle
 // whose interior differs from the corners' linear interpolation by more than a relative tolerance cannot be
 // shown by its vertices. Triangles with an edge of a metre or more are counted too: sky light, reflected light
 // and emitters vary over such distances (corners, the light falling off from a window). A mesh with enough

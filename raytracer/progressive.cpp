@@ -169,8 +169,8 @@ class Accumulators {
 };
 
 // The relative standard error of luminance: ∞ for an error on a zero (or undefined) mean, 0 for neither.
-float relativeErrorOf(const IrradianceEstimate& e) {
-  const float mean = luminance(e.meanLux);
+float relativeErrorOf(const IrradianceEstimate& e, float darkFloorLux = 0.0f) {
+  const float mean = std::max(luminance(e.meanLux), darkFloorLux);
   const float err = luminance(e.stdErrorLux);
   const float rel = mean > 0.0f ? err / mean : (err > 0.0f ? std::numeric_limits<float>::infinity() : 0.0f);
   return std::isnan(rel) ? std::numeric_limits<float>::infinity() : rel;
@@ -185,12 +185,25 @@ float nearestRankQuantile(std::vector<float>& values, double p) {
   return values[k];
 }
 
-// Over the points not hidden (hidden: one flag per point, or empty for none).
-float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates, const std::vector<uint8_t>& hidden) {
+// The irradiance below which a point's error counts relative to it rather than to its own (kDarkShare of the
+// 95th percentile of the points' irradiance, hidden points left out).
+float darkFloorLux(const std::vector<IrradianceEstimate>& estimates, const std::vector<uint8_t>& hidden) {
+  std::vector<float> lux;
+  lux.reserve(estimates.size());
+  for (size_t i = 0; i < estimates.size(); ++i) {
+    if (hidden.empty() || !hidden[i]) lux.push_back(luminance(estimates[i].meanLux));
+  }
+  return kDarkShare * nearestRankQuantile(lux, 0.95);
+}
+
+// Over the points not hidden (hidden: one flag per point, or empty for none), errors of points darker than
+// darkFloorLux relative to it.
+float relativeErrorP95(const std::vector<IrradianceEstimate>& estimates, const std::vector<uint8_t>& hidden,
+                       float darkFloor) {
   std::vector<float> rel;
   rel.reserve(estimates.size());
   for (size_t i = 0; i < estimates.size(); ++i) {
-    if (hidden.empty() || !hidden[i]) rel.push_back(relativeErrorOf(estimates[i]));
+    if (hidden.empty() || !hidden[i]) rel.push_back(relativeErrorOf(estimates[i], darkFloor));
   }
   return rel.empty() ? 0.0f : nearestRankQuantile(rel, 0.95);
 }
@@ -259,7 +272,7 @@ void settleGroups(const EstimateResult& result, const Accumulators& acc, const E
   std::vector<std::vector<float>> errors(acc.groupCount());
   for (size_t i = 0; i < result.points.size(); ++i) {
     if (!acc.settled(i) && (hidden.empty() || !hidden[i]))
-      errors[acc.groupOf(i)].push_back(relativeErrorOf(result.points[i]));
+      errors[acc.groupOf(i)].push_back(relativeErrorOf(result.points[i], result.darkFloorLux));
   }
   state.settledSamples.resize(acc.groupCount(), 0);
   for (uint32_t g = 0; g < acc.groupCount(); ++g) {
@@ -406,7 +419,8 @@ EstimateResult estimateProgressively(const SampleSource& source, const EstimateS
   result.replicates = replicates;
   auto fillResult = [&](uint32_t total) {
     acc.estimates(result.points);
-    result.relativeErrorP95 = relativeErrorP95(result.points, hidden);
+    result.darkFloorLux = darkFloorLux(result.points, hidden);
+    result.relativeErrorP95 = relativeErrorP95(result.points, hidden, result.darkFloorLux);
     result.samplesPerPoint = total;
   };
   if (state.samplesPerPoint > 0) fillResult(state.samplesPerPoint);

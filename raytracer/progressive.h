@@ -117,6 +117,14 @@ struct EstimateSettings {
   float allocationFraction = 0.0f;
 };
 
+// What the stopping rule and the settled groups count as dark: a point whose irradiance is below this share
+// of the 95th percentile of all points' irradiance (hidden ones left out) has its standard error taken
+// relative to that level instead of its own (a relative and an absolute tolerance, as numerical integrators
+// combine them). 10⁻⁴ is 13 stops: in a picture exposed for the bright surfaces it is black, and its relative
+// error, however large, is invisible; a lamp's unlit underside at 10⁻⁵ lx beside 30 lx surfaces would
+// otherwise hold a bake back for ever. Reported errors are unchanged.
+inline constexpr float kDarkShare = 1e-4f;
+
 // The allocation fraction of `fly bake` (EstimateSettings::allocationFraction), measured on the house
 // (docs/benchmarks.md, "Sample allocation by error").
 inline constexpr float kBakeAllocationFraction = 0.7f;
@@ -158,7 +166,8 @@ struct EstimateResult {
   std::vector<IrradianceEstimate> points;
   uint32_t replicates = 0;  // as replicatesFor()
   uint32_t samplesPerPoint = 0;
-  float relativeErrorP95 = 0.0f;  // of luminance, after the last pass
+  float relativeErrorP95 = 0.0f;  // of luminance, after the last pass (dark points against darkFloorLux)
+  float darkFloorLux = 0.0f;      // kDarkShare of the 95th percentile of the points' irradiance
   uint64_t rays = 0;
   double seconds = 0.0;
 };
