@@ -131,6 +131,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     // Vertex sides inside closed objects (raytracer/enclosure.h), tested from the vertex along its normal.
     hidden_.assign(pointVertex_.size(), 0);
     uint64_t rays = 0;
+    const float reachM = enclosureReachM(rdb);
     for (size_t i = 0; i < pointVertex_.size(); ++i) {
       const uint32_t v = pointVertex_[i];
       const uint32_t t = ringTriangles_[ringOffsets_[v]];
@@ -138,7 +139,7 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
       vec3 n = rdb.normals.empty() ? ng : rdb.normals[v];
       n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
       if (isBack(i)) n = -n;
-      hidden_[i] = isEnclosed(scene, rdb.positionsM[v], n, scene.triangleMagnitudeM(t), rays) ? 1 : 0;
+      hidden_[i] = isEnclosed(scene, rdb.positionsM[v], n, scene.triangleMagnitudeM(t), reachM, rays) ? 1 : 0;
     }
   }
 

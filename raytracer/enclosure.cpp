@@ -7,7 +7,16 @@
 
 namespace fly::raytracer {
 
-bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float magnitudeM, uint64_t& rays) {
+float enclosureReachM(const rdb::TraceRdb& rdb) {
+  Bounds3 bounds;
+  for (const vec3& q : rdb.positionsM) bounds.extend(q);
+  const float diagonal = rdb.positionsM.empty() ? 0.0f : glm::length(bounds.max - bounds.min);
+  return std::isfinite(diagonal) ? kEnclosureReachShare * diagonal : 0.0f;
+}
+
+bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float magnitudeM, float reachM,
+                uint64_t& rays) {
+  if (!(reachM > 0.0f)) return false;
   const Onb frame = onb(n);
   const vec3 origin = offsetRayOrigin(p, n, std::max(maxAbs(p), magnitudeM));
   constexpr float kGoldenAngle = 2.39996323f;
@@ -19,8 +28,8 @@ bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float ma
     const float phi = kGoldenAngle * float(k);
     const vec3 dir = frame.toWorld(vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
     ++rays;
-    const std::optional<Hit> hit = scene.intersect(origin, dir, std::numeric_limits<float>::infinity());
-    if (!hit) return false;  // open to the sky
+    const std::optional<Hit> hit = scene.intersect(origin, dir, reachM);
+    if (!hit) return false;  // open: nothing within reach
     backs += glm::dot(dir, hit->geometricNormal) > 0.0f ? 1 : 0;
     if (kEnclosureRays - (k + 1) + backs < kEnclosureBackRays) return false;  // too many fronts already
   }

@@ -8,6 +8,7 @@
 
 #include "base/math.h"
 #include "raytracer/embree_scene.h"
+#include "rdb/trace_rdb.h"
 
 namespace fly::raytracer {
 
@@ -17,9 +18,19 @@ inline constexpr int kEnclosureRays = 16;
 // shade): from inside the outer one, the inner one's outside shows its fronts.
 inline constexpr int kEnclosureBackRays = 12;
 
+// An enclosure is small: every ray meets a surface within this share of the scene's diagonal (2.5 %: a
+// stem's or wall block's inside, not a hall modelled with its normals facing out, whose inside shows the
+// backs of its walls too and which a camera inside sees).
+inline constexpr float kEnclosureReachShare = 0.025f;
+
+// kEnclosureReachShare of the diagonal of the box around rdb's vertices, metres.
+float enclosureReachM(const rdb::TraceRdb& rdb);
+
 // Whether every one of kEnclosureRays rays from p (on a surface, world metres) into the hemisphere of unit
-// normal n meets a surface, and at least kEnclosureBackRays of them its back. magnitudeM as EmbreeScene's rayOffsetM takes it (the triangle's
-// EmbreeScene::triangleMagnitudeM). rays grows by the rays traced (at most kEnclosureRays).
-bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float magnitudeM, uint64_t& rays);
+// normal n meets a surface within reachM, and at least kEnclosureBackRays of them its back. magnitudeM as
+// EmbreeScene's rayOffsetM takes it (the triangle's EmbreeScene::triangleMagnitudeM). rays grows by the rays
+// traced (at most kEnclosureRays).
+bool isEnclosed(const EmbreeScene& scene, const vec3& p, const vec3& n, float magnitudeM, float reachM,
+                uint64_t& rays);
 
 }  // namespace fly::raytracer

@@ -154,6 +154,7 @@ void makeSeamsAgree(const std::vector<SeamPoint>& seam, std::vector<Rgb>& lux) {
 
 TexelSource::TexelSource(const rdb::TraceRdb& rdb, const EmbreeScene& scene, const Integrator& integrator)
     : rdb_(rdb), scene_(scene), integrator_(integrator) {
+  reachM_ = enclosureReachM(rdb);
   interiorBackFace_.assign(rdb.triangleCount(), false);
   for (const rdb::TraceMesh& m : rdb.meshes) {
     for (uint32_t t = m.firstTriangle; t < m.firstTriangle + m.triangleCount && t < rdb.triangleCount();
@@ -306,8 +307,8 @@ void TexelSource::placeAnchor(Texel& texel, bool twoSided) {
     Texel t = texel;
     const vec3 front = anchorAt(t, candidates[c].first, candidates[c].second);
     const float magnitude = std::max(scene_.triangleMagnitudeM(t.anchorTriangle), maxAbs(t.anchorM));
-    t.enclosed[0] = isEnclosed(scene_, t.anchorM, front, magnitude, rays);
-    t.enclosed[1] = !twoSided || isEnclosed(scene_, t.anchorM, -front, magnitude, rays);
+    t.enclosed[0] = isEnclosed(scene_, t.anchorM, front, magnitude, reachM_, rays);
+    t.enclosed[1] = !twoSided || isEnclosed(scene_, t.anchorM, -front, magnitude, reachM_, rays);
     if (c == 0 || !(t.enclosed[0] && t.enclosed[1])) texel = t;
     if (!(t.enclosed[0] && t.enclosed[1])) break;
   }

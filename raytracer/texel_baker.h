@@ -162,6 +162,7 @@ class TexelSource final : public SampleSource {
   std::vector<Point> points_;    // fronts, then backs of two-sided meshes
   std::vector<std::vector<uint8_t>> touched_;  // per texture, per texel: a triangle touches it
   std::vector<bool> interiorBackFace_;  // per TraceRdb triangle: its back face is the inside of an object
+  float reachM_ = 0.0f;                 // enclosureReachM of the scene
 };
 
 }  // namespace fly::raytracer
