@@ -3,6 +3,7 @@
 // Radiance's rtrace -I). `--grid HEIGHT,SPACING` instead places the sensors on a work plane over every floor
 // (raytracer/sensor_grid.h), and `--image plan.png` draws them as a false-colour plan (cli/plan_image.h).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -38,6 +39,7 @@ struct IlluminanceOptions {
 };
 
 int runIlluminance(const IlluminanceOptions& o) {
+  const auto commandStart = std::chrono::steady_clock::now();
   const GridSpec grid = parseSensorOptions(o.points, o.grid, o.area);  // bad values fail before the load
   o.image.check(!o.grid.empty());
   const LitScene lit = loadLitScene(o.scene, o.daylight);
@@ -55,6 +57,13 @@ int runIlluminance(const IlluminanceOptions& o) {
   const PlanStoreys storeys = o.image.path.empty() ? PlanStoreys{} : planStoreys(o.image, gridded);
   const raytracer::IntegratorSettings integratorOptions = integratorSettings(o.sampling, scene.bakeSettings());
   const raytracer::Integrator integrator(rdb, embree, integratorOptions);
+  // --time is the command's wall-clock limit: loading, the sensors' placement and the integrator's training
+  // come out of it, and a second is kept for writing the table and the plan.
+  if (std::isfinite(settings.timeLimitS)) {
+    const double elapsedS =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - commandStart).count();
+    settings.timeLimitS = std::max(0.0, settings.timeLimitS - elapsedS - 1.0);
+  }
   const raytracer::EstimateResult result =
       raytracer::estimateIrradiance(integrator, sensors.positionsM, sensors.normals, settings);
   if (integratorOptions.maxBounces < raytracer::kPathLengthGuard) {
