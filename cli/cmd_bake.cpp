@@ -353,6 +353,16 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
                    tex.mesh, tex.emptyTexels);
     }
   }
+  // A limit shorter than the first pass: every point must take it (16 samples by default), so it ran over.
+  if (std::isfinite(settings.estimate.timeLimitS) && !loaded && secondsSince(commandStart) > settings.estimate.timeLimitS &&
+      maps.history.size() == 1) {
+    std::fprintf(stderr,
+                 "warning: the first pass (%u samples per vertex and texel) alone took %.1f s, more than the %s "
+                 "limit; a bake cannot stop before it: give more time, or fewer points (a lower "
+                 "bake.texelsPerMetre, --no-automatic-light-textures)\n",
+                 maps.history.front().samples, maps.history.front().seconds,
+                 formatSeconds(settings.estimate.timeLimitS).c_str());
+  }
   // Points inside closed objects (raytracer/enclosure.h): reported apart, out of the error.
   size_t hiddenSides = 0, hiddenTexels = 0, hiddenObjects = 0;
   for (size_t i = 0; i < rdb.meshes.size(); ++i) {
