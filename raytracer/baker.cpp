@@ -128,18 +128,26 @@ class OneRingSource final : public SampleSourceOf<OneRingSource> {
     for (size_t i = 0; i < frontCount_; ++i) {
       if (twoSided_[pointVertex_[i]]) pointVertex_.push_back(pointVertex_[i]);
     }
-    // Vertex sides inside closed objects (raytracer/enclosure.h), tested from the vertex along its normal.
+    // Vertex sides inside closed objects (raytracer/enclosure.h), tested along the vertex's normal from
+    // half-way between it and its ring's centroid: from a corner itself, rays slip out along the edges.
     hidden_.assign(pointVertex_.size(), 0);
     uint64_t rays = 0;
     const float reachM = enclosureReachM(rdb);
     for (size_t i = 0; i < pointVertex_.size(); ++i) {
       const uint32_t v = pointVertex_[i];
       const uint32_t t = ringTriangles_[ringOffsets_[v]];
+      vec3 centroid(0.0f);
+      for (uint32_t j = ringOffsets_[v]; j < ringOffsets_[v + 1]; ++j) {
+        const uint32_t* c = &rdb.indices[3 * size_t{ringTriangles_[j]}];
+        centroid += (rdb.positionsM[c[0]] + rdb.positionsM[c[1]] + rdb.positionsM[c[2]]) / 3.0f;
+      }
+      centroid /= float(ringOffsets_[v + 1] - ringOffsets_[v]);
       const vec3& ng = scene.triangleNormal(t);
       vec3 n = rdb.normals.empty() ? ng : rdb.normals[v];
       n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
       if (isBack(i)) n = -n;
-      hidden_[i] = isEnclosed(scene, rdb.positionsM[v], n, scene.triangleMagnitudeM(t), reachM, rays) ? 1 : 0;
+      const vec3 p = glm::mix(rdb.positionsM[v], centroid, 0.5f);
+      hidden_[i] = isEnclosed(scene, p, n, scene.triangleMagnitudeM(t), reachM, rays) ? 1 : 0;
     }
   }
 

@@ -652,5 +652,38 @@ TEST(Baker, CoincidentVerticesOfTilesShareOneEstimate) {
   EXPECT_EQ(shared, 9u * 6u + 12u);  // pairs: 9 inner positions of 4 corners, 12 edge ones of 2
 }
 
+// The spread of the sun's direct samples over a vertex's ring (VertexLightMaps::frontSunDirectSpreadLux) is
+// the standard deviation of E_sunDirect over the ring under the hat weight: with E_sunDirect = S on the lit
+// part and 0 in the roof's shadow, S √(f (1 − f)) for the ring's hat-weighted lit share f (quadrature). 0 on
+// rings wholly lit or wholly shaded; largest, S/2, where the shadow's edge halves the ring.
+TEST(Baker, SunDirectSpreadIsTheSunsVariationOverTheRing) {
+  MeshBuilder b;
+  const uint32_t grey = b.material(Rgb(0.5f));
+  b.ground(2.0f, 10, grey);
+  b.grid(vec3(-2.0f, 1.0f, -2.0f), vec3(2.0f, 0, 0), vec3(0, 0, 4.0f), 2, grey);  // roof over x ∈ [−2, 0]
+  const vec3 towardsSun = glm::normalize(vec3(-0.6f, 1.0f, 0.2f));
+  const float normalLux = 50000.0f;
+  b.sun(towardsSun, Rgb(normalLux));
+  const auto lit = [&](const vec3& p) {
+    const float t = (1.0f - p.y) / towardsSun.y;
+    const vec3 q = p + t * towardsSun;
+    return !(q.x >= -2.0f && q.x <= 0.0f && q.z >= -2.0f && q.z <= 2.0f);
+  };
+  const std::vector<double> f = hatAverages(b.rdb, [&](const vec3& p) { return lit(p) ? 1.0 : 0.0; }, 100);
+  const VertexLightMaps maps = bake(b.rdb, 1024, 8);
+  ASSERT_EQ(maps.frontSunDirectSpreadLux.size(), b.rdb.positionsM.size());
+  const double sunLux = double(normalLux) * double(towardsSun.y);
+  size_t edges = 0;
+  for (uint32_t v = 0; v < b.rdb.meshes[0].vertexCount; ++v) {
+    const double exact = sunLux * std::sqrt(std::max(0.0, f[v] * (1.0 - f[v])));
+    const double spread = maps.frontSunDirectSpreadLux[v].g;
+    // A standard deviation from 1024 samples: within ~3 % (1/√(2n)); 10 %, plus what sampling the sun's
+    // disc adds where the ring is wholly lit (cos θ over the disc: 0.15 % of S).
+    EXPECT_NEAR(spread, exact, 0.1 * exact + 3e-3 * sunLux) << "vertex " << v << ", lit share " << f[v];
+    edges += f[v] > 0.05 && f[v] < 0.95 ? 1 : 0;
+  }
+  EXPECT_GE(edges, 5u);  // the comparison covers rings that the shadow's edge crosses
+}
+
 }  // namespace
 }  // namespace fly::raytracer

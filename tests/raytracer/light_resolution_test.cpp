@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "rdb/trace_rdb_build.h"
 #include "rdb/trace_rdb_builder.h"
 
 namespace fly::raytracer {
@@ -111,6 +112,23 @@ TEST(LightResolution, LampPoolsNeedTexels) {
   EXPECT_GE(checked, 1u);
 }
 
+// An emitter (a 20 cm luminous panel 1 m above the floor, facing down) pools its light like a lamp: the tiles
+// under it need texels; without the panel nothing does.
+TEST(LightResolution, EmitterPoolsNeedTexels) {
+  for (bool withPanel : {true, false}) {
+    Builder b;
+    floorTiles(b, b.material(Rgb(0.5f)));
+    if (withPanel) {
+      const uint32_t panel = b.material(Rgb(0.0f), Rgb(10000.0f));
+      b.grid(vec3(-0.1f, 1.0f, -0.1f), vec3(0.2f, 0, 0), vec3(0, 0, 0.2f), 1, panel);  // faces −Y
+    }
+    const auto r = analyse(b.rdb);
+    ASSERT_GE(r.size(), 1u);
+    EXPECT_EQ(r[0].needsTexels, withPanel);
+    if (withPanel) EXPECT_NE(r[0].reason.find("lamp pools"), std::string::npos) << r[0].reason;
+  }
+}
+
 // Without direct light, triangles with an edge ≥ 1 m need texels (sky and reflected light vary over such
 // distances); 5 cm detail is never examined; "lightTexture": false keeps a mesh out.
 TEST(LightResolution, LargeTrianglesAndDetail) {
@@ -163,6 +181,50 @@ TEST(LightResolution, AddsAutomaticLightTexturesInMeshOrder) {
   EXPECT_EQ(b.rdb.meshes[0].lightTexture, rdb::TraceMesh::kNoLightTexture);
   EXPECT_EQ(b.rdb.meshes[1].lightTexture, 0u);
   EXPECT_EQ(b.rdb.meshes[2].lightTexture, 1u);
+}
+
+// Within an automatic light texture, a chart whose triangles are denser than its texels (fewer than
+// kMinTexelsPerTriangle each: a bevel, a curved detail) stays on the vertex light map: its corners get
+// noLightTextureUv(); the large chart is in the atlas. A mesh with only such charts gets no texture.
+TEST(LightResolution, ChartsFinerInVerticesThanTexelsKeepTheirVertexMaps) {
+  Builder b;
+  const uint32_t mat = b.material(Rgb(0.5f));
+  b.ground(2.0f, 1, mat);  // a 4 m floor of 2 triangles: 6 400 texels at 20 texels/m
+  rdb::TraceMesh& floor = b.rdb.meshes[0];
+  // A vertical strip of 10 × 10 quads, 1 cm each, standing on the floor, in the same mesh: a chart of its
+  // own (perpendicular to the floor) with 0.02 texels per triangle.
+  const uint32_t first = uint32_t(b.rdb.positionsM.size());
+  for (uint32_t j = 0; j <= 10; ++j)
+    for (uint32_t i = 0; i <= 10; ++i) {
+      b.rdb.positionsM.push_back(vec3(0.01f * float(i), 0.01f * float(j), 0.0f));
+      b.rdb.normals.push_back(vec3(0, 0, 1));
+    }
+  for (uint32_t j = 0; j < 10; ++j)
+    for (uint32_t i = 0; i < 10; ++i) {
+      const uint32_t v = first + j * 11 + i;
+      b.rdb.indices.insert(b.rdb.indices.end(), {v, v + 1, v + 12, v, v + 12, v + 11});
+      b.rdb.triangleMaterial.insert(b.rdb.triangleMaterial.end(), {mat, mat});
+    }
+  floor.vertexCount = uint32_t(b.rdb.positionsM.size()) - floor.firstVertex;
+  floor.triangleCount = uint32_t(b.rdb.triangleCount()) - floor.firstTriangle;
+  const rdb::TraceLightTexture* lt = rdb::addAutomaticLightTexture(b.rdb, 0, 20.0f, 512, 2);
+  ASSERT_NE(lt, nullptr);
+  for (uint32_t t = 0; t < floor.triangleCount; ++t) {
+    for (uint32_t c = 0; c < 3; ++c) {
+      const vec2 uv = lt->cornerUv[3 * size_t(t) + c];
+      if (t < 2) {
+        EXPECT_TRUE(rdb::inLightTexture(uv) && uv.x < 1.0f && uv.y > 0.0f && uv.y < 1.0f) << "floor " << t;
+      } else {
+        EXPECT_EQ(uv, rdb::noLightTextureUv()) << "strip triangle " << t;
+      }
+    }
+  }
+  EXPECT_GE(lt->width, 80u);  // 4 m at 20 texels/m
+  // The strip alone: no texture at all.
+  Builder strip;
+  strip.grid(vec3(0.0f), vec3(0.1f, 0, 0), vec3(0, 0.1f, 0), 10, strip.material(Rgb(0.5f)));
+  EXPECT_EQ(rdb::addAutomaticLightTexture(strip.rdb, 0, 20.0f, 512, 2), nullptr);
+  EXPECT_TRUE(strip.rdb.lightTextures.empty());
 }
 
 }  // namespace
