@@ -307,22 +307,31 @@ TEST(TexelBaker, LoweringMarksMeshesForAutomaticLightTextures) {
   EXPECT_EQ(r.lightTextures[0].texelsPerMetre, 4.0f);
 }
 
-// TEXCOORD_1 that overlaps itself (two quads mapped onto the same square, as a mirrored texture layout does)
-// cannot hold a light texture: fly warns and generates light-map UVs, which never overlap.
-TEST(TexelBaker, OverlappingTexcoord1IsReplacedByGeneratedUvs) {
+// A scene of one mesh with TEXCOORD_1 that asks for a light texture of 10 texels/m, lowered.
+rdb::TraceRdb lowerMeshWithTexcoord1(std::vector<vec3> positions, std::vector<uint32_t> indices,
+                                     std::vector<vec2> uv1) {
   sdb::Scene s;
   sdb::Mesh m;
-  m.name = "mirrored";
-  m.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {2, 0, 0}, {2, 0, 1}, {3, 0, 1}, {3, 0, 0}};
-  m.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
-  const std::vector<vec2> square = {{0.1f, 0.1f}, {0.1f, 0.9f}, {0.9f, 0.9f}, {0.9f, 0.1f}};
-  m.uv1 = square;
-  m.uv1.insert(m.uv1.end(), square.begin(), square.end());
+  m.name = "panel";
+  m.positions = std::move(positions);
+  m.indices = std::move(indices);
+  m.uv1 = std::move(uv1);
   m.lightTexture = {true, 10.0f};
   sdb::Node node;
   node.meshes = {s.addMesh(m).id};
   s.addNode(node);
-  const rdb::TraceRdb r = rdb::buildTraceRdb(s);
+  return rdb::buildTraceRdb(s);
+}
+
+// TEXCOORD_1 that overlaps itself (two quads mapped onto the same square, as a mirrored texture layout does)
+// cannot hold a light texture: fly warns and generates light-map UVs, which never overlap.
+TEST(TexelBaker, OverlappingTexcoord1IsReplacedByGeneratedUvs) {
+  const std::vector<vec2> square = {{0.1f, 0.1f}, {0.1f, 0.9f}, {0.9f, 0.9f}, {0.9f, 0.1f}};
+  std::vector<vec2> uv1 = square;
+  uv1.insert(uv1.end(), square.begin(), square.end());
+  const rdb::TraceRdb r = lowerMeshWithTexcoord1(
+      {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {2, 0, 0}, {2, 0, 1}, {3, 0, 1}, {3, 0, 0}},
+      {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7}, uv1);
   ASSERT_EQ(r.lightTextures.size(), 1u);
   const rdb::TraceLightTexture& lt = r.lightTextures[0];
   EXPECT_FALSE(lt.fromTexcoord1);
@@ -341,17 +350,9 @@ TEST(TexelBaker, OverlappingTexcoord1IsReplacedByGeneratedUvs) {
 
 // TEXCOORD_1 is used as given: a square atlas with the requested mean density.
 TEST(TexelBaker, Texcoord1IsUsedWhenPresent) {
-  sdb::Scene s;
-  sdb::Mesh m;
-  m.name = "panel";
-  m.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}};  // 1 m², facing up
-  m.indices = {0, 1, 2, 0, 2, 3};
-  m.uv1 = {{0.0f, 0.0f}, {0.0f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.0f}};  // a quarter of the atlas
-  m.lightTexture = {true, 10.0f};
-  sdb::Node node;
-  node.meshes = {s.addMesh(m).id};
-  s.addNode(node);
-  const rdb::TraceRdb r = rdb::buildTraceRdb(s);
+  // 1 m², facing up, over a quarter of the atlas.
+  const rdb::TraceRdb r = lowerMeshWithTexcoord1({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, {0, 1, 2, 0, 2, 3},
+                                                 {{0.0f, 0.0f}, {0.0f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.0f}});
   ASSERT_EQ(r.lightTextures.size(), 1u);
   const rdb::TraceLightTexture& lt = r.lightTextures[0];
   EXPECT_TRUE(lt.fromTexcoord1);
