@@ -151,7 +151,6 @@ struct TraceLightTexture {
   std::string automaticReason;  // why, in words, for the bake's summary and manifest (automatic only)
   bool fromTexcoord1 = false;   // the UVs are the SDB mesh's TEXCOORD_1, else generated (rdb/lightmap_uv.h)
   bool densityReduced = false;  // generated UVs at less than the requested density, to fit the atlas
-  uint32_t chartCount = 0;      // generated UVs: charts in the atlas
   // Light-map UV per triangle corner: 3 per triangle of the mesh, in TraceMesh triangle order. Corners of one
   // vertex differ where charts meet (seams). A triangle whose corners are noLightTextureUv() is not in the
   // atlas: it shows its vertex light map (automatic textures leave out charts finer in vertices than texels).

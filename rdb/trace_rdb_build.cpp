@@ -25,8 +25,9 @@ namespace fly::rdb {
 // Unless allCharts, a chart whose triangles are at least as dense as its texels would be (fewer than
 // kMinTexelsPerTriangle texels per triangle: a curved detail, a bevel, a finely tessellated patch) is left
 // out of the atlas: its vertex light maps carry its light at least as finely, and a texel would average over
-// its differently turned triangles. Its corners get noLightTextureUv(). Returns the area in texels.
-static double generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texelsPerMetre, int maxSize,
+// its differently turned triangles. Its corners get noLightTextureUv(); when every chart is left out, lt's
+// atlas is 0 × 0.
+static void generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texelsPerMetre, int maxSize,
                             int paddingTexels, bool allCharts, TraceLightTexture& lt) {
   const std::span<const vec3> positions = std::span<const vec3>(rdb.positionsM).subspan(tm.firstVertex, tm.vertexCount);
   const std::span<const vec3> normals = std::span<const vec3>(rdb.normals).subspan(tm.firstVertex, tm.vertexCount);
@@ -59,29 +60,24 @@ static double generateAtlas(const TraceRdb& rdb, const TraceMesh& tm, float texe
     }
   }
   std::vector<uint32_t> kept;
-  double keptAreaM2 = 0.0;
   for (size_t k = 0; k < tm.triangleCount; ++k) {
-    if (!keep[k]) continue;
-    kept.insert(kept.end(), local.begin() + std::ptrdiff_t(3 * k), local.begin() + std::ptrdiff_t(3 * k + 3));
-    keptAreaM2 += areaM2(k);
+    if (keep[k]) kept.insert(kept.end(), local.begin() + std::ptrdiff_t(3 * k), local.begin() + std::ptrdiff_t(3 * k + 3));
   }
   lt.cornerUv.assign(3 * size_t(tm.triangleCount), noLightTextureUv());
   if (kept.empty()) {
     lt.width = lt.height = 0;
-    return 0.0;
+    return;
   }
   const LightmapUv uv = generateLightmapUv(positions, kept, settings);
   lt.width = uv.width;
   lt.height = uv.height;
   lt.texelsPerMetre = uv.texelsPerMetre;
   lt.densityReduced = uv.densityReduced;
-  lt.chartCount = uv.chartCount;
   size_t next = 0;
   for (size_t k = 0; k < tm.triangleCount; ++k) {
     if (!keep[k]) continue;
     for (size_t c = 0; c < 3; ++c) lt.cornerUv[3 * k + c] = uv.uv[uv.indices[next++]];
   }
-  return keptAreaM2 * double(uv.texelsPerMetre) * double(uv.texelsPerMetre);
 }
 
 // The share of the texels that the corner UVs' triangles cover (texel centres inside them) which more than one
