@@ -366,13 +366,13 @@ int runBake(const BakeOptions& options, const CLI::App& sub) {
   // Points inside closed objects (raytracer/enclosure.h): reported apart, out of the error.
   size_t hiddenSides = 0, hiddenTexels = 0, hiddenObjects = 0;
   for (size_t i = 0; i < rdb.meshes.size(); ++i) {
-    const size_t v = i < maps.hiddenVertexSides.size() ? maps.hiddenVertexSides[i] : 0;
-    const size_t t = rdb.meshes[i].lightTexture != rdb::TraceMesh::kNoLightTexture
-                         ? maps.lightTextures[rdb.meshes[i].lightTexture].hiddenTexelSides
-                         : 0;
-    hiddenSides += v;
-    hiddenTexels += t;
-    hiddenObjects += v + t > 0 ? 1 : 0;
+    const size_t sides = i < maps.hiddenVertexSides.size() ? maps.hiddenVertexSides[i] : 0;
+    const size_t texels = rdb.meshes[i].lightTexture != rdb::TraceMesh::kNoLightTexture
+                              ? maps.lightTextures[rdb.meshes[i].lightTexture].hiddenTexelSides
+                              : 0;
+    hiddenSides += sides;
+    hiddenTexels += texels;
+    hiddenObjects += sides + texels > 0 ? 1 : 0;
   }
   if (hiddenSides + hiddenTexels > 0) {
     std::fprintf(stderr,

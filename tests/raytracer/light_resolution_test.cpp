@@ -24,7 +24,9 @@ std::vector<MeshLightResolution> analyse(const rdb::TraceRdb& rdb, float largeEd
   s.largeTriangleEdgeM = largeEdgeM;
   uint64_t rays = 0;
   auto out = analyseLightResolution(rdb, scene, integrator, s, rays);
-  if (rdb.hasSun || !rdb.punctualLights.empty()) EXPECT_GT(rays, 0u);
+  if (rdb.hasSun || !rdb.punctualLights.empty()) {
+    EXPECT_GT(rays, 0u);
+  }
   return out;
 }
 
@@ -125,7 +127,9 @@ TEST(LightResolution, EmitterPoolsNeedTexels) {
     const auto r = analyse(b.rdb);
     ASSERT_GE(r.size(), 1u);
     EXPECT_EQ(r[0].needsTexels, withPanel);
-    if (withPanel) EXPECT_NE(r[0].reason.find("lamp pools"), std::string::npos) << r[0].reason;
+    if (withPanel) {
+      EXPECT_NE(r[0].reason.find("lamp pools"), std::string::npos) << r[0].reason;
+    }
   }
 }
 
