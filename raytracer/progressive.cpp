@@ -311,10 +311,22 @@ std::vector<uint8_t> pointsTakingNextPass(const std::vector<IrradianceEstimate>&
     for (size_t i = begin; i < end; ++i) lowCount += low(i) ? 1 : 0;
     for (size_t i = begin; i < end; ++i) {
       // Every other point of the block low, whatever the point itself shows (its own estimate stays out of
-      // its decision).
+      // its decision), and the point not behind the others' median sample count: a point that skipped while
+      // the rest of its block sampled catches up before it skips again, so that no point stays passes behind
+      // its block (a speckle in a light texture).
+      uint32_t others[kAllocationBlockPoints];
+      size_t otherCount = 0;
+      for (size_t j = begin; j < end; ++j) {
+        if (j != i) others[otherCount++] = estimates[j].samples;
+      }
+      uint32_t medianOfOthers = 0;
+      if (otherCount > 0) {
+        std::nth_element(others, others + (otherCount - 1) / 2, others + otherCount);
+        medianOfOthers = others[(otherCount - 1) / 2];
+      }
       const size_t lowOthers = lowCount - (low(i) ? 1 : 0);
-      const bool skip =
-          end - begin >= 2 && lowOthers == end - begin - 1 && estimates[i].samples >= kAllocationMinSamples;
+      const bool skip = end - begin >= 2 && lowOthers == end - begin - 1 &&
+                        estimates[i].samples >= kAllocationMinSamples && estimates[i].samples >= medianOfOthers;
       takes[i] = skip ? 0 : 1;
     }
     begin = end;

@@ -54,6 +54,24 @@ TEST(AllocationRuleTest, APointSkipsWhenItsBlockNeighboursAreFarBelowTheP95) {
   for (uint8_t t : pointsTakingNextPass(points, groups, 0.10f, settings)) EXPECT_EQ(t, 1);
 }
 
+// A point that skipped while the rest of its block sampled (the high point of [16, 20) above): its neighbours
+// now have 128 samples, it has 64. It takes the next pass, whatever its own error, until it is level with
+// the most that any other point of its block has; a point level with or ahead of its block skips as before
+// when all its neighbours are low.
+TEST(AllocationRuleTest, APointBehindItsBlockCatchesUpBeforeItSkipsAgain) {
+  std::vector<IrradianceEstimate> points(16, estimate(100.0f, 0.01f, 128));
+  points[3] = estimate(100.0f, 0.01f, 64);   // behind, low
+  points[9] = estimate(100.0f, 0.01f, 256);  // ahead, low
+  EstimateSettings settings;
+  settings.allocationFraction = 0.5f;
+  std::vector<uint8_t> takes = pointsTakingNextPass(points, {}, 0.10f, settings);
+  for (size_t i = 0; i < 16; ++i) EXPECT_EQ(takes[i], i == 3 ? 1 : 0) << "point " << i;
+  // Its own error high: its neighbours take the pass for it (as before), and it takes it to catch up.
+  points[3] = estimate(100.0f, 0.20f, 64);
+  takes = pointsTakingNextPass(points, {}, 0.10f, settings);
+  for (size_t i = 0; i < 16; ++i) EXPECT_EQ(takes[i], 1) << "point " << i;
+}
+
 // A pass narrowed to the time left: four blocks of 16 points with errors of 2 %, 6 %, 9 % and 30 % under a p95
 // of 10 % and a fraction of 0.7 (threshold 7 %): the first two blocks skip, the last two take the pass.
 // When only 16 points fit in the time left, the fraction rises (× 1.1 per step: 0.77, 0.847, 0.932) until
