@@ -294,6 +294,7 @@ struct SurfaceDraw {
   uint32_t material = 0;
   bool mask = false;
   bool blend = false;
+  bool twoSided = false;  // both faces drawn (two-sided or glass); else the back faces are culled
   uint32_t reflector = rdb::RasterTextureRef::kNone;  // RasterRdb::planarReflectors' index of its meshes
   uint32_t cubeReflector = rdb::RasterTextureRef::kNone;  // RasterRdb::cubeReflectors' index of its mesh
   vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
@@ -397,6 +398,7 @@ struct Renderer::Gpu {
   std::vector<SurfaceDraw> surfaceDraws;  // opaque and cut-out first (by material), then blended
   std::vector<size_t> blendOrder;         // per frame: the blended draws back to front
   GLsizei perVertexIndexCount = 0;        // the first range of the element buffer: per-vertex meshes
+  GLsizei perVertexOneSidedCount = 0;     // of which the one-sided meshes' come first (back faces culled)
   // That range in chunks with their boxes (raster/draw_chunks.h), and per pass the chunks it draws.
   std::vector<DrawChunk> perVertexChunks;
   std::vector<IndexRange> visibleChunks;
@@ -902,11 +904,20 @@ void Renderer::uploadDraws() {
     ordered.insert(ordered.end(), r.indices.begin() + std::ptrdiff_t(m.firstIndex),
                    r.indices.begin() + std::ptrdiff_t(m.firstIndex + m.indexCount));
   };
-  for (const rdb::RasterMesh& m : r.meshes) {
-    if (r.shadedPerFragment(m)) continue;
-    const uint32_t first = uint32_t(ordered.size());
-    append(m);
-    appendDrawChunks(ordered, first, m.indexCount, r.positionsM, gpu_->perVertexChunks);
+  // Whether a mesh's back faces are drawn: two-sided meshes' and glass's (either face of a pane passes light,
+  // as in the baker); the others' are culled (glTF's doubleSided: false).
+  auto bothSides = [&](const rdb::RasterMesh& m) {
+    return m.twoSided || maxComponent(r.materials[m.material].transmission) > 0.0f;
+  };
+  // The one-sided meshes first, then the others (drawVisibleChunks culls the first range's backs).
+  for (const bool twoSided : {false, true}) {
+    for (const rdb::RasterMesh& m : r.meshes) {
+      if (r.shadedPerFragment(m) || bothSides(m) != twoSided) continue;
+      const uint32_t first = uint32_t(ordered.size());
+      append(m);
+      appendDrawChunks(ordered, first, m.indexCount, r.positionsM, gpu_->perVertexChunks);
+    }
+    if (!twoSided) gpu_->perVertexOneSidedCount = GLsizei(ordered.size());
   }
   gpu_->perVertexIndexCount = GLsizei(ordered.size());
   // Opaque, then cut-out materials (a program with discard after those without), each material's meshes in
@@ -916,26 +927,28 @@ void Renderer::uploadDraws() {
       if (r.materials[material].alphaMode != mode) continue;
       // The material's meshes that are no reflector in one draw, then one draw per planar reflector and one
       // per cube reflector, in the order of their first mesh.
-      std::vector<std::pair<uint32_t, uint32_t>> groups;  // (planar, cube) reflector
+      // (planar reflector, cube reflector, two-sided)
+      std::vector<std::tuple<uint32_t, uint32_t, bool>> groups;
       for (const rdb::RasterMesh& m : r.meshes) {
-        const std::pair<uint32_t, uint32_t> g(m.planarReflector, m.cubeReflector);
+        const std::tuple<uint32_t, uint32_t, bool> g(m.planarReflector, m.cubeReflector, bothSides(m));
         if (m.material == material && r.shadedPerFragment(m) && std::find(groups.begin(), groups.end(), g) == groups.end())
           groups.push_back(g);
       }
-      std::stable_sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) {
-        return (a.first == rdb::RasterTextureRef::kNone && a.second == rdb::RasterTextureRef::kNone) &&
-               !(b.first == rdb::RasterTextureRef::kNone && b.second == rdb::RasterTextureRef::kNone);
-      });
-      for (const auto& [reflector, cube] : groups) {
+      auto plain = [](const auto& g) {
+        return std::get<0>(g) == rdb::RasterTextureRef::kNone && std::get<1>(g) == rdb::RasterTextureRef::kNone;
+      };
+      std::stable_sort(groups.begin(), groups.end(), [&](const auto& a, const auto& b) { return plain(a) && !plain(b); });
+      for (const auto& [reflector, cube, twoSided] : groups) {
         SurfaceDraw d;
         d.firstIndex = ordered.size();
         d.material = material;
         d.mask = mode == rdb::RasterAlphaMode::kMask;
+        d.twoSided = twoSided;
         d.reflector = reflector;
         d.cubeReflector = cube;
         for (const rdb::RasterMesh& m : r.meshes) {
           if (m.material == material && m.planarReflector == reflector && m.cubeReflector == cube &&
-              r.shadedPerFragment(m))
+              bothSides(m) == twoSided && r.shadedPerFragment(m))
             append(m);
         }
         d.indexCount = GLsizei(ordered.size() - d.firstIndex);
@@ -949,6 +962,7 @@ void Renderer::uploadDraws() {
     d.firstIndex = ordered.size();
     d.material = m.material;
     d.blend = true;
+    d.twoSided = bothSides(m);
     Bounds3 b;
     for (uint32_t v = m.firstVertex; v < m.firstVertex + m.vertexCount; ++v) b.extend(r.positionsM[v]);
     d.centreM = 0.5f * (b.min + b.max);
@@ -1345,19 +1359,41 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   if (mirrorBlur_) mirrorBlur_->finish();
 }
 
-// The per-vertex meshes' chunks in gpu_->visibleChunks, in one multi-draw.
+// Back faces culled (one-sided surfaces) or drawn (two-sided ones); the winding of the front face is the
+// pass's (glFrontFace: mirrored passes turn it).
+static void setFaceCulling(bool cull) {
+  if (cull)
+    glEnable(GL_CULL_FACE);
+  else
+    glDisable(GL_CULL_FACE);
+}
+
+// The per-vertex meshes' chunks in gpu_->visibleChunks: the one-sided meshes' in one multi-draw with their back
+// faces culled, then the two-sided ones' in another. Leaves face culling off.
 void Renderer::drawVisibleChunks() {
   std::vector<GLsizei>& counts = gpu_->drawCounts;
   std::vector<const void*>& offsets = gpu_->drawOffsets;
-  counts.clear();
-  offsets.clear();
-  for (const IndexRange& r : gpu_->visibleChunks) {
-    counts.push_back(GLsizei(r.indexCount));
-    offsets.push_back(reinterpret_cast<const void*>(size_t(r.firstIndex) * sizeof(uint32_t)));
-    stats_.perVertexTrianglesDrawn += r.indexCount / 3;
+  const uint32_t boundary = uint32_t(gpu_->perVertexOneSidedCount);
+  for (const bool twoSided : {false, true}) {
+    counts.clear();
+    offsets.clear();
+    for (const IndexRange& r : gpu_->visibleChunks) {
+      // The part of the range on this side of the boundary (a merged range may cross it).
+      const uint32_t lo = twoSided ? std::max(r.firstIndex, boundary) : r.firstIndex;
+      const uint32_t hi = twoSided ? r.firstIndex + r.indexCount : std::min(r.firstIndex + r.indexCount, boundary);
+      if (hi <= lo) continue;
+      counts.push_back(GLsizei(hi - lo));
+      offsets.push_back(reinterpret_cast<const void*>(size_t(lo) * sizeof(uint32_t)));
+      stats_.perVertexTrianglesDrawn += (hi - lo) / 3;
+    }
+    if (counts.empty()) continue;
+    setFaceCulling(!twoSided);
+    glMultiDrawElements(GL_TRIANGLES, counts.data(), GL_UNSIGNED_INT, offsets.data(), GLsizei(counts.size()));
   }
-  if (!counts.empty()) glMultiDrawElements(GL_TRIANGLES, counts.data(), GL_UNSIGNED_INT, offsets.data(), GLsizei(counts.size()));
+  setFaceCulling(false);
 }
+
+
 
 void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, uint32_t heightPx,
                           const MirrorPass* mirrorPass, const CubePass* cubePass) {
@@ -1655,8 +1691,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         const uint32_t want = opaqueSurfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
         if (want != current) program = &use(current = want);
         bindTextures(*program, d);
+        setFaceCulling(!d.twoSided);
         draw(d.firstIndex, d.indexCount);
       }
+      setFaceCulling(false);
       if (nearDeferred) glNamedFramebufferDrawBuffers(gpu_->floatFbo, 1, kColorOnly);
     };
     bindScene();
@@ -1735,8 +1773,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       for (size_t i : order) {
         const SurfaceDraw& d = gpu_->surfaceDraws[i];
         bindTextures(p, d);
+        setFaceCulling(!d.twoSided);
         draw(d.firstIndex, d.indexCount);
       }
+      setFaceCulling(false);
       glDepthMask(GL_TRUE);
       glDisable(GL_BLEND);
       glBindFramebuffer(GL_FRAMEBUFFER, gpu_->floatFbo);
@@ -1986,8 +2026,11 @@ void Renderer::drawAmbientOcclusion(const View& view, uint32_t widthPx, uint32_t
                              drawVisibleChunks();
                            }
                            for (const SurfaceDraw& d : gpu_->surfaceDraws) {
-                             if (!d.blend) draw(d.firstIndex, d.indexCount);
+                             if (d.blend) continue;
+                             setFaceCulling(!d.twoSided);
+                             draw(d.firstIndex, d.indexCount);
                            }
+                           setFaceCulling(false);
                          });
   glBindTextureUnit(15, ambientOcclusion_->texture());  // shaders::kAoAmbientLookup
 }

@@ -43,7 +43,11 @@ std::unique_ptr<OIIO::ImageInput> openImage(const char* extension,
     throw std::runtime_error(std::string("OpenImageIO's reader for ") + in->format_name() +
                              " cannot read from memory");
   }
-  if (!in->open(std::string("memory.") + extension, spec))
+  // Colour as stored, not multiplied by alpha (OpenImageIO's default for PNG): glTF's base colour and its
+  // alpha are separate quantities (glTF 2.0 §3.9.2; an OPAQUE material ignores alpha altogether).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  if (!in->open(std::string("memory.") + extension, spec, config))
     throw std::runtime_error("it cannot be decoded: " + oiioError(in.get()));
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
     throw std::runtime_error("it has no pixels (" + std::to_string(spec.width) + " × " +

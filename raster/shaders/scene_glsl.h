@@ -479,9 +479,6 @@ out vec3 vLuminance;
 out vec3 vAmbientLuminance;  // phong's ambient part of vLuminance (shaders/ambient_occlusion_glsl.h)
 #endif
 invariant gl_Position;  // the sun's shadow caps lie at exactly this depth (raster/sun_shadows.h)
-#ifdef FLY_TWO_SIDED
-flat out uint vTwoSided;  // only where a mesh is two-sided (a flat varying costs every triangle its setup)
-#endif
 #ifdef FLY_GLASS
 out vec3 vTransmittance;  // T(θ) towards the eye
 flat out uint vGlass;
@@ -578,9 +575,6 @@ void main() {
   vLuminance = l + m.emission.rgb;
 #ifdef FLY_SSAO
   vAmbientLuminance = flyAmbientLuminance;
-#endif
-#ifdef FLY_TWO_SIDED
-  vTwoSided = twoSided ? 1u : 0u;
 #endif
 #ifdef FLY_GLASS
   // The energy rule's transmittance at the angle the pane is seen (sdb::Material::effectiveAt): T(θ) =
@@ -713,15 +707,12 @@ vec3 flyOctDecode(uint word) {
 }
 )GLSL";
 
-// The back of a one-sided surface has no light value: it shows black (it still hides what is behind it, unless
-// it is clear glass, whose both faces pass light).
+// The back of a one-sided surface never reaches these stages: the renderer culls it (glTF's doubleSided:
+// false), so what lies behind it shows.
 inline constexpr const char* kSceneFragment = R"GLSL(
 in vec3 vLuminance;
 #ifdef FLY_SSAO
 in vec3 vAmbientLuminance;
-#endif
-#ifdef FLY_TWO_SIDED
-flat in uint vTwoSided;
 #endif
 #ifdef FLY_SUN_GLASS
 in vec3 vSunLuminance;
@@ -807,11 +798,7 @@ void main() {
   // FLY_SUN_GLASS only for scenes with clear glass, so FLY_GLASS (vGlass) is defined with it.
   l += vGlass != 0u ? vSunLuminance : vSunLuminance * flySunGlass(vPositionM);
 #endif
-#ifdef FLY_TWO_SIDED
-  l = (gl_FrontFacing || vTwoSided != 0u) ? l : vec3(0.0);
-#else
-  l = gl_FrontFacing ? l : vec3(0.0);
-#endif
+
 #ifdef FLY_GLASS
   // Either face of a pane passes light.
   if (vGlass != 0u) {
@@ -1390,8 +1377,6 @@ void main() {
   }
 #endif
   l += emission;
-  // The back of a one-sided surface shows black (kSceneFragment).
-  l = (!back || twoSided) ? l : vec3(0.0);
 #ifdef FLY_BLEND_PASS
   float a = clamp(base.a, 0.0, 1.0);
   oBlend = vec4(l * a, a);

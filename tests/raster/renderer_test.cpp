@@ -148,7 +148,7 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   const Rgb albedo(0.5f, 0.6f, 0.7f);
   expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, luminanceOf(kFrontLux, albedo), false),
                   1e-4f);
-  // The back of a one-sided surface shows black.
+  // The back of a one-sided surface is culled: the background (black in light-map mode) shows.
   renderer.render(orthoView(true), RenderMode::kLightMap, 64, 32);
   expectImageNear(renderer.luminanceRgb(), std::vector<float>(64 * 32 * 3, 0.0f), 1e-6f);
   // Every mesh has a light map and none is two-sided: no Phong, no front/back choice is compiled.
@@ -882,11 +882,60 @@ TEST(Renderer, BlendedSurfacesAreDrawnBackToFrontOverTheRest) {
   const std::vector<float> img = renderer.luminanceRgb();
   const size_t centre = (size_t(16) * 64 + 32) * 3;
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(img[centre + size_t(c)], expected[c], 1e-4f * 100.0f);
-  // From behind (the quads are one-sided: their backs show black, over which the same rule applies; the
-  // wall's back is black too) the nearest is the wall: only its black back is seen.
+  // From behind, every quad is one-sided and culled: the background (black in simple mode) shows.
   renderer.render(orthoView(true), RenderMode::kSimple, 64, 32);
   const std::vector<float> back = renderer.luminanceRgb();
   for (int c = 0; c < 3; ++c) EXPECT_EQ(back[centre + size_t(c)], 0.0f);
+}
+
+// The back of a one-sided surface is culled, as glTF's doubleSided: false says, for the per-vertex and the
+// per-fragment draws (simple mode: the scene has no daylight): a one-sided wall (emission L_w, facing +Z) with a two-sided panel
+// 0.5 m in front of it (emission L_p on both faces). From the front the panel hides the wall; from behind
+// the wall's back is culled and the panel's back shows L_p. The same with the wall's material textured
+// (drawn per fragment), and with the wall two-sided its back hides the panel.
+TEST(Renderer, TheBackOfAOneSidedSurfaceIsCulledAndWhatLiesBehindShows) {
+  context();
+  const Rgb wallCdM2(10, 20, 30), panelCdM2(0, 100, 0);
+  for (const bool perFragment : {false, true}) {
+    for (const bool wallTwoSided : {false, true}) {
+      sdb::Scene s;
+      sdb::Material wall;
+      wall.diffuseColor = Rgb(0.0f);
+      wall.emissionLuminance = wallCdM2;
+      wall.doubleSided = wallTwoSided;
+      if (perFragment) wall.alphaMode = sdb::AlphaMode::kMask;  // a cut-out, wholly covered: drawn per fragment
+      sdb::Material panel = wall;
+      panel.emissionLuminance = panelCdM2;
+      panel.doubleSided = true;
+      const sdb::MaterialId wallId = s.addMaterial(wall).id, panelId = s.addMaterial(panel).id;
+      sdb::Mesh wallMesh = test::quadXY(wallId), panelMesh = test::quadXY(panelId);
+      wallMesh.twoSided = wallTwoSided;
+      panelMesh.twoSided = true;
+      s.addNode({.name = "wall", .meshes = {s.addMesh(wallMesh).id}});
+      s.addNode({.name = "panel",
+                 .parentFromLocal = frameTransform(vec3(0.5f, 0, 0), vec3(0, 0.5f, 0), vec3(0, 0, 1), vec3(0, 0, 0.5f)),
+                 .meshes = {s.addMesh(panelMesh).id}});
+      const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+      Renderer renderer;
+      renderer.upload(r);
+      // Pixel columns 32 (x = 0.03 m: the panel) and 20 (x = −0.72 m: the wall beside it) of row 16.
+      const size_t centre = (size_t(16) * 64 + 32) * 3, beside = (size_t(16) * 64 + 20) * 3;
+      {
+        const RenderMode mode = RenderMode::kSimple;
+        renderer.render(orthoView(false), mode, 64, 32);
+        const std::vector<float> front = renderer.luminanceRgb();
+        renderer.render(orthoView(true), mode, 64, 32);
+        const std::vector<float> back = renderer.luminanceRgb();
+        for (int c = 0; c < 3; ++c) {
+          const std::string what = std::string(perFragment ? "per fragment" : "per vertex") +
+                                   (wallTwoSided ? ", two-sided wall" : ", one-sided wall");
+          EXPECT_NEAR(front[centre + size_t(c)], panelCdM2[c], 1e-3f * 100.0f) << what;
+          EXPECT_NEAR(front[beside + size_t(c)], wallCdM2[c], 1e-3f * 100.0f) << what;
+          EXPECT_NEAR(back[centre + size_t(c)], wallTwoSided ? wallCdM2[c] : panelCdM2[c], 1e-3f * 100.0f) << what;
+        }
+      }
+    }
+  }
 }
 
 TEST(Renderer, ExposureOrOperatorChangesReRunOnlyTheToneMapPass) {

@@ -1,5 +1,5 @@
 // Texture images through the OpenImageIO decoder (oiio_image_decoder.h) that the fly program installs: float
-// images clamped to 16 bits, grey images expanded to RGBA, WebP textures (EXT_texture_webp), and what the
+// images clamped to 16 bits, grey images expanded to RGBA, colour kept unmultiplied by alpha, WebP textures (EXT_texture_webp), and what the
 // default decoder (stb_image, PNG and JPEG only) says about other formats.
 #include <gtest/gtest.h>
 
@@ -31,11 +31,13 @@ class GltfImagesOiio : public GltfImport {
   }
 };
 
+// Colour written as given (unassociated alpha), as a PNG file stores it.
 void writeImage(const std::filesystem::path& file, int width, int height, int channels, OIIO::TypeDesc type,
                 const void* pixels) {
   auto out = OIIO::ImageOutput::create(file.string());
   ASSERT_TRUE(out) << OIIO::geterror();
   OIIO::ImageSpec spec(width, height, channels, type);
+  spec.attribute("oiio:UnassociatedAlpha", 1);
   ASSERT_TRUE(out->open(file.string(), spec)) << out->geterror();
   ASSERT_TRUE(out->write_image(type, pixels)) << out->geterror();
   out->close();
@@ -77,6 +79,17 @@ TEST_F(GltfImagesOiio, GreyPngIsExpandedToRgba) {
   EXPECT_EQ(t.bitsPerChannel, 16);
   EXPECT_EQ(samples16(t),
             (std::vector<uint16_t>{0, 0, 0, 65535, 1000, 1000, 1000, 65535, 65535, 65535, 65535, 65535}));
+}
+
+// A PNG's colour is kept as stored where its alpha is below 1 (unassociated, as glTF means it), not
+// multiplied by alpha on decoding: an OPAQUE material over such an image shows the colour, not black.
+TEST_F(GltfImagesOiio, PngWithAlphaKeepsItsColourUnmultiplied) {
+  const uint8_t rgba[] = {200, 100, 50, 128, 10, 20, 30, 0};
+  writeImage(dir_ / "label.png", 2, 1, 4, OIIO::TypeDesc::UINT8, rgba);
+  import(withBaseColorImage("label.png"));
+  const Texture& t = scene_.texture(onlyMaterialOfMesh().diffuseTexture.texture);
+  EXPECT_EQ(t.bitsPerChannel, 8);
+  EXPECT_EQ(t.pixels, (std::vector<uint8_t>{200, 100, 50, 128, 10, 20, 30, 0}));
 }
 
 TEST_F(GltfImagesOiio, WebpSourceReplacesTheFallbackImage) {
