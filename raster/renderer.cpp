@@ -614,7 +614,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
                  shaders::kLightTextureLookup + ((variant & kVariantPlanarReflection) ? shaders::kMirrorBlurUpsample : "") +
                  shaders::kSurfaceFragment
-           : std::string((variant & kVariantIbl) ? shaders::kSceneCommon : "") + shaders::kLightTextureLookup +
+           : std::string((variant & (kVariantIbl | kVariantDiffuseByAngle)) ? shaders::kSceneCommon : "") +
+                 shaders::kLightTextureLookup +
                  shaders::kSceneFragment);
   const GLuint p = compileProgram(
       name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
@@ -1486,8 +1487,11 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         ++stats_.sunGlassBuilds;
       if (!sunGlass_->empty()) sunGlass = kVariantSunGlass;
     }
+    // The per-vertex meshes' program; with light textures and angle-dependent diffuse shares, the share is
+    // taken per fragment (kSceneVertex's vShare*).
     const uint32_t variant =
-        shared | sunGlass | (v.glass ? kVariantGlass : 0u) | (v.glass && v.frostedGlass ? kVariantFrosted : 0u);
+        shared | sunGlass | (v.glass ? kVariantGlass : 0u) | (v.glass && v.frostedGlass ? kVariantFrosted : 0u) |
+        (lightMaps && v.lightTexture && v.diffuseByAngle ? kVariantDiffuseByAngle : 0u);
     const uint32_t surfaceVariant =
         shared | sunGlass | kVariantPerFragment | (v.measuredBrdf ? kVariantMeasured : 0u) |
         (v.measuredBrdf && v.goniometric ? kVariantGonio : 0u) |

@@ -49,7 +49,8 @@
 //   FLY_DIFFUSE_BY_ANGLE  (with FLY_LIGHT_MAP) the light map's diffuse albedo times the diffuse share towards
 //                     the eye (flyDiffuseTowards), for scenes where some material's share depends on the angle
 //                     (rdb::RasterVariants::diffuseByAngle); without it the share is 1 and no position or
-//                     normal is interpolated
+//                     normal is interpolated. The per-vertex program (kSceneVertex) takes it with light
+//                     textures, which then take the share per fragment too
 // Units: positions in metres, world frame (+Y up); E in lux; L in cd/m².
 #pragma once
 
@@ -471,7 +472,14 @@ layout(location = 7) in uint aLightSlot;
 out vec2 vLightMapUv;
 flat out uint vLightSlot;      // aLightSlot of the triangle, 0xffffffff: none
 flat out uint vBack;           // 1: the triangle's provoking vertex faces its back
-flat out vec3 vAlbedoOverPi;   // sr⁻¹
+flat out vec3 vAlbedoOverPi;   // sr⁻¹: the material's light-map reflectance over π (no angle in it)
+#ifdef FLY_DIFFUSE_BY_ANGLE
+// For the diffuse share towards the eye, per fragment (flyDiffuseTowards): a value per vertex taken flat
+// would step along the triangles' shared edges where the angle changes across the surface.
+out vec3 vShareNormal;  // the shading normal of the side seen
+out vec3 vShareToEye;   // towards the eye (not unit: linear over the triangle)
+flat out uint vShareMaterial;
+#endif
 #endif
 
 out vec3 vLuminance;
@@ -555,7 +563,12 @@ void main() {
 #ifdef FLY_LIGHT_TEXTURE
   // The fragment shader adds albedo · E_texel / π in place of the vertex value.
   vLightMapUv = aLightMapUv;
-  vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) * flyDiffuseTowards(m, dot(back ? -n : n, toEye)) / kPi;
+  vAlbedoOverPi = flyLightMapReflectance(m.diffuse.rgb, m) / kPi;
+#ifdef FLY_DIFFUSE_BY_ANGLE
+  vShareNormal = back ? -n : n;
+  vShareToEye = uOrthographic != 0 ? -uViewDirWorld : uEyeM - aPositionM;
+  vShareMaterial = aSurface & 0x3fffffffu;
+#endif
   vLightSlot = 0xffffffffu;
   vBack = 0u;
   if (useLightMap && aLightSlot != 0xffffffffu) {
@@ -763,6 +776,11 @@ in vec2 vLightMapUv;
 flat in uint vLightSlot;
 flat in uint vBack;
 flat in vec3 vAlbedoOverPi;
+#ifdef FLY_DIFFUSE_BY_ANGLE
+in vec3 vShareNormal;
+in vec3 vShareToEye;
+flat in uint vShareMaterial;
+#endif
 #endif
 #ifdef FLY_IBL
 in vec3 vIblNormal;
@@ -781,7 +799,11 @@ void main() {
 #ifdef FLY_LIGHT_TEXTURE
   if (vLightSlot != 0xffffffffu) {
     vec3 eTexelLux = flyLightTexel(vLightSlot, vBack != 0u, vLightMapUv);
-    l += vAlbedoOverPi * eTexelLux;
+    vec3 albedoOverPi = vAlbedoOverPi;
+#ifdef FLY_DIFFUSE_BY_ANGLE
+    albedoOverPi *= flyDiffuseTowards(materials[vShareMaterial], dot(normalize(vShareNormal), normalize(vShareToEye)));
+#endif
+    l += albedoOverPi * eTexelLux;
 #ifdef FLY_IBL
     specularOcclusion = flySpecularOcclusion(eTexelLux, normalize(vIblNormal));
 #endif

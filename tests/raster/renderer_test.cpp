@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -153,6 +154,54 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   expectImageNear(renderer.luminanceRgb(), std::vector<float>(64 * 32 * 3, 0.0f), 1e-6f);
   // Every mesh has a light map and none is two-sided: no Phong, no front/back choice is compiled.
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+lightmap"}));
+}
+
+// A light-textured surface whose diffuse share depends on the angle (a dielectric with a Fresnel reflection:
+// rdb::RasterVariants::diffuseByAngle) takes that share per fragment: seen at a grazing angle, with a uniform
+// texture, the image is mirror-symmetric about the view's plane of symmetry (y = 0), although the quad's
+// diagonal puts the two mirrored points in different triangles. A share taken at each triangle's provoking
+// vertex (the two upper corners, at different angles) showed the diagonal as a step of several per cent.
+TEST(Renderer, ALightTexturesDiffuseShareIsTakenPerFragmentWithNoStepAlongTheDiagonal) {
+  context();
+  sdb::Scene s;
+  sdb::Material m;
+  m.name = "varnish";
+  m.diffuseColor = Rgb(0.5f);
+  m.reflectionColor = Rgb(1.0f);
+  m.reflectionModel = sdb::ReflectionModel::kFresnel;
+  m.ior = 1.5f;
+  m.reflectionGlossiness = 0.5f;
+  const sdb::MeshId mesh = s.addMesh(test::quadXY(s.addMaterial(m).id)).id;
+  const sdb::NodeId node = s.addNode({.name = "quad", .meshes = {mesh}}).id;
+  rdb::MeshLightTexture texture{2, 2, std::vector<Rgb>(4, Rgb(1000.0f)), {}, {}};
+  const vec2 uv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  for (uint32_t v : {0u, 1u, 2u, 0u, 2u, 3u}) texture.cornerUv.push_back(uv[v]);
+  rdb::LightMapStore store;
+  store.meshes.push_back({node.value, mesh.value, kFrontLux, {}, texture});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  ASSERT_TRUE(r.variants.lightTexture);
+  ASSERT_TRUE(r.variants.diffuseByAngle);
+  Renderer renderer;
+  renderer.upload(r);
+  // From beside the quad's right edge, 0.25 m in front of its plane, looking at its left end: angles of
+  // incidence from about 50° to 83°.
+  renderer.render(test::lookAtView(vec3(1.5f, 0.0f, 0.25f), vec3(-1.0f, 0.0f, 0.0f), 10.0f), RenderMode::kLightMap,
+                  64, 32);
+  const std::vector<float> img = renderer.luminanceRgb();
+  size_t compared = 0;
+  float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
+  for (uint32_t j = 0; j < 16; ++j) {
+    for (uint32_t i = 0; i < 64; ++i) {
+      const float a = img[(size_t(j) * 64 + i) * 3 + 1], b = img[(size_t(31 - j) * 64 + i) * 3 + 1];
+      if (!(a > 0.0f) || !(b > 0.0f)) continue;  // off the quad
+      ++compared;
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+      EXPECT_NEAR(a, b, 2e-3f * b) << "pixel " << i << " of rows " << j << " and " << 31 - j;
+    }
+  }
+  EXPECT_GT(compared, 100u);
+  EXPECT_GT(hi / lo, 1.1f);  // the share does vary over the image
 }
 
 // Sunlight mode over light maps that keep the sun's direct part apart (FLY §3): albedo · (E − E_sunDirect) /
