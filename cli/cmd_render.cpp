@@ -44,6 +44,7 @@ struct RenderOptions {
   std::string size = "1280x720";
   std::string out;
   std::optional<double> exposureEv100;
+  double evCompensation = 0.0;  // stops added to the automatic exposure's brightness (--ev-comp)
   double dotsPerInch = 0.0;
   std::string falseColour;  // "lux": the bake's illuminance in false colour (cli/illuminance_view.h)
   bool autoExposure = false;
@@ -130,6 +131,10 @@ int runRender(const RenderOptions& options) {
     throw UsageError("give either --exposure or --auto-exposure, not both");
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
     throw UsageError("--exposure must be a finite EV100");
+  if (!std::isfinite(o.evCompensation) || std::abs(o.evCompensation) > 10.0)
+    throw UsageError("--ev-comp must be a number of stops in [-10, 10]");
+  if (o.exposureEv100 && o.evCompensation != 0.0)
+    throw UsageError("--ev-comp compensates the automatic exposure; with --exposure, give the EV100 you want");
   if (!(o.whitePoint > 0.0f) || !std::isfinite(o.whitePoint)) throw UsageError("--white-point must be > 0");
   if (!o.falseColour.empty()) {
     if (o.falseColour != "lux") {
@@ -262,7 +267,8 @@ int runRender(const RenderOptions& options) {
       std::vector<float> lum(rgb.size() / 3);
       for (size_t i = 0; i < lum.size(); ++i)
         lum[i] = luminance(Rgb(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
-      ev100 = autoExposureEv100Histogram(lum);
+      // Compensation as a camera's: +1 stop is twice the exposure, one EV100 less.
+      ev100 = autoExposureEv100Histogram(lum) - o.evCompensation;
     }
     renderer.toneMap(ToneMapSettings{op, *ev100, o.whitePoint});
     const std::vector<uint8_t> px = renderer.srgb8();
@@ -316,7 +322,13 @@ int runRender(const RenderOptions& options) {
       t << "; illuminance in lux, false colour with a legend";
     } else if (ext == ".png") {
       std::snprintf(buf, sizeof buf, "%.2f", ev100);
-      t << "; exposure EV100 " << buf << (o.exposureEv100 ? "" : " (auto)") << ", " << o.op;
+      t << "; exposure EV100 " << buf;
+      if (!o.exposureEv100) {
+        char comp[32];
+        std::snprintf(comp, sizeof comp, "%+.1f", o.evCompensation);
+        t << (o.evCompensation != 0.0 ? std::string(" (auto, compensation ") + comp + " EV)" : std::string(" (auto)"));
+      }
+      t << ", " << o.op;
     } else {
       t << "; luminance in cd/m²";
     }
@@ -389,6 +401,8 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--out", o->out, "output image: .png (tone-mapped sRGB) or .exr (luminance, cd/m²)")
       ->required();
   sub->add_option("--exposure", o->exposureEv100, "exposure as EV100 (default: automatic)");
+  sub->add_option("--ev-comp", o->evCompensation,
+                  "exposure compensation of the automatic exposure, in stops (+1: twice as bright; default 0)");
   addDpiOption(*sub, &o->dotsPerInch);
   sub->add_option("--false-colour", o->falseColour,
                   "lux: the illuminance of a baked directory's light maps on the visible surfaces, in false "

@@ -37,6 +37,7 @@ struct ViewOptions {
   std::string mode;
   std::string size = "1280x720";
   std::optional<double> exposureEv100;
+  double evCompensation = 0.0;
   std::string op = "filmic";
   ShadowOptions shadows;
   PostOptions post;
@@ -98,6 +99,8 @@ int runView(const ViewOptions& o) {
   if (!o.mode.empty()) mode = parseRenderMode(o.mode);
   if (o.exposureEv100 && !std::isfinite(*o.exposureEv100))
     throw UsageError("--exposure must be a finite EV100");
+  if (!std::isfinite(o.evCompensation) || std::abs(o.evCompensation) > 10.0)
+    throw UsageError("--ev-comp must be a number of stops in [-10, 10]");
   const std::vector<raster::ViewerAction> script = parseKeys(o.keys);
   if (!o.screenshot.empty()) checkPngName("--screenshot", o.screenshot);
   if (!o.windowScreenshot.empty()) checkPngName("--window-screenshot", o.windowScreenshot);
@@ -121,6 +124,7 @@ int runView(const ViewOptions& o) {
   }
   v.toneMap = ToneMapSettings{op, o.exposureEv100.value_or(0.0), 4.0f};
   v.autoExposure = !o.exposureEv100;
+  v.evCompensation = o.evCompensation;
   v.frames = o.frames;
   v.script = script;
   v.shadows = shadows;
@@ -197,6 +201,8 @@ Command addViewCommand(CLI::App& app) {
                   "simple, lightmap or sunlight to start in; default: the best the scene supports");
   sub->add_option("--size", o->size, "window size WIDTHxHEIGHT in pixels (default 1280x720)");
   sub->add_option("--exposure", o->exposureEv100, "start with this exposure as EV100 (default: automatic)");
+  sub->add_option("--ev-comp", o->evCompensation,
+                  "exposure compensation of the automatic exposure, in stops (+1: twice as bright; default 0)");
   sub->add_option("--operator", o->op, "tone-mapping operator: linear, reinhard or filmic (default filmic)");
   addShadowOptions(*sub, o->shadows);
   addPostOptions(*sub, o->post);

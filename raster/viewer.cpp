@@ -523,7 +523,7 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
       std::vector<float> lum(rgb.size() / 3);
       for (size_t i = 0; i < lum.size(); ++i)
         lum[i] = luminance(Rgb(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
-      tone.ev100 = autoExposureEv100Histogram(lum);
+      tone.ev100 = autoExposureEv100Histogram(lum) - options.evCompensation;
     }
     renderer.toneMap(tone);
     if (screenshot) host.saveScreenshot(renderer.srgb8(), renderer.width(), renderer.height(), mode, tone);

@@ -79,6 +79,7 @@ struct ViewerOptions {
   std::optional<size_t> camera;           // index into rdb.cameras; nullopt: a view framing the scene
   ToneMapSettings toneMap{ToneOperator::kFilmic, 0.0, 4.0f};
   bool autoExposure = true;  // else toneMap.ev100
+  double evCompensation = 0.0;  // stops added to the automatic exposure's brightness (one EV100 less per stop)
   // > 0: close after this many frames and after the script (a scripted run); 0: until Esc or the window
   // closes.
   uint64_t frames = 0;

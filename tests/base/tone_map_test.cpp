@@ -87,17 +87,34 @@ TEST(ToneMap, ReinhardWithWhitePointMapsTheWhitePointToOne) {
 
 TEST(ToneMap, FilmicFollowsHablesPublishedCurve) {
   const ToneMapSettings s{ToneOperator::kFilmic, kEvLmax100, 4.0f};
-  // display = f(2 x) / f(11.2), Hable 2010 with exposure bias 2 and linear white 11.2.
-  for (double x : {0.0, 0.01, 0.1, 0.18, 0.5, 1.0, 2.0, 5.0}) {
-    const double expected = hableReference(2.0 * x) / hableReference(11.2);
+  // display = f(b x) / f(11.2), Hable 2010 with linear white 11.2 and the exposure bias b = 5.0588 that shows
+  // the metered grey at 0.18 (the next test).
+  const double bias = 5.0588;
+  for (double x : {0.0, 0.01, 0.1, 0.18, 0.5, 1.0, 2.0}) {
+    const double expected = hableReference(bias * x) / hableReference(11.2);
     EXPECT_NEAR(toneMap(Rgb(float(100.0 * x)), s).g, expected, 2e-6) << "x = " << x;
   }
   EXPECT_NEAR(hableReference(11.2), 0.7251, 1e-4);  // f(W), worked out by hand from the constants
   EXPECT_EQ(toneMap(Rgb(0.0f), s), Rgb(0.0f));      // f(0) = DE/DF − E/F = 0
-  EXPECT_EQ(toneMap(Rgb(600.0f), s).r, 1.0f);       // 2 x > W
+  EXPECT_EQ(toneMap(Rgb(230.0f), s).r, 1.0f);       // b x > W
   EXPECT_EQ(toneMap(Rgb(1.0e5f), s).r, 1.0f);
   // The whitePoint setting belongs to Reinhard and leaves the filmic curve alone.
   EXPECT_EQ(toneMap(Rgb(42.0f), s), toneMap(Rgb(42.0f), {ToneOperator::kFilmic, kEvLmax100, 1.0f}));
+}
+
+// A camera's calibration: an evenly lit 18 % grey card filling the image, metered by the automatic exposure
+// (ISO 2720, K = 12.5), shows at 0.46 ± 0.04 of white in sRGB (a camera's JPEG: about 118 of 255), at any
+// illuminance from moonlight to the sun's.
+TEST(ToneMap, AnEvenlyLitGreyCardShowsAsACameraShowsIt) {
+  for (double illuminanceLux : {0.3, 500.0, 100000.0}) {
+    const float cardCdM2 = float(0.18 * illuminanceLux / kPi);
+    const std::vector<float> image(64 * 64, cardCdM2);
+    const double ev100 = autoExposureEv100Histogram(image);
+    EXPECT_NEAR(ev100, std::log2(cardCdM2 * 100.0 / 12.5), 1e-6);
+    const float shown = encodeSrgb(toneMap(Rgb(cardCdM2), {ToneOperator::kFilmic, ev100, 4.0f}).g);
+    EXPECT_NEAR(shown, 0.46f, 0.04f) << illuminanceLux << " lx";
+    EXPECT_NEAR(toneMap(Rgb(cardCdM2), {ToneOperator::kFilmic, ev100, 4.0f}).g, kDisplayMiddleGrey, 2e-4f);
+  }
 }
 
 TEST(ToneMap, OperatorsAreMonotonicWithinZeroOne) {
