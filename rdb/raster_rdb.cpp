@@ -33,7 +33,7 @@ bool RasterRdb::operator==(const RasterRdb& o) const {
          lightTextures == o.lightTextures && uv0 == o.uv0 && uv1 == o.uv1 && colors == o.colors &&
          tangents == o.tangents && textures == o.textures && measuredBrdfs == o.measuredBrdfs && lights == o.lights &&
          goniometricCd == o.goniometricCd && ambient == o.ambient && daylightAmbient == o.daylightAmbient &&
-         cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants &&
+         ambientClosure == o.ambientClosure && cameras == o.cameras && sameSky(sky, o.sky) && variants == o.variants &&
          planarReflectors == o.planarReflectors && cubeReflectors == o.cubeReflectors;
 }
 
@@ -763,11 +763,102 @@ Rgb directIlluminanceLux(const RasterRdb& rdb, const RasterLight& l, const vec3&
   return e * std::max(0.0f, glm::dot(n, toLight));
 }
 
+// Rays from the scene's surfaces for its closure (RasterRdb::ambientClosure): at most kClosureRays, and
+// at most kClosureRayTests ray–triangle tests in all (each ray may test every triangle), but at least
+// kMinClosureRays.
+constexpr uint32_t kClosureRays = 4096;
+constexpr uint32_t kMinClosureRays = 32;
+constexpr double kClosureRayTests = 3.0e7;
+
+// Whether the ray o + t d, t in (tMinM, ∞), meets any triangle (Möller & Trumbore 1997, either face).
+bool hitsAnyTriangle(const RasterRdb& rdb, const dvec3& o, const dvec3& d, double tMinM) {
+  for (size_t i = 0; i + 2 < rdb.indices.size(); i += 3) {
+    const dvec3 p0(rdb.positionsM[rdb.indices[i]]);
+    const dvec3 e1 = dvec3(rdb.positionsM[rdb.indices[i + 1]]) - p0, e2 = dvec3(rdb.positionsM[rdb.indices[i + 2]]) - p0;
+    const dvec3 pv = glm::cross(d, e2);
+    const double det = glm::dot(e1, pv);
+    if (!(std::abs(det) > 1e-14 * glm::length(e1) * glm::length(e2))) continue;
+    const double inv = 1.0 / det;
+    const dvec3 tv = o - p0;
+    const double u = glm::dot(tv, pv) * inv;
+    if (u < 0.0 || u > 1.0) continue;
+    const dvec3 qv = glm::cross(tv, e1);
+    const double v = glm::dot(d, qv) * inv;
+    if (v < 0.0 || u + v > 1.0) continue;
+    if (glm::dot(e2, qv) * inv > tMinM) return true;
+  }
+  return false;
+}
+
+// The scene's closure (RasterRdb::ambientClosure): rays from points on the faces that send light out (the
+// front of one-sided meshes, both faces of two-sided ones), each face chosen by `faceWeight(first index,
+// back)` (its flux: what it emits and what it reflects of the lights) and the point uniform on it,
+// cosine-distributed about the face's normal, that meet another triangle. Deterministic: points and
+// directions from a Halton sequence (bases 2, 3, 5, 7, 11) by the ray's index.
+template <class FaceWeight>
+float estimateClosure(const RasterRdb& rdb, const FaceWeight& faceWeight) {
+  std::vector<double> cdf;
+  std::vector<uint32_t> faceOf;  // per cdf entry: the triangle's first index, times 2, plus 1 for its back
+  double sum = 0.0;
+  for (const RasterMesh& m : rdb.meshes) {
+    for (uint32_t i = m.firstIndex; i + 2 < m.firstIndex + m.indexCount; i += 3) {
+      for (uint32_t side = 0; side < (m.twoSided ? 2u : 1u); ++side) {
+        const double w = faceWeight(i, side == 1);
+        if (!(w > 0.0)) continue;
+        sum += w;
+        cdf.push_back(sum);
+        faceOf.push_back(2 * i + side);
+      }
+    }
+  }
+  if (cdf.empty()) return 0.0f;
+  const double triangles = double(rdb.indices.size() / 3);
+  const uint32_t rays =
+      uint32_t(std::clamp(kClosureRayTests / triangles, double(kMinClosureRays), double(kClosureRays)));
+  auto halton = [](uint32_t index, uint32_t base) {
+    double f = 1.0, r = 0.0;
+    for (uint32_t i = index; i > 0; i /= base) {
+      f /= double(base);
+      r += f * double(i % base);
+    }
+    return r;
+  };
+  const dvec3 extent = dvec3(rdb.boundsM.max) - dvec3(rdb.boundsM.min);
+  const double tMinM = 1e-6 * std::max(glm::length(extent), 1e-3);
+  uint32_t hits = 0;
+  for (uint32_t k = 0; k < rays; ++k) {
+    const uint32_t index = k + 1;
+    const double pick = halton(index, 2) * sum;
+    const size_t e = std::min(size_t(std::upper_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()), cdf.size() - 1);
+    const uint32_t i = faceOf[e] / 2;
+    const bool back = (faceOf[e] & 1u) != 0u;
+    const dvec3 p0(rdb.positionsM[rdb.indices[i]]), p1(rdb.positionsM[rdb.indices[i + 1]]),
+        p2(rdb.positionsM[rdb.indices[i + 2]]);
+    // A uniform point of the triangle (square-root warp) and a cosine-distributed direction about its normal.
+    const double su = std::sqrt(halton(index, 3)), v = halton(index, 5);
+    const dvec3 p = (1.0 - su) * p0 + su * (1.0 - v) * p1 + su * v * p2;
+    dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    if (back) n = -n;
+    const double r = std::sqrt(halton(index, 7)), phi = 2.0 * kPi * halton(index, 11);
+    const dvec3 t = glm::normalize(std::abs(n.x) > 0.5 ? glm::cross(n, dvec3(0, 1, 0)) : glm::cross(n, dvec3(1, 0, 0)));
+    const dvec3 b = glm::cross(n, t);
+    const dvec3 d = glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - r * r)) * n);
+    hits += hitsAnyTriangle(rdb, p + tMinM * n, d, tMinM) ? 1u : 0u;
+  }
+  return float(double(hits) / double(rays));
+}
+
 // The simple mode's ambient term (raster_rdb.h): the daylight's (buildSky first) plus progressive radiosity's
 // for the scene's lights and its emissive surfaces.
 void buildAmbient(RasterRdb& rdb) {
   rdb.ambient = rdb.daylightAmbient;
+  rdb.ambientClosure.reset();
   if (rdb.indices.empty()) return;
+  // Per triangle (by its first index / 3): area, and the luminous flux its faces send out — what they emit
+  // and what they reflect of the lights' unshadowed direct light (ρ · Ē over its corners, front and, for
+  // two-sided meshes, back).
+  const size_t triangles = rdb.indices.size() / 3;
+  std::vector<double> area(triangles, 0.0), frontOut(triangles, 0.0), backOut(triangles, 0.0);
   std::vector<double> vertexArea(rdb.positionsM.size(), 0.0);
   double areaSum = 0.0, albedoSum = 0.0;
   dvec3 emittedLm(0.0);
@@ -783,12 +874,29 @@ void buildAmbient(RasterRdb& rdb) {
       areaSum += a;
       albedoSum += a * albedo;
       // A Lambertian emitter of luminance L sends π·L lm/m² from each emitting face.
+      const double emitted = kPi * a * double(luminance(material.emissionCdM2));
       emittedLm += kPi * (rm.twoSided ? 2.0 : 1.0) * a * dvec3(material.emissionCdM2);
+      double eFront = 0.0, eBack = 0.0;
+      for (int k = 0; k < 3 && !rdb.lights.empty(); ++k) {
+        for (const RasterLight& l : rdb.lights) {
+          eFront += luminance(directIlluminanceLux(rdb, l, rdb.positionsM[v[k]], rdb.normals[v[k]])) / 3.0;
+          if (rm.twoSided)
+            eBack += luminance(directIlluminanceLux(rdb, l, rdb.positionsM[v[k]], -rdb.normals[v[k]])) / 3.0;
+        }
+      }
+      area[i / 3] = a;
+      frontOut[i / 3] = emitted + albedo * eFront * a;
+      backOut[i / 3] = rm.twoSided ? emitted + albedo * eBack * a : 0.0;
     }
   }
   if (!(areaSum > 0.0)) return;
+  if (rdb.lights.empty() && !(maxComponent(emittedLm) > 0.0)) return;  // no term of progressive radiosity
+  rdb.ambientClosure = estimateClosure(rdb, [&](uint32_t first, bool back) {
+    return back ? backOut[first / 3] : frontOut[first / 3];
+  });
   const double rho = std::min(0.9, albedoSum / areaSum);
-  dvec3 level = emittedLm / areaSum / (1.0 - rho);
+  const double c = *rdb.ambientClosure;
+  dvec3 level = emittedLm / areaSum * (c / (1.0 - rho * c));
   if (!rdb.lights.empty()) {
     dvec3 eSum(0.0);
     for (size_t v = 0; v < rdb.positionsM.size(); ++v) {
@@ -798,7 +906,7 @@ void buildAmbient(RasterRdb& rdb) {
         e += directIlluminanceLux(rdb, l, rdb.positionsM[v], rdb.normals[v]);
       eSum += vertexArea[v] * dvec3(e);
     }
-    level += eSum / areaSum * (rho / (1.0 - rho));
+    level += eSum / areaSum * (rho * c / (1.0 - rho * c));
   }
   rdb.ambient.upLux += Rgb(level);
   rdb.ambient.downLux += Rgb(level);

@@ -329,11 +329,13 @@ struct RasterVariants {
 // downLux = that of the ground (reflectance kRasterGroundAlbedo, rdb/raster_sky.h) lit by sky and sun; in
 // simple mode, those of the daylight (when the scene has a sky or sun, whose sun the simple mode's Phong
 // also shades with) plus, on both, the ambient term of progressive radiosity (Cohen et al. 1988, §4.2):
-// for the scene's lights ρ̄/(1 − ρ̄) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct
+// for the scene's lights ρ̄c/(1 − ρ̄c) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct
 // illuminance at the vertices, and for its emissive surfaces, which the Phong does not shade with,
-// Ē_e / (1 − ρ̄), with Ē_e their flux (π·L per emitting face and m²) spread over every surface — the mean
-// illuminance of an enclosure (the integrating-sphere formula); ρ̄ is the area-weighted mean albedo
-// (luminance), capped at 0.9.
+// Ē_e · c/(1 − ρ̄c), with Ē_e their flux (π·L per emitting face and m²) spread over every surface — the mean
+// illuminance of an enclosure (the integrating-sphere formula) where c = 1; ρ̄ is the area-weighted mean
+// albedo (luminance), capped at 0.9, and c the scene's closure (RasterRdb::ambientClosure): the share of the
+// light leaving its surfaces that lands on another of them. In a closed room c = 1; a lone ground plane
+// under a glTF light has c = 0 and no ambient term, so its Phong shows ρE/π alone.
 inline constexpr float kCornerGain = 1.0f;
 struct DirectionalAmbient {
   Rgb upLux{0.0f};
@@ -402,6 +404,11 @@ struct RasterRdb {
   std::vector<RasterLight> lights;
   std::vector<float> goniometricCd;
   DirectionalAmbient ambient;          // simple mode (the daylight and the scene's lights)
+  // The share of the light that leaves the scene's surfaces — what they emit and reflect of the lights,
+  // cosine-distributed — that lands on another surface rather than escaping: DirectionalAmbient's c,
+  // estimated by up to 4 096 rays from points distributed by that flux (fewer in scenes of many triangles);
+  // nullopt for a scene without lights or emitters.
+  std::optional<float> ambientClosure;
   DirectionalAmbient daylightAmbient;  // sunlight mode (sky and sun)
 
   std::vector<RasterCamera> cameras;  // in id order

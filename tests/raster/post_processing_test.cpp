@@ -39,9 +39,10 @@ bool hasProgram(const Renderer& r, const std::string& prefix) {
 
 // A matte floor (y = 0, x ∈ [0, 6], z ∈ [−3, 3]) and, where `wall`, a matte wall on x = 0 (y ∈ [0, 3]) facing
 // +X: a 90° inner corner along the Z axis. They are lit by the ambient term alone: the scene's only light is
-// an emissive panel far behind the camera (out of view, so it is in no depth buffer), which the Phong terms
-// do not shade with but the ambient level counts (rdb/raster_rdb.h, DirectionalAmbient). So each pixel's
-// luminance is its ambient term, and the image with occlusion over the one without is the AO itself.
+// an emissive panel overhead, 10 m up and facing down (above the view, so it is in no depth buffer), which the
+// Phong terms do not shade with but the ambient level counts for the part of its light that lands on the floor
+// (rdb/raster_rdb.h, DirectionalAmbient). So each pixel's luminance is its ambient term, and the image with
+// occlusion over the one without is the AO itself.
 rdb::RasterRdb cornerScene(bool wall) {
   sdb::Scene s;
   sdb::Material m;
@@ -61,8 +62,8 @@ rdb::RasterRdb cornerScene(bool wall) {
     s.addNode({.name = "wall", .meshes = {s.addMesh(w).id}});
   }
   sdb::Mesh p = test::quadXY(panel);
-  p.positions = {{40, 5, 1}, {40, 5, -1}, {40, 7, -1}, {40, 7, 1}};
-  p.normals.assign(4, vec3(-1, 0, 0));
+  p.positions = {{-4, 10, -7}, {10, 10, -7}, {10, 10, 7}, {-4, 10, 7}};
+  p.normals.assign(4, vec3(0, -1, 0));
   s.addNode({.name = "panel", .meshes = {s.addMesh(p).id}});
   return rdb::buildRasterRdb(s);
 }

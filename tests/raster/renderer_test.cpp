@@ -156,6 +156,37 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+lightmap"}));
 }
 
+// Each light counted once: a Lambertian ground of albedo 0.5 (one-sided, open to the sky: no light that it
+// reflects comes back) under a glTF directional light of 80 000 lx shows ρE sin(elevation)/π in simple mode,
+// the Phong's term alone: progressive radiosity's ambient term is c = 0 here (RasterRdb::ambientClosure); a
+// closed room's ambient assumed all reflected light came back and showed 2 × ρE/π.
+TEST(Renderer, ALambertianGroundUnderAGltfDirectionalLightShowsRhoEOverPiInSimpleMode) {
+  context();
+  for (const float elevationDeg : {10.0f, 30.0f, 60.0f, 90.0f}) {
+    sdb::Scene s;
+    sdb::Material ground;
+    ground.diffuseColor = Rgb(0.5f);
+    s.addNode({.name = "ground", .meshes = {s.addMesh(test::quadXY(s.addMaterial(ground).id)).id}});
+    sdb::Light sun;
+    sun.type = sdb::LightType::kDirectional;
+    sun.intensity = 80000.0f;
+    const float el = elevationDeg * kPiF / 180.0f;
+    // The light travels along the node's −Z: (−cos el, 0, −sin el), down onto the quad facing +Z.
+    s.addNode({.name = "sun",
+               .parentFromLocal = frameTransform(vec3(std::sin(el), 0, -std::cos(el)), vec3(0, 1, 0),
+                                                 vec3(std::cos(el), 0, std::sin(el)), vec3(0, 0, 5)),
+               .light = s.addLight(sun).id});
+    const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+    EXPECT_EQ(r.ambientClosure, 0.0f);  // a lone plane: no ray from it meets another surface
+    Renderer renderer;
+    renderer.upload(r);
+    renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+    const std::vector<float> img = renderer.luminanceRgb();
+    const float expected = 0.5f * 80000.0f * std::sin(el) / kPiF;
+    EXPECT_NEAR(img[(size_t(16) * 64 + 32) * 3 + 1], expected, 0.02f * expected) << elevationDeg << "°";
+  }
+}
+
 // A light-textured surface whose diffuse share depends on the angle (a dielectric with a Fresnel reflection:
 // rdb::RasterVariants::diffuseByAngle) takes that share per fragment: seen at a grazing angle, with a uniform
 // texture, the image is mirror-symmetric about the view's plane of symmetry (y = 0), although the quad's
@@ -464,8 +495,8 @@ TEST(Renderer, LightTexturesAreSampledBilinearlyPerFragment) {
 }
 
 // Simple mode, analytic: a directional light of E = 1000 lx falling straight on a matte quad of albedo ρ =
-// 0.5 (grey). The directional ambient level is ρ/(1 − ρ) · Ē = E, so L = ρ/π · (E + E) everywhere on the
-// quad.
+// 0.5 (grey). A lone quad reflects nothing onto another surface (closure c = 0), so the directional ambient
+// level ρc/(1 − ρc) · Ē is 0 and L = ρE/π everywhere on the quad.
 TEST(Renderer, SimpleModeDirectionalLightPlusAmbientOnAMatteQuad) {
   context();
   sdb::Scene s;
@@ -481,17 +512,17 @@ TEST(Renderer, SimpleModeDirectionalLightPlusAmbientOnAMatteQuad) {
   s.addNode({.name = "light", .light = s.addLight(sun).id});
   const rdb::RasterRdb r = rdb::buildRasterRdb(s);
   ASSERT_EQ(r.lights.size(), 1u);
-  EXPECT_NEAR(r.ambient.upLux.g, 1000.0f, 1e-2f);
+  EXPECT_EQ(r.ambient.upLux.g, 0.0f);
   Renderer renderer;
   renderer.upload(r);
   renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
-  const float l = 0.5f / kPiF * 2000.0f;
+  const float l = 0.5f / kPiF * 1000.0f;
   expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 1e-4f);
 }
 
 // Simple mode with a goniometric light, analytic: a rotationally symmetric type C profile falling linearly from
 // 1000 cd at nadir to 0 at zenith (I(γ) = 1000 · (1 − γ/180°), exact on the tabulated 5° grid), 2 m in front
-// of the quad's centre and aimed at it. Its four vertices are alike, so L = ρ/π · (E + E) as above, with
+// of the quad's centre and aimed at it. Its four vertices are alike, so L = ρE/π as above, with
 // E = I(γ) cos γ / d², cos γ = 2/d.
 TEST(Renderer, SimpleModeGoniometricLight) {
   context();
@@ -519,7 +550,7 @@ TEST(Renderer, SimpleModeGoniometricLight) {
   const double d = std::sqrt(1.0 + 0.25 + 4.0);
   const double gammaDeg = radToDeg(std::acos(2.0 / d));
   const double e = 1000.0 * (1.0 - gammaDeg / 180.0) * (2.0 / d) / (d * d);
-  const float l = float(0.5 / kPi * 2.0 * e);
+  const float l = float(0.5 / kPi * e);
   expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, std::vector<Rgb>(4, Rgb(l)), false), 1e-4f);
   EXPECT_EQ(renderer.stats().programs, (std::vector<std::string>{"background", "scene+phong+gonio"}));
 }

@@ -124,8 +124,13 @@ TEST(RasterRdbBuild, MaterialsLightsCamerasAndVariants) {
   EXPECT_FALSE(r.variants.sky);
   EXPECT_FALSE(r.variants.lightMap);
   EXPECT_FALSE(r.sky.has_value());
-  // Progressive radiosity's ambient level ρ̄/(1 − ρ̄) · Ē, computed here independently: Ē over the three unit
-  // quads with vertex weights area/3 per triangle, E = I · cos θ / d² from the 100 cd lamp; ρ̄ the mean
+  // The corner's closure: each unit square sees the other two, each at the view factor of perpendicular
+  // unit squares sharing an edge, 0.200044 (Hottel's crossed-strings result; Howell's catalogue of
+  // configuration factors, C-14): c = 0.400088.
+  ASSERT_TRUE(r.ambientClosure);
+  EXPECT_NEAR(*r.ambientClosure, 0.400088, 0.01);
+  // Progressive radiosity's ambient level ρ̄c/(1 − ρ̄c) · Ē, computed here independently: Ē over the three
+  // unit quads with vertex weights area/3 per triangle, E = I · cos θ / d² from the 100 cd lamp; ρ̄ the mean
   // albedo.
   double eSum = 0.0, areaSum = 0.0;
   for (const RasterMesh& m : r.meshes) {
@@ -143,13 +148,15 @@ TEST(RasterRdbBuild, MaterialsLightsCamerasAndVariants) {
   }
   const double rhoWood = luminance(Rgb(0.96f * 0.4f, 0.96f * 0.25f, 0.96f * 0.1f));
   const double rho = (rhoWood + 2.0 * 0.7) / 3.0;
-  const double level = rho / (1.0 - rho) * eSum / areaSum;
+  const double closure = r.ambientClosure.value_or(-1.0f);
+  const double level = rho * closure / (1.0 - rho * closure) * eSum / areaSum;
   EXPECT_NEAR(r.ambient.upLux.r, level, 1e-4 * level);
   EXPECT_NEAR(r.ambient.downLux.g, level, 1e-4 * level);
 }
 
-// Emissive surfaces, which the simple mode's Phong does not shade with, add their flux spread over every
-// surface as the mean illuminance of an enclosure, Ē_e / (1 − ρ̄) (the integrating-sphere formula).
+// Emissive surfaces, which the simple mode's Phong does not shade with, add the part c of their flux that
+// lands on the surfaces, spread over every surface, with its interreflections: Ē_e · c / (1 − ρ̄c) (the
+// integrating-sphere formula where c = 1).
 TEST(RasterRdbBuild, EmissiveSurfacesRaiseTheSimpleModesAmbientByTheirFlux) {
   Corner c = corner();
   const RasterRdb before = buildRasterRdb(c.scene);
@@ -160,9 +167,16 @@ TEST(RasterRdbBuild, EmissiveSurfacesRaiseTheSimpleModesAmbientByTheirFlux) {
   // The one-sided 1 m² wooden floor emits π · 50 lm over the three unit quads; ρ̄ as above.
   const double rhoWood = luminance(Rgb(0.96f * 0.4f, 0.96f * 0.25f, 0.96f * 0.1f));
   const double rho = (rhoWood + 2.0 * 0.7) / 3.0;
-  const double added = kPi * 50.0 / 3.0 / (1.0 - rho);
-  EXPECT_NEAR(r.ambient.upLux.g - before.ambient.upLux.g, added, 1e-4 * added);
-  EXPECT_NEAR(r.ambient.downLux.b - before.ambient.downLux.b, added, 1e-4 * added);
+  // Every face of the corner sees the other two alike (c = 0.400088, above), whichever sends the light.
+  ASSERT_TRUE(before.ambientClosure && r.ambientClosure);
+  EXPECT_NEAR(*r.ambientClosure, 0.400088, 0.01);
+  const double cBefore = *before.ambientClosure, cAfter = *r.ambientClosure;
+  // The lamp's term of `before` gives Ē; the level after is the emitter's term plus the lamp's at the closure
+  // now (the flux that the closure's rays start from has moved to the floor).
+  const double lampLux = before.ambient.upLux.g * (1.0 - rho * cBefore) / (rho * cBefore);
+  const double expected = kPi * 50.0 / 3.0 * cAfter / (1.0 - rho * cAfter) + lampLux * rho * cAfter / (1.0 - rho * cAfter);
+  EXPECT_NEAR(r.ambient.upLux.g, expected, 1e-4 * expected);
+  EXPECT_NEAR(r.ambient.downLux.g, expected, 1e-4 * expected);
 }
 
 TEST(RasterRdbBuild, LightMapsAreMatchedByNodeAndMeshAndChecked) {
