@@ -1409,10 +1409,11 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
   // The per-vertex meshes' chunks this pass can see (a mirrored pass: through its mirror, in front of it).
   visibleRanges(gpu_->perVertexChunks, clipFromWorld, mirrorPass ? mirrorPass->rect : NdcRect{}, gpu_->visibleChunks);
 
-  // The background in every pixel (black, or in sunlight mode the sky and the sun), in place of a colour
-  // clear; the scene is drawn over it.
+  // The background in every pixel, in place of a colour clear; the scene is drawn over it: the sky and the
+  // sun where the scene has them, in sunlight mode and in light-map mode (what a window shows beyond the
+  // baked surfaces: the sky of the bake's site and time), else black.
   const bool sunlight = mode == RenderMode::kSunlight;
-  const bool sky = sunlight && v.sky;
+  const bool sky = (sunlight || mode == RenderMode::kLightMap) && v.sky;
   BackgroundProgram& bg = sky ? gpu_->sky : gpu_->background;
   if (!bg.program) {
     bg.program = compileProgram(sky ? "sky" : "background",
