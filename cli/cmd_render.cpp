@@ -289,8 +289,16 @@ int runRender(const RenderOptions& options) {
   t << "OpenGL    " << context->info().major << "." << context->info().minor << " core, "
     << context->info().renderer << " (" << context->info().platform << ")\n";
   // What the last render's sun shadows took, when it drew them.
+  // The scene's glTF lights where the Phong shades with them (simple mode, and sunlight mode without light
+  // maps): the GL engine draws no shadows of theirs; a bake holds them.
+  auto lampShadowLine = [&]() -> std::string {
+    const bool phong = mode == raster::RenderMode::kSimple || (mode == raster::RenderMode::kSunlight && !rdb.variants.lightMap);
+    if (rdb.lights.empty() || !phong) return "";
+    return "lights    " + std::to_string(rdb.lights.size()) + (rdb.lights.size() == 1 ? " light shades" : " lights shade") +
+           " without shadows: the GL engine draws the sun's shadows only (a bake holds the lights')\n";
+  };
   auto shadowLine = [&]() -> std::string {
-    if (renderer.stats().shadowPasses == 0) return "";
+    if (renderer.stats().shadowPasses == 0) return lampShadowLine();
     const raster::SunShadowCounts c = renderer.sunShadowCounts();
     return "shadows   sun shadow volumes of " + std::to_string(c.keptTriangles) + " of " +
            std::to_string(c.casterTriangles) + " triangles, " + std::to_string(c.silhouetteEdges) +
@@ -299,8 +307,8 @@ int runRender(const RenderOptions& options) {
                 ? std::to_string(shadows.visibilityMapTexels) + "² visibility map: " +
                       std::to_string(c.visibleTriangles) + " seen, " + std::to_string(c.keptByDepthTest) +
                       " kept by the depth test"
-                : std::string("every sun-facing triangle")) +
-           ")\n";
+                : std::string("every triangle the sun can see")) +
+           ")\n" + lampShadowLine();
   };
   // The sun through clear glass, when the last render drew it.
   auto glassLine = [&]() -> std::string {

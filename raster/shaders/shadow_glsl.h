@@ -330,14 +330,15 @@ void main() {
 )GLSL";
 
 // One invocation per caster: the kept ones (seen, or kept by the depth test, or of a closed shell
-// with a kept triangle and facing the way the sun can see it; or, without pruning, facing the sun) are turned
-// to face the sun, add their edges' signed uses and are appended to the caps.
+// with a kept triangle and facing the way the sun can see it; or, without pruning, every one facing the way
+// the sun can see it: of an open shell either way) are turned to face the sun, add their edges' signed uses
+// and are appended to the caps.
 inline constexpr const char* kShadowKeepCompute = R"GLSL(
 layout(local_size_x = 64) in;
 uniform uint uCasterCount;
 uniform uint uCapCapacity;  // indices in the caps buffer: 3 × casters
 uniform vec3 uSunDirWorld;  // unit, towards the sun
-uniform int uPrune;         // 1: visibility map; 0: every sun-facing triangle (the classic method)
+uniform int uPrune;         // 1: visibility map; 0: every triangle the sun can see (the classic method)
 layout(std430, binding = 2) readonly buffer State { uint state[]; };
 layout(std430, binding = 3) buffer EdgeCounts { int edgeCount[]; };
 layout(std430, binding = 4) writeonly buffer Caps { uint capIndices[]; };
@@ -351,11 +352,14 @@ bool flyKeep(uint i, out bool facing) {
   float area2 = dot(cross(flyPosition(c.vertices.y) - p0, flyPosition(c.vertices.z) - p0), uSunDirWorld);
   if (area2 == 0.0) return false;  // edge-on: its shadow prism has no volume
   facing = area2 > 0.0;
-  if (uPrune == 0) return facing;
-  // A closed shell that casts at all casts with every triangle that faces the way the sun can see it: its
-  // silhouette is then the shell's terminator, not the edge of what the map happened to show.
+  // Which way the sun can see it: a triangle of an open shell either way (a one-sided ceiling whose back the
+  // sun sees blocks it as the baker's surfaces do), one of a closed shell only from outside the shell.
   uint closure = (c.vertices.w >> 3u) & 3u;
   bool seeable = closure == 0u || (closure == 1u) == facing;
+  // The classic method: every triangle the sun can see the way it faces (a closed shell's terminator).
+  if (uPrune == 0) return seeable;
+  // A closed shell that casts at all casts with every triangle that faces the way the sun can see it: its
+  // silhouette is then the shell's terminator, not the edge of what the map happened to show.
   // One facing the way its closed shell hides it shows in the map only where it meets a seeable one at the
   // shell's rim or on a coplanar face (a tie of depths): the sun never sees more of it than that edge.
   if (!seeable) return false;
