@@ -187,6 +187,41 @@ TEST(Renderer, ALambertianGroundUnderAGltfDirectionalLightShowsRhoEOverPiInSimpl
   }
 }
 
+// The same for a glTF point light and a spot light (its corners inside the inner cone) of 2 000 cd, 2 m from
+// the ground's centre at 30° from its normal: E = I cos θ / d² at each vertex, shown as ρE/π between them.
+TEST(Renderer, ALambertianGroundUnderAGltfPointOrSpotLightShowsRhoEOverPiInSimpleMode) {
+  context();
+  for (const sdb::LightType type : {sdb::LightType::kPoint, sdb::LightType::kSpot}) {
+    sdb::Scene s;
+    sdb::Material ground;
+    ground.diffuseColor = Rgb(0.5f);
+    s.addNode({.name = "ground", .meshes = {s.addMesh(test::quadXY(s.addMaterial(ground).id)).id}});
+    sdb::Light lamp;
+    lamp.type = type;
+    lamp.intensity = 2000.0f;
+    lamp.innerConeRad = 0.6f;
+    lamp.outerConeRad = 0.7f;
+    const float theta = 30.0f * kPiF / 180.0f, d = 2.0f;
+    // At (d sin θ, 0, d cos θ), its −Z (the spot's axis) towards the ground's centre.
+    const vec3 z(std::sin(theta), 0.0f, std::cos(theta));
+    s.addNode({.name = "lamp",
+               .parentFromLocal = frameTransform(vec3(z.z, 0, -z.x), vec3(0, 1, 0), z, d * z),
+               .light = s.addLight(lamp).id});
+    const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+    EXPECT_EQ(r.ambientClosure, 0.0f);
+    Renderer renderer;
+    renderer.upload(r);
+    renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+    // Per vertex (Gouraud): ρ/π · E at each corner of the quad, interpolated over its two triangles.
+    std::vector<Rgb> corners;
+    for (const vec3& p : test::quadXY(sdb::MaterialId{}).positions) {
+      const vec3 toLamp = d * z - p;
+      corners.push_back(Rgb(0.5f / kPiF * 2000.0f * toLamp.z / glm::length(toLamp) / glm::dot(toLamp, toLamp)));
+    }
+    expectImageNear(renderer.luminanceRgb(), expectedQuad(64, 32, corners, false), 1e-3f);
+  }
+}
+
 // A light-textured surface whose diffuse share depends on the angle (a dielectric with a Fresnel reflection:
 // rdb::RasterVariants::diffuseByAngle) takes that share per fragment: seen at a grazing angle, with a uniform
 // texture, the image is mirror-symmetric about the view's plane of symmetry (y = 0), although the quad's
