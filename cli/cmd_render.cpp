@@ -232,9 +232,24 @@ int runRender(const RenderOptions& options) {
   renderer.setAmbientOcclusion(ambientOcclusion);
   renderer.setBloom(bloom);
   // Renders the current RasterRdb into `path`; the exposure is `ev100` when given, else automatic (returned).
+  auto meter = [&](const std::vector<float>& rgb) {
+    std::vector<float> lum(rgb.size() / 3);
+    for (size_t i = 0; i < lum.size(); ++i) lum[i] = luminance(Rgb(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
+    // Compensation as a camera's: +1 stop is twice the exposure, one EV100 less.
+    return autoExposureEv100Histogram(lum) - o.evCompensation;
+  };
   auto renderImage = [&](const std::string& path, std::optional<double> ev100) {
+    // Emission given as a display colour shows at the exposure's white: with automatic exposure, the frame
+    // is metered without it, then drawn again with it.
+    renderer.setDisplayWhite(ev100 ? 1.0f / exposureScale(*ev100) : 0.0f);
     renderer.render(view, *mode, width, height);
-    const std::vector<float> rgb = renderer.luminanceRgb();
+    std::vector<float> rgb = renderer.luminanceRgb();
+    if (!ev100 && renderer.hasDisplayEmission() && o.falseColour.empty()) {
+      ev100 = meter(rgb);
+      renderer.setDisplayWhite(1.0f / exposureScale(*ev100));
+      renderer.render(view, *mode, width, height);
+      rgb = renderer.luminanceRgb();
+    }
     for (float v : rgb) {
       if (!std::isfinite(v))
         throw std::runtime_error("internal error: the render has a non-finite luminance");
@@ -263,13 +278,7 @@ int runRender(const RenderOptions& options) {
       writeExr(path, image, attributes);
       return 0.0;
     }
-    if (!ev100) {
-      std::vector<float> lum(rgb.size() / 3);
-      for (size_t i = 0; i < lum.size(); ++i)
-        lum[i] = luminance(Rgb(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
-      // Compensation as a camera's: +1 stop is twice the exposure, one EV100 less.
-      ev100 = autoExposureEv100Histogram(lum) - o.evCompensation;
-    }
+    if (!ev100) ev100 = meter(rgb);
     renderer.toneMap(ToneMapSettings{op, *ev100, o.whitePoint});
     const std::vector<uint8_t> px = renderer.srgb8();
     settings.emplace_back("fly:exposure", "EV100 " + std::to_string(*ev100) + ", white point " +

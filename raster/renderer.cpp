@@ -90,7 +90,8 @@ struct GpuLight {
 GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
   return {vec4(m.diffuse, m.reflectionTinted ? 1.0f : 0.0f),
           vec4(m.specular, 0.0f),
-          vec4(m.emissionCdM2, m.transmissionAlpha),
+          // A display colour c as −(c + 1) (every channel ≤ −1), which flyEmission scales by the display white.
+          vec4(m.emissionDisplay ? -(m.emissionCdM2 + Rgb(1.0f)) : m.emissionCdM2, m.transmissionAlpha),
           vec4(m.transmission, m.fresnelF0),
           vec4(m.reflection, 0.0f),
           vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
@@ -355,7 +356,7 @@ void decodeLuminance(uint32_t x, uint32_t y, float* rgb) {
 struct Renderer::SceneProgram {
   GLuint program = 0;
   GLint clipFromWorld = -1, eye = -1, viewDir = -1, orthographic = -1, lightCount = -1, ambientUp = -1,
-        ambientDown = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
+        ambientDown = -1, displayWhite = -1, sunDir = -1, sunNormalLux = -1, glassPass = -1, textureSlots = -1, uvRows = -1,
         material = -1, sunGlassFromWorld = -1, sunGlassBias = -1, ballLayer = -1, ballFromWorld = -1,
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
         mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
@@ -627,6 +628,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.lightCount = loc("uLightCount");
   sp.ambientUp = loc("uAmbientUpLux");
   sp.ambientDown = loc("uAmbientDownLux");
+  sp.displayWhite = loc("uDisplayWhiteCdM2");
   sp.sunDir = loc("uSunDirWorld");
   sp.sunNormalLux = loc("uSunNormalLux");
   sp.glassPass = loc("uGlassPass");
@@ -1360,6 +1362,13 @@ void Renderer::drawReflections(const View& view, RenderMode mode, uint32_t width
   if (mirrorBlur_) mirrorBlur_->finish();
 }
 
+bool Renderer::hasDisplayEmission() const {
+  if (!rdb_) return false;
+  return std::any_of(rdb_->materials.begin(), rdb_->materials.end(), [](const rdb::RasterMaterial& m) {
+    return m.emissionDisplay && maxComponent(m.emissionCdM2) > 0.0f;
+  });
+}
+
 // Back faces culled (one-sided surfaces) or drawn (two-sided ones); the winding of the front face is the
 // pass's (glFrontFace: mirrored passes turn it).
 static void setFaceCulling(bool cull) {
@@ -1554,6 +1563,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       glUniform1i(p.lightCount, GLint(r.lights.size()));
       glUniform3fv(p.ambientUp, 1, &ambient.upLux[0]);
       glUniform3fv(p.ambientDown, 1, &ambient.downLux[0]);
+      glUniform1f(p.displayWhite, displayWhiteCdM2_);
       if (v.sun) {
         glUniform3fv(p.sunDir, 1, &r.sky->sunDirWorld[0]);
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);

@@ -54,6 +54,7 @@
 // (shaders::kLuminanceEncoding: full float range, each channel within 1.9·10⁻⁶ of the pixel's largest).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <map>
@@ -184,6 +185,11 @@ class Renderer {
   // How the sun's direct term is shadowed (raster/sun_shadows.h); std::invalid_argument for a visibility map
   // size outside [16, 16384]. Default: the classic volumes (SunShadowSettings).
   void setSunShadows(const SunShadowSettings& settings);
+  // The luminance (cd/m²) at which emission given as a display colour (rdb::RasterMaterial::emissionDisplay)
+  // shows its colour: the exposure's white, 1.2 · 2^EV100 (base/tone_map.h). 0 (the default) shows it black;
+  // a caller with automatic exposure meters a frame without it first (it would otherwise move the meter).
+  void setDisplayWhite(float cdM2) { displayWhiteCdM2_ = std::isfinite(cdM2) && cdM2 > 0.0f ? cdM2 : 0.0f; }
+  bool hasDisplayEmission() const;
   // What the last shadow build made (read back from the GPU; zeros before the first).
   SunShadowCounts sunShadowCounts() const;
   // For benchmarks: GPU time stamps around the stages of each shadow build (off by default), and the last
@@ -300,6 +306,7 @@ class Renderer {
   std::unique_ptr<Gpu> gpu_;
   std::unique_ptr<SunShadows> shadows_;  // made at the first frame that draws the sun's shadows
   SunShadowSettings shadowSettings_;
+  float displayWhiteCdM2_ = 0.0f;
   bool shadowProfiling_ = false;
   bool shadowGeometryDirty_ = true;
   std::unique_ptr<SunGlassMap> sunGlass_;  // made at the first frame that draws the sun through clear glass

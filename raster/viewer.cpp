@@ -517,6 +517,8 @@ ViewerResult runViewer(GlfwWindowContext& window, const rdb::RasterRdb& rdb, Vie
     if (options.probeAtPx && result.frames == 0) probeAt(options.probeAtPx->x, options.probeAtPx->y);
     View view = source.view;
     view.worldFromCamera = controller.worldFromCamera();
+    // Emission given as a display colour at the exposure's white (the last frame's exposure).
+    renderer.setDisplayWhite(1.0f / exposureScale(tone.ev100));
     renderer.render(view, mode, uint32_t(fbW), uint32_t(fbH));
     if (autoExposure) {
       const std::vector<float> rgb = renderer.luminanceRgb();

@@ -154,6 +154,7 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
                            : glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
   }
   r.emissionCdM2 = m.emissionLuminance;
+  r.emissionDisplay = m.emissionDisplay;
   if (engineGlass(m)) {
     r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
     const float alphaT = m.transmissionGlossiness * m.transmissionGlossiness;
@@ -874,8 +875,10 @@ void buildAmbient(RasterRdb& rdb) {
       areaSum += a;
       albedoSum += a * albedo;
       // A Lambertian emitter of luminance L sends π·L lm/m² from each emitting face.
-      const double emitted = kPi * a * double(luminance(material.emissionCdM2));
-      emittedLm += kPi * (rm.twoSided ? 2.0 : 1.0) * a * dvec3(material.emissionCdM2);
+      // A display colour (emissionDisplay) lights nothing.
+      const Rgb emission = material.emissionDisplay ? Rgb(0.0f) : material.emissionCdM2;
+      const double emitted = kPi * a * double(luminance(emission));
+      emittedLm += kPi * (rm.twoSided ? 2.0 : 1.0) * a * dvec3(emission);
       double eFront = 0.0, eBack = 0.0;
       for (int k = 0; k < 3 && !rdb.lights.empty(); ++k) {
         for (const RasterLight& l : rdb.lights) {

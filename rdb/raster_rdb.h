@@ -82,7 +82,9 @@ enum class RasterAlphaMode : uint32_t { kOpaque = 0, kMask = 1, kBlend = 2 };
 struct RasterMaterial {
   Rgb diffuse{0.8f};   // Lambertian albedo after the energy rule (sdb::Material::effective()), [0,1]
   Rgb specular{0.0f};  // reflect input of the energy rule at normal incidence (reflectionAt(1)), [0,1]
-  Rgb emissionCdM2{0.0f};  // emitted luminance, cd/m²
+  Rgb emissionCdM2{0.0f};  // emitted luminance, cd/m²; with emissionDisplay a display colour in [0, 1]
+  // sdb::Material::emissionDisplay: shown as emissionCdM2 times the exposure's white (Renderer::setDisplayWhite)
+  bool emissionDisplay = false;
   // Glass (a material whose energy rule transmits at normal incidence): a thin-walled pane that shows what
   // lies behind it. Clear glass (transmissionAlpha 0, sdb::Material::hasClearTransmission) times T(θ) =
   // transmission · (1 − reflection · F(θ)) — the energy rule's transmittance at the angle it is seen, as the

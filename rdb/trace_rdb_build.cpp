@@ -131,7 +131,7 @@ TraceMaterial lowerMaterial(const sdb::Material& m, uint32_t sdbMaterialId) {
   t.anisotropyV = m.anisotropyV;
   t.anisotropyRotationRad = m.anisotropyRotationRad;
   t.transmissionGlossiness = m.transmissionGlossiness;
-  t.emissionCdM2 = m.emissionLuminance;
+  t.emissionCdM2 = m.emissionDisplay ? Rgb(0.0f) : m.emissionLuminance;  // a display colour lights nothing
   t.doubleSided = m.doubleSided;
   t.sdbMaterialId = sdbMaterialId;
   t.reflectionFogDistanceM = m.reflectionFogDistanceM;

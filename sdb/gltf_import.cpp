@@ -36,7 +36,8 @@
 //  - alphaMode, alphaCutoff and baseColorFactor's alpha → Material::alphaMode, alphaCutoff and opacity; the
 //    alpha channel of baseColorTexture (diffuseTexture) and of COLOR_0 multiply the coverage per point.
 //  - emissionLuminance = emissiveFactor × KHR_materials_emissive_strength, in cd/m² (docs/architecture.md, "Units and
-//    frames"); emissiveTexture → emissionTexture (sRGB).
+//    frames"); without the extension emissiveFactor is a display colour (Material::emissionDisplay);
+//    emissiveTexture → emissionTexture (sRGB).
 //  - normalTexture → bumpTexture with bumpScale = normalTexture.scale.
 //  - occlusionTexture is ignored: the baker computes occlusion from the geometry.
 //  - doubleSided → Material::doubleSided and Mesh::twoSided.
@@ -2123,7 +2124,8 @@ class Importer {
     // tinygltf checks that emissiveFactor has 3 numbers.
     const Rgb emissive = unitColor(gm.emissiveFactor, path + "/emissiveFactor", label + " emissiveFactor");
     float strength = 1.0f;
-    if (const tinygltf::Value* e = extension(gm, "KHR_materials_emissive_strength")) {
+    const tinygltf::Value* strengthExtension = extension(gm, "KHR_materials_emissive_strength");
+    if (const tinygltf::Value* e = strengthExtension) {
       const std::string epath = path + "/extensions/KHR_materials_emissive_strength";
       const double s = extNumber(*e, "emissiveStrength", 1.0, epath);
       if (!(s >= 0.0 && std::isfinite(s))) {
@@ -2132,6 +2134,8 @@ class Importer {
       strength = float(s);
     }
     m.emissionLuminance = emissive * strength;
+    // Without the extension, a display colour (sdb::Material::emissionDisplay).
+    m.emissionDisplay = strengthExtension == nullptr && maxComponent(emissive) > 0.0f;
     if (gm.emissiveTexture.index >= 0) {
       m.emissionTexture = textureRef(
           texInfo(gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions),

@@ -132,6 +132,11 @@ struct Material {
   // each channel in [0, ∞). Default 0.
   Rgb emissionLuminance{0.0f};
   TextureRef emissionTexture;  // sRGB-encoded; multiplies emissionLuminance
+  // glTF emission without KHR_materials_emissive_strength (a label, a logo, a screen): emissionLuminance then
+  // holds a display colour in [0, 1], not cd/m². The GL engine shows it as that fraction of the exposure's
+  // white, Lmax = 1.2 · 2^EV100 cd/m² (base/tone_map.h), at any exposure, as glTF viewers show emission; the
+  // baker takes no light from it. With the extension, emission is physical (cd/m²) and lights the scene.
+  bool emissionDisplay = false;
 
   // A measured or fitted BRDF that replaces the analytic reflection (diffuse, reflection, glossiness, Fresnel)
   // where an engine supports it — elsewhere the analytic parameters above stand in for it: a MERL table
@@ -152,7 +157,8 @@ struct Material {
     return applyEnergyRule(diffuseColor, reflectionAt(cosTheta), transmissionColor);
   }
   EffectiveComponents effective() const { return effectiveAt(1.0f); }
-  bool isEmissive() const { return maxComponent(emissionLuminance) > 0.0f; }
+  // A light source: emission in cd/m² (not a display colour).
+  bool isEmissive() const { return !emissionDisplay && maxComponent(emissionLuminance) > 0.0f; }
   bool isTransmissive() const { return maxComponent(effective().transmission) > 0.0f || bool(transmissionTexture); }
   // Clear glass: transmission through a delta lobe (transmission glossiness² below kSmoothAlpha), which both
   // engines treat as a thin-walled pane that light passes straight through, with the energy rule's

@@ -90,6 +90,12 @@ uniform int uOrthographic;
 uniform int uLightCount;
 uniform vec3 uAmbientUpLux;
 uniform vec3 uAmbientDownLux;
+uniform float uDisplayWhiteCdM2;  // the exposure's white (cd/m²), for emission given as a display colour
+// A material's emission, cd/m²: a display colour (stored as −(c + 1), rdb::RasterMaterial::emissionDisplay)
+// times the exposure's white.
+vec3 flyEmission(Material m) {
+  return m.emission.r < 0.0 ? (-m.emission.rgb - 1.0) * uDisplayWhiteCdM2 : m.emission.rgb;
+}
 uniform vec3 uSunDirWorld;   // unit, towards the sun
 uniform vec3 uSunNormalLux;  // illuminance on a surface facing the sun; 0 where it is in shadow (raster/sun_shadows.h)
 
@@ -585,7 +591,7 @@ void main() {
 #endif
   }
 #endif
-  vLuminance = l + m.emission.rgb;
+  vLuminance = l + flyEmission(m);
 #ifdef FLY_SSAO
   vAmbientLuminance = flyAmbientLuminance;
 #endif
@@ -1184,7 +1190,7 @@ void main() {
   bool twoSided = false;  // no mesh of the scene is
 #endif
   vec4 base = vec4(m.diffuse.rgb, m.coverage.x);
-  vec3 emission = m.emission.rgb;
+  vec3 emission = flyEmission(m);
 #ifdef FLY_TEXTURES
   vec3 normalTexel = vec3(0.5, 0.5, 1.0);
   if ((uTextureSlots & 1u) != 0u) {

@@ -222,6 +222,44 @@ TEST(Renderer, ALambertianGroundUnderAGltfPointOrSpotLightShowsRhoEOverPiInSimpl
   }
 }
 
+// Emission given as a display colour (glTF emission without KHR_materials_emissive_strength) shows as that
+// fraction of the exposure's white at any exposure: a quad of display colour (1, 0.5, 0.25) reads
+// (1, 0.5, 0.25) · W for W = 1.2 · 2^EV100 at EV100 0 and 15, and black before a white is set; a physical
+// emitter of 200 cd/m² beside it reads 200 cd/m² at both.
+TEST(Renderer, DisplayEmissionShowsAtTheExposuresWhite) {
+  context();
+  sdb::Scene s;
+  sdb::Material label;
+  label.diffuseColor = Rgb(0.0f);
+  label.emissionLuminance = Rgb(1.0f, 0.5f, 0.25f);
+  label.emissionDisplay = true;
+  sdb::Material lamp = label;
+  lamp.emissionLuminance = Rgb(200.0f);
+  lamp.emissionDisplay = false;
+  auto place = [](float x) { return frameTransform(vec3(0.4f, 0, 0), vec3(0, 0.8f, 0), vec3(0, 0, 1), vec3(x, 0, 0)); };
+  s.addNode({.name = "label", .parentFromLocal = place(-1.0f), .meshes = {s.addMesh(test::quadXY(s.addMaterial(label).id)).id}});
+  s.addNode({.name = "lamp", .parentFromLocal = place(1.0f), .meshes = {s.addMesh(test::quadXY(s.addMaterial(lamp).id)).id}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+  Renderer renderer;
+  renderer.upload(r);
+  EXPECT_TRUE(renderer.hasDisplayEmission());
+  const size_t labelPx = (size_t(16) * 64 + 16) * 3, lampPx = (size_t(16) * 64 + 48) * 3;
+  renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+  EXPECT_EQ(renderer.luminanceRgb()[labelPx], 0.0f);
+  for (const double ev100 : {0.0, 15.0}) {
+    const float white = 1.0f / exposureScale(ev100);
+    renderer.setDisplayWhite(white);
+    renderer.render(orthoView(false), RenderMode::kSimple, 64, 32);
+    const std::vector<float> img = renderer.luminanceRgb();
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(img[labelPx + size_t(c)], label.emissionLuminance[c] * white, 1e-4f * white) << ev100;
+      EXPECT_NEAR(img[lampPx + size_t(c)], 200.0f, 0.02f) << ev100;
+    }
+  }
+  // Neither lights the scene: the simple mode's ambient counts the lamp alone (no other surface here: 0).
+  EXPECT_EQ(r.ambient.upLux, Rgb(0.0f));
+}
+
 // A light-textured surface whose diffuse share depends on the angle (a dielectric with a Fresnel reflection:
 // rdb::RasterVariants::diffuseByAngle) takes that share per fragment: seen at a grazing angle, with a uniform
 // texture, the image is mirror-symmetric about the view's plane of symmetry (y = 0), although the quad's

@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "base/log.h"
 #include "gltf_import_fixture.h"
+#include "sdb/features.h"
 
 namespace fly::sdb {
 namespace {
@@ -598,6 +599,18 @@ TEST_F(GltfImport, EmissionIsFactorTimesStrengthInCandelaPerSquareMetre) {
                     {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1000}}}}}});
   import(b);
   expectRgb(onlyMaterialOfMesh().emissionLuminance, {1000, 500, 250});
+  EXPECT_FALSE(onlyMaterialOfMesh().emissionDisplay);
+  EXPECT_TRUE(onlyMaterialOfMesh().isEmissive());  // a light source
+}
+
+// Without KHR_materials_emissive_strength, emissiveFactor is a display colour (a label, a logo): shown at
+// the exposure's white by the GL engine, no light source for the baker.
+TEST_F(GltfImport, EmissionWithoutStrengthIsADisplayColour) {
+  import(withMaterial({{"emissiveFactor", {1, 0.5, 0.25}}}));
+  expectRgb(onlyMaterialOfMesh().emissionLuminance, {1, 0.5, 0.25});
+  EXPECT_TRUE(onlyMaterialOfMesh().emissionDisplay);
+  EXPECT_FALSE(onlyMaterialOfMesh().isEmissive());
+  EXPECT_FALSE(computeFeatures(scene_).emissiveSurfaces);
 }
 
 TEST_F(GltfImport, DoubleSidedAndDefaultMaterial) {
