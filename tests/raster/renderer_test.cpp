@@ -18,6 +18,9 @@
 #include "raster/gl_context.h"
 #include "raster_test_scenes.h"
 #include "rdb/raster_rdb.h"
+#include "rdb/site_lowering.h"
+#include "sunsky/sky.h"
+#include "../support/helsinki_daylight.h"
 #include "sdb/ies.h"
 #include "sdb/scene.h"
 
@@ -258,6 +261,54 @@ TEST(Renderer, DisplayEmissionShowsAtTheExposuresWhite) {
   }
   // Neither lights the scene: the simple mode's ambient counts the lamp alone (no other surface here: 0).
   EXPECT_EQ(r.ambient.upLux, Rgb(0.0f));
+}
+
+// Daylight counted once in simple and sunlight modes: a Lambertian ground (albedo 0.5, facing +Y) under the
+// site's clear sky with the sun (Helsinki, 21 June, 15:00) and under the CIE overcast sky (type 1, no sun)
+// shows ρE/π, with E the sky model's horizontal illuminance plus the sun's normal illuminance times the sine
+// of its elevation (sunsky, computed apart from the GL engine's tables), within 2 %.
+TEST(Renderer, ALambertianGroundUnderTheSkyShowsRhoEOverPiInSimpleAndSunlightModes) {
+  context();
+  for (const bool overcast : {false, true}) {
+    sdb::Scene s;
+    sdb::Material ground;
+    ground.diffuseColor = Rgb(0.5f);
+    sdb::Mesh mesh = test::quadXY(s.addMaterial(ground).id);
+    for (vec3& p : mesh.positions) p = vec3(p.x, 0.0f, -p.y);  // laid down: x ∈ [−1, 1], z ∈ [−0.5, 0.5]
+    mesh.normals.assign(4, vec3(0, 1, 0));
+    s.addNode({.name = "ground", .meshes = {s.addMesh(mesh).id}});
+    fly::test::setHelsinkiClearSky(s, "2026-06-21T15:00");
+    if (overcast) {
+      sdb::SkySettings sky;
+      sky.model = sdb::SkyModel::kCie;
+      sky.cieType = 1;
+      sky.sun = false;
+      s.setSky(sky);
+    }
+    const std::optional<rdb::SceneDaylight> d = rdb::lowerDaylight(s);
+    ASSERT_TRUE(d && d->sky);
+    double eLux = sunsky::horizontalIlluminanceLux(*d->sky);
+    if (d->sun) eLux += double(luminance(d->sun->normalIlluminanceLux)) * d->sunDirWorld.y;
+    const float expected = float(0.5 * eLux / kPi);
+    const rdb::RasterRdb r = rdb::buildRasterRdb(s);
+    Renderer renderer;
+    renderer.upload(r);
+    // From 5 m above, looking straight down at the ground's centre.
+    View v;
+    v.orthographic = true;
+    v.ymagM = 0.25f;
+    v.znearM = 0.1f;
+    v.zfarM = 10.0f;
+    v.worldFromCamera = frameTransform(vec3(1, 0, 0), vec3(0, 0, -1), vec3(0, 1, 0), vec3(0, 5, 0));
+    for (const RenderMode mode : {RenderMode::kSimple, RenderMode::kSunlight}) {
+      renderer.render(v, mode, 32, 16);
+      const std::vector<float> img = renderer.luminanceRgb();
+      const size_t centre = (size_t(8) * 32 + 16) * 3;
+      const float l = luminance(Rgb(img[centre], img[centre + 1], img[centre + 2]));
+      EXPECT_NEAR(l, expected, 0.02f * expected)
+          << (overcast ? "overcast, " : "clear, ") << renderModeName(mode) << " mode; E = " << eLux << " lx";
+    }
+  }
 }
 
 // A light-textured surface whose diffuse share depends on the angle (a dielectric with a Fresnel reflection:
