@@ -35,7 +35,8 @@ struct HableFilmicConstants {
   // Calibrated as a camera's tone curve: the luminance a reflected-light meter reads as middle grey (ISO 2720,
   // K = 12.5: L = K · 2^EV100 / 100, so x = K / (100 · 1.2) = 0.1042 of Lmax) displays at 0.18 of white
   // (sRGB 0.461, 118 of 255), where a camera's JPEG shows an evenly lit 18 % grey card; Hable's bias of 2
-  // showed it at 0.077 (sRGB 78), 1.3 EV darker. White is reached at x = W / bias = 2.21 (4.4 EV above grey).
+  // would show it at 0.077 (sRGB 78), 1.3 EV darker. White is reached at x = W / bias = 2.21 (4.4 EV above
+  // grey).
   float exposureBias = 5.0588f;
 };
 // The display value (linear, [0, 1]) of the metered middle grey under the filmic operator (above).

@@ -161,8 +161,8 @@ TEST(Renderer, LightMapModeIsAlbedoTimesIrradianceOverPiInterpolated) {
 
 // Each light counted once: a Lambertian ground of albedo 0.5 (one-sided, open to the sky: no light that it
 // reflects comes back) under a glTF directional light of 80 000 lx shows ρE sin(elevation)/π in simple mode,
-// the Phong's term alone: progressive radiosity's ambient term is c = 0 here (RasterRdb::ambientClosure); a
-// closed room's ambient assumed all reflected light came back and showed 2 × ρE/π.
+// the Phong's term alone: progressive radiosity's ambient term is c = 0 here (RasterRdb::ambientClosure); an
+// ambient term that took all reflected light to come back, as in a closed room, would show 2 × ρE/π.
 TEST(Renderer, ALambertianGroundUnderAGltfDirectionalLightShowsRhoEOverPiInSimpleMode) {
   context();
   for (const float elevationDeg : {10.0f, 30.0f, 60.0f, 90.0f}) {
@@ -315,7 +315,7 @@ TEST(Renderer, ALambertianGroundUnderTheSkyShowsRhoEOverPiInSimpleAndSunlightMod
 // rdb::RasterVariants::diffuseByAngle) takes that share per fragment: seen at a grazing angle, with a uniform
 // texture, the image is mirror-symmetric about the view's plane of symmetry (y = 0), although the quad's
 // diagonal puts the two mirrored points in different triangles. A share taken at each triangle's provoking
-// vertex (the two upper corners, at different angles) showed the diagonal as a step of several per cent.
+// vertex (the two upper corners, at different angles) would show the diagonal as a step of several per cent.
 TEST(Renderer, ALightTexturesDiffuseShareIsTakenPerFragmentWithNoStepAlongTheDiagonal) {
   context();
   sdb::Scene s;

@@ -429,8 +429,8 @@ TEST(SunShadows, OpenRoofAndTwoSidedAwningShadowFromEitherSide) {
   fly::test::setHelsinkiClearSky(s, "2026-06-21T13:00");
   for (const vec3& sun : {vec3(0.4f, 0.8f, 0.3f), vec3(-0.3f, 0.6f, -0.5f)}) {
     const rdb::RasterRdb r = withSun(s, sun);
-    // Both methods: the visibility map's and the classic one (the default), which once kept only the
-    // triangles whose front faces the sun and let it through the ceiling.
+    // Both methods: the visibility map's and the classic one (the default), which must keep the ceiling's
+    // triangles although their fronts face away from the sun.
     for (const SunShadowMode mode : {SunShadowMode::kVisibilityMap, SunShadowMode::kSunFacing}) {
       const MaskCheck c = checkShadowMask(r, lookAt(vec3(-2.0f, 6.0f, 7.0f), vec3(0.8f, 0.0f, 0.0f)),
                                           RenderMode::kSimple, 320, 180, {mode});
