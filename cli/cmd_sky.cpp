@@ -67,8 +67,9 @@ int runSky(SkyOptions o) {
   if (st.sceneSky && !o.skyGiven && st.sceneSky->model != sdb::SkyModel::kNone) {
     const sdb::SkySettings& sky = *st.sceneSky;
     o.request.model = sky.model == sdb::SkyModel::kCie     ? "cie:" + std::to_string(sky.cieType)
-                      : sky.model == sdb::SkyModel::kPerez ? "perez"
-                                                           : "clear";
+                      : sky.model == sdb::SkyModel::kPerez    ? "perez"
+                      : sky.model == sdb::SkyModel::kPreetham ? "preetham"
+                                                              : "clear";
     if (!sky.weatherFile.empty() && !epw) {
       epw = sunsky::loadEpw(sky.weatherFile);
       o.request.weather = &*epw;
@@ -159,7 +160,7 @@ Command addSkyCommand(CLI::App& app) {
   o->site.add(*sub);
   sub->add_option(
          "--sky", o->request.model,
-         "sky model: clear (Preetham, colour follows the sun), perez (all-weather; needs --weather or "
+         "sky model: clear (Hosek-Wilkie sky and sun), preetham (Preetham, colour follows the sun), perez (all-weather; needs --weather or "
          "--dni-wm2/--dhi-wm2), cie:N (CIE standard sky type 1..15; needs --dhi or --zenith-luminance)")
       ->capture_default_str();
   sub->add_option("--weather", o->weather,

@@ -5,6 +5,7 @@
 #include "base/error.h"
 #include "sunsky/cie_sky.h"
 #include "sunsky/clear_sky.h"
+#include "sunsky/hosek_wilkie.h"
 #include "sunsky/perez_sky.h"
 
 namespace fly::cli {
@@ -33,9 +34,10 @@ double directHorizontal(const sunsky::SunDisc& disc) {
 }  // namespace
 
 ClearDaylight clearDaylight(const SiteTime& st, const sunsky::SunPosition& sun, double turbidity) {
-  const sunsky::SunDisc disc = sunsky::clearSkySunDisc(sunDiscInput(st, sun, turbidity));
-  const sunsky::ClearSky sky = sunsky::makeClearSky(turbidity, sun.apparentZenithDeg, sun.azimuthDeg,
-                                                    std::nullopt, sunsky::ClearSkyLevel::kIesHandbook);
+  const sunsky::SunDiscInput in = sunDiscInput(st, sun, turbidity);
+  const sunsky::SunDisc disc = sunsky::hosekWilkieSunDisc(in);
+  const sunsky::HosekWilkieSky sky = sunsky::makeHosekWilkieSky(
+      turbidity, sunsky::kDefaultGroundAlbedo, sun.apparentZenithDeg, sun.azimuthDeg, in.dayOfYear);
   ClearDaylight d;
   d.directNormalLux = luminance(disc.normalIlluminanceLux);
   d.directHorizontalLux = directHorizontal(disc);
@@ -47,6 +49,16 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
   Daylight d;
   const sunsky::SunDiscInput discIn = sunDiscInput(st, sun, r.turbidity);
   if (r.model == "clear") {
+    d.description = "clear sky and sun (Hosek and Wilkie 2012, 2013), turbidity " +
+                    std::to_string(r.turbidity).substr(0, 4) + ", ground albedo 0.2";
+    d.sky = std::make_unique<sunsky::HosekWilkieSky>(
+        sunsky::makeHosekWilkieSky(r.turbidity, sunsky::kDefaultGroundAlbedo, sun.apparentZenithDeg,
+                                   sun.azimuthDeg, discIn.dayOfYear, r.diffuseHorizontalLux));
+    d.sun = r.directNormalLux ? sunsky::sunDiscWithIlluminance(discIn, *r.directNormalLux)
+                              : sunsky::hosekWilkieSunDisc(discIn);
+    return d;
+  }
+  if (r.model == "preetham") {
     d.description =
         "clear sky (Preetham et al. 1999 distribution and colour, IES Lighting Handbook level), turbidity " +
         std::to_string(r.turbidity).substr(0, 4);

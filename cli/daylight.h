@@ -15,7 +15,7 @@ namespace fly::cli {
 // Station pressure of the site: the --pressure value, or the standard atmosphere at its elevation.
 double stationPressureHpa(const sunsky::SpaInput& spa);
 
-// Clear-sky daylight (Preetham sky + clear-atmosphere sun) on unobstructed surfaces, lux.
+// Clear-sky daylight (the Hosek–Wilkie sky and sun) on unobstructed surfaces, lux.
 struct ClearDaylight {
   double directNormalLux = 0.0;
   double directHorizontalLux = 0.0;   // directNormalLux · cos(apparent zenith); 0 below the horizon
@@ -25,7 +25,7 @@ ClearDaylight clearDaylight(const SiteTime& st, const sunsky::SunPosition& sun, 
 
 // What the user asked for with --sky and its inputs.
 struct SkyRequest {
-  std::string model = "clear";  // "clear", "perez", "cie:N" (N = 1..15)
+  std::string model = "clear";  // "clear", "preetham", "perez", "cie:N" (N = 1..15)
   double turbidity = 3.0;
   std::optional<double> diffuseHorizontalLux;  // CIE normalisation, or Perez input (with directNormalLux)
   std::optional<double> zenithLuminanceCdM2;   // CIE normalisation

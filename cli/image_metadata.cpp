@@ -68,7 +68,7 @@ ImageSettings daylightSettings(const sdb::Scene& scene) {
   const sdb::SkySettings& sky = scene.sky();
   std::string model = sdb::skyModelName(sky.model);
   if (sky.model == sdb::SkyModel::kCie) model += ":" + std::to_string(sky.cieType);
-  if (sky.model == sdb::SkyModel::kClear) model += ", turbidity " + fixed(sky.turbidity, 2);
+  if (sdb::isClearSky(sky.model)) model += ", turbidity " + fixed(sky.turbidity, 2);
   if (sky.model == sdb::SkyModel::kPerez) model += ", weather " + sky.weatherFile;
   s.emplace_back("fly:sky", model + (sky.sun ? ", sun" : ", no sun"));
   return s;

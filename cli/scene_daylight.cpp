@@ -59,11 +59,11 @@ std::optional<sdb::SunDirection> parseSunDirection(const std::string& text) {
   return sdb::SunDirection{*az, *el};
 }
 
-// --sky: clear, perez or cie:N. Sets the model, the CIE type, and the sun: clear and Perez skies have it,
+// --sky: clear, preetham, perez or cie:N. Sets the model, the CIE type, and the sun: clear and Perez skies have it,
 // CIE skies of types 6–15 (those with the sun visible) too, the overcast types 1–5 not.
 void parseSky(const std::string& text, sdb::SkySettings& sky) {
-  if (text == "clear") {
-    sky.model = sdb::SkyModel::kClear;
+  if (text == "clear" || text == "preetham") {
+    sky.model = text == "clear" ? sdb::SkyModel::kClear : sdb::SkyModel::kPreetham;
     sky.sun = true;
     return;
   }
@@ -82,7 +82,7 @@ void parseSky(const std::string& text, sdb::SkySettings& sky) {
     }
     throw UsageError("--sky " + text + ": the CIE standard sky type must be 1..15 (e.g. cie:1 overcast, cie:12 clear)");
   }
-  throw UsageError("--sky " + text + ": expected clear, perez or cie:N (N = 1..15)");
+  throw UsageError("--sky " + text + ": expected clear, preetham, perez or cie:N (N = 1..15)");
 }
 
 // Validates a time against a zone: the sunsky parser's message, as a usage error naming the option.
@@ -256,7 +256,10 @@ std::string describeLight(const sdb::Scene& scene, bool defaultDaylight) {
   std::string text;
   switch (sky.model) {
     case sdb::SkyModel::kNone: text = "no sky"; break;
-    case sdb::SkyModel::kClear: text = "clear sky, turbidity " + format("%.1f", sky.turbidity); break;
+    case sdb::SkyModel::kClear: text = "clear sky (Hosek-Wilkie), turbidity " + format("%.1f", sky.turbidity); break;
+    case sdb::SkyModel::kPreetham:
+      text = "clear sky (Preetham, IES Handbook level), turbidity " + format("%.1f", sky.turbidity);
+      break;
     case sdb::SkyModel::kCie: text = "CIE standard sky type " + std::to_string(sky.cieType); break;
     case sdb::SkyModel::kPerez:
       text = "Perez sky from " + std::filesystem::path(sky.weatherFile).filename().string();
@@ -381,7 +384,8 @@ bool applyDaylightJson(sdb::Scene& scene, const nlohmann::json& j, const std::st
     sdb::SkySettings sky;
     const std::string model = s.at("model").get<std::string>();
     bool known = false;
-    for (sdb::SkyModel m : {sdb::SkyModel::kNone, sdb::SkyModel::kCie, sdb::SkyModel::kPerez, sdb::SkyModel::kClear}) {
+    for (sdb::SkyModel m : {sdb::SkyModel::kNone, sdb::SkyModel::kCie, sdb::SkyModel::kPerez, sdb::SkyModel::kClear,
+                          sdb::SkyModel::kPreetham}) {
       if (model == sdb::skyModelName(m)) {
         sky.model = m;
         known = true;

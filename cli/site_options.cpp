@@ -74,7 +74,8 @@ void DaylightOptions::add(CLI::App& sub, std::string* timeLimit) {
                  "(default: the scene's, else the zone --time carries)")
       ->group(group);
   sub.add_option("--sky", sky,
-                 "sky model: clear (Preetham distribution and colour at the IES Handbook level, with the sun), "
+                 "sky model: clear (Hosek-Wilkie sky and sun), preetham (Preetham distribution and colour at the IES "
+                 "Handbook level, with the clear-atmosphere sun), "
                  "cie:N (CIE standard general sky type N = 1..15 at the IES Handbook level; 1-5 overcast "
                  "without the sun, 6-15 with it) or perez (Perez all-weather sky and sun from --weather); "
                  "default: the scene's, else clear")

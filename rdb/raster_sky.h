@@ -11,11 +11,13 @@
 #include "base/color.h"
 #include "base/math.h"
 #include "sdb/scene.h"
+#include "sunsky/hosek_wilkie.h"
 
 namespace fly::rdb {
 
-// Reflectance of the ground drawn below the horizon (grey; a common default for grass, soil and pavement).
-inline constexpr float kRasterGroundAlbedo = 0.2f;
+// Reflectance of the ground drawn below the horizon (grey; a common default for grass, soil and pavement),
+// the ground albedo the clear sky assumes.
+inline constexpr float kRasterGroundAlbedo = float(sunsky::kDefaultGroundAlbedo);
 
 // An equirectangular image over the full sphere of WORLD directions (glTF frame, +Y up). For a unit direction
 // d: φ = atan2(d.z, d.x) wrapped to [0, 2π), θ = acos(d.y) the polar angle from +Y. Pixel (i, j) at

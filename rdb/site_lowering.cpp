@@ -8,6 +8,7 @@
 #include "sunsky/cie_sky.h"
 #include "sunsky/civil_time.h"
 #include "sunsky/clear_sky.h"
+#include "sunsky/hosek_wilkie.h"
 #include "sunsky/epw.h"
 #include "sunsky/perez_sky.h"
 
@@ -88,6 +89,11 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
   switch (settings.model) {
     case sdb::SkyModel::kNone: break;
     case sdb::SkyModel::kClear:
+      d.sky = std::make_unique<sunsky::HosekWilkieSky>(
+          sunsky::makeHosekWilkieSky(settings.turbidity, sunsky::kDefaultGroundAlbedo, sun.apparentZenithDeg,
+                                     sun.azimuthDeg, disc.dayOfYear));
+      break;
+    case sdb::SkyModel::kPreetham:
       d.sky = std::make_unique<sunsky::ClearSky>(sunsky::makeClearSky(
           settings.turbidity, sun.apparentZenithDeg, sun.azimuthDeg, std::nullopt, sunsky::ClearSkyLevel::kIesHandbook));
       break;
@@ -124,8 +130,9 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
     }
   }
   if (settings.sun && sun.apparentElevationDeg() > 0.0) {
-    d.sun = directNormalLux ? sunsky::sunDiscWithIlluminance(disc, *directNormalLux)
-                            : sunsky::clearSkySunDisc(disc);
+    d.sun = directNormalLux                                ? sunsky::sunDiscWithIlluminance(disc, *directNormalLux)
+            : settings.model == sdb::SkyModel::kClear ? sunsky::hosekWilkieSunDisc(disc)
+                                                      : sunsky::clearSkySunDisc(disc);
   }
   return d;
 }

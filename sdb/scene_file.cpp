@@ -508,7 +508,7 @@ bool isEulumdatPath(const fs::path& path) {
 
 // --- The scene file ----------------------------------------------------------------------------------------
 
-const std::vector<std::string> kSkyModels = {"none", "cie", "perez", "clear"};
+const std::vector<std::string> kSkyModels = {"none", "cie", "perez", "clear", "preetham"};
 const std::vector<std::string> kLightTypes = {"point", "spot", "directional", "ies"};
 
 class SceneFileReader {
@@ -661,7 +661,7 @@ class SceneFileReader {
     const ObjectReader r(src_, v, {"model", "cieType", "turbidity", "weatherFile", "sun"});
     SkySettings sky;
     sky.model = static_cast<SkyModel>(r.choice("model", kSkyModels).value_or(0));
-    static_assert(static_cast<int>(SkyModel::kClear) == 3, "kSkyModels follows the order of SkyModel");
+    static_assert(static_cast<int>(SkyModel::kPreetham) == 4, "kSkyModels follows the order of SkyModel");
     sky.sun = r.boolean("sun").value_or(false);
     const std::string model = inQuotes(skyModelName(sky.model));
     if (sky.model == SkyModel::kCie) {
@@ -670,7 +670,7 @@ class SceneFileReader {
     } else {
       r.forbid("cieType", "applies to the CIE sky only (\"model\": \"cie\"); this sky is " + model);
     }
-    if (sky.model == SkyModel::kClear || sky.sun) {
+    if (isClearSky(sky.model) || sky.sun) {
       sky.turbidity = r.number("turbidity", closed(1.7, 10), "Linke turbidity").value_or(sky.turbidity);
     } else {
       r.forbid("turbidity",

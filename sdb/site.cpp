@@ -8,6 +8,7 @@ const char* skyModelName(SkyModel m) {
     case SkyModel::kCie: return "cie";
     case SkyModel::kPerez: return "perez";
     case SkyModel::kClear: return "clear";
+    case SkyModel::kPreetham: return "preetham";
   }
   return "unknown";
 }

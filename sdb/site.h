@@ -29,12 +29,16 @@ enum class SkyModel {
   kNone,    // no sky light
   kCie,     // CIE standard general sky (ISO 15469), type `cieType`
   kPerez,   // Perez all-weather sky (from weather data or given irradiances)
-  kClear,   // clear sky with colour following the sun
+  kClear,     // Hosek–Wilkie clear sky and its sun (sunsky/hosek_wilkie.h)
+  kPreetham,  // Preetham et al.'s clear sky at the IES Handbook level, with the clear-atmosphere sun
 };
+
+// The clear skies, whose light follows the turbidity.
+inline bool isClearSky(SkyModel m) { return m == SkyModel::kClear || m == SkyModel::kPreetham; }
 
 const char* skyModelName(SkyModel m);
 // "none", "utm:35", "tm:27" — as the scene file writes it.
-std::string gridName(const Site& site);  // "none", "cie", "perez", "clear"
+std::string gridName(const Site& site);  // "none", "cie", "perez", "clear", "preetham"
 
 struct SkySettings {
   SkyModel model = SkyModel::kNone;

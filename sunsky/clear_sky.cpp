@@ -75,27 +75,13 @@ double zenithLuminanceKcdM2(double turbidity, double sunTheta) {
   return (4.0453 * turbidity - 4.9710) * std::tan(chi) - 0.2155 * turbidity + 2.4192;
 }
 
-// The factor by which twilight scales the sunset sky (diffuse horizontal illuminance sunsetLux) at solar
-// depression depressionDeg > 0: log-linear through sunsetLux (0°), kCivilTwilightEndLux (6°) and
-// kNauticalTwilightEndLux (12°), extrapolated beyond.
-double twilightFactor(double sunsetLux, double depressionDeg) {
-  assert(sunsetLux > kCivilTwilightEndLux);  // ≥ 0.8 klx for every turbidity in range
-  const double logSunset = std::log10(sunsetLux);
-  const double logCivil = std::log10(kCivilTwilightEndLux);
-  const double logNautical = std::log10(kNauticalTwilightEndLux);
-  const double logLux = depressionDeg <= kTwilightStepDeg
-                            ? logSunset + (logCivil - logSunset) * depressionDeg / kTwilightStepDeg
-                            : logCivil + (logNautical - logCivil) * (depressionDeg / kTwilightStepDeg - 1.0);
-  return std::pow(10.0, logLux - logSunset);
-}
-
 }  // namespace
 
 ClearSky::ClearSky(double turbidity, double sunZenithDeg, double sunAzimuthDeg)
     : turbidity_(turbidity),
       modelSunDir_(sunZenithDeg <= 90.0 ? sunDirectionEnu(sunZenithDeg, sunAzimuthDeg)
                                         : directionFromAzimuthElevation(sunAzimuthDeg, 0.0)),
-      nightRadiance_(rec709FromChromaticity(kNightX, kNightY, kNightSkyLuminanceCdM2)) {
+      nightRadiance_(nightSkyRadianceCdM2()) {
   const double sunTheta = std::acos(std::clamp(modelSunDir_.z, 0.0, 1.0));
   luminance_ = distribution(kLuminanceCoefficients, turbidity,
                             1000.0 * zenithLuminanceKcdM2(turbidity, sunTheta), sunTheta);
@@ -114,6 +100,19 @@ Rgb ClearSky::radianceCdM2(const dvec3& dirEnu) const {
                                 valueOf(luminance_, dirEnu.z, gamma, cosGamma) * daylightScale_) +
          nightRadiance_ * float(nightScale_);
 }
+
+double twilightFactor(double sunsetLux, double depressionDeg) {
+  assert(sunsetLux > kCivilTwilightEndLux);  // ≥ 0.8 klx for every turbidity in range
+  const double logSunset = std::log10(sunsetLux);
+  const double logCivil = std::log10(kCivilTwilightEndLux);
+  const double logNautical = std::log10(kNauticalTwilightEndLux);
+  const double logLux = depressionDeg <= kTwilightStepDeg
+                            ? logSunset + (logCivil - logSunset) * depressionDeg / kTwilightStepDeg
+                            : logCivil + (logNautical - logCivil) * (depressionDeg / kTwilightStepDeg - 1.0);
+  return std::pow(10.0, logLux - logSunset);
+}
+
+Rgb nightSkyRadianceCdM2() { return rec709FromChromaticity(kNightX, kNightY, kNightSkyLuminanceCdM2); }
 
 double iesClearSkyDiffuseLux(double sunElevationDeg) {
   const double alpha = degToRad(std::clamp(sunElevationDeg, 0.0, 90.0));

@@ -43,6 +43,14 @@ enum class ClearSkyLevel {
   kIesHandbook,
 };
 
+// The factor by which twilight scales a sky whose diffuse horizontal illuminance at sunset is sunsetLux
+// (> 3 lx) at solar depression depressionDeg > 0: log-linear through sunsetLux (0°), 3 lx (6°) and 0.008 lx
+// (12°), extrapolated beyond (see above).
+double twilightFactor(double sunsetLux, double depressionDeg);
+
+// The moonless night sky's radiance: kNightSkyLuminanceCdM2 in its bluish white (see above).
+Rgb nightSkyRadianceCdM2();
+
 // The IES Lighting Handbook's clear-sky diffuse horizontal illuminance (above), lux, for a solar elevation
 // in degrees (clamped to [0, 90]).
 double iesClearSkyDiffuseLux(double sunElevationDeg);

@@ -14,6 +14,7 @@
 #include "sdb/scene_load.h"
 #include "sunsky/civil_time.h"
 #include "sunsky/clear_sky.h"
+#include "sunsky/hosek_wilkie.h"
 #include "sunsky/sun_disc.h"
 #include "sunsky/sun_position.h"
 
@@ -44,8 +45,8 @@ TEST(DefaultDaylight, PlainModelWithoutLightsGetsTheStatedClearSkyAndSun) {
   EXPECT_NEAR(d->sunDirWorld.x, 0.5, 1e-9);
   EXPECT_NEAR(d->sunDirWorld.y, std::sqrt(0.5), 1e-9);
   EXPECT_NEAR(d->sunDirWorld.z, 0.5, 1e-9);
-  // The sun's horizontal illuminance is sunsky's clear-atmosphere sun at zenith 45°, turbidity 3, sea level,
-  // at the mean Earth–Sun distance (day 93: eccentricity correction 1.000).
+  // The sun's horizontal illuminance is the Hosek–Wilkie sun at zenith 45°, turbidity 3, at the mean
+  // Earth–Sun distance (day 93: eccentricity correction 1.000).
   sunsky::SunDiscInput in;
   in.zenithDeg = 45.0;
   in.azimuthDeg = 135.0;
@@ -54,17 +55,15 @@ TEST(DefaultDaylight, PlainModelWithoutLightsGetsTheStatedClearSkyAndSun) {
   in.dayOfYear = 93;
   EXPECT_NEAR(sunsky::eccentricityCorrection(93), 1.0, 5e-4);
   const double expectedDirectHorizontalLux =
-      double(luminance(sunsky::clearSkySunDisc(in).normalIlluminanceLux)) * std::cos(degToRad(45.0));
+      double(luminance(sunsky::hosekWilkieSunDisc(in).normalIlluminanceLux)) * std::cos(degToRad(45.0));
   const double directHorizontalLux = double(luminance(d->sun->normalIlluminanceLux)) * d->sun->dirEnu.z;
   EXPECT_NEAR(directHorizontalLux, expectedDirectHorizontalLux, 1e-6 * expectedDirectHorizontalLux);
-  // A clear sun at 45° gives tens of kilolux (IES Handbook: ~60-80 klx direct normal).
-  EXPECT_GT(directHorizontalLux, 30000.0);
-  EXPECT_LT(directHorizontalLux, 90000.0);
-  // The sky: the IES Handbook's clear-sky diffuse horizontal illuminance at 45°, 0.8 + 15.5·√(sin 45°) klx.
-  EXPECT_NEAR(sunsky::horizontalIlluminanceLux(*d->sky), 1000.0 * (0.8 + 15.5 * std::sqrt(std::sin(degToRad(45.0)))),
-              0.01 * 13800.0);
+  // The model's authors' reference implementation: 76 550 lx direct normal, 16 780 lx diffuse horizontal
+  // (ground albedo 0.2; sunsky/hosek_wilkie_test.cpp).
+  EXPECT_NEAR(directHorizontalLux, 76550.2 * std::cos(degToRad(45.0)), 0.01 * 54000.0);
+  EXPECT_NEAR(sunsky::horizontalIlluminanceLux(*d->sky), 16779.7, 0.003 * 16779.7);
   // The line the commands print names the default and how to change it.
-  EXPECT_NE(lit.light.find("default daylight (no lights in open-surfaces.gltf): clear sky, turbidity 3.0, sun "
+  EXPECT_NE(lit.light.find("default daylight (no lights in open-surfaces.gltf): clear sky (Hosek-Wilkie), turbidity 3.0, sun "
                            "placed at 45.0° elevation, azimuth 135.0° (south-east)"),
             std::string::npos)
       << lit.light;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "sunsky/clear_sky.h"
+#include "sunsky/hosek_wilkie.h"
 #include "sunsky/sun_disc.h"
 
 namespace fly::cli {
@@ -72,9 +73,17 @@ TEST(Daylight, ClearSummerNoonAtMidLatitudeIsEightyToHundredTwentyKilolux) {
   const double global = d.directHorizontalLux + d.diffuseHorizontalLux;
   EXPECT_GT(global, 80000.0);
   EXPECT_LT(global, 120000.0);
-  // The sky alone follows the IES Lighting Handbook's clear-sky level, 0.8 + 15.5·√(sin α) klx.
-  EXPECT_NEAR(d.diffuseHorizontalLux, 800.0 + 15500.0 * std::sqrt(std::sin(degToRad(sun.apparentElevationDeg()))),
-              d.diffuseHorizontalLux * 0.005);
+  // Sky and sun are Hosek and Wilkie's at the site's day.
+  const int day = sunsky::dayOfYear(st.spa.utc);
+  EXPECT_NEAR(d.diffuseHorizontalLux,
+              sunsky::horizontalIlluminanceLux(sunsky::makeHosekWilkieSky(
+                  3.0, sunsky::kDefaultGroundAlbedo, sun.apparentZenithDeg, sun.azimuthDeg, day)),
+              d.diffuseHorizontalLux * 1e-9);
+  sunsky::SunDiscInput in;
+  in.zenithDeg = sun.apparentZenithDeg;
+  in.turbidity = 3.0;
+  in.dayOfYear = day;
+  EXPECT_NEAR(d.directNormalLux, luminance(sunsky::hosekWilkieSunDisc(in).normalIlluminanceLux), 1e-6 * global);
   EXPECT_NEAR(d.directHorizontalLux, d.directNormalLux * std::cos(degToRad(sun.apparentZenithDeg)), 1e-6 * global);
 }
 

@@ -479,7 +479,8 @@ TEST(BallTexture, SkyAndSunInSunlightMode) {
     std::printf("sunlight mode, ball 64², environment image %u²: sky term (16² half vectors) RMS relative error "
                 "%.4f, sun term %.2e, at %zu texels\n",
                 envPx, skyRms.value(), sunRms.value(), skyRms.count);
-    EXPECT_LT(skyRms.value(), envPx == kBall ? 0.01 : 0.03);
+    // The clear sky's circumsolar aureole is its sharpest feature.
+    EXPECT_LT(skyRms.value(), envPx == kBall ? 0.015 : 0.03);
     EXPECT_LT(sunRms.value(), 0.01);
   }
 }

@@ -252,7 +252,7 @@ TEST(SceneFile, WrongTypesAndRanges) {
   expectError(R"({"fly": 1, "models": {"file": "car.gltf"}})", "1:22", "/models",
               {"expected an array of models"});
   expectError(R"({"fly": 1, "sky": {"model": "cei"}})", "1:29", "/sky/model",
-              {"expected one of \"none\", \"cie\", \"perez\", \"clear\"; got a string (\"cei\")",
+              {"expected one of \"none\", \"cie\", \"perez\", \"clear\", \"preetham\"; got a string (\"cei\")",
                "did you mean \"cie\"?"});
   expectError(R"({"fly": 1, "sky": {"sun": "yes"}})", "1:27", "/sky/sun",
               {"expected true or false; got a string"});
