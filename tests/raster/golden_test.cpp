@@ -10,14 +10,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "base/image_io.h"
 #include "../support/helsinki_daylight.h"
+#include "../support/raster_golden.h"
 #include "base/tone_map.h"
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
@@ -110,56 +108,11 @@ rdb::LightMapStore syntheticLightMaps(const rdb::RasterRdb& r) {
   return store;
 }
 
-constexpr uint32_t kW = 160, kH = 90;
-
-// Renders `mode` and compares the linear tone-mapped image at `ev100` with its golden: per channel at most 3
-// levels off on ≥ 99.5 % of the pixels and no pixel more than 48 levels off (rasterisation rules and
-// floating-point order may move an edge pixel between drivers).
-// `scene` names the golden: raster-<scene>-<mode>-160x90.png, or raster-<mode>-160x90.png for the yard.
-// Scenes with textures, or with frosted glass (its blur reads a mip chain that glGenerateMipmap builds), are
-// compared on llvmpipe only, where the goldens were made: how a texture is filtered and how a driver reduces
-// mip levels are not specified to the bit (where the sRGB decode happens, the anisotropic footprint, a
-// cut-out's edge texels); on an NVIDIA H100 29 % of the textured yard's pixels differ by more than 3 levels,
-// and 9 % of the frosted pane's.
+// `scene` names the golden: raster-<scene>-<mode>-160x90.png, or raster-<mode>-160x90.png for the yard
+// (the rule: tests/support/raster_golden.h).
 void checkGolden(RenderMode mode, const rdb::RasterRdb& r, double ev100, const std::string& scene = "") {
-  if ((!r.textures.empty() || r.variants.frostedGlass) &&
-      context().info().renderer.find("llvmpipe") == std::string::npos) {
-    GTEST_SKIP() << "the goldens of textured and frosted scenes are llvmpipe's; this is " << context().info().renderer;
-  }
-  Renderer renderer;
-  renderer.upload(r);
-  renderer.render(viewOfCamera(r.cameras.at(0)), mode, kW, kH);
-  renderer.toneMap({ToneOperator::kLinear, ev100});
-  const std::vector<uint8_t> px = renderer.srgb8();
-  const std::string name =
-      std::string("raster-") + (scene.empty() ? "" : scene + "-") + renderModeName(mode) + "-160x90.png";
-  const std::filesystem::path golden = std::filesystem::path(FLY_TEST_DATA_DIR) / "golden" / name;
-  if (std::getenv("FLY_UPDATE_GOLDEN")) {
-    writePng(golden, int(kW), int(kH), 3, px.data());
-    GTEST_SKIP() << "wrote " << golden;
-  }
-  ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing; see the top of golden_test.cpp";
-  const ImageU8 g = readPng(golden);
-  ASSERT_EQ(g.width, int(kW));
-  ASSERT_EQ(g.height, int(kH));
-  ASSERT_EQ(g.channels, 3);
-  size_t off = 0;
-  int worst = 0;
-  std::vector<uint8_t> diff(px.size());
-  for (size_t i = 0; i < px.size(); ++i) {
-    const int d = std::abs(int(px[i]) - int(g.pixels[i]));
-    worst = std::max(worst, d);
-    off += d > 3;
-    diff[i] = uint8_t(std::min(255, d * 8));
-  }
-  const bool ok = off * 1000 <= px.size() * 5 && worst <= 48;
-  if (!ok) {
-    const std::filesystem::path out = std::filesystem::absolute("golden-diff-" + name);
-    writePng(out, int(kW), int(kH), 3, diff.data());
-    writePng(std::filesystem::absolute("golden-actual-" + name), int(kW), int(kH), 3, px.data());
-    ADD_FAILURE() << name << ": " << off << " of " << px.size() << " values differ by more than 3, worst "
-                  << worst << "; the difference (×8) is in " << out;
-  }
+  test::checkGolden(mode, r, ev100,
+                    std::string("raster-") + (scene.empty() ? "" : scene + "-") + renderModeName(mode) + "-160x90.png");
 }
 
 TEST(RasterGolden, SimpleMode) {
