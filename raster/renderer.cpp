@@ -13,6 +13,7 @@
 
 #include "base/ggx.h"
 #include "raster/cube_reflections.h"
+#include "raster/room_probe.h"
 #include "raster/draw_chunks.h"
 #include "raster/gl_program.h"
 #include "raster/mirror_blur.h"
@@ -227,7 +228,16 @@ enum VariantBit : uint32_t {
   // Glossiness textures (rdb::RasterMaterial::glossinessTexture; per-fragment surfaces): the lobe's width per
   // pixel in the lamps', the sun's and the environment's specular terms.
   kVariantGlossinessTexture = 1u << 26,
+  // With kVariantIbl: the specular environment is the room probe's, looked up with its box (raster/room_probe.h).
+  kVariantRoomProbe = 1u << 27,
 };
+
+// Some material reflects an environment (RasterMaterial::environmentF90 > 0): the room probe has a use.
+bool reflectsEnvironment(const rdb::RasterRdb& r) {
+  return std::any_of(r.materials.begin(), r.materials.end(), [](const rdb::RasterMaterial& x) {
+    return std::max({x.environmentF90.r, x.environmentF90.g, x.environmentF90.b}) > 0.0f;
+  });
+}
 
 // A glTF sampler (rdb::RasterTextureRef's wrap modes and filters) as one number: the key of its GL sampler
 // object (Renderer::samplerFor).
@@ -361,7 +371,8 @@ struct Renderer::SceneProgram {
         nearLights = -1, nearLightCount = -1, reflector = -1, sunInReflection = -1, mirrorReflection = -1,
         mirrorF0 = -1, radianceTopLevel = -1, cubeReflector = -1, worldFromClip = -1, blurView = -1,
         mirrorGlossy = -1, mirrorCoarse = -1, mirrorWorldFromClip = -1, fogDistance = -1, fogColor = -1,
-        mirrorScale = -1, mirrorFine = -1, mirrorTapCount = -1, mirrorTaps = -1;
+        mirrorScale = -1, mirrorFine = -1, mirrorTapCount = -1, mirrorTaps = -1, probeCentre = -1,
+        probeBoxMin = -1, probeBoxMax = -1, irradianceAmbient = -1;
 };
 
 struct NearProgram {
@@ -429,6 +440,7 @@ struct Renderer::Gpu {
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
   bool everyMeshLightMapped = false;
+  bool environmentReflected = false;  // some material reflects an environment (environmentF90 > 0)
 
   ~Gpu() {
     const GLuint buffers[] = {positions, normals,   corners,     surfaces,    frontLux,  backLux,
@@ -490,7 +502,13 @@ Renderer::Renderer() : gpu_(std::make_unique<Gpu>()) {
 
 void Renderer::setImageBasedLight(bool on) {
   cubesDirty_ |= on != imageBasedLight_;  // the cube reflectors' captures are lit by it
+  probeDirty_ |= on != imageBasedLight_;
   imageBasedLight_ = on;
+}
+
+void Renderer::setRoomProbe(bool on) {
+  probeDirty_ |= on != roomProbe_;
+  roomProbe_ = on;
 }
 
 void Renderer::setEnvironmentSettings(const EnvironmentSettings& settings) {
@@ -586,7 +604,8 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantReflectionFog, "fog", "FLY_REFLECTION_FOG"},
                    {kVariantAnisotropy, "anisotropy", "FLY_ANISOTROPY"},
                    {kVariantDiffuseByAngle, "diffusebyangle", "FLY_DIFFUSE_BY_ANGLE"},
-                   {kVariantGlossinessTexture, "glossinesstexture", "FLY_GLOSSINESS_TEXTURE"}};
+                   {kVariantGlossinessTexture, "glossinesstexture", "FLY_GLOSSINESS_TEXTURE"},
+                   {kVariantRoomProbe, "roomprobe", "FLY_ROOM_PROBE"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
@@ -658,6 +677,10 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   sp.cubeReflector = loc("uCubeReflector");
   sp.fogDistance = loc("uFogDistanceM");
   sp.fogColor = loc("uFogColor");
+  sp.probeCentre = loc("uProbeCentreM");
+  sp.irradianceAmbient = loc("uIrradianceAmbient");
+  sp.probeBoxMin = loc("uProbeBoxMinM");
+  sp.probeBoxMax = loc("uProbeBoxMaxM");
   sp.program = p;
   return sp;
 }
@@ -665,6 +688,7 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
 void Renderer::upload(const rdb::RasterRdb& rdb) {
   rdb_ = &rdb;
   cubesDirty_ = true;
+  probeDirty_ = true;
   reflectorTangents_.clear();
   uploadGeometry();
   uploadTextures();
@@ -686,6 +710,7 @@ std::vector<float> Renderer::ballLayer(uint32_t layer) const {
 void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& changes) {
   rdb_ = &rdb;
   cubesDirty_ |= changes.any();
+  probeDirty_ |= changes.any();
   if (changes.any()) reflectorTangents_.clear();
   if (changes.geometry) {
     upload(rdb);
@@ -708,6 +733,7 @@ void Renderer::update(const rdb::RasterRdb& rdb, const rdb::RasterRdbChanges& ch
       }
       ++stats_.materialBlockUploads;
     }
+    gpu_->environmentReflected = reflectsEnvironment(rdb);
   }
   if (changes.lights) uploadLights();
   if (changes.sky) uploadSky();
@@ -872,6 +898,7 @@ void Renderer::uploadMaterials() {
   m.reserve(r.materials.size());
   for (const rdb::RasterMaterial& x : r.materials) m.push_back(gpuMaterial(x));
   storeBuffer(gpu_->materials, m, GL_DYNAMIC_STORAGE_BIT);  // update() rewrites single blocks
+  gpu_->environmentReflected = reflectsEnvironment(r);
   std::vector<uint32_t> surfaces(r.positionsM.size(), 0u);
   for (const rdb::RasterMesh& mesh : r.meshes) {
     std::fill_n(surfaces.begin() + std::ptrdiff_t(mesh.firstVertex), mesh.vertexCount, surfaceBits(mesh));
@@ -1152,7 +1179,11 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
                                                                : "it has neither sky nor sun") +
                                 ")");
   }
-  if (mode == RenderMode::kSunlight && imageBasedLight_ && gpu_->skyTexture) {
+  // The room probe (raster/room_probe.h): light-map and sunlight modes of a scene with a sky whose materials
+  // reflect an environment; the image-based light it needs is built in both modes.
+  const bool probe = roomProbe_ && imageBasedLight_ && gpu_->skyTexture && mode != RenderMode::kSimple &&
+                     gpu_->environmentReflected;
+  if ((mode == RenderMode::kSunlight || probe) && imageBasedLight_ && gpu_->skyTexture) {
     if (!environment_) environment_ = std::make_unique<EnvironmentLight>(compiler(), environmentSettings_);
     if (environmentDirty_) {
       environment_->build(gpu_->skyTexture);
@@ -1161,10 +1192,40 @@ void Renderer::render(const View& view, RenderMode mode, uint32_t widthPx, uint3
     }
   }
   if (v.cubeReflectors) captureCubeReflectors(mode);
+  probeActive_ = probe;
+  if (probe) captureRoomProbe(vec3(view.worldFromCamera[3]), mode);
   resize(widthPx, heightPx);
   if (v.planarReflectors) drawReflections(view, mode, widthPx, heightPx);
   if (mode == RenderMode::kSimple && aoSettings_.enabled) drawAmbientOcclusion(view, widthPx, heightPx);
   renderPass(view, mode, widthPx, heightPx, nullptr, nullptr);
+}
+
+// The room probe at the eye, where none was captured, the scene, its light or the mode changed, or the eye
+// moved kRecaptureDistanceM from its centre: each face the scene as the mode shows it, lit by the sky's
+// image-based light as before the probe (the probe leaves out its own passes), no planar reflections, the
+// sun's disc left out of the sky (the lobes' sun term shows it).
+void Renderer::captureRoomProbe(const vec3& eyeM, RenderMode mode) {
+  if (probe_ && probe_->captured() && !probeDirty_ && probeMode_ == mode &&
+      glm::distance(eyeM, probe_->centreM()) <= kRecaptureDistanceM) {
+    return;
+  }
+  if (!probe_) probe_ = std::make_unique<RoomProbe>(compiler());
+  const uint32_t n = probe_->facePx();
+  resize(n, n);
+  gpu_->reflectionShown.assign(rdb_->planarReflectors.size(), 0);
+  capturingProbe_ = true;
+  probe_->capture(eyeM, [&](const View& face) {
+    const CubePass pass{rdb::RasterTextureRef::kNone};
+    renderPass(face, mode, n, n, nullptr, &pass);
+    RoomProbe::Face drawn{gpu_->floatColor, std::vector<float>(size_t(n) * n)};
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, gpu_->floatFbo);
+    glReadPixels(0, 0, GLsizei(n), GLsizei(n), GL_DEPTH_COMPONENT, GL_FLOAT, drawn.depth.data());
+    return drawn;
+  });
+  capturingProbe_ = false;
+  ++stats_.probeCaptures;
+  probeDirty_ = false;
+  probeMode_ = mode;
 }
 
 // The cube reflectors' maps, where the scene, its light or the mode changed since they were captured: each
@@ -1473,8 +1534,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     const bool phong = !lightMaps || !gpu_->everyMeshLightMapped;
     // Sunlight mode over light maps without the sun's direct part: that part drawn for the current sun.
     const bool sunDirect = sunlight && lightMaps && v.sunDirect;
-    const bool ibl = sunlight && imageBasedLight_ && environment_ && !environmentDirty_;
-    const uint32_t shared = (ibl ? kVariantIbl : 0u) | (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
+    const bool ibl = (sunlight || probeActive_) && imageBasedLight_ && environment_ && !environmentDirty_;
+    // The room probe's maps for the specular environment, except in the probe's own capture.
+    const bool roomProbe = ibl && probeActive_ && !capturingProbe_ && probe_ && probe_->captured();
+    const uint32_t shared = (ibl ? kVariantIbl : 0u) | (roomProbe ? kVariantRoomProbe : 0u) | (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
                             ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
                             (sunDirect ? kVariantSunDirect : 0u) | (v.twoSided ? kVariantTwoSided : 0u) |
                             (phong && v.goniometric ? kVariantGonio : 0u) |
@@ -1569,7 +1632,14 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         glUniform3fv(p.sunNormalLux, 1, &sunPassLux[0]);
       }
       if (programVariant & kVariantIbl) {
-        glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
+        glUniform1i(p.irradianceAmbient, sunlight ? 1 : 0);
+        const EnvironmentLight& specular = roomProbe ? probe_->maps() : *environment_;
+        glUniform1f(p.radianceTopLevel, float(specular.settings().radianceLevels - 1));
+      }
+      if (programVariant & kVariantRoomProbe) {
+        glUniform3fv(p.probeCentre, 1, &probe_->centreM()[0]);
+        glUniform3fv(p.probeBoxMin, 1, &probe_->boxMinM()[0]);
+        glUniform3fv(p.probeBoxMax, 1, &probe_->boxMaxM()[0]);
       }
       if (programVariant & (kVariantFrosted | kVariantPlanarReflection)) {
         if (programVariant & kVariantFrosted) {
@@ -1622,10 +1692,11 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glBindTextureUnit(14, maps.splitSumTable());
           glUniform1f(p.radianceTopLevel, float(maps.settings().radianceLevels - 1));
         } else if (ibl) {
+          const EnvironmentLight& specular = roomProbe ? probe_->maps() : *environment_;
           glBindTextureUnit(12, environment_->irradianceCube());
-          glBindTextureUnit(13, environment_->radianceCube());
-          glBindTextureUnit(14, environment_->splitSumTable());
-          glUniform1f(p.radianceTopLevel, float(environment_->settings().radianceLevels - 1));
+          glBindTextureUnit(13, specular.radianceCube());
+          glBindTextureUnit(14, specular.splitSumTable());
+          glUniform1f(p.radianceTopLevel, float(specular.settings().radianceLevels - 1));
         }
       }
       if (v.reflectionFog) {
@@ -1675,9 +1746,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
       if (ibl) {
+        const EnvironmentLight& specular = roomProbe ? probe_->maps() : *environment_;
         glBindTextureUnit(12, environment_->irradianceCube());
-        glBindTextureUnit(13, environment_->radianceCube());
-        glBindTextureUnit(14, environment_->splitSumTable());
+        glBindTextureUnit(13, specular.radianceCube());
+        glBindTextureUnit(14, specular.splitSumTable());
       }
       if (v.measuredBrdf) {
         glBindTextureUnit(9, balls_->texture());

@@ -5,18 +5,21 @@
 //              (rdb/raster_rdb.h); no sky behind the scene
 //   lightMap:  per-vertex luminance albedo · E / π from the baked vertex light maps (front or back by facing
 //              on two-sided meshes); meshes with a light texture: albedo · E / π per fragment from its texels
-//              (bilinear); meshes without a light map are shaded as in simple mode. An approximation until
-//              reflections are drawn: an opaque material with uniform reflection (a glTF metal, whose diffuse
-//              is 0) adds reflection · E / π (rdb::RasterMaterial::reflection), i.e. it shows as a rough
-//              reflector of its reflectance under the baked irradiance, the limit of a rough conductor, not
-//              black; Fresnel (dielectric) reflection adds nothing (the same in sunlight mode's light maps)
+//              (bilinear); meshes without a light map are shaded as in simple mode. Where the scene has a sky,
+//              every material's specular part reflects the room probe (setRoomProbe, raster/room_probe.h),
+//              as in sunlight mode. Without it (no sky, or the probe off), an opaque material with uniform
+//              reflection (a glTF metal, whose diffuse is 0) adds reflection · E / π
+//              (rdb::RasterMaterial::reflection), i.e. it shows as a rough reflector of its reflectance under
+//              the baked irradiance, the limit of a rough conductor, not black; Fresnel (dielectric)
+//              reflection adds nothing
 //   sunlight:  the sky dome and the sun's disc behind the scene; shading from the light maps where present,
 //              otherwise the modified Phong with the sun as a directional light and the daylight ambient term.
 //              Over light maps that keep the sun's direct part apart (rdb::RasterVariants::sunDirect):
 //              albedo · (E − E_sunDirect) / π plus the sun's direct term (Lambert and Phong lobe, normal maps)
 //              for the current sun, so the sun moves over one bake (FLY §3; docs/mixed-lighting.md). The sky is
 //              also image-based light (setImageBasedLight): its irradiance in place of the directional ambient
-//              term, its prefiltered radiance by the split sum for every material's specular part
+//              term, and the room probe's prefiltered radiance (the sky's without it) by the split sum for
+//              every material's specular part
 // Curved reflectors (rdb::RasterRdb::cubeReflectors) show cube maps of the scene from their centres
 // (raster/cube_reflections.h), captured before the frame only when the scene, its light or the mode changed.
 // Where the sun's direct term is drawn (simple and sunlight modes: surfaces without light maps, and light maps
@@ -77,6 +80,7 @@
 namespace fly::raster {
 
 class CubeReflections;
+class RoomProbe;
 class MirrorBlur;
 
 enum class RenderMode { kSimple, kLightMap, kSunlight };
@@ -131,6 +135,7 @@ struct RendererStats {
   // (raster/draw_chunks.h).
   int64_t perVertexTrianglesDrawn = 0;
   int cubeCaptures = 0;  // cube reflectors' maps captured (six views each): a new scene, light or mode
+  int probeCaptures = 0;  // room probes captured (six views each): a new scene, light, mode or eye position
   int environmentBuilds = 0;  // the sky's image-based light maps (re)built: a new sky or sun (EnvironmentLight)
   std::vector<std::string> programs;  // the compiled programs, e.g. "scene+lightmap+twosided", "sky", "tonemap"
 };
@@ -220,6 +225,14 @@ class Renderer {
   // ones too, whose light map holds the diffuse part), per fragment, except measured BRDFs (their balls) and
   // planar reflectors that show a mirrored pass. Off: the directional ambient term, as in simple mode.
   void setImageBasedLight(bool on);
+  // Light-map and sunlight modes' room probe (on by default; raster/room_probe.h): where a material reflects
+  // an environment (RasterMaterial::environmentF90) and the scene has a sky, a cube map captured at the eye,
+  // with the box it sees, is the specular environment of every surface (parallax-corrected) in place of the
+  // open sky's, so that surfaces indoors reflect the room; the image-based light then also lights light-map
+  // mode (its irradiance on surfaces without a light map, the probe's radiance for the specular part, which
+  // light-map mode otherwise leaves out). Off: sunlight mode reflects the sky times the light map's specular
+  // occlusion, light-map mode reflects nothing.
+  void setRoomProbe(bool on);
   // The environment maps' sizes and sample counts; std::invalid_argument out of range (EnvironmentSettings).
   // Default: kSkyEnvironmentSettings.
   void setEnvironmentSettings(const EnvironmentSettings& settings);
@@ -283,6 +296,7 @@ class Renderer {
                   const CubePass* cubePass);
   void drawVisibleChunks();
   void captureCubeReflectors(RenderMode mode);
+  void captureRoomProbe(const vec3& eyeM, RenderMode mode);
   // Before the glass pass of a scene with frosted glass: the copy of the image behind it decoded into a
   // mipmapped texture (unit 3), a copy of the depth buffer (unit 1) and the split sum's table (unit 14;
   // shaders::kSceneVertex, kSceneFragment, FLY_FROSTED).
@@ -318,6 +332,12 @@ class Renderer {
   std::unique_ptr<CubeReflections> cubes_;  // made at the first frame of a scene with cube reflectors
   bool cubesDirty_ = true;
   RenderMode cubeMode_ = RenderMode::kSimple;
+  std::unique_ptr<RoomProbe> probe_;  // made at the first frame that needs it
+  bool roomProbe_ = true;             // setRoomProbe
+  bool probeDirty_ = true;            // the scene, its light or the image-based light changed
+  bool probeActive_ = false;          // this frame uses the probe
+  bool capturingProbe_ = false;       // a pass of the probe's capture
+  RenderMode probeMode_ = RenderMode::kSimple;
   std::unique_ptr<BallTextures> balls_;  // made at the first frame of a scene with measured materials
   bool ballBrdfsDirty_ = true;
   AmbientOcclusionSettings aoSettings_;

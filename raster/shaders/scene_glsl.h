@@ -293,9 +293,36 @@ layout(binding = 12) uniform samplerCube uIrradiance;
 layout(binding = 13) uniform samplerCube uRadiance;  // level k: α_k = (k / (K − 1))²
 layout(binding = 14) uniform sampler2D uSplitSum;    // (A, B)(cos θo, √α), texel centres at (i + ½) / N
 uniform float uRadianceTopLevel;                     // K − 1
+// 1: the irradiance replaces the Phong's directional ambient term (sunlight mode); 0: it does not (light-map
+// mode, whose surfaces without a light map are shaded as in simple mode, and whose IBL is the room probe's).
+uniform int uIrradianceAmbient;
 vec3 flyIrradianceLux(vec3 n) { return textureLod(uIrradiance, n, 0.0).rgb; }
 #ifdef FLY_CUBE_REFLECTION
 uniform int uCubeReflector;  // the draw's RasterRdb::cubeReflectors index, −1 for none
+#endif
+#ifdef FLY_ROOM_PROBE
+// The room probe (raster/room_probe.h) in place of the sky's radiance: its centre and box (world, m), and the
+// point being shaded, which main() sets.
+uniform vec3 uProbeCentreM;
+uniform vec3 uProbeBoxMinM;
+uniform vec3 uProbeBoxMaxM;
+vec3 gProbePositionM = vec3(0.0);
+// The probe's lookup direction for the mirror direction r at gProbePositionM: from its centre to where the
+// ray p + t r leaves the box (parallax correction); r itself for a point outside the box, and on a cube
+// reflector's draw, which reads its own maps.
+vec3 flyProbeDirection(vec3 r) {
+#ifdef FLY_CUBE_REFLECTION
+  if (uCubeReflector >= 0) return r;
+#endif
+  vec3 p = gProbePositionM;
+  if (any(lessThan(p, uProbeBoxMinM)) || any(greaterThan(p, uProbeBoxMaxM))) return r;
+  vec3 side = mix(uProbeBoxMinM, uProbeBoxMaxM, step(vec3(0.0), r));
+  vec3 t = abs(side - p) / max(abs(r), vec3(1e-6));
+  vec3 d = p + min(t.x, min(t.y, t.z)) * r - uProbeCentreM;
+  return dot(d, d) > 1e-12 ? d : r;
+}
+#else
+vec3 flyProbeDirection(vec3 r) { return r; }
 #endif
 // The split sum's factor F0 A + F90 B of material m's GGX lobe towards the eye, and in `prefiltered` the
 // prefiltered environment in the mirror direction (rgb: cd/m²; a: a cube reflector's fog weight, below).
@@ -320,7 +347,7 @@ vec3 flyEnvironmentLobe(Material m, vec3 n, vec3 toEye, out vec4 prefiltered) {
     for (int k = 0; k < 4; ++k) {
       float s = (k < 2 ? 0.365 : 1.604) * ((k & 1) == 0 ? 1.0 : -1.0) * spread;
       vec3 h = normalize(n + s * wide);
-      prefiltered += textureLod(uRadiance, 2.0 * dot(h, toEye) * h - toEye, level);
+      prefiltered += textureLod(uRadiance, flyProbeDirection(2.0 * dot(h, toEye) * h - toEye), level);
     }
     prefiltered *= 0.25;
     // The table (the lobe's albedo) takes an effective isotropic α: the lobe's α = √(α_t α_b)
@@ -337,7 +364,7 @@ vec3 flyEnvironmentLobe(Material m, vec3 n, vec3 toEye, out vec4 prefiltered) {
 #endif
   // √α indexes both the table and the levels (√α_k = k / (K − 1)).
   float rough = sqrt(alpha);
-  if (!anisotropic) prefiltered = textureLod(uRadiance, r, rough * uRadianceTopLevel);
+  if (!anisotropic) prefiltered = textureLod(uRadiance, flyProbeDirection(r), rough * uRadianceTopLevel);
   vec2 ab = textureLod(uSplitSum, vec2(cosO, rough), 0.0).rg;
   return m.specular.rgb * ab.x + m.environment.rgb * ab.y;
 }
@@ -416,12 +443,13 @@ vec3 phong(vec3 albedo, Material m, vec3 p, vec3 n, vec3 toEye, float corner) {
   addLight(m, p, n, toEye, uSunDirWorld, flySunLux(p), diffuseLux, sunSpecularLux);
   specularLux += sunSpecularLux * flySunHighlight();
 #endif
+  // The directional ambient term (rdb/raster_rdb.h, DirectionalAmbient); in sunlight mode the environment's
+  // irradiance in place of it (its specular part is added per fragment: flyEnvironmentSpecular).
 #ifdef FLY_IBL
-  // The environment's irradiance in place of the directional ambient term; its specular part is added per
-  // fragment (flyEnvironmentSpecular).
-  vec3 ambientLux = flyIrradianceLux(n);
+  vec3 ambientLux = uIrradianceAmbient != 0 ? flyIrradianceLux(n)
+                                            : (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
+                                                  (1.0 + kCornerGain * corner);
 #else
-  // The directional ambient term (rdb/raster_rdb.h, DirectionalAmbient).
   vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) *
                     (1.0 + kCornerGain * corner);
 #endif
@@ -444,11 +472,11 @@ vec3 flyPhongIrradianceLux(vec3 p, vec3 n, float corner) {
 #ifdef FLY_SUN
   eLux += flySunLux(p) * max(dot(n, uSunDirWorld), 0.0);
 #endif
+  vec3 ambientLux = (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) * (1.0 + kCornerGain * corner);
 #ifdef FLY_IBL
-  eLux += flyIrradianceLux(n);
-#else
-  eLux += (uAmbientUpLux * (1.0 + n.y) * 0.5 + uAmbientDownLux * (1.0 - n.y) * 0.5) * (1.0 + kCornerGain * corner);
+  if (uIrradianceAmbient != 0) ambientLux = flyIrradianceLux(n);
 #endif
+  eLux += ambientLux;
   return eLux;
 }
 #endif
@@ -511,6 +539,9 @@ out vec3 vIblNormal;
 out vec3 vToEye;
 flat out uint vMaterial;
 out float vSpecularOcclusion;  // flySpecularOcclusion of a light-mapped mesh's vertex, 1 without a light map
+#ifdef FLY_ROOM_PROBE
+out vec3 vProbePositionM;
+#endif
 #endif
 
 void main() {
@@ -530,6 +561,9 @@ void main() {
   vToEye = uOrthographic != 0 ? -uViewDirWorld : uEyeM - aPositionM;
   vMaterial = aSurface & 0x3fffffffu;
   vSpecularOcclusion = 1.0;
+#ifdef FLY_ROOM_PROBE
+  vProbePositionM = aPositionM;
+#endif
 #endif
 #ifdef FLY_SUN_GLASS
   vSunLuminance = vec3(0.0);
@@ -793,6 +827,9 @@ in vec3 vIblNormal;
 in vec3 vToEye;
 flat in uint vMaterial;
 in float vSpecularOcclusion;
+#ifdef FLY_ROOM_PROBE
+in vec3 vProbePositionM;
+#endif
 #endif
 void main() {
 #ifdef FLY_GLASS
@@ -801,6 +838,9 @@ void main() {
   vec3 l = vLuminance;
 #ifdef FLY_IBL
   float specularOcclusion = vSpecularOcclusion;
+#endif
+#ifdef FLY_ROOM_PROBE
+  gProbePositionM = vProbePositionM;
 #endif
 #ifdef FLY_LIGHT_TEXTURE
   if (vLightSlot != 0xffffffffu) {
@@ -816,6 +856,9 @@ void main() {
   }
 #endif
 #ifdef FLY_IBL
+#ifdef FLY_ROOM_PROBE
+  specularOcclusion = 1.0;  // the probe shows what occludes the sky
+#endif
   l += specularOcclusion * flyEnvironmentSpecular(materials[vMaterial], normalize(vIblNormal), normalize(vToEye));
 #endif
 #ifdef FLY_SSAO
@@ -1184,6 +1227,9 @@ vec2 flyTextureUv(vec4 row0, vec4 row1) {
 
 void main() {
   Material m = materials[uMaterial];
+#ifdef FLY_ROOM_PROBE
+  gProbePositionM = vPositionM;
+#endif
 #ifdef FLY_TWO_SIDED
   bool twoSided = (vSurface & 0x40000000u) != 0u;
 #else
@@ -1310,6 +1356,9 @@ void main() {
     specularOcclusion = flySpecularOcclusion(eLux, (back && twoSided) ? -normalize(vNormal) : normalize(vNormal));
 #ifdef FLY_CUBE_REFLECTION
     if (uCubeReflector >= 0) specularOcclusion = 1.0;  // its cube map shows what it sees
+#endif
+#ifdef FLY_ROOM_PROBE
+    specularOcclusion = 1.0;  // so does the room probe
 #endif
 #endif
     vec3 reflectance = flyLightMapReflectance(base.rgb, m);

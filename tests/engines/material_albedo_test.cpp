@@ -100,6 +100,7 @@ Rgb engineAlbedo(raster::Renderer& renderer, float thetaDeg, float phiDeg = 90.0
 TEST(MaterialAlbedo, EngineAgreesWithTheBakerForEveryPreset) {
   raster::test::context();
   raster::Renderer renderer;
+  renderer.setRoomProbe(false);  // the furnace is the uniform sky; a probe at the eye would see the sample
   int compared = 0;
   for (const sdb::MaterialPreset& preset : sdb::materialPresets()) {
     const sdb::Material& m = preset.material;
@@ -142,6 +143,7 @@ TEST(MaterialAlbedo, EngineAgreesWithTheBakerForEveryPreset) {
 TEST(MaterialAlbedo, AnisotropicLobeUnderAUniformEnvironment) {
   raster::test::context();
   raster::Renderer renderer;
+  renderer.setRoomProbe(false);  // the furnace is the uniform sky; a probe at the eye would see the sample
   const sdb::Material& m = sdb::findMaterialPreset("brushed-metal")->material;
   ASSERT_TRUE(m.isAnisotropic());
   const rdb::RasterRdb furnace = whiteFurnace(m);
@@ -188,6 +190,7 @@ TEST(MaterialAlbedo, AnisotropicLobeUnderAUniformEnvironment) {
 TEST(MaterialAlbedo, AnisotropicReflectionOfABlobInTheSky) {
   raster::test::context();
   raster::Renderer renderer;
+  renderer.setRoomProbe(false);  // the furnace is the uniform sky; a probe at the eye would see the sample
   const sdb::Material& brushed = sdb::findMaterialPreset("brushed-metal")->material;
   sdb::Material round = brushed;
   round.anisotropyU = round.anisotropyV = 0.0f;
@@ -322,6 +325,7 @@ std::vector<Case> directLightCases() {
 TEST(MaterialAlbedo, DirectLightAgreesWithTheReference) {
   raster::test::context();
   raster::Renderer renderer;
+  renderer.setRoomProbe(false);  // the furnace is the uniform sky; a probe at the eye would see the sample
   constexpr float kLux = 1000.0f;
   struct Config {
     float thetaI, thetaO, phiIDeg, phiODeg;  // degrees; azimuths from +X (the pane's bitangent −b or tangent)

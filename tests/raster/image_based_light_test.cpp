@@ -261,7 +261,9 @@ TEST(ImageBasedLight, LightMappedSurfacesReflectTheEnvironmentTheirLightMapSees)
       const Rgb unoccluded = l * (block.specular * ab.x + block.environmentF90 * ab.y);
       const Rgb expected = std::min(f, 1.0f) * unoccluded;
 
+      // The sky's light times the light map's specular occlusion: the renderer without the room probe.
       Renderer on, off;
+      on.setRoomProbe(false);
       off.setImageBasedLight(false);
       on.upload(r);
       off.upload(r);
