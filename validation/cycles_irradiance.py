@@ -82,7 +82,8 @@ UNTEXTURED = False  # --untextured: albedo = the factor alone, every surface opa
 SUPPORTED_OVERRIDE_KEYS = {"material", "diffuse", "reflection", "transmission", "bumpScale", "emission",
                            "doubleSided", "preset"}
 # The one preset the reference reproduces: fly's clear glass, a thin pane (sdb/material.h, hasClearTransmission)
-# that reflects F(θ) as a mirror and lets 1 − F(θ) pass straight through, F the Fresnel reflectance at IOR 1.52.
+# that reflects F(θ) as a mirror and lets 1 − F(θ) pass straight through, F Schlick's approximation of the
+# Fresnel reflectance at IOR 1.52.
 CLEAR_GLASS = "clear-glass"
 CLEAR_GLASS_IOR = 1.52
 
@@ -364,14 +365,35 @@ def lambertian_material(mat, gltf_mat, scene):
     for link in list(output.inputs["Surface"].links):
         links.remove(link)
     if override.get("preset") == CLEAR_GLASS:
-        fresnel = nodes.new("ShaderNodeFresnel")
-        fresnel.inputs["IOR"].default_value = CLEAR_GLASS_IOR
+        # Schlick's F(θ) from |cos θ|, the same from either side of the pane, as fly's energy rule takes it
+        # (sdb/material.cpp, reflectionAt). Cycles' Fresnel node would take the back face as the inside of a
+        # solid and reflect totally beyond 41°, closing the window to the sun.
+        geometry = nodes.new("ShaderNodeNewGeometry")
+        dot = nodes.new("ShaderNodeVectorMath")
+        dot.operation = "DOT_PRODUCT"
+        links.new(geometry.outputs["Incoming"], dot.inputs[0])
+        links.new(geometry.outputs["Normal"], dot.inputs[1])
+        f0 = ((CLEAR_GLASS_IOR - 1) / (CLEAR_GLASS_IOR + 1)) ** 2
+        value = dot.outputs["Value"]
+        for op, operand in (("ABSOLUTE", None), ("SUBTRACT", "one-minus"), ("POWER", 5.0), ("MULTIPLY", 1 - f0),
+                            ("ADD", f0)):
+            n = nodes.new("ShaderNodeMath")
+            n.operation = op
+            if operand == "one-minus":
+                n.inputs[0].default_value = 1.0
+                links.new(value, n.inputs[1])
+            else:
+                links.new(value, n.inputs[0])
+                if operand is not None:
+                    n.inputs[1].default_value = operand
+            value = n.outputs[0]
+        fresnel = value
         mirror = nodes.new("ShaderNodeBsdfGlossy")
         mirror.distribution = "SHARP"
         mirror.inputs["Color"].default_value = (1, 1, 1, 1)
         through = nodes.new("ShaderNodeBsdfTransparent")
         pane = nodes.new("ShaderNodeMixShader")
-        links.new(fresnel.outputs["Fac"], pane.inputs["Fac"])
+        links.new(fresnel, pane.inputs["Fac"])
         links.new(through.outputs["BSDF"], pane.inputs[1])
         links.new(mirror.outputs["BSDF"], pane.inputs[2])
         links.new(pane.outputs["Shader"], output.inputs["Surface"])
