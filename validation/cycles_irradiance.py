@@ -6,11 +6,19 @@
 #       --scene SCENE.json --points SENSORS.csv --out OUT.csv [--samples 256] [--pixels 4] [--seed 0]
 #   blender -b --factory-startup -P validation/cycles_irradiance.py -- sensors \
 #       --scene SCENE.json --out SENSORS.csv [--spacing 0.25] [--offset 0.002]
+#   blender -b --factory-startup -P validation/cycles_irradiance.py -- render \
+#       --scene SCENE.json --camera NAME --out IMAGE.exr --info INFO.json [--width 320] [--height 180] \
+#       [--samples 256] [--seed 0] [--sky SKY.exr --sky-json SKY.json]
+#
+# `render` renders one of the scene file's cameras into a multilayer EXR (Combined in cd/m², and IndexMA: each
+# fly material's region number, named in INFO.json); with --sky, the world is fly's own sky and sun as
+# `fly sky --scene SCENE --json --out SKY.exr` writes them (fly_sky_world below), and the scene's site, time
+# and sky keys are allowed. validation/validate_images.py drives it.
 #
 # SCENE is a fly scene file (docs/scene-format.md), of which this script reads the subset a Lambertian
 # comparison needs: `models` (file, translation, rotationDeg, scale), `lights` (point and directional),
 # `overrides` by material name (diffuse; reflection and transmission only as zero; bumpScale, which a
-# Lambertian surface ignores; emission). Anything else is refused with a message, so that a comparison never
+# Lambertian surface ignores; emission; the preset clear-glass alone, a thin Fresnel pane), `cameras`. Anything else is refused with a message, so that a comparison never
 # silently differs from what fly computes.
 #
 # Materials. Every material becomes Lambertian with fly's diffuse albedo: the override's `diffuse`, else
