@@ -6,11 +6,19 @@
 #       --scene SCENE.json --points SENSORS.csv --out OUT.csv [--samples 256] [--pixels 4] [--seed 0]
 #   blender -b --factory-startup -P validation/cycles_irradiance.py -- sensors \
 #       --scene SCENE.json --out SENSORS.csv [--spacing 0.25] [--offset 0.002]
+#   blender -b --factory-startup -P validation/cycles_irradiance.py -- render \
+#       --scene SCENE.json --camera NAME --out IMAGE.exr --info INFO.json [--width 320] [--height 180] \
+#       [--samples 256] [--seed 0] [--sky SKY.exr --sky-json SKY.json]
+#
+# `render` renders one of the scene file's cameras into a multilayer EXR (Combined in cd/m², and IndexMA: each
+# fly material's region number, named in INFO.json); with --sky, the world is fly's own sky and sun as
+# `fly sky --scene SCENE --json --out SKY.exr` writes them (fly_sky_world below), and the scene's site, time
+# and sky keys are allowed. validation/validate_images.py drives it.
 #
 # SCENE is a fly scene file (docs/scene-format.md), of which this script reads the subset a Lambertian
 # comparison needs: `models` (file, translation, rotationDeg, scale), `lights` (point and directional),
 # `overrides` by material name (diffuse; reflection and transmission only as zero; bumpScale, which a
-# Lambertian surface ignores; emission). Anything else is refused with a message, so that a comparison never
+# Lambertian surface ignores; emission; the preset clear-glass alone, a thin Fresnel pane), `cameras`. Anything else is refused with a message, so that a comparison never
 # silently differs from what fly computes.
 #
 # Materials. Every material becomes Lambertian with fly's diffuse albedo: the override's `diffuse`, else
@@ -80,7 +88,12 @@ if "bool" not in numpy.__dict__:
 REC709_Y = (0.2126, 0.7152, 0.0722)
 UNTEXTURED = False  # --untextured: albedo = the factor alone, every surface opaque
 SUPPORTED_OVERRIDE_KEYS = {"material", "diffuse", "reflection", "transmission", "bumpScale", "emission",
-                           "doubleSided"}
+                           "doubleSided", "preset"}
+# The one preset the reference reproduces: fly's clear glass, a thin pane (sdb/material.h, hasClearTransmission)
+# that reflects F(θ) as a mirror and lets 1 − F(θ) pass straight through, F Schlick's approximation of the
+# Fresnel reflectance at IOR 1.52.
+CLEAR_GLASS = "clear-glass"
+CLEAR_GLASS_IOR = 1.52
 
 
 def fail(message):
@@ -110,17 +123,23 @@ def read_gltf_json(path):
     return json.loads(data.decode("utf-8-sig"))
 
 
-def load_scene_file(path):
+def load_scene_file(path, fly_daylight=False):
+    """fly_daylight: the scene's site, time and sky are allowed, because the caller gives Cycles fly's own sky
+    and sun (`render --sky`); otherwise the world must be black or the uniform `world` sky."""
     with open(path, encoding="utf-8-sig") as f:
         scene = json.load(f)
     base = os.path.dirname(os.path.abspath(path))
-    allowed = {"fly", "models", "lights", "overrides", "bake", "sky", "world", "portals"}
+    allowed = {"fly", "models", "lights", "overrides", "bake", "sky", "world", "portals", "cameras"}
+    if fly_daylight:
+        allowed |= {"site", "time"}
     for key in scene:
         if key not in allowed:
             fail(f"{path}: key '{key}' is not supported by the Cycles reference (supported: {sorted(allowed)})")
     sky = scene.get("sky", {})
-    if sky.get("model", "none") != "none" or sky.get("sun", False):
+    if not fly_daylight and (sky.get("model", "none") != "none" or sky.get("sun", False)):
         fail(f"{path}: only a black world is supported (sky.model none, no sky sun); use a directional light")
+    if fly_daylight and scene.get("site", {}).get("northAngle", 0) != 0:
+        fail(f"{path}: the Cycles reference takes fly's sky image with north along −Z (site.northAngle 0)")
     for key in scene.get("world", {}):
         if key != "skyRadianceCdM2":
             fail(f"{path}: world key '{key}' is not supported (supported: skyRadianceCdM2)")
@@ -310,6 +329,8 @@ def material_overrides(scene, fly_name):
         for key in o:
             if key not in SUPPORTED_OVERRIDE_KEYS:
                 fail(f"overrides[{i}]: key '{key}' is not supported by the Cycles reference")
+        if o.get("preset", CLEAR_GLASS) != CLEAR_GLASS or (o.get("preset") and len(o) > 2):
+            fail(f"overrides[{i}]: of the presets only '{CLEAR_GLASS}', alone, is supported by the Cycles reference")
         for key in ("reflection", "transmission"):
             if key in o and any(c != 0 for c in o[key]):
                 fail(f"overrides[{i}]: {key} must be [0, 0, 0] (the Cycles reference is Lambertian)")
@@ -351,6 +372,40 @@ def lambertian_material(mat, gltf_mat, scene):
     output = next(n for n in nodes if n.type == "OUTPUT_MATERIAL")
     for link in list(output.inputs["Surface"].links):
         links.remove(link)
+    if override.get("preset") == CLEAR_GLASS:
+        # Schlick's F(θ) from |cos θ|, the same from either side of the pane, as fly's energy rule takes it
+        # (sdb/material.cpp, reflectionAt). Cycles' Fresnel node would take the back face as the inside of a
+        # solid and reflect totally beyond 41°, closing the window to the sun.
+        geometry = nodes.new("ShaderNodeNewGeometry")
+        dot = nodes.new("ShaderNodeVectorMath")
+        dot.operation = "DOT_PRODUCT"
+        links.new(geometry.outputs["Incoming"], dot.inputs[0])
+        links.new(geometry.outputs["Normal"], dot.inputs[1])
+        f0 = ((CLEAR_GLASS_IOR - 1) / (CLEAR_GLASS_IOR + 1)) ** 2
+        value = dot.outputs["Value"]
+        for op, operand in (("ABSOLUTE", None), ("SUBTRACT", "one-minus"), ("POWER", 5.0), ("MULTIPLY", 1 - f0),
+                            ("ADD", f0)):
+            n = nodes.new("ShaderNodeMath")
+            n.operation = op
+            if operand == "one-minus":
+                n.inputs[0].default_value = 1.0
+                links.new(value, n.inputs[1])
+            else:
+                links.new(value, n.inputs[0])
+                if operand is not None:
+                    n.inputs[1].default_value = operand
+            value = n.outputs[0]
+        fresnel = value
+        mirror = nodes.new("ShaderNodeBsdfGlossy")
+        mirror.distribution = "SHARP"
+        mirror.inputs["Color"].default_value = (1, 1, 1, 1)
+        through = nodes.new("ShaderNodeBsdfTransparent")
+        pane = nodes.new("ShaderNodeMixShader")
+        links.new(fresnel, pane.inputs["Fac"])
+        links.new(through.outputs["BSDF"], pane.inputs[1])
+        links.new(mirror.outputs["BSDF"], pane.inputs[2])
+        links.new(pane.outputs["Shader"], output.inputs["Surface"])
+        return {"name": mat.name, "preset": CLEAR_GLASS, "doubleSided": True}
 
     # Albedo = diffuse × texture × vertex colour.
     albedo = None
@@ -517,6 +572,114 @@ def configure_cycles(samples, seed, threads, sky_radiance=0.0):
     s.world = world
 
 
+def fly_sky_world(sky_exr, sky_json):
+    """The world as fly's sky and sun: `fly sky --json --out SKY.exr` writes the sky dome as an equidistant
+    fisheye looking up (zenith at the centre, horizon on the circle, north up, east left; cli/sky_image.h) in
+    cd/m², with the sun's disc added to the pixels it covers. The disc is taken out of the image and becomes a
+    Cycles sun lamp of fly's angular diameter (0.533°) whose strength and colour are the disc's normal
+    illuminance per channel (lux); the rest is looked up per ray direction from the image, black below the
+    horizon as in fly (rdb/trace_rdb.h, TraceSky: the ground is geometry). Returns a summary for the log."""
+    with open(sky_json) as f:
+        meta = json.load(f)
+    image = bpy.data.images.load(sky_exr)
+    image.colorspace_settings.name = "Non-Color"
+    size = image.size[0]
+    px = numpy.empty(size * size * 4, dtype=numpy.float32)
+    image.pixels.foreach_get(px)
+    px = px.reshape(size, size, 4)  # Blender's rows run bottom-up: row k is fly's row size − 1 − k
+    lum = px[..., 0] * REC709_Y[0] + px[..., 1] * REC709_Y[1] + px[..., 2] * REC709_Y[2]
+    zenith = math.radians(meta["sun_apparent_zenith_deg"])
+    azimuth = math.radians(meta["sun_azimuth_deg"])
+    # East, north, up; with site.northAngle 0 these are Blender's +X, +Y, +Z (glTF +X, −Z, +Y).
+    to_sun = mathutils.Vector((math.sin(zenith) * math.sin(azimuth), math.sin(zenith) * math.cos(azimuth),
+                               math.cos(zenith)))
+    summary = {"sky_dhi_lux": meta["diffuse_horizontal_illuminance_lux"]}
+    if to_sun.z > 0.0 and meta.get("direct_normal_illuminance_lux", 0.0) > 0.0:
+        half = size / 2.0
+        r = zenith / (math.pi / 2.0)
+        h = math.hypot(to_sun.x, to_sun.y)
+        col = half - to_sun.x / h * r * half
+        row_up = half + to_sun.y / h * r * half  # from the bottom, as Blender stores it
+        c0, r0 = int(col), int(row_up)
+        rows, cols = numpy.mgrid[0:size, 0:size]
+        dist = numpy.hypot(cols + 0.5 - col, rows + 0.5 - row_up)
+        reach = 2 + math.radians(0.533) / (math.pi / size)
+        near = dist <= reach
+        ring = (dist > reach + 1) & (dist <= reach + 3)
+        background = numpy.median(lum[ring])
+        disc = near & (lum > 20.0 * background)
+        sky_rgb = px[ring][:, :3].mean(axis=0)
+        # Each disc pixel's excess over the surrounding sky × its solid angle (π/size)² sinc θ sums to the
+        # normal illuminance.
+        x = (cols + 0.5 - half) / half
+        y = (rows + 0.5 - half) / half
+        theta = numpy.hypot(x, y) * (math.pi / 2.0)
+        omega = (math.pi / size) ** 2 * numpy.where(theta > 1e-8, numpy.sin(theta) / numpy.maximum(theta, 1e-8), 1.0)
+        excess = (px[..., :3] - sky_rgb) * omega[..., None]
+        sun_rgb = excess[disc].sum(axis=0)
+        px[disc, :3] = sky_rgb
+        image.pixels.foreach_set(px.ravel())
+        image.pack()
+        sun_y = float(sum(REC709_Y[k] * sun_rgb[k] for k in range(3)))
+        data = bpy.data.lights.new("fly-sun", "SUN")
+        data.energy = sun_y
+        data.color = [float(c) / sun_y for c in sun_rgb]
+        data.angle = math.radians(0.533)
+        data.cycles.max_bounces = 1024
+        obj = bpy.data.objects.new("fly-sun", data)
+        obj.rotation_euler = (-to_sun).to_track_quat("-Z", "Y").to_euler()
+        bpy.context.scene.collection.objects.link(obj)
+        summary.update(sun_dni_lux=sun_y, sun_dni_lux_fly=meta["direct_normal_illuminance_lux"],
+                       sun_pixels=int(disc.sum()), sun_rgb=[float(c) for c in sun_rgb])
+    world = bpy.data.worlds.new("fly-sky")
+    world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = next(n for n in nodes if n.type == "BACKGROUND")
+    background.inputs["Strength"].default_value = 1.0
+
+    def math_node(op, a, b=None):
+        n = nodes.new("ShaderNodeMath")
+        n.operation = op
+        for k, v in enumerate((a, b)):
+            if v is None:
+                continue
+            if isinstance(v, (int, float)):
+                n.inputs[k].default_value = v
+            else:
+                links.new(v, n.inputs[k])
+        return n.outputs[0]
+
+    # The world's Generated coordinate is the ray's direction (Blender axes).
+    coords = nodes.new("ShaderNodeTexCoord")
+    split = nodes.new("ShaderNodeSeparateXYZ")
+    links.new(coords.outputs["Generated"], split.inputs["Vector"])
+    dx, dy, dz = split.outputs["X"], split.outputs["Y"], split.outputs["Z"]
+    horizontal = math_node("ADD", math_node("SQRT", math_node("ADD", math_node("MULTIPLY", dx, dx),
+                                                                  math_node("MULTIPLY", dy, dy))), 1e-9)
+    # Fisheye radius over the horizontal length: (θ / (π/2)) / h, θ = acos(z).
+    scale = math_node("DIVIDE", math_node("DIVIDE", math_node("ARCCOSINE", dz), math.pi / 2.0), horizontal)
+    u = math_node("SUBTRACT", 0.5, math_node("MULTIPLY", math_node("MULTIPLY", dx, scale), 0.5))
+    v = math_node("ADD", 0.5, math_node("MULTIPLY", math_node("MULTIPLY", dy, scale), 0.5))
+    uv = nodes.new("ShaderNodeCombineXYZ")
+    links.new(u, uv.inputs["X"])
+    links.new(v, uv.inputs["Y"])
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    tex.interpolation = "Linear"
+    tex.extension = "CLIP"
+    links.new(uv.outputs["Vector"], tex.inputs["Vector"])
+    above = math_node("GREATER_THAN", dz, 0.0)
+    mask = nodes.new("ShaderNodeMixRGB")  # black below the horizon, the image above it
+    links.new(above, mask.inputs["Fac"])
+    mask.inputs["Color1"].default_value = (0, 0, 0, 1)
+    links.new(tex.outputs["Color"], mask.inputs["Color2"])
+    links.new(mask.outputs["Color"], background.inputs["Color"])
+    world.cycles.sampling_method = "MANUAL"
+    world.cycles.sample_map_resolution = 1024
+    bpy.context.scene.world = world
+    return summary
+
+
 def read_sensors(path):
     with open(path) as f:
         lines = [ln.rstrip("\r\n") for ln in f if ln.strip()]
@@ -633,6 +796,75 @@ def cmd_irradiance(args):
     print("cycles_irradiance: " + json.dumps({k: v for k, v in info.items() if k != "materials"}))
 
 
+def scene_camera(scene, name, width, height):
+    """The scene file's camera `name` (docs/scene-format.md: position, target, up, vertical fovDeg, near,
+    far) as the Blender scene's camera, at width × height pixels."""
+    cameras = {c.get("name"): c for c in scene.get("cameras", [])}
+    if name not in cameras:
+        fail(f"camera '{name}' not in the scene (cameras: {', '.join(map(str, cameras))})")
+    c = cameras[name]
+    position, target = to_blender(c["position"]), to_blender(c["target"])
+    up = to_blender(c.get("up", [0, 1, 0]))
+    forward = (target - position).normalized()
+    right = forward.cross(up).normalized()
+    true_up = right.cross(forward)
+    data = bpy.data.cameras.new(name)
+    data.sensor_fit = "VERTICAL"
+    data.angle_y = math.radians(c.get("fovDeg", 50.0))
+    data.clip_start = c.get("near", 0.1)
+    data.clip_end = c.get("far", 1000.0)
+    obj = bpy.data.objects.new("camera:" + name, data)
+    # A Blender camera looks along its −Z with +Y up.
+    obj.matrix_world = mathutils.Matrix.Translation(position) @ mathutils.Matrix(
+        (right, true_up, -forward)).transposed().to_4x4()
+    bpy.context.scene.collection.objects.link(obj)
+    s = bpy.context.scene
+    s.camera = obj
+    s.render.resolution_x, s.render.resolution_y = width, height
+    s.render.resolution_percentage = 100
+    s.render.pixel_aspect_x = s.render.pixel_aspect_y = 1.0
+
+
+def cmd_render(args):
+    """Renders a scene camera; writes a multilayer EXR (Combined: radiance, cd/m²; IndexMA: each material's
+    region number) and a JSON file naming the regions: pass_index k is the fly material of that name (the
+    importer's copies, "Name.001", share their original's number)."""
+    start = time.time()
+    scene = load_scene_file(args.scene, fly_daylight=bool(args.sky))
+    clear_blend()
+    gltf_materials = import_models(scene, args.normals)
+    add_scene_lights(scene, 0.0)
+    report = setup_materials(scene, gltf_materials)
+    configure_cycles(args.samples, args.seed, args.threads, scene.get("world", {}).get("skyRadianceCdM2", 0.0))
+    sky = fly_sky_world(args.sky, args.sky_json) if args.sky else None
+    scene_camera(scene, args.camera, args.width, args.height)
+    names = sorted({gltf_materials[m.name]["flyName"] if m.name in gltf_materials else m.name
+                    for m in bpy.data.materials if m.users > 0 and not m.name.startswith("fly-sensor")})
+    regions = {name: k + 1 for k, name in enumerate(names)}
+    for m in bpy.data.materials:
+        name = gltf_materials[m.name]["flyName"] if m.name in gltf_materials else m.name
+        if name in regions:
+            m.pass_index = regions[name]
+    s = bpy.context.scene
+    s.view_layers[0].use_pass_material_index = True
+    s.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    s.render.image_settings.color_depth = "32"
+    s.render.image_settings.exr_codec = "ZIP"
+    s.render.film_transparent = False
+    s.render.filepath = os.path.abspath(args.out)
+    s.render.use_file_extension = False
+    setup_s = time.time() - start
+    bpy.ops.render.render(write_still=True)
+    render_s = time.time() - start - setup_s
+    info = {"camera": args.camera, "width": args.width, "height": args.height, "samples": args.samples,
+            "seed": args.seed, "regions": regions, "setup_s": round(setup_s, 3), "render_s": round(render_s, 3),
+            "total_s": round(time.time() - start, 3), "sky": sky, "materials": report,
+            "blender": bpy.app.version_string}
+    with open(args.info, "w") as f:
+        json.dump(info, f, indent=1)
+    print("cycles_irradiance: " + json.dumps({k: v for k, v in info.items() if k not in ("materials", "regions")}))
+
+
 def cmd_sensors(args):
     """Sensors on the scene's surfaces, found by casting rays down and sideways (±x, ±z in glTF space) from a
     lattice outside the scene's bounds; each sensor sits --offset metres off the hit surface and faces away
@@ -744,9 +976,24 @@ def main():
     s.add_argument("--box", type=float, default=0.0, help="limit the lattice to |x|, |z| <= BOX (glTF axes)")
     s.add_argument("--from", dest="origin", help="instead of the lattice, cast from this point x,y,z (glTF)")
     s.add_argument("--rays", type=int, default=100, help="rays cast --from the point")
+    r = sub.add_parser("render", help="render a scene camera with a material-index pass")
+    r.add_argument("--scene", required=True)
+    r.add_argument("--camera", required=True, help="the scene file's camera, by name")
+    r.add_argument("--out", required=True, help="multilayer EXR: Combined (cd/m²) and IndexMA")
+    r.add_argument("--info", required=True, help="JSON file: regions (material name → pass index), timings")
+    r.add_argument("--width", type=int, default=320)
+    r.add_argument("--height", type=int, default=180)
+    r.add_argument("--samples", type=int, default=256, help="Cycles samples per pixel")
+    r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--threads", type=int, default=0)
+    r.add_argument("--normals", choices=("geometric", "shading"), default="shading")
+    r.add_argument("--sky", help="fly's sky and sun as `fly sky --scene SCENE --out SKY.exr` writes them")
+    r.add_argument("--sky-json", help="what `fly sky --json` printed for SKY.exr (the sun's position)")
     args = ap.parse_args(argv)
     if args.command == "irradiance":
         cmd_irradiance(args)
+    elif args.command == "render":
+        cmd_render(args)
     else:
         cmd_sensors(args)
 
