@@ -94,14 +94,14 @@ void checkTime(const std::string& time, const std::string& zone, const char* wha
   }
 }
 
-// Lights, or emissive materials bright enough to be lamps: kEmissiveLampCdM2 or more. A dimmer emission is a
-// glow (the glTF default emissive factor 1 without KHR_materials_emissive_strength is 1 cd/m²; a display is
-// 100–500 cd/m², a lamp 10³–10⁵), under which the model would be black.
-constexpr double kEmissiveLampCdM2 = 10.0;
+// Lights, or materials that emit light in physical units (KHR_materials_emissive_strength, or a scene file's
+// emission in cd/m²): a model that declares its own light gets no daylight added, however dim, and auto
+// exposure shows it by that light. Emission without the extension is a display colour (sdb::Material::
+// emissionDisplay), no light source.
 bool hasLightSources(const sdb::Scene& scene) {
   if (!scene.lights().empty()) return true;
   for (const auto& [id, mesh] : scene.meshes()) {
-    if (luminance(scene.material(mesh.material).emissionLuminance) >= kEmissiveLampCdM2) return true;
+    if (scene.material(mesh.material).isEmissive()) return true;
   }
   return false;
 }
@@ -292,8 +292,7 @@ std::string describeLight(const sdb::Scene& scene, bool defaultDaylight) {
   text += "; global horizontal " + format("%.0f", sunLux + skyLux) + " lx (sun " + format("%.0f", sunLux) +
           ", sky " + format("%.0f", skyLux) + ")";
   if (defaultDaylight) {
-    const std::string glow = stats.emissiveMeshes > 0 ? "; its emissive materials only glow, under 10 cd/m²" : "";
-    return "default daylight (no lights in " + scene.sourcePath.filename().string() + glow + "): " + text +
+    return "default daylight (no lights in " + scene.sourcePath.filename().string() + "): " + text +
            "; give --lat --lon --time (or --sun-dir AZIMUTH,ELEVATION) to set the sun";
   }
   return (lights.empty() ? "" : lights + " and ") + "daylight: " + text;

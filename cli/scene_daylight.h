@@ -3,8 +3,8 @@
 // line that tells the user what lights the scene. The result is an ordinary SDB site, time and sky, which
 // rdb lowers like a scene file's (rdb/site_lowering.h): both engines see the same light.
 //
-// The default daylight. A glTF model given without a scene file that has no lights and no emissive
-// materials bright enough to be lamps (10 cd/m² or more; dimmer ones, such as a visor's 1 cd/m², only glow),
+// The default daylight. A glTF model given without a scene file that has no lights and no materials that
+// emit light in physical units (KHR_materials_emissive_strength; emission without it is a display colour),
 // and no daylight options, would be black; it is put in a clear sky instead (sky "clear",
 // turbidity 3, with the sun), with the sun placed directly at elevation 45°, azimuth 135° (south-east;
 // north along the model's −Z). Why: a clear sky is the daylight in which products and buildings are most

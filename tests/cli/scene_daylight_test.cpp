@@ -89,16 +89,21 @@ TEST(DefaultDaylight, NotForAModelWithLightsOrAScene) {
   EXPECT_EQ(withLight.sky().model, sdb::SkyModel::kNone);
   EXPECT_FALSE(withLight.sky().sun);
   EXPECT_EQ(describeLight(withLight, false), "1 light");
-  // An emissive material of 10 cd/m² or more is a lamp; a glow (the glTF default emissive factor: 1 cd/m²) is
-  // not, and the model gets the default daylight.
-  for (const float cdM2 : {1.0f, 9.9f, 10.0f, 1e5f}) {
-    sdb::Scene s = sdb::loadScene(kPlainModel);
-    const sdb::MaterialId id = s.mesh(s.meshes().begin()->first).material;
-    ASSERT_NE(id.value, 0u);
-    sdb::Material m = s.material(id);
-    m.emissionLuminance = Rgb(cdM2);
-    s.setMaterial(id, m);
-    EXPECT_EQ(applyDaylightOptions(s, {}, true), cdM2 < 10.0f) << cdM2 << " cd/m²";
+  // A material that emits light in cd/m², however dimly, lights the model (no default daylight); emission
+  // as a display colour (glTF's without KHR_materials_emissive_strength) lights nothing, and the model gets
+  // the default daylight.
+  for (const float cdM2 : {0.0f, 0.5f, 10.0f, 1e5f}) {
+    for (const bool display : {false, true}) {
+      sdb::Scene s = sdb::loadScene(kPlainModel);
+      const sdb::MaterialId id = s.mesh(s.meshes().begin()->first).material;
+      ASSERT_NE(id.value, 0u);
+      sdb::Material m = s.material(id);
+      m.emissionLuminance = Rgb(cdM2);
+      m.emissionDisplay = display;
+      s.setMaterial(id, m);
+      EXPECT_EQ(applyDaylightOptions(s, {}, true), cdM2 == 0.0f || display)
+          << cdM2 << (display ? " display colour" : " cd/m²");
+    }
   }
   // The same model placed by a scene file is lit as the file says (here: no default when it has daylight).
   const LitScene house = loadLitScene(kHouse, {});
