@@ -21,22 +21,24 @@ constexpr int kMeanDistanceDay = 93;
 // 683·Y at the zenith, at 30° elevation 90° in azimuth from the sun (east) and at 5° elevation opposite the
 // sun (south), cd/m²; diffuse horizontal illuminance by an 800 × 1 600 midpoint rule, lux; the disc's direct
 // normal illuminance by integrating the limb-darkened radiance over the disc (200 rings) and 320–720 nm
-// (1 nm) against a multi-lobe Gaussian fit of V(λ) (Wyman, Sloan & Shirley, JCGT 2(2) 2013), lux.
+// (1 nm) against a multi-lobe Gaussian fit of V(λ) (Wyman, Sloan & Shirley, JCGT 2(2) 2013), lux; the
+// chromaticity (x, y) at the two directions above the horizon.
 struct Reference {
   double turbidity, elevationDeg, albedo;
   double zenithCdM2, east30CdM2, south5CdM2, diffuseLux, directNormalLux;
+  double east30X, east30Y, south5X, south5Y;  // CIE 1931 chromaticity
 };
 constexpr Reference kReference[] = {
-    {2, 2, 0.2, 577.704, 1406.62, 4174.81, 4201.29, 9917.72},
-    {3, 10, 0.2, 1172.86, 2780.89, 9436.55, 9297.54, 41079.8},
-    {3, 45, 0.2, 2810.04, 4719.65, 13085.9, 16779.7, 76550.2},
-    {5.2, 20, 0.2, 2074.47, 3961.67, 9975.7, 17106.8, 51071},
-    {9.8, 45, 0.2, 9475.15, 8521.86, 8557.58, 54066.6, 44264.6},
-    {10, 60, 0.2, 21793.5, 10516.3, 10751.2, 68572.9, 48959.8},
-    {3, 45, 0, 2471.32, 4038.62, 11107.2, 14717.3, 76550.2},
-    {3, 45, 1, 4030.45, 7594.18, 21705.6, 24286.7, 76550.2},
-    {1.7, 30, 0.5, 2293.58, 4654.15, 15888.2, 14634.9, 72787.4},
-    {7.5, 80, 0.2, 31208.8, 7368.59, 11229.3, 36327.4, 70556.2},
+    {2, 2, 0.2, 577.704, 1406.62, 4174.81, 4201.29, 9917.72, 0.29449, 0.32931, 0.38364, 0.40053},
+    {3, 10, 0.2, 1172.86, 2780.89, 9436.55, 9297.54, 41079.8, 0.26315, 0.28962, 0.31411, 0.34621},
+    {3, 45, 0.2, 2810.04, 4719.65, 13085.9, 16779.7, 76550.2, 0.24275, 0.25633, 0.27105, 0.29501},
+    {5.2, 20, 0.2, 2074.47, 3961.67, 9975.7, 17106.8, 51071, 0.26642, 0.28522, 0.29509, 0.31963},
+    {9.8, 45, 0.2, 9475.15, 8521.86, 8557.58, 54066.6, 44264.6, 0.29260, 0.31023, 0.30412, 0.31768},
+    {10, 60, 0.2, 21793.5, 10516.3, 10751.2, 68572.9, 48959.8, 0.28966, 0.30822, 0.31075, 0.33056},
+    {3, 45, 0, 2471.32, 4038.62, 11107.2, 14717.3, 76550.2, 0.24147, 0.25432, 0.26973, 0.29337},
+    {3, 45, 1, 4030.45, 7594.18, 21705.6, 24286.7, 76550.2, 0.24709, 0.26255, 0.27541, 0.29965},
+    {1.7, 30, 0.5, 2293.58, 4654.15, 15888.2, 14634.9, 72787.4, 0.24431, 0.26080, 0.27761, 0.30691},
+    {7.5, 80, 0.2, 31208.8, 7368.59, 11229.3, 36327.4, 70556.2, 0.26500, 0.28041, 0.29419, 0.30997},
 };
 
 dvec3 atElevation(double azimuthDeg, double elevationDeg) { return sunDirectionEnu(90.0 - elevationDeg, azimuthDeg); }
@@ -53,15 +55,19 @@ double directNormalLux(double turbidity, double elevationDeg) {
   return luminance(hosekWilkieSunDisc(in).normalIlluminanceLux);
 }
 
-// McCamy's correlated colour temperature of a chromaticity near the Planckian locus, K (Color Research and
-// Application 17(2) 1992).
-double correlatedColourTemperatureK(const Rgb& rec709) {
-  // Linear Rec.709 → XYZ (IEC 61966-2-1).
+// CIE 1931 chromaticity of a linear Rec.709 colour (the IEC 61966-2-1 matrix).
+dvec2 chromaticityOf(const Rgb& rec709) {
   const double x = 0.4124564 * rec709.r + 0.3575761 * rec709.g + 0.1804375 * rec709.b;
   const double y = 0.2126729 * rec709.r + 0.7151522 * rec709.g + 0.0721750 * rec709.b;
   const double z = 0.0193339 * rec709.r + 0.1191920 * rec709.g + 0.9503041 * rec709.b;
-  const double cx = x / (x + y + z), cy = y / (x + y + z);
-  const double n = (cx - 0.3320) / (0.1858 - cy);
+  return dvec2(x, y) / (x + y + z);
+}
+
+// McCamy's correlated colour temperature of a chromaticity near the Planckian locus, K (Color Research and
+// Application 17(2) 1992).
+double correlatedColourTemperatureK(const Rgb& rec709) {
+  const dvec2 c = chromaticityOf(rec709);
+  const double n = (c.x - 0.3320) / (0.1858 - c.y);
   return 449.0 * n * n * n + 3525.0 * n * n + 6823.3 * n + 5520.33;
 }
 
@@ -77,6 +83,12 @@ TEST(HosekWilkieSky, AgreesWithTheAuthorsReferenceImplementation) {
     // The shown sky adds the Earth–Sun distance and the night sky (1.7e-4 cd/m²).
     EXPECT_NEAR(luminance(sky.radianceCdM2(dvec3(0, 0, 1))) / (eccentricity * r.zenithCdM2), 1.0, 1e-5) << at;
     EXPECT_NEAR(horizontalIlluminanceLux(sky) / (eccentricity * r.diffuseLux), 1.0, 0.002) << at;
+    const dvec2 east30 = chromaticityOf(sky.radianceCdM2(atElevation(90.0, 30.0)));
+    const dvec2 south5 = chromaticityOf(sky.radianceCdM2(atElevation(180.0, 5.0)));
+    EXPECT_NEAR(east30.x, r.east30X, 2e-4) << at;
+    EXPECT_NEAR(east30.y, r.east30Y, 2e-4) << at;
+    EXPECT_NEAR(south5.x, r.south5X, 2e-4) << at;
+    EXPECT_NEAR(south5.y, r.south5Y, 2e-4) << at;
     EXPECT_NEAR(directNormalLux(r.turbidity, r.elevationDeg) / (eccentricity * r.directNormalLux), 1.0, 0.01)
         << at;
   }
