@@ -60,7 +60,11 @@
 // tangents: the anisotropic lamp and sun lobes, four environment reads), each mode with its ratio against the
 // isotropic row ("× plain").
 //
-// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --anisotropic | --post |
+// The room probe (--probe): the 300k scene (100k with --quick), whose materials reflect an environment, in
+// light-map and sunlight modes without the probe (the baseline of "× plain"), with it from a still eye (captured
+// once), and with the eye moving 0.3 m every frame (captured every frame: a walkthrough's worst case).
+//
+// Usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --anisotropic | --post | --probe |
 //   --shadows [--shadow-map N]] [--house PATH]
 //   default 1920x1080; --quick: the 100k scene only (and the shadow scenes but the 1M one); --textured: the
 //   300k scene only, plain and textured; --shadows: the shadow section only; --house: scenes/house/house.json
@@ -424,11 +428,14 @@ void waitFor(GLsync fence) {
   glDeleteSync(fence);
 }
 
+// With `other`, frames alternate between `view` and *other (a moving eye).
 FrameTimes timeFrames(Renderer& renderer, const View& view, RenderMode mode, uint32_t w, uint32_t h,
-                      bool gpuTimers) {
+                      bool gpuTimers, const View* other = nullptr) {
   const ToneMapSettings tone{ToneOperator::kFilmic, 12.0};
+  int frameIndex = 0;
+  auto viewOfFrame = [&]() -> const View& { return other && (frameIndex++ & 1) ? *other : view; };
   auto frame = [&] {
-    renderer.render(view, mode, w, h);
+    renderer.render(viewOfFrame(), mode, w, h);
     renderer.toneMap(tone);
   };
   for (int i = 0; i < 3; ++i) frame();
@@ -477,7 +484,7 @@ FrameTimes timeFrames(Renderer& renderer, const View& view, RenderMode mode, uin
       const size_t slot = size_t(frames % kInFlight);
       if (fences[slot]) collect(slot);
       glBeginQuery(GL_TIME_ELAPSED, queries[slot][0]);
-      renderer.render(view, mode, w, h);
+      renderer.render(viewOfFrame(), mode, w, h);
       glEndQuery(GL_TIME_ELAPSED);
       glBeginQuery(GL_TIME_ELAPSED, queries[slot][1]);
       renderer.toneMap(tone);
@@ -635,7 +642,7 @@ int run(int argc, char** argv) {
   uint32_t w = 1920, h = 1080;
   uint32_t shadowMapTexels = 1024;
   bool quick = false, texturedOnly = false, shadowsOnly = false, reflectorsOnly = false, postOnly = false,
-       anisotropicOnly = false;
+       anisotropicOnly = false, probeOnly = false;
   std::string housePath = "scenes/house/house.json";
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
@@ -650,6 +657,8 @@ int run(int argc, char** argv) {
       postOnly = true;
     } else if (std::strcmp(argv[i], "--anisotropic") == 0) {
       anisotropicOnly = true;
+    } else if (std::strcmp(argv[i], "--probe") == 0) {
+      probeOnly = true;
     } else if (std::strcmp(argv[i], "--shadow-map") == 0 && i + 1 < argc &&
                std::sscanf(argv[++i], "%u", &shadowMapTexels) == 1 && shadowMapTexels >= 16) {
     } else if (std::strcmp(argv[i], "--house") == 0 && i + 1 < argc) {
@@ -658,7 +667,7 @@ int run(int argc, char** argv) {
                std::sscanf(argv[++i], "%ux%u", &w, &h) == 2 && w > 0 && h > 0) {
     } else {
       std::fprintf(stderr,
-                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --anisotropic | --post | --shadows [--shadow-map N]] [--house PATH]\n");
+                   "usage: fly-bench-raster [--size WxH] [--quick | --textured | --reflectors | --anisotropic | --post | --probe | --shadows [--shadow-map N]] [--house PATH]\n");
       return 2;
     }
   }
@@ -708,6 +717,43 @@ int run(int argc, char** argv) {
       const FrameTimes t = timeFrames(post, view, mode, w, h, gpuTimers);
       printRow(triangles.c_str(), mode == RenderMode::kSimple ? "+ssao" : "+bloom", t, baseline.pipelinedMs,
                p.pipelinedMs);
+    }
+    return 0;
+  }
+  if (probeOnly) {
+    sdb::Scene scene = makeScene(quick ? 221 : 387);
+    // Every material polished (a Fresnel reflection of glossiness 0.3 over its diffuse colour), so that the
+    // probe has surfaces to serve.
+    std::vector<std::pair<sdb::MaterialId, sdb::Material>> polished;
+    for (const auto& [id, m] : scene.materials()) {
+      sdb::Material p = m;
+      p.reflectionColor = Rgb(1.0f);
+      p.reflectionModel = sdb::ReflectionModel::kFresnel;
+      p.ior = 1.5f;
+      p.reflectionGlossiness = 0.3f;
+      polished.emplace_back(id, p);
+    }
+    for (const auto& [id, m] : polished) scene.setMaterial(id, m);
+    const rdb::RasterRdb r = lightMapped(scene);
+    const View view = viewOfCamera(r.cameras.at(0));
+    View moved = view;
+    moved.worldFromCamera[3] += vec4(0.3f, 0.0f, 0.0f, 0.0f);
+    const std::string triangles = std::to_string(r.triangleCount());
+    std::printf("%-9s %-9s %9s %9s %8s %9s %8s %8s %9s %11s %8s\n", "triangles", "mode", "fps", "ms/frame",
+                "× base", "scene", "tone", "ms", "ms/frame", "mean L cd/m²", "× plain");
+    for (const RenderMode mode : {RenderMode::kLightMap, RenderMode::kSunlight}) {
+      Renderer off, still, moving;
+      off.setRoomProbe(false);
+      off.upload(r);
+      still.upload(r);
+      moving.upload(r);
+      const FrameTimes plain = timeFrames(off, view, mode, w, h, gpuTimers);
+      printRow(triangles.c_str(), renderModeName(mode), plain, baseline.pipelinedMs);
+      const FrameTimes t = timeFrames(still, view, mode, w, h, gpuTimers);
+      printRow(triangles.c_str(), "+probe", t, baseline.pipelinedMs, plain.pipelinedMs);
+      const FrameTimes m = timeFrames(moving, view, mode, w, h, gpuTimers, &moved);
+      printRow(triangles.c_str(), "+moving", m, baseline.pipelinedMs, plain.pipelinedMs);
+      std::printf("  %s: %d probe captures in the moving run\n", renderModeName(mode), moving.stats().probeCaptures);
     }
     return 0;
   }
