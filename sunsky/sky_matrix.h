@@ -82,7 +82,7 @@ struct SkyMatrix {
 };
 
 // The matrix of every record of `file`, about 1 ms per daylight hour and thread for MF 1 (most of it the Perez
-// sky's normalisation), 3 ms for MF 4. InputError as weatherHour (the first record in file order that has
+// sky's normalisation), about 4 ms for MF 4. InputError as weatherHour (the first record in file order that has
 // one), or for an option out of range.
 SkyMatrix makeSkyMatrix(const EpwFile& file, const SkyMatrixOptions& options = {});
 
