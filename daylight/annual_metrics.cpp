@@ -14,8 +14,12 @@ namespace {
 constexpr double kInvSqrt2 = 0.70710678118654752440;
 constexpr double kInvSqrt2Pi = 0.39894228040143267794;
 
-double normalCdf(double x) { return 0.5 * std::erfc(-x * kInvSqrt2); }
-double normalPdf(double x) { return kInvSqrt2Pi * std::exp(-0.5 * x * x); }
+double normalCdf(double x) {
+  return 0.5 * std::erfc(-x * kInvSqrt2);
+}
+double normalPdf(double x) {
+  return kInvSqrt2Pi * std::exp(-0.5 * x * x);
+}
 
 std::string number(double v) {
   char buf[32];
@@ -23,8 +27,8 @@ std::string number(double v) {
   return buf;
 }
 
-// P(true value ≥ threshold) for a value with normal error σ, plug-in: Φ((value − threshold)/σ); with σ = 0 the
-// indicator of value ≥ threshold (strict: value > threshold).
+// P(true value ≥ threshold) for a value with normal error σ, plug-in: Φ((value − threshold)/σ); with σ = 0
+// the indicator of value ≥ threshold (strict: value > threshold).
 double probabilityAbove(double value, double threshold, double sigma, bool strict) {
   if (sigma > 0.0) return normalCdf((value - threshold) / sigma);
   return (strict ? value > threshold : value >= threshold) ? 1.0 : 0.0;
@@ -59,13 +63,15 @@ void checkSeries(const IlluminanceSeries& series, const OccupancySchedule& sched
                      "give a schedule of 8760 hours (8784 in a year with 29 February)");
   }
   if (series.illuminanceLux.size() != n) {
-    throw InputError({}, who + "illuminance series has " + std::to_string(series.illuminanceLux.size()) +
-                             " values; the occupancy schedule has " + std::to_string(n) + " hours",
+    throw InputError({},
+                     who + "illuminance series has " + std::to_string(series.illuminanceLux.size()) +
+                         " values; the occupancy schedule has " + std::to_string(n) + " hours",
                      "give one value per hour of the year, from 1 January 00:00–01:00 local standard time");
   }
   if (!series.standardErrorLux.empty() && series.standardErrorLux.size() != n) {
-    throw InputError({}, who + "standard error series has " + std::to_string(series.standardErrorLux.size()) +
-                             " values; the illuminance series has " + std::to_string(n),
+    throw InputError({},
+                     who + "standard error series has " + std::to_string(series.standardErrorLux.size()) +
+                         " values; the illuminance series has " + std::to_string(n),
                      "give one standard error per hour, or none for exact values");
   }
   for (std::size_t k = 0; k < n; ++k) {
@@ -83,7 +89,8 @@ void checkSeries(const IlluminanceSeries& series, const OccupancySchedule& sched
     }
   }
   if (schedule.occupiedCount() == 0) {
-    throw InputError({}, "the occupancy schedule has no occupied hour", "occupy at least one hour of the year");
+    throw InputError({}, "the occupancy schedule has no occupied hour",
+                     "occupy at least one hour of the year");
   }
 }
 
@@ -107,7 +114,8 @@ double varianceOfMin(double mu, double sigma, double threshold) {
 
 void checkGrid(std::span<const IlluminanceSeries> sensors, const OccupancySchedule& schedule) {
   if (sensors.empty()) throw InputError({}, "the sensor grid is empty", "give at least one sensor");
-  for (std::size_t s = 0; s < sensors.size(); ++s) checkSeries(sensors[s], schedule, "sensor " + std::to_string(s) + ": ");
+  for (std::size_t s = 0; s < sensors.size(); ++s)
+    checkSeries(sensors[s], schedule, "sensor " + std::to_string(s) + ": ");
 }
 
 }  // namespace
@@ -140,8 +148,9 @@ SensorMetrics sensorMetrics(const IlluminanceSeries& series, const OccupancySche
   checkThreshold("UDI lower bound", thresholds.udiLowerLux);
   checkThreshold("UDI upper bound", thresholds.udiUpperLux);
   if (!(thresholds.udiLowerLux < thresholds.udiUpperLux)) {
-    throw InputError({}, "UDI bounds " + number(thresholds.udiLowerLux) + " lx and " +
-                             number(thresholds.udiUpperLux) + " lx are not increasing",
+    throw InputError({},
+                     "UDI bounds " + number(thresholds.udiLowerLux) + " lx and " +
+                         number(thresholds.udiUpperLux) + " lx are not increasing",
                      "give a lower bound below the upper one, e.g. 100 and 3000 lx");
   }
   checkSeries(series, schedule, "");
@@ -159,13 +168,17 @@ SensorMetrics sensorMetrics(const IlluminanceSeries& series, const OccupancySche
     const double pAbove = probabilityAbove(e, thresholds.udiUpperLux, sigma, true);
     below.add(e < thresholds.udiLowerLux, pBelow);
     above.add(e > thresholds.udiUpperLux, pAbove);
-    useful.add(e >= thresholds.udiLowerLux && e <= thresholds.udiUpperLux, std::max(0.0, 1.0 - pBelow - pAbove));
+    useful.add(e >= thresholds.udiLowerLux && e <= thresholds.udiUpperLux,
+               std::max(0.0, 1.0 - pBelow - pAbove));
     cda += std::min(1.0, e / t);
     const double v = varianceOfMin(e, sigma, t) / (t * t);
     cdaVariance += v;
     cdaSdSum += std::sqrt(v);
   }
-  return {da.share(n), {cda / n, std::sqrt(cdaVariance) / n, cdaSdSum / n}, below.share(n), useful.share(n),
+  return {da.share(n),
+          {cda / n, std::sqrt(cdaVariance) / n, cdaSdSum / n},
+          below.share(n),
+          useful.share(n),
           above.share(n)};
 }
 
@@ -181,7 +194,8 @@ Estimate hoursAbove(const IlluminanceSeries& series, const OccupancySchedule& sc
   return sum.share(1.0);
 }
 
-Estimate spatialDaylightAutonomy(std::span<const IlluminanceSeries> sensors, const OccupancySchedule& schedule,
+Estimate spatialDaylightAutonomy(std::span<const IlluminanceSeries> sensors,
+                                 const OccupancySchedule& schedule,
                                  const SpatialDaylightAutonomyCriteria& criteria) {
   checkThreshold("sDA illuminance", criteria.illuminanceLux);
   if (!(criteria.timeShare >= 0.0 && criteria.timeShare <= 1.0)) {
@@ -202,7 +216,8 @@ Estimate spatialDaylightAutonomy(std::span<const IlluminanceSeries> sensors, con
   return {independent.count / n, std::sqrt(independent.variance) / n, bound.sdSum / n};
 }
 
-Estimate annualSunlightExposure(std::span<const IlluminanceSeries> directSunOnly, const OccupancySchedule& schedule,
+Estimate annualSunlightExposure(std::span<const IlluminanceSeries> directSunOnly,
+                                const OccupancySchedule& schedule,
                                 const AnnualSunlightExposureCriteria& criteria) {
   checkThreshold("ASE illuminance", criteria.illuminanceLux);
   if (!(criteria.hours >= 0.0) || !std::isfinite(criteria.hours)) {
@@ -218,8 +233,9 @@ Estimate annualSunlightExposure(std::span<const IlluminanceSeries> directSunOnly
     const bool exposed = count.value > criteria.hours;
     independent.add(exposed, count.standardError > 0.0 ? normalCdf((count.value - cut) / count.standardError)
                                                        : (exposed ? 1.0 : 0.0));
-    bound.add(exposed, count.standardErrorBound > 0.0 ? normalCdf((count.value - cut) / count.standardErrorBound)
-                                                      : (exposed ? 1.0 : 0.0));
+    bound.add(exposed, count.standardErrorBound > 0.0
+                           ? normalCdf((count.value - cut) / count.standardErrorBound)
+                           : (exposed ? 1.0 : 0.0));
   }
   const double n = static_cast<double>(directSunOnly.size());
   return {independent.count / n, std::sqrt(independent.variance) / n, bound.sdSum / n};

@@ -20,8 +20,8 @@
 // Σ p(1 − p) when the hours' errors are independent. The value reported is the metric of the series as given;
 // the standard error says how much it would move if the series were recomputed with other random numbers.
 // Series from daylight coefficients share their errors between hours (the same coefficients weight every
-// hour's sky), so `standardErrorBound`, which holds for any correlation (the standard deviation of a sum is at
-// most the sum of the standard deviations), is reported too.
+// hour's sky), so `standardErrorBound`, which holds for any correlation (the standard deviation of a sum is
+// at most the sum of the standard deviations), is reported too.
 #pragma once
 
 #include <cstddef>
@@ -45,7 +45,8 @@ struct OccupancySchedule {
 // Every day of the year from `startHour` to `endHour` local standard time (integers, 0 ≤ start < end ≤ 24):
 // LM-83-12's default is 8:00 to 18:00, 10 hours a day, 3650 hours a year; the EPW records hour 9 to 18.
 // InputError for bounds out of range or a year length other than 8760 or 8784.
-OccupancySchedule dailyOccupancy(int startHour = 8, int endHour = 18, std::size_t hoursInYear = kHoursPerYear);
+OccupancySchedule dailyOccupancy(int startHour = 8, int endHour = 18,
+                                 std::size_t hoursInYear = kHoursPerYear);
 
 // One sensor's hourly illuminance, lux, one value per hour of the year (as the schedule), and optionally each
 // value's standard error (empty = exact).
@@ -62,8 +63,8 @@ struct Estimate {
 };
 
 struct MetricThresholds {
-  double daylightAutonomyLux = 300.0;    // DA and cDA, > 0
-  double udiLowerLux = 100.0;            // UDI bins: < lower, [lower, upper], > upper; 0 < lower < upper
+  double daylightAutonomyLux = 300.0;  // DA and cDA, > 0
+  double udiLowerLux = 100.0;          // UDI bins: < lower, [lower, upper], > upper; 0 < lower < upper
   double udiUpperLux = 3000.0;
 };
 
@@ -94,7 +95,8 @@ struct SpatialDaylightAutonomyCriteria {
 // whoever computed them): the share of sensors whose DA ≥ timeShare. A sensor's chance of passing is
 // Φ((DA − share)/σ_DA) with σ_DA its DA's standard error (its bound for standardErrorBound); the count of
 // passing sensors then has the variance Σ p(1 − p). InputError for an empty grid or as sensorMetrics.
-Estimate spatialDaylightAutonomy(std::span<const IlluminanceSeries> sensors, const OccupancySchedule& schedule,
+Estimate spatialDaylightAutonomy(std::span<const IlluminanceSeries> sensors,
+                                 const OccupancySchedule& schedule,
                                  const SpatialDaylightAutonomyCriteria& criteria = {});
 
 struct AnnualSunlightExposureCriteria {
@@ -106,7 +108,8 @@ struct AnnualSunlightExposureCriteria {
 // shading devices): the share of sensors with more than `hours` occupied hours above `illuminanceLux`. A
 // sensor's chance of exceeding is Φ((count − hours − ½)/σ_count) (the count is a whole number: more than 250
 // means at least 251). InputError as spatialDaylightAutonomy.
-Estimate annualSunlightExposure(std::span<const IlluminanceSeries> directSunOnly, const OccupancySchedule& schedule,
+Estimate annualSunlightExposure(std::span<const IlluminanceSeries> directSunOnly,
+                                const OccupancySchedule& schedule,
                                 const AnnualSunlightExposureCriteria& criteria = {});
 
 }  // namespace fly::daylight

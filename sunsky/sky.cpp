@@ -48,8 +48,8 @@ dvec3 sunDirectionEnu(double sunZenithDeg, double sunAzimuthDeg) {
   return directionFromAzimuthElevation(sunAzimuthDeg, 90.0 - sunZenithDeg);
 }
 
-// Newton's method on the Legendre polynomial P_n from the initial guess cos(π(i + 3/4)/(n + 1/2)) (Abramowitz &
-// Stegun 22.16.6), P_n by its three-term recurrence.
+// Newton's method on the Legendre polynomial P_n from the initial guess cos(π(i + 3/4)/(n + 1/2)) (Abramowitz
+// & Stegun 22.16.6), P_n by its three-term recurrence.
 GaussLegendre gaussLegendre(int n) {
   if (n < 1) throw std::invalid_argument("gaussLegendre: the order must be at least 1");
   GaussLegendre gl{std::vector<double>(n), std::vector<double>(n)};

@@ -23,11 +23,12 @@ constexpr double kDefaultDewPointC = 10.0;
 double requiredRadiation(const EpwFile& file, const EpwRecord& r, const std::optional<double>& value,
                          const char* name) {
   if (!value) {
-    throwAtRecord(file, r,
-                  std::string(name) + " is missing on " + std::to_string(r.month) + "/" + std::to_string(r.day) +
-                      " hour " + std::to_string(r.hour),
-                  "annual daylight needs every hour's direct normal and diffuse horizontal irradiance: fill the "
-                  "gap in the weather file (e.g. from a neighbouring hour) or use a complete file");
+    throwAtRecord(
+        file, r,
+        std::string(name) + " is missing on " + std::to_string(r.month) + "/" + std::to_string(r.day) +
+            " hour " + std::to_string(r.hour),
+        "annual daylight needs every hour's direct normal and diffuse horizontal irradiance: fill the "
+        "gap in the weather file (e.g. from a neighbouring hour) or use a complete file");
   }
   return *value;
 }
@@ -46,14 +47,15 @@ WeatherHour weatherHour(const EpwFile& file, std::size_t record) {
   WeatherHour h;
   h.record = record;
   h.localStandardHour = r.representativeHour();
-  const UtcTime midnight{file.hasLeapDay ? kSolarYearWithLeapDay : kSolarYearWithoutLeapDay, r.month, r.day, 0, 0,
-                         0.0};
+  const UtcTime midnight{
+      file.hasLeapDay ? kSolarYearWithLeapDay : kSolarYearWithoutLeapDay, r.month, r.day, 0, 0, 0.0};
   h.dayOfYear = dayOfYear(midnight);
   SpaInput spa;
   spa.utc = addHours(midnight, h.localStandardHour - file.location.timeZoneHours);
   spa.latitudeDeg = file.location.latitudeDeg;
   spa.longitudeDeg = file.location.longitudeDeg;
-  // The elevation only sets the standard-atmosphere refraction; SPA takes −500 m to 11 km, EPW −1 km to 10 km.
+  // The elevation only sets the standard-atmosphere refraction; SPA takes −500 m to 11 km, EPW −1 km to 10
+  // km.
   spa.elevationM = std::clamp(file.location.elevationM, -500.0, 11000.0);
   h.sun = sunPosition(spa);
   if (!(diffuseHorizontalWm2 > 0.0)) return h;

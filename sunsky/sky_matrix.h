@@ -39,8 +39,8 @@ struct WeatherHour {
   std::size_t record = 0;          // index into EpwFile::records
   double localStandardHour = 0.5;  // the instant: record hour − 0.5, hours of its day
   int dayOfYear = 1;
-  SunPosition sun;                 // at that instant (apparent zenith with refraction)
-  std::optional<PerezSky> sky;     // none for a record without diffuse light
+  SunPosition sun;              // at that instant (apparent zenith with refraction)
+  std::optional<PerezSky> sky;  // none for a record without diffuse light
   // The direct beam: Perez's direct efficacy times the record's direct normal irradiance, on the sun's
   // apparent direction; zero below the horizon and without diffuse light.
   SunDisc sunDisc;
@@ -60,10 +60,10 @@ struct SkyMatrixOptions {
 struct SkyMatrixHour {
   int month = 1;
   int day = 1;
-  int hour = 1;                      // the record's hour, 1..24
-  dvec3 sunDirEnu{0.0, 0.0, 1.0};    // apparent, at mid-hour
+  int hour = 1;                          // the record's hour, 1..24
+  dvec3 sunDirEnu{0.0, 0.0, 1.0};        // apparent, at mid-hour
   double sunNormalIlluminanceLux = 0.0;  // direct normal illuminance of the beam; 0 when none
-  int sunPatch = kGroundPatch;       // the patch that contains the sun, kGroundPatch when it gives no light
+  int sunPatch = kGroundPatch;        // the patch that contains the sun, kGroundPatch when it gives no light
   double diffuseHorizontalLux = 0.0;  // Perez's diffuse efficacy × the record's diffuse irradiance
 };
 
@@ -81,9 +81,9 @@ struct SkyMatrix {
   }
 };
 
-// The matrix of every record of `file`, about 1 ms per daylight hour and thread for MF 1 (most of it the Perez
-// sky's normalisation), about 4 ms for MF 4. InputError as weatherHour (the first record in file order that has
-// one), or for an option out of range.
+// The matrix of every record of `file`, about 1 ms per daylight hour and thread for MF 1 (most of it the
+// Perez sky's normalisation), about 4 ms for MF 4. InputError as weatherHour (the first record in file order
+// that has one), or for an option out of range.
 SkyMatrix makeSkyMatrix(const EpwFile& file, const SkyMatrixOptions& options = {});
 
 }  // namespace fly::sunsky

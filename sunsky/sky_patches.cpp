@@ -46,7 +46,8 @@ SkyPatches makeSkyPatches(int multiplier) {
   if (multiplier < 1 || multiplier > kMaxSkyMultiplier) {
     throw InputError({}, "unknown sky subdivision: multiplier " + std::to_string(multiplier),
                      "give 1 (Tregenza, 145 patches), 2 (Reinhart, 577), 4 (Reinhart, 2305) or another "
-                     "multiplier from 1 to " + std::to_string(kMaxSkyMultiplier));
+                     "multiplier from 1 to " +
+                         std::to_string(kMaxSkyMultiplier));
   }
   SkyPatches s;
   s.multiplier_ = multiplier;

@@ -4,13 +4,13 @@
 //
 // With the multiplier MF (1 = Tregenza), the sky has 7·MF bands of equal altitude width
 // α = 90° / (7·MF + 0.5), band r (0 at the horizon) holding MF·n(⌊r / MF⌋) patches, n = 30, 30, 24, 24, 18,
-// 12, 6, and a cap of one patch of angular radius α/2 around the zenith: 145, 577 and 2305 patches for MF 1, 2
-// and 4 (MF² · 144 + 1).
+// 12, 6, and a cap of one patch of angular radius α/2 around the zenith: 145, 577 and 2305 patches for MF 1,
+// 2 and 4 (MF² · 144 + 1).
 //
-// Numbering (Radiance's "bin"): index 0 is the ground, the whole lower hemisphere (2π sr), as in genskyvec and
-// gendaymtx; the sky patches follow from 1, band by band from the horizon up, the cap last. Within a band,
-// patch 1 of the band is centred on north (azimuth 0) and the numbers run towards the east (clockwise seen
-// from above); a band of n patches spans azimuths [(c − ½)·360°/n, (c + ½)·360°/n) for its c-th patch,
+// Numbering (Radiance's "bin"): index 0 is the ground, the whole lower hemisphere (2π sr), as in genskyvec
+// and gendaymtx; the sky patches follow from 1, band by band from the horizon up, the cap last. Within a
+// band, patch 1 of the band is centred on north (azimuth 0) and the numbers run towards the east (clockwise
+// seen from above); a band of n patches spans azimuths [(c − ½)·360°/n, (c + ½)·360°/n) for its c-th patch,
 // c = 0..n−1. Reinhart.cal computes the same with azimuth atan2(Dx, Dy), Dx east and Dy north.
 #pragma once
 
@@ -74,8 +74,8 @@ class SkyPatches {
   std::vector<SkyPatch> patches_;
 };
 
-// The subdivision with multiplier `multiplier`: 1 = Tregenza (145 sky patches), 2 = Reinhart 577, 4 = Reinhart
-// 2305, or any other in 1..kMaxSkyMultiplier (MF 3: 1297, MF 8: 9217). InputError outside.
+// The subdivision with multiplier `multiplier`: 1 = Tregenza (145 sky patches), 2 = Reinhart 577, 4 =
+// Reinhart 2305, or any other in 1..kMaxSkyMultiplier (MF 3: 1297, MF 8: 9217). InputError outside.
 inline constexpr int kMaxSkyMultiplier = 8;
 SkyPatches makeSkyPatches(int multiplier);
 

@@ -21,7 +21,8 @@ dvec3 integrateRectangle(const Sky& sky, const GaussLegendre& gl, double mu0, do
     dvec3 ring(0.0);
     for (std::size_t j = 0; j < gl.nodes.size(); ++j) {
       const double phi = phiMid + phiHalf * gl.nodes[j];
-      ring += gl.weights[j] * dvec3(sky.radianceCdM2(dvec3(sinTheta * std::sin(phi), sinTheta * std::cos(phi), mu)));
+      ring += gl.weights[j] *
+              dvec3(sky.radianceCdM2(dvec3(sinTheta * std::sin(phi), sinTheta * std::cos(phi), mu)));
     }
     sum += gl.weights[i] * ring;
   }

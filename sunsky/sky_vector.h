@@ -37,7 +37,7 @@ inline constexpr int kDefaultPatchNodes = 6;
 
 struct SkyVectorOptions {
   SunInPatches sun = SunInPatches::kSeparate;
-  double groundAlbedo = 0.2;  // [0, 1], the ground patch's reflectance (gendaymtx's default)
+  double groundAlbedo = 0.2;              // [0, 1], the ground patch's reflectance (gendaymtx's default)
   int nodesPerAxis = kDefaultPatchNodes;  // [1, 32]
 };
 

@@ -110,7 +110,8 @@ TEST(SensorMetrics, HandComputedDay) {
 TEST(SensorMetrics, StandardErrorOfDaylightAutonomy) {
   const SensorMetrics m = sensorMetrics(constant(330.0, 30.0), kSchedule);
   EXPECT_EQ(m.daylightAutonomy.value, 1.0);
-  EXPECT_NEAR(m.daylightAutonomy.standardError, std::sqrt(kOccupied * kBernoulliVarianceAtPhi1) / kOccupied, 1e-12);
+  EXPECT_NEAR(m.daylightAutonomy.standardError, std::sqrt(kOccupied * kBernoulliVarianceAtPhi1) / kOccupied,
+              1e-12);
   EXPECT_NEAR(m.daylightAutonomy.standardErrorBound, std::sqrt(kBernoulliVarianceAtPhi1), 1e-12);
   // On the threshold: p = ½, variance ¼.
   const SensorMetrics at = sensorMetrics(constant(300.0, 10.0), kSchedule);
@@ -142,7 +143,8 @@ TEST(SensorMetrics, StandardErrorOfContinuousDaylightAutonomy) {
   const double sdAt = std::sqrt(0.5 - 1.0 / (2.0 * fly::kPi)) * 30.0 / 300.0;
   EXPECT_NEAR(at.standardError, sdAt / std::sqrt(kOccupied), 1e-12);
   EXPECT_NEAR(at.standardErrorBound, sdAt, 1e-12);
-  EXPECT_NEAR(sensorMetrics(constant(3000.0, 30.0), kSchedule).continuousDaylightAutonomy.standardError, 0.0, 1e-9);
+  EXPECT_NEAR(sensorMetrics(constant(3000.0, 30.0), kSchedule).continuousDaylightAutonomy.standardError, 0.0,
+              1e-9);
 }
 
 TEST(HoursAbove, StrictlyMoreThanTheThreshold) {
@@ -162,7 +164,8 @@ IlluminanceSeries daylitHours(int daylit) {
 
 TEST(SpatialDaylightAutonomy, ShareOfSensorsWithHalfTheHoursDaylit) {
   // DA = 0.5 passes (≥ 50 %), 0.4 does not: 2 of 4 sensors.
-  const std::vector<IlluminanceSeries> grid = {daylitHours(5), daylitHours(4), daylitHours(10), daylitHours(0)};
+  const std::vector<IlluminanceSeries> grid = {daylitHours(5), daylitHours(4), daylitHours(10),
+                                               daylitHours(0)};
   const Estimate sda = spatialDaylightAutonomy(grid, kSchedule);
   EXPECT_DOUBLE_EQ(sda.value, 0.5);
   EXPECT_EQ(sda.standardError, 0.0);
@@ -244,7 +247,9 @@ std::string errorOf(const std::function<void()>& f) {
   return "no error";
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 TEST(AnnualMetrics, BadInputIsAnInputError) {
   IlluminanceSeries shortSeries = constant(100.0);
@@ -259,12 +264,14 @@ TEST(AnnualMetrics, BadInputIsAnInputError) {
   EXPECT_TRUE(contains(errorOf([&] { hoursAbove(negative, kSchedule, 1000.0); }), "hour 3 is -1 lx"));
   IlluminanceSeries badErrors = constant(100.0, 5.0);
   badErrors.standardErrorLux.resize(10);
-  EXPECT_TRUE(contains(errorOf([&] { sensorMetrics(badErrors, kSchedule); }), "standard error series has 10 values"));
+  EXPECT_TRUE(
+      contains(errorOf([&] { sensorMetrics(badErrors, kSchedule); }), "standard error series has 10 values"));
   badErrors = constant(100.0, 5.0);
   badErrors.standardErrorLux[0] = std::numeric_limits<double>::infinity();
   EXPECT_TRUE(contains(errorOf([&] { sensorMetrics(badErrors, kSchedule); }), "standard error of hour 0"));
   const std::vector<IlluminanceSeries> grid = {constant(100.0), shortSeries};
-  EXPECT_TRUE(contains(errorOf([&] { spatialDaylightAutonomy(grid, kSchedule); }), "sensor 1: illuminance series"));
+  EXPECT_TRUE(
+      contains(errorOf([&] { spatialDaylightAutonomy(grid, kSchedule); }), "sensor 1: illuminance series"));
   EXPECT_TRUE(contains(errorOf([&] { annualSunlightExposure({}, kSchedule); }), "the sensor grid is empty"));
   OccupancySchedule nobody;
   nobody.occupied.assign(kHoursPerYear, false);
@@ -274,7 +281,8 @@ TEST(AnnualMetrics, BadInputIsAnInputError) {
   EXPECT_TRUE(contains(errorOf([&] { sensorMetrics(constant(0.0), kSchedule, t); }), "not increasing"));
   t = {};
   t.daylightAutonomyLux = 0.0;
-  EXPECT_TRUE(contains(errorOf([&] { sensorMetrics(constant(0.0), kSchedule, t); }), "not a positive illuminance"));
+  EXPECT_TRUE(
+      contains(errorOf([&] { sensorMetrics(constant(0.0), kSchedule, t); }), "not a positive illuminance"));
   SpatialDaylightAutonomyCriteria c;
   c.timeShare = 50.0;
   EXPECT_TRUE(contains(errorOf([&] { spatialDaylightAutonomy(grid, kSchedule, c); }), "outside [0, 1]"));

@@ -16,19 +16,21 @@
 namespace fly::sunsky {
 namespace {
 
-const std::filesystem::path kHelsinki = std::filesystem::path(FLY_TEST_DATA_DIR) / "epw" / "helsinki-jun21-22.epw";
+const std::filesystem::path kHelsinki =
+    std::filesystem::path(FLY_TEST_DATA_DIR) / "epw" / "helsinki-jun21-22.epw";
 
 // Σ over the sky patches of L·(projected solid angle): the diffuse horizontal illuminance of a row, lux.
 double skyHorizontalLux(const SkyMatrix& m, std::size_t hour) {
   const Rgb* row = m.row(hour);
   double sum = 0.0;
-  for (int p = 1; p < m.patches.count(); ++p) sum += double(luminance(row[p])) * m.patches[p].projectedSolidAngleSr;
+  for (int p = 1; p < m.patches.count(); ++p)
+    sum += double(luminance(row[p])) * m.patches[p].projectedSolidAngleSr;
   return sum;
 }
 
 // A full year at 40.5° N, 105.25° W (UTC−7), with direct and diffuse irradiance from 6:00 to 18:00 standard
-// time that vary from record to record (every Perez clearness bin occurs), 0 at night; the dew point is missing
-// on every tenth record.
+// time that vary from record to record (every Perez clearness bin occurs), 0 at night; the dew point is
+// missing on every tenth record.
 std::string generatedYear() {
   std::string s =
       "LOCATION,Test City,ST,USA,generated,722000,40.5,-105.25,-7.0,1600\nDESIGN CONDITIONS,0\n"
@@ -43,11 +45,12 @@ std::string generatedYear() {
         const double dni = day ? (k * 37) % 900 : 0.0;
         const double dhi = day ? 20.0 + (k * 13) % 250 : 0.0;
         char buf[512];
-        std::snprintf(buf, sizeof buf,
-                      "1999,%d,%d,%d,0,?9?9?9?9E0?9?9?9*9*9?9*9*9?9*9*9?9?9*9*_*9*9*9*9*9,10.0,%s,60,83000,0,0,250,"
-                      "%.0f,%.0f,%.0f,999999,999999,999999,9999,180,2.5,5,3,16.1,77777,9,999999999,7,0.045,0,88,0.2,"
-                      "0.0,1.0\n",
-                      m, d, h, k % 10 == 0 ? "99.9" : "2.5", dhi + 0.5 * dni, dni, dhi);
+        std::snprintf(
+            buf, sizeof buf,
+            "1999,%d,%d,%d,0,?9?9?9?9E0?9?9?9*9*9?9*9*9?9*9*9?9?9*9*_*9*9*9*9*9,10.0,%s,60,83000,0,0,250,"
+            "%.0f,%.0f,%.0f,999999,999999,999999,9999,180,2.5,5,3,16.1,77777,9,999999999,7,0.045,0,88,0.2,"
+            "0.0,1.0\n",
+            m, d, h, k % 10 == 0 ? "99.9" : "2.5", dhi + 0.5 * dni, dni, dhi);
         s += buf;
       }
     }
@@ -75,8 +78,9 @@ TEST(SkyMatrix, OneHourMatchesThePerezGlobalIlluminance) {
   ASSERT_GT(clearness, 4.5);  // bin 7: [4.5, 6.2)
   ASSERT_LT(clearness, 6.2);
   const double zDeg = h.sun.apparentZenithDeg;
-  const double airMass = 1.0 / (std::cos(z) + 0.50572 * std::pow(96.07995 - zDeg, -1.6364));  // Kasten & Young
-  const double dayAngle = 2.0 * kPi * (172 - 1) / 365.0;                                     // Spencer 1971
+  const double airMass =
+      1.0 / (std::cos(z) + 0.50572 * std::pow(96.07995 - zDeg, -1.6364));  // Kasten & Young
+  const double dayAngle = 2.0 * kPi * (172 - 1) / 365.0;                   // Spencer 1971
   const double eccentricity = 1.000110 + 0.034221 * std::cos(dayAngle) + 0.001280 * std::sin(dayAngle) +
                               0.000719 * std::cos(2 * dayAngle) + 0.000077 * std::sin(2 * dayAngle);
   const double brightness = dhi * airMass / (1367.0 * eccentricity);
@@ -176,7 +180,8 @@ TEST(SkyMatrix, SunInItsPatch) {
   const std::size_t k = 12;
   const int p = apart.hours[k].sunPatch;
   ASSERT_GT(p, kGroundPatch);
-  const double gain = (luminance(folded.row(k)[p]) - luminance(apart.row(k)[p])) * apart.patches[p].solidAngleSr;
+  const double gain =
+      (luminance(folded.row(k)[p]) - luminance(apart.row(k)[p])) * apart.patches[p].solidAngleSr;
   EXPECT_NEAR(gain / apart.hours[k].sunNormalIlluminanceLux, 1.0, 1e-5);
 }
 
@@ -194,7 +199,8 @@ TEST(SkyMatrix, MissingRadiationIsAnInputErrorWithItsLine) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.location().file, "gap.epw");
     EXPECT_EQ(e.location().line, 21);
-    EXPECT_NE(std::string(e.what()).find("direct normal irradiance is missing on 6/21 hour 13"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("direct normal irradiance is missing on 6/21 hour 13"),
+              std::string::npos)
         << e.what();
   }
 }

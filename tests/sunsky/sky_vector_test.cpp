@@ -42,8 +42,8 @@ TEST(SkyVector, UniformSkyGivesUniformPatches) {
         EXPECT_NEAR(v.radianceCdM2[i].b, 3000.0, 1e-9) << i;
       }
       // E = π·L for a uniform sky.
-      EXPECT_NEAR(horizontalIlluminanceLux(v, patches), kPi * (0.2126 * 1000.0 + 0.7152 * 2000.0 + 0.0722 * 3000.0),
-                  1e-8);
+      EXPECT_NEAR(horizontalIlluminanceLux(v, patches),
+                  kPi * (0.2126 * 1000.0 + 0.7152 * 2000.0 + 0.0722 * 3000.0), 1e-8);
     }
   }
 }
@@ -80,7 +80,8 @@ TEST(SkyVector, HorizontalIlluminanceOfCieSkies) {
   for (double zenith : kSunZenithsDeg) {
     for (int type : {1, 12, 13}) {  // overcast, clear, polluted clear
       const CieSky sky = makeCieSky(type, zenith, 140.0, CieNormalisation::diffuseHorizontalLux(15000.0));
-      expectHorizontalIlluminanceMatches(sky, "CIE type " + std::to_string(type) + ", Z " + std::to_string(zenith));
+      expectHorizontalIlluminanceMatches(
+          sky, "CIE type " + std::to_string(type) + ", Z " + std::to_string(zenith));
     }
   }
 }
@@ -96,8 +97,8 @@ TEST(SkyVector, HorizontalIlluminanceOfPerezSkies) {
       in.directNormal = pair[0];
       in.diffuseHorizontal = pair[1];
       const PerezSky sky = makePerezSky(in);
-      expectHorizontalIlluminanceMatches(sky, "Perez bin " + std::to_string(sky.condition().bin) + ", Z " +
-                                                  std::to_string(zenith));
+      expectHorizontalIlluminanceMatches(
+          sky, "Perez bin " + std::to_string(sky.condition().bin) + ", Z " + std::to_string(zenith));
     }
   }
 }
@@ -106,8 +107,8 @@ TEST(SkyVector, HorizontalIlluminanceOfHosekWilkieSkies) {
   for (double zenith : kSunZenithsDeg) {
     for (double turbidity : {2.0, 6.0}) {
       const HosekWilkieSky sky = makeHosekWilkieSky(turbidity, 0.2, zenith, 75.0, 172);
-      expectHorizontalIlluminanceMatches(sky, "Hosek-Wilkie T " + std::to_string(turbidity) + ", Z " +
-                                                  std::to_string(zenith));
+      expectHorizontalIlluminanceMatches(
+          sky, "Hosek-Wilkie T " + std::to_string(turbidity) + ", Z " + std::to_string(zenith));
     }
   }
 }
