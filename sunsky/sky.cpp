@@ -48,16 +48,10 @@ dvec3 sunDirectionEnu(double sunZenithDeg, double sunAzimuthDeg) {
   return directionFromAzimuthElevation(sunAzimuthDeg, 90.0 - sunZenithDeg);
 }
 
-namespace {
-
-// Gauss–Legendre nodes and weights on [−1, 1]: Newton's method on the Legendre polynomial P_n from the
-// initial guess cos(π(i + 3/4)/(n + 1/2)) (Abramowitz & Stegun 22.16.6), P_n by its three-term recurrence.
-struct GaussLegendre {
-  std::vector<double> nodes;
-  std::vector<double> weights;
-};
-
+// Newton's method on the Legendre polynomial P_n from the initial guess cos(π(i + 3/4)/(n + 1/2)) (Abramowitz
+// & Stegun 22.16.6), P_n by its three-term recurrence.
 GaussLegendre gaussLegendre(int n) {
+  if (n < 1) throw std::invalid_argument("gaussLegendre: the order must be at least 1");
   GaussLegendre gl{std::vector<double>(n), std::vector<double>(n)};
   for (int i = 0; i < (n + 1) / 2; ++i) {
     double z = std::cos(kPi * (i + 0.75) / (n + 0.5));
@@ -81,8 +75,6 @@ GaussLegendre gaussLegendre(int n) {
   }
   return gl;
 }
-
-}  // namespace
 
 double integrateHemisphere(const std::function<double(const dvec3&)>& f, const dvec3& peakDirEnu,
                            int thetaSteps) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <functional>
+#include <vector>
 
 #include "base/color.h"
 #include "base/math.h"
@@ -36,6 +37,14 @@ dvec3 sunDirectionEnu(double sunZenithDeg, double sunAzimuthDeg);
 // on; "<what> is not a number" for NaN).
 void checkInputRange(const char* what, double value, double min, double max, const char* unit,
                      const char* hint);
+
+// Gauss–Legendre quadrature of order n ≥ 1 on [−1, 1]: nodes ascending, weights summing to 2; exact for
+// polynomials of degree ≤ 2n − 1.
+struct GaussLegendre {
+  std::vector<double> nodes;
+  std::vector<double> weights;
+};
+GaussLegendre gaussLegendre(int n);
 
 // Gauss–Legendre nodes per cos θ panel of the hemisphere quadrature (see integrateHemisphere).
 inline constexpr int kDefaultThetaSteps = 32;
