@@ -230,6 +230,7 @@ nlohmann::json infoJson(const sdb::Scene& scene, const sdb::SceneStats& st, cons
   j["sky"] = {{"model", sdb::skyModelName(scene.sky().model)}, {"sun", scene.sky().sun}};
   if (scene.sky().model == sdb::SkyModel::kCie) j["sky"]["cie_type"] = scene.sky().cieType;
   if (sdb::isClearSky(scene.sky().model) || scene.sky().sun) j["sky"]["turbidity"] = scene.sky().turbidity;
+  if (scene.sky().model != sdb::SkyModel::kNone || scene.sky().sun) j["sky"]["ground_albedo"] = scene.sky().groundAlbedo;
   j["light"] = {{"default_daylight", lit.defaultDaylight}, {"description", lit.light}};
   j["features"] = f.names();
   j["engine_reflections"] = f.engineReflections;

@@ -30,6 +30,7 @@ struct SkyOptions {
   bool json = false;
   bool skyGiven = false;        // --sky on the command line (else a scene's sky is the default)
   bool turbidityGiven = false;  // --turbidity on the command line
+  bool groundAlbedoGiven = false;
 };
 
 std::string lowerExtension(const std::string& path) {
@@ -76,6 +77,7 @@ int runSky(SkyOptions o) {
     }
   }
   if (st.sceneSky && !o.turbidityGiven) o.request.turbidity = st.sceneSky->turbidity;
+  if (st.sceneSky && !o.groundAlbedoGiven) o.request.groundAlbedo = st.sceneSky->groundAlbedo;
   const sunsky::SunPosition sun = sunsky::sunPosition(st.spa);
   const Daylight day = makeDaylight(o.request, st, sun);
   const ImageRgbF image = renderSkyFisheye(*day.sky, day.sun, o.sizePx);
@@ -168,6 +170,10 @@ Command addSkyCommand(CLI::App& app) {
                   "standard-time zone are the defaults");
   sub->add_option("--turbidity", o->request.turbidity, "Linke turbidity of the clear sky and sun, [1.7, 10]")
       ->capture_default_str();
+  sub->add_option("--ground-albedo", o->request.groundAlbedo,
+                  "reflectance of the ground around the site for the clear sky, [0, 1]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--dhi", o->request.diffuseHorizontalLux, "diffuse horizontal illuminance, lux");
   sub->add_option("--dni", o->request.directNormalLux, "direct normal illuminance of the sun, lux");
   sub->add_option("--zenith-luminance", o->request.zenithLuminanceCdM2,
@@ -188,6 +194,7 @@ Command addSkyCommand(CLI::App& app) {
   return {sub, [o, sub] {
             o->skyGiven = sub->count("--sky") > 0;
             o->turbidityGiven = sub->count("--turbidity") > 0;
+            o->groundAlbedoGiven = sub->count("--ground-albedo") > 0;
             return runSky(*o);
           }};
 }

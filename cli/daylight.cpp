@@ -50,9 +50,10 @@ Daylight makeDaylight(const SkyRequest& r, const SiteTime& st, const sunsky::Sun
   const sunsky::SunDiscInput discIn = sunDiscInput(st, sun, r.turbidity);
   if (r.model == "clear") {
     d.description = "clear sky and sun (Hosek and Wilkie 2012, 2013), turbidity " +
-                    std::to_string(r.turbidity).substr(0, 4) + ", ground albedo 0.2";
+                    std::to_string(r.turbidity).substr(0, 4) + ", ground albedo " +
+                    std::to_string(r.groundAlbedo).substr(0, 4);
     d.sky = std::make_unique<sunsky::HosekWilkieSky>(
-        sunsky::makeHosekWilkieSky(r.turbidity, sunsky::kDefaultGroundAlbedo, sun.apparentZenithDeg,
+        sunsky::makeHosekWilkieSky(r.turbidity, r.groundAlbedo, sun.apparentZenithDeg,
                                    sun.azimuthDeg, discIn.dayOfYear, r.diffuseHorizontalLux));
     d.sun = r.directNormalLux ? sunsky::sunDiscWithIlluminance(discIn, *r.directNormalLux)
                               : sunsky::hosekWilkieSunDisc(discIn);

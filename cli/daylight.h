@@ -27,6 +27,7 @@ ClearDaylight clearDaylight(const SiteTime& st, const sunsky::SunPosition& sun, 
 struct SkyRequest {
   std::string model = "clear";  // "clear", "preetham", "perez", "cie:N" (N = 1..15)
   double turbidity = 3.0;
+  double groundAlbedo = 0.2;                   // the clear sky's ground albedo, [0, 1]
   std::optional<double> diffuseHorizontalLux;  // CIE normalisation, or Perez input (with directNormalLux)
   std::optional<double> zenithLuminanceCdM2;   // CIE normalisation
   std::optional<double> directNormalLux;       // the sun's disc for CIE and Perez skies

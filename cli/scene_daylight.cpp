@@ -130,6 +130,7 @@ bool applyDaylightOptions(sdb::Scene& scene, const DaylightOptions& o, bool plai
   checkRange(o.elevationM, "--elevation", -500.0, 9000.0, "metres above sea level");
   checkRange(o.northAngleDeg, "--north", -360.0, 360.0, "degrees");
   checkRange(o.turbidity, "--turbidity", 1.7, 10.0, "a Linke turbidity");
+  checkRange(o.groundAlbedo, "--ground-albedo", 0.0, 1.0, "a reflectance");
   const std::optional<sdb::SunDirection> sunDirection = parseSunDirection(o.sunDirection);
   const std::vector<std::string> given = o.given();
   const auto isGiven = [&](const char* name) { return std::find(given.begin(), given.end(), name) != given.end(); };
@@ -167,6 +168,7 @@ bool applyDaylightOptions(sdb::Scene& scene, const DaylightOptions& o, bool plai
   const bool hadDaylight = sky.model != sdb::SkyModel::kNone || sky.sun;
   if (!o.sky.empty()) parseSky(o.sky, sky);
   if (o.turbidity) sky.turbidity = *o.turbidity;
+  if (o.groundAlbedo) sky.groundAlbedo = *o.groundAlbedo;
   if (!o.weatherFile.empty()) {
     if (sky.model != sdb::SkyModel::kPerez) {
       throw UsageError("--weather " + o.weatherFile + " drives the Perez sky: give --sky perez too");
@@ -256,7 +258,10 @@ std::string describeLight(const sdb::Scene& scene, bool defaultDaylight) {
   std::string text;
   switch (sky.model) {
     case sdb::SkyModel::kNone: text = "no sky"; break;
-    case sdb::SkyModel::kClear: text = "clear sky (Hosek-Wilkie), turbidity " + format("%.1f", sky.turbidity); break;
+    case sdb::SkyModel::kClear:
+      text = "clear sky (Hosek-Wilkie), turbidity " + format("%.1f", sky.turbidity) +
+             (sky.groundAlbedo != 0.2 ? ", ground albedo " + format("%.2f", sky.groundAlbedo) : "");
+      break;
     case sdb::SkyModel::kPreetham:
       text = "clear sky (Preetham, IES Handbook level), turbidity " + format("%.1f", sky.turbidity);
       break;
@@ -356,7 +361,8 @@ nlohmann::json daylightJson(const sdb::Scene& scene, bool defaultDaylight) {
               {"cie_type", sky.cieType},
               {"turbidity", sky.turbidity},
               {"weather_file", sky.weatherFile},
-              {"sun", sky.sun}};
+              {"sun", sky.sun},
+              {"ground_albedo", sky.groundAlbedo}};
   return j;
 }
 
@@ -395,6 +401,7 @@ bool applyDaylightJson(sdb::Scene& scene, const nlohmann::json& j, const std::st
     sky.turbidity = s.at("turbidity").get<double>();
     sky.weatherFile = s.at("weather_file").get<std::string>();
     sky.sun = s.at("sun").get<bool>();
+    sky.groundAlbedo = s.value("ground_albedo", sky.groundAlbedo);  // bakes that predate it: the default
     scene.setSky(sky);
     return j.at("default").get<bool>();
   } catch (const std::exception& e) {

@@ -83,6 +83,10 @@ void DaylightOptions::add(CLI::App& sub, std::string* timeLimit) {
   sub.add_option("--turbidity", turbidity,
                  "Linke turbidity of the clear sky and the sun, [1.7, 10] (default: the scene's, else 3: clear)")
       ->group(group);
+  sub.add_option("--ground-albedo", groundAlbedo,
+                 "reflectance of the ground around the site, [0, 1]: the clear sky's and the ground drawn below the "
+                 "horizon (default: the scene's, else 0.2)")
+      ->group(group);
   sub.add_option("--weather", weatherFile, "EnergyPlus weather file (.epw) for --sky perez")->group(group);
   sub.add_option("--sun-dir", sunDirection,
                  "the sun placed directly instead of by site and time: AZIMUTH,ELEVATION in degrees (azimuth "
@@ -101,6 +105,7 @@ std::vector<std::string> DaylightOptions::given() const {
   if (!timeZone.empty()) names.push_back("--tz");
   if (!sky.empty()) names.push_back("--sky");
   if (turbidity) names.push_back("--turbidity");
+  if (groundAlbedo) names.push_back("--ground-albedo");
   if (!weatherFile.empty()) names.push_back("--weather");
   if (!sunDirection.empty()) names.push_back("--sun-dir");
   return names;

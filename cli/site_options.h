@@ -39,12 +39,14 @@ struct DaylightOptions {
   std::optional<double> northAngleDeg; // from the model's −Z to north, clockwise seen from above, [−360, 360]
   std::string time;                    // local (in --tz or the site's zone), UTC "…Z" or with an offset
   std::string timeZone;                // IANA name or offset, e.g. Europe/Helsinki, +03:00
-  std::string sky;                     // clear, cie:N (N = 1..15) or perez
+  std::string sky;                     // clear, preetham, cie:N (N = 1..15) or perez
   std::optional<double> turbidity;     // Linke turbidity of the clear sky and the sun, [1.7, 10]
+  std::optional<double> groundAlbedo;  // reflectance of the ground around the site, [0, 1]
   std::string weatherFile;             // EnergyPlus weather file driving the Perez sky
   std::string sunDirection;            // "AZIMUTH,ELEVATION" in degrees: the sun placed directly
 
-  // Registers --lat, --lon, --elevation, --north, --time, --tz, --sky, --turbidity, --weather, --sun-dir.
+  // Registers --lat, --lon, --elevation, --north, --time, --tz, --sky, --turbidity, --ground-albedo,
+  // --weather, --sun-dir.
   // `timeLimit`: the run-time limit of a command's sampling options (bake, illuminance), whose --time this
   // --time takes over: a value in the form of a date (2026-06-21T15:00) is the site's time, any other a
   // time limit (90s, 5m), and --time may be given twice, once for each.

@@ -937,7 +937,7 @@ void buildSky(RasterRdb& rdb, const sdb::Scene& scene, const RasterBuildOptions&
     eSunHorizontal = dvec3(s.sunRadianceCdM2) * solidAngle * std::max(0.0, double(s.sunDirWorld.y));
   }
   rdb.daylightAmbient.upLux = Rgb(eSky);
-  rdb.daylightAmbient.downLux = Rgb(double(kRasterGroundAlbedo) * (eSky + eSunHorizontal));
+  rdb.daylightAmbient.downLux = Rgb(double(s.groundAlbedo) * (eSky + eSunHorizontal));
 }
 
 void buildCameras(RasterRdb& rdb, const sdb::Scene& scene) {

@@ -328,7 +328,7 @@ struct RasterVariants {
 // over the faces meeting at a concave corner (angle-weighted unit face normals of every mesh touching the
 // point; 0 on a flat surface, 0.29 where two perpendicular faces meet, 0.42 at a room's three-face corner; 0
 // at convex corners). Levels: with daylight (sunlight mode), upLux = the sky's horizontal illuminance and
-// downLux = that of the ground (reflectance kRasterGroundAlbedo, rdb/raster_sky.h) lit by sky and sun; in
+// downLux = that of the ground (reflectance RasterSky::groundAlbedo, rdb/raster_sky.h) lit by sky and sun; in
 // simple mode, those of the daylight (when the scene has a sky or sun, whose sun the simple mode's Phong
 // also shades with) plus, on both, the ambient term of progressive radiosity (Cohen et al. 1988, §4.2):
 // for the scene's lights ρ̄c/(1 − ρ̄c) · Ē, with Ē the area-weighted mean of the lights' unshadowed direct

@@ -46,7 +46,8 @@ std::optional<RasterSky> buildRasterSky(const sdb::Scene& scene, uint32_t width,
   }
   const sunsky::Sky* sky = daylight->sky.get();
   if (sky) groundIrradianceLux += skyHorizontalIlluminanceLux(*sky);
-  const dvec3 groundCdM2 = dvec3(groundIrradianceLux) * (double(kRasterGroundAlbedo) / kPi);
+  r.groundAlbedo = float(daylight->groundAlbedo);
+  const dvec3 groundCdM2 = dvec3(groundIrradianceLux) * (daylight->groundAlbedo / kPi);
 
   r.radianceCdM2.assign(size_t(width) * height, Rgb(0.0f));
   const double n = kPixelSamples;

@@ -15,8 +15,8 @@
 
 namespace fly::rdb {
 
-// Reflectance of the ground drawn below the horizon (grey; a common default for grass, soil and pavement),
-// the ground albedo the clear sky assumes.
+// Reflectance of the ground drawn below the horizon by default (sdb::SkySettings::groundAlbedo: grey, a
+// common default for grass, soil and pavement), the ground albedo the clear sky assumes.
 inline constexpr float kRasterGroundAlbedo = float(sunsky::kDefaultGroundAlbedo);
 
 // An equirectangular image over the full sphere of WORLD directions (glTF frame, +Y up). For a unit direction
@@ -25,7 +25,7 @@ inline constexpr float kRasterGroundAlbedo = float(sunsky::kDefaultGroundAlbedo)
 // (row 0 at the zenith) and holds the mean radiance over the pixel's solid angle, cd/m² per channel (linear
 // Rec.709, luminance() photometric). Above the horizon (d.y > 0) it is the sky; the sun's disc is NOT in the
 // image (the shader draws it from sunDirWorld, sunRadianceCdM2 and sunHalfAngleRad). Below the horizon it is
-// a uniform Lambertian ground of reflectance kRasterGroundAlbedo lit by the whole sky and the sun: albedo ·
+// a uniform Lambertian ground of reflectance groundAlbedo lit by the whole sky and the sun: albedo ·
 // (E_sky + E_sun) / π per channel, E the horizontal illuminance in lux. This ground is only what a viewer
 // sees where the scene has no geometry; the baker's sky (TraceSky) is black below the horizon.
 struct RasterSky {
@@ -35,6 +35,7 @@ struct RasterSky {
   vec3 sunDirWorld{0, 1, 0};      // unit, towards the sun's apparent position (also when below the horizon)
   Rgb sunRadianceCdM2{0};         // mean radiance of the disc, cd/m² per channel; 0 without hasSun
   float sunHalfAngleRad = 0;      // angular radius of the disc (0.533° / 2); 0 without hasSun
+  float groundAlbedo = kRasterGroundAlbedo;  // the ground's below the horizon (sdb::SkySettings::groundAlbedo)
 };
 
 // The sky dome of `scene` at `width` × `height` pixels (each in [1, 8192]; std::invalid_argument outside),

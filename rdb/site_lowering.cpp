@@ -56,6 +56,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
   const SourceLocation where{scene.sourcePath.string()};
 
   SceneDaylight d;
+  d.groundAlbedo = settings.groundAlbedo;
   d.frame = sunsky::makeSiteFrame(site.latitudeDeg, site.longitudeDeg, northReference(site), where);
   int dayOfYear = kDirectSunDayOfYear;
   sunsky::UtcTime utc;  // of the scene's time; unset for a sun placed directly
@@ -90,7 +91,7 @@ std::optional<SceneDaylight> lowerDaylight(const sdb::Scene& scene) {
     case sdb::SkyModel::kNone: break;
     case sdb::SkyModel::kClear:
       d.sky = std::make_unique<sunsky::HosekWilkieSky>(
-          sunsky::makeHosekWilkieSky(settings.turbidity, sunsky::kDefaultGroundAlbedo, sun.apparentZenithDeg,
+          sunsky::makeHosekWilkieSky(settings.turbidity, settings.groundAlbedo, sun.apparentZenithDeg,
                                      sun.azimuthDeg, disc.dayOfYear));
       break;
     case sdb::SkyModel::kPreetham:

@@ -41,18 +41,21 @@ struct SceneDaylight {
   std::unique_ptr<sunsky::Sky> sky;   // null when the sky model is none
   std::optional<sunsky::SunDisc> sun; // absent when the scene asks for no sun or the sun is below the horizon
   dvec3 sunDirWorld{0.0, 1.0, 0.0};   // unit, towards the sun (its apparent position), world space
+  double groundAlbedo = 0.2;          // sdb::SkySettings::groundAlbedo
 };
 
 // The scene's daylight, or nullopt when it asks for neither a sky nor a sun. The sun's position: from the site
 // and local time by sunsky::sunPosition, or as placed directly (sdb::SiteTime::sunDirection; then a scene
 // without a site stands at latitude 0, longitude 0 with north along −Z, which only orients the azimuth).
 // Sky models (sdb::SkyModel):
-//   clear: sunsky::makeClearSky at the IES Lighting Handbook level (ClearSkyLevel::kIesHandbook);
+//   clear: sunsky::makeHosekWilkieSky over the scene's ground albedo, with sunsky::hosekWilkieSunDisc;
+//   preetham: sunsky::makeClearSky at the IES Lighting Handbook level (ClearSkyLevel::kIesHandbook);
 //   cie:   sunsky::makeCieSky at cieSkyDefaultDiffuseLux;
 //   perez: sunsky::makePerezSky from the weather file's direct normal and diffuse horizontal irradiance at the
 //          instant (EPW hours are local standard time at the file's zone, sunsky/epw.h).
 // The sun (SkySettings::sun): with a Perez sky the weather file's direct normal illuminance
-// (sunDiscWithIlluminance), otherwise the clear-atmosphere disc of the scene's turbidity (clearSkySunDisc), at
+// (sunDiscWithIlluminance), with the clear sky Hosek and Wilkie's (hosekWilkieSunDisc), otherwise the
+// clear-atmosphere disc of the scene's turbidity (clearSkySunDisc), at
 // the standard-atmosphere station pressure of the site's elevation. InputError (from sunsky) for a bad time or
 // time zone, a site out of range, or a missing or bad weather file; std::invalid_argument when the scene asks
 // for a sky or sun without a site and a local time or a sun direction (the scene-file reader and the CLI

@@ -658,7 +658,7 @@ class SceneFileReader {
   }
 
   void readSky(const JsonValue& v, bool hasSiteAndTime) {
-    const ObjectReader r(src_, v, {"model", "cieType", "turbidity", "weatherFile", "sun"});
+    const ObjectReader r(src_, v, {"model", "cieType", "turbidity", "weatherFile", "sun", "groundAlbedo"});
     SkySettings sky;
     sky.model = static_cast<SkyModel>(r.choice("model", kSkyModels).value_or(0));
     static_assert(static_cast<int>(SkyModel::kPreetham) == 4, "kSkyModels follows the order of SkyModel");
@@ -676,6 +676,8 @@ class SceneFileReader {
       r.forbid("turbidity",
                "applies to the clear sky and the sun only; this sky is " + model + " without a sun");
     }
+    sky.groundAlbedo =
+        r.number("groundAlbedo", closed(0.0, 1.0), "ground reflectance").value_or(sky.groundAlbedo);
     if (sky.model == SkyModel::kPerez) {
       sky.weatherFile =
           src_.inputFile(r.require("weatherFile", "an EnergyPlus weather file, .epw"), "weather file")

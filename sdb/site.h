@@ -46,6 +46,9 @@ struct SkySettings {
   double turbidity = 3.0;    // Linke turbidity, [1.7, 10]
   std::string weatherFile;   // EnergyPlus EPW file driving the Perez sky; "" = none
   bool sun = false;          // the sun as a light source (disc of 0.533°)
+  // Reflectance of the open ground around the site, [0, 1]: the clear sky's (Hosek–Wilkie's ground albedo) and
+  // that of the ground the GL engine draws below the horizon. 0.2: grass, soil and pavement.
+  double groundAlbedo = 0.2;
 };
 
 // The sun placed directly instead of by the site's date and time (the FLY paper, §3: "direct specification

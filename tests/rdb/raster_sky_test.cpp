@@ -180,6 +180,28 @@ TEST(RasterSky, GroundIsLambertianUnderSkyAndSun) {
   EXPECT_GE(r->radianceCdM2.back().r, r->radianceCdM2.back().b);
 }
 
+// The scene's ground albedo: the clear sky brightens over a brighter ground (Hosek and Wilkie's model: 16.8 klx
+// over albedo 0.2 at T 3 and 45°, 14.7 over 0, 24.3 over 1) and the ground drawn below the horizon reflects
+// that albedo of sky and sun.
+TEST(RasterSky, TheGroundAlbedoLightsTheClearSkyAndTheGround) {
+  double previousSkyLux = 0.0;
+  for (const double albedo : {0.0, 0.2, 0.5, 1.0}) {
+    Scene s = siteScene(morningTimeAtElevation(40.0), sdb::SkyModel::kClear, true);
+    sdb::SkySettings sky = s.sky();
+    sky.groundAlbedo = albedo;
+    s.setSky(sky);
+    const std::optional<SceneDaylight> d = lowerDaylight(s);
+    const std::optional<RasterSky> r = buildRasterSky(s, 32, 16);
+    ASSERT_TRUE(r && d && d->sun && d->sky);
+    const double skyLux = sunsky::horizontalIlluminanceLux(*d->sky);
+    EXPECT_GT(skyLux, previousSkyLux) << albedo;
+    previousSkyLux = skyLux;
+    const double expected = albedo * (skyLux + double(luminance(d->sun->normalIlluminanceLux)) * d->sunDirWorld.y) / kPi;
+    EXPECT_NEAR(luminance(r->radianceCdM2.back()), expected, 1e-3 * expected + 1e-9) << albedo;
+    EXPECT_FLOAT_EQ(r->groundAlbedo, float(albedo));
+  }
+}
+
 TEST(RasterSky, SunWithoutSkyGivesABlackSkyAndASunlitGround) {
   const Scene s = siteScene(morningTimeAtElevation(30.0), sdb::SkyModel::kNone, true);
   const std::optional<RasterSky> r = buildRasterSky(s, 16, 8);

@@ -71,6 +71,7 @@ TEST(SceneFile, CompleteExampleParses) {
   EXPECT_EQ(s.sky().model, SkyModel::kCie);
   EXPECT_EQ(s.sky().cieType, 12);
   EXPECT_DOUBLE_EQ(s.sky().turbidity, 3.5);
+  EXPECT_DOUBLE_EQ(s.sky().groundAlbedo, 0.2);  // the default
   EXPECT_TRUE(s.sky().sun);
   EXPECT_EQ(s.sky().weatherFile, "");
 
@@ -228,7 +229,7 @@ TEST(SceneFile, UnknownKeysAreErrorsAtTheirLocation) {
   }
 })",
               "7:5", "/sky/sunn",
-              {"unknown key \"sunn\" in /sky; expected one of: model, cieType, turbidity, weatherFile, sun",
+              {"unknown key \"sunn\" in /sky; expected one of: model, cieType, turbidity, weatherFile, sun, groundAlbedo",
                "hint: did you mean \"sun\"?"});
   expectError("{\"fly\": 1,\n \"lights\": [{\"type\": \"point\", \"Position\": [0, 0, 0]}]}", "2:31",
               "/lights/0/Position", {"unknown key \"Position\" in /lights/0", "did you mean \"position\"?"});
@@ -239,6 +240,11 @@ TEST(SceneFile, UnknownKeysAreErrorsAtTheirLocation) {
       "3:4", "/lights/0/innerConeDeg", {"\"innerConeDeg\" applies to spot lights only", "type \"point\""});
   expectError(R"({"fly": 1, "sky": {"model": "perez", "cieType": 3}})", "1:38", "/sky/cieType",
               {"applies to the CIE sky only"});
+}
+
+TEST(SceneFile, GroundAlbedoIsReadForAnySky) {
+  EXPECT_DOUBLE_EQ(parse(R"({"fly": 1, "sky": {"groundAlbedo": 0.45}})").sky().groundAlbedo, 0.45);
+  EXPECT_DOUBLE_EQ(parse(R"({"fly": 1, "sky": {"groundAlbedo": 0}})").sky().groundAlbedo, 0.0);
 }
 
 TEST(SceneFile, WrongTypesAndRanges) {
@@ -256,6 +262,8 @@ TEST(SceneFile, WrongTypesAndRanges) {
                "did you mean \"cie\"?"});
   expectError(R"({"fly": 1, "sky": {"sun": "yes"}})", "1:27", "/sky/sun",
               {"expected true or false; got a string"});
+  expectError(R"({"fly": 1, "sky": {"groundAlbedo": 1.5}})", "1:36", "/sky/groundAlbedo",
+              {"ground reflectance", "[0, 1]; got 1.5"});
   expectError(R"({"fly": 1, "lights": [{"type": "point", "position": [0, 1], "intensity": 1}]})", "1:53",
               "/lights/0/position",
               {"expected an array of 3 numbers [x, y, z] in metres; got an array of 2 elements"});
