@@ -138,6 +138,80 @@ TEST(RoomProbe, APolishedFloorInAClosedRoomReflectsTheRoomNotTheSky) {
   }
 }
 
+// A quad at height y facing down, over x in [x0, x1], z in [−4, 4].
+sdb::Mesh ceilingPart(float x0, float x1, float y, sdb::MaterialId material) {
+  sdb::Mesh m;
+  m.name = "ceiling";
+  m.positions = {{x0, y, -4}, {x1, y, -4}, {x1, y, 4}, {x0, y, 4}};
+  m.normals.assign(4, vec3(0, -1, 0));
+  m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from below
+  m.material = material;
+  return m;
+}
+
+// The box projection: an 8 × 3 × 8 m room whose ceiling shows 50 cd/m² over x < 0 and 200 cd/m² over x > 0
+// (walls 100). From the eye at (0.8, 2, 0) the floor point (−0.5, 0, 0) mirrors the eye towards the ceiling at
+// x = −2.45 (the dark half), where the same direction from the probe's centre meets it at x = 0.15 (the bright
+// half): the floor must show the dark half (blurred towards the wall).
+TEST(RoomProbe, TheBoxPlacesAReflectionWhereTheMirrorRayMeetsTheRoom) {
+  context();
+  sdb::Scene scene;
+  sdb::Material wall;
+  wall.name = "wall";
+  wall.diffuseColor = Rgb(0.5f);
+  wall.reflectionColor = Rgb(0.0f);
+  sdb::Material polished;
+  polished.name = "polished floor";
+  polished.diffuseColor = Rgb(0.0f);
+  polished.reflectionColor = Rgb(1.0f);
+  polished.reflectionModel = sdb::ReflectionModel::kFresnel;
+  polished.ior = 1.5f;
+  polished.reflectionGlossiness = 0.3f;
+  const sdb::MaterialId wallId = scene.addMaterial(wall).id, floorId = scene.addMaterial(polished).id;
+  rdb::LightMapStore store;
+  auto add = [&](const sdb::Mesh& mesh, float cdM2) {
+    const sdb::MeshId id = scene.addMesh(mesh).id;
+    const sdb::NodeId node = scene.addNode({.name = mesh.name, .meshes = {id}}).id;
+    store.meshes.push_back(
+        {node.value, id.value, std::vector<Rgb>(mesh.positions.size(), Rgb(float(kPi) * cdM2 / 0.5f)), {}});
+  };
+  add(test::box(vec3(-4, 0, -4), vec3(4, 3, 4), wallId, true), 100.0f);
+  add(ceilingPart(-4.0f, 0.0f, 2.999f, wallId), 50.0f);
+  add(ceilingPart(0.0f, 4.0f, 2.999f, wallId), 200.0f);
+  sdb::Mesh floor;
+  floor.name = "floor";
+  floor.positions = {{-3.9f, 0.001f, -3.9f}, {3.9f, 0.001f, -3.9f}, {3.9f, 0.001f, 3.9f}, {-3.9f, 0.001f, 3.9f}};
+  floor.normals.assign(4, vec3(0, 1, 0));
+  floor.indices = {0, 2, 1, 0, 3, 2};
+  floor.material = floorId;
+  add(floor, 0.0f);
+  rdb::RasterRdb r = rdb::buildRasterRdb(scene, &store);
+  rdb::RasterSky sky;
+  sky.width = 64;
+  sky.height = 32;
+  sky.radianceCdM2.assign(64 * 32, Rgb(10000.0f));
+  r.sky = sky;
+  r.variants.sky = true;
+
+  const vec3 eye(0.8f, 2.0f, 0.0f), target(-0.5f, 0.0f, 0.0f);
+  const View view = test::lookAtView(eye, target, 30.0f);
+  const float cosO = 2.0f / glm::length(eye - target);
+  const vec2 ab = test::splitSumByQuadrature(cosO, 0.09f, 1024, 256);
+  const rdb::RasterMaterial& block = r.materials.back();
+  const double lobe = luminance(block.specular * ab.x + block.environmentF90 * ab.y);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(view, RenderMode::kLightMap, kSize, kSize);
+  const double l = centreLuminance(renderer, kSize);
+  std::printf("the floor at x = -0.5 shows %.3f cd/m²: the dark half %.3f, the bright half %.3f\n", l, 50.0 * lobe,
+              200.0 * lobe);
+  // The dark half, blurred towards the wall beside it (100 cd/m²): the lobe is prefiltered from the probe's
+  // centre, where the same angular width covers more of the room than from the floor point. Without the box
+  // the lookup would meet the seam at x = 0.15 and show about half the bright ceiling.
+  EXPECT_GT(l, 50.0 * lobe * 0.98);
+  EXPECT_LT(l, 100.0 * lobe);
+}
+
 TEST(RoomProbe, OutdoorsThePolishedFloorStillReflectsTheSky) {
   context();
   constexpr float kSkyCdM2 = 5000.0f;
