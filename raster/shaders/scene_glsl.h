@@ -590,7 +590,9 @@ void main() {
 #endif
 #endif
 #ifdef FLY_IBL
-    vSpecularOcclusion = flySpecularOcclusion(eLux, back ? -n : n);
+#ifndef FLY_ROOM_PROBE
+    vSpecularOcclusion = flySpecularOcclusion(eLux, back ? -n : n);  // the probe needs none (kSceneFragment)
+#endif
 #endif
 #ifdef FLY_SUN_GLASS
     vSunLuminance = sunTerm;
@@ -850,7 +852,7 @@ void main() {
     albedoOverPi *= flyDiffuseTowards(materials[vShareMaterial], dot(normalize(vShareNormal), normalize(vShareToEye)));
 #endif
     l += albedoOverPi * eTexelLux;
-#ifdef FLY_IBL
+#if defined(FLY_IBL) && !defined(FLY_ROOM_PROBE)
     specularOcclusion = flySpecularOcclusion(eTexelLux, normalize(vIblNormal));
 #endif
   }
@@ -1353,13 +1355,13 @@ void main() {
 #endif
 #ifdef FLY_IBL
     // On the normal the light map was baked for (the interpolated one, not the normal map's).
+#ifndef FLY_ROOM_PROBE
     specularOcclusion = flySpecularOcclusion(eLux, (back && twoSided) ? -normalize(vNormal) : normalize(vNormal));
+#endif
 #ifdef FLY_CUBE_REFLECTION
     if (uCubeReflector >= 0) specularOcclusion = 1.0;  // its cube map shows what it sees
 #endif
-#ifdef FLY_ROOM_PROBE
-    specularOcclusion = 1.0;  // so does the room probe
-#endif
+
 #endif
     vec3 reflectance = flyLightMapReflectance(base.rgb, m);
 #ifdef FLY_PLANAR_REFLECTION
