@@ -49,23 +49,34 @@ TEST(RoomProbeBox, MostlySkyIsAnOpenSideAndFurnitureInTheMiddleIsIgnored) {
   EXPECT_NEAR(RoomProbe::sideDistanceM(room, kFacePx, kNearM), 3.0f, 3e-3f);
 }
 
+// Walls and ceiling: Lambertian, albedo 0.5.
+sdb::Material wallMaterial() {
+  sdb::Material m;
+  m.name = "wall";
+  m.diffuseColor = Rgb(0.5f);
+  m.reflectionColor = Rgb(0.0f);
+  return m;
+}
+
+// A polished floor with no diffuse part: it shows only what it reflects (Fresnel, ior 1.5, GGX α = 0.09).
+sdb::Material polishedMaterial() {
+  sdb::Material m;
+  m.name = "polished floor";
+  m.diffuseColor = Rgb(0.0f);
+  m.reflectionColor = Rgb(1.0f);
+  m.reflectionModel = sdb::ReflectionModel::kFresnel;
+  m.ior = 1.5f;
+  m.reflectionGlossiness = 0.3f;
+  return m;
+}
+
 // A polished floor (no diffuse part: it shows only what it reflects; GGX α = 0.09, F0 = 0.04) in a room
 // lit so that its walls and ceiling show `wallCdM2` (light maps of π·wall/0.5 lx on albedo 0.5), under a
 // uniform sky of `skyCdM2` — closed, or without walls and ceiling (`open`: the floor alone).
 rdb::RasterRdb floorScene(bool open, float wallCdM2, float skyCdM2) {
   sdb::Scene scene;
-  sdb::Material wall;
-  wall.name = "wall";
-  wall.diffuseColor = Rgb(0.5f);
-  wall.reflectionColor = Rgb(0.0f);
-  sdb::Material polished;
-  polished.name = "polished floor";
-  polished.diffuseColor = Rgb(0.0f);
-  polished.reflectionColor = Rgb(1.0f);
-  polished.reflectionModel = sdb::ReflectionModel::kFresnel;
-  polished.ior = 1.5f;
-  polished.reflectionGlossiness = 0.3f;
-  const sdb::MaterialId wallId = scene.addMaterial(wall).id, floorId = scene.addMaterial(polished).id;
+  const sdb::MaterialId wallId = scene.addMaterial(wallMaterial()).id;
+  const sdb::MaterialId floorId = scene.addMaterial(polishedMaterial()).id;
   rdb::LightMapStore store;
   if (!open) {
     const sdb::MeshId room = scene.addMesh(test::box(vec3(-2, 0, -2), vec3(2, 3, 2), wallId, true)).id;
@@ -156,18 +167,8 @@ sdb::Mesh ceilingPart(float x0, float x1, float y, sdb::MaterialId material) {
 TEST(RoomProbe, TheBoxPlacesAReflectionWhereTheMirrorRayMeetsTheRoom) {
   context();
   sdb::Scene scene;
-  sdb::Material wall;
-  wall.name = "wall";
-  wall.diffuseColor = Rgb(0.5f);
-  wall.reflectionColor = Rgb(0.0f);
-  sdb::Material polished;
-  polished.name = "polished floor";
-  polished.diffuseColor = Rgb(0.0f);
-  polished.reflectionColor = Rgb(1.0f);
-  polished.reflectionModel = sdb::ReflectionModel::kFresnel;
-  polished.ior = 1.5f;
-  polished.reflectionGlossiness = 0.3f;
-  const sdb::MaterialId wallId = scene.addMaterial(wall).id, floorId = scene.addMaterial(polished).id;
+  const sdb::MaterialId wallId = scene.addMaterial(wallMaterial()).id;
+  const sdb::MaterialId floorId = scene.addMaterial(polishedMaterial()).id;
   rdb::LightMapStore store;
   auto add = [&](const sdb::Mesh& mesh, float cdM2) {
     const sdb::MeshId id = scene.addMesh(mesh).id;
