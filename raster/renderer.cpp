@@ -1537,6 +1537,8 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
     const bool ibl = (sunlight || probeActive_) && imageBasedLight_ && environment_ && !environmentDirty_;
     // The room probe's maps for the specular environment, except in the probe's own capture.
     const bool roomProbe = ibl && probeActive_ && !capturingProbe_ && probe_ && probe_->captured();
+    // The maps of the specular environment: the room probe's, else the sky's.
+    const EnvironmentLight* specular = !ibl ? nullptr : roomProbe ? &probe_->maps() : environment_.get();
     const uint32_t shared = (ibl ? kVariantIbl : 0u) | (roomProbe ? kVariantRoomProbe : 0u) | (lightMaps ? kVariantLightMap : 0u) | (phong ? kVariantPhong : 0u) |
                             ((phong || sunDirect) && v.sun ? kVariantSun : 0u) |
                             (sunDirect ? kVariantSunDirect : 0u) | (v.twoSided ? kVariantTwoSided : 0u) |
@@ -1633,8 +1635,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       }
       if (programVariant & kVariantIbl) {
         glUniform1i(p.irradianceAmbient, sunlight ? 1 : 0);
-        const EnvironmentLight& specular = roomProbe ? probe_->maps() : *environment_;
-        glUniform1f(p.radianceTopLevel, float(specular.settings().radianceLevels - 1));
+        glUniform1f(p.radianceTopLevel, float(specular->settings().radianceLevels - 1));
       }
       if (programVariant & kVariantRoomProbe) {
         glUniform3fv(p.probeCentre, 1, &probe_->centreM()[0]);
@@ -1692,11 +1693,10 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
           glBindTextureUnit(14, maps.splitSumTable());
           glUniform1f(p.radianceTopLevel, float(maps.settings().radianceLevels - 1));
         } else if (ibl) {
-          const EnvironmentLight& specular = roomProbe ? probe_->maps() : *environment_;
-          glBindTextureUnit(12, environment_->irradianceCube());
-          glBindTextureUnit(13, specular.radianceCube());
-          glBindTextureUnit(14, specular.splitSumTable());
-          glUniform1f(p.radianceTopLevel, float(specular.settings().radianceLevels - 1));
+            glBindTextureUnit(12, environment_->irradianceCube());
+          glBindTextureUnit(13, specular->radianceCube());
+          glBindTextureUnit(14, specular->splitSumTable());
+          glUniform1f(p.radianceTopLevel, float(specular->settings().radianceLevels - 1));
         }
       }
       if (v.reflectionFog) {
@@ -1746,10 +1746,9 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       }
       if (sunGlass) glBindTextureUnit(8, sunGlass_->texture());
       if (ibl) {
-        const EnvironmentLight& specular = roomProbe ? probe_->maps() : *environment_;
         glBindTextureUnit(12, environment_->irradianceCube());
-        glBindTextureUnit(13, specular.radianceCube());
-        glBindTextureUnit(14, specular.splitSumTable());
+        glBindTextureUnit(13, specular->radianceCube());
+        glBindTextureUnit(14, specular->splitSumTable());
       }
       if (v.measuredBrdf) {
         glBindTextureUnit(9, balls_->texture());
