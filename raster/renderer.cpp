@@ -232,10 +232,14 @@ enum VariantBit : uint32_t {
   kVariantRoomProbe = 1u << 27,
 };
 
-// Some material reflects an environment (RasterMaterial::environmentF90 > 0): the room probe has a use.
+// Some mesh shows the environment's specular light (its material's environmentF90 > 0, and it is no planar or
+// cube reflector, which show their own images): the room probe has a use.
 bool reflectsEnvironment(const rdb::RasterRdb& r) {
-  return std::any_of(r.materials.begin(), r.materials.end(), [](const rdb::RasterMaterial& x) {
-    return std::max({x.environmentF90.r, x.environmentF90.g, x.environmentF90.b}) > 0.0f;
+  return std::any_of(r.meshes.begin(), r.meshes.end(), [&](const rdb::RasterMesh& mesh) {
+    const rdb::RasterMaterial& x = r.materials[mesh.material];
+    return mesh.planarReflector == rdb::RasterTextureRef::kNone &&
+           mesh.cubeReflector == rdb::RasterTextureRef::kNone &&
+           std::max({x.environmentF90.r, x.environmentF90.g, x.environmentF90.b}) > 0.0f;
   });
 }
 
@@ -440,7 +444,7 @@ struct Renderer::Gpu {
   GLint maxImageSizePx = 0;  // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_TEXTURE_SIZE, whichever is smaller
   GLsizei indexCount = 0;    // of the whole scene
   bool everyMeshLightMapped = false;
-  bool environmentReflected = false;  // some material reflects an environment (environmentF90 > 0)
+  bool environmentReflected = false;  // reflectsEnvironment: some mesh shows the environment
 
   ~Gpu() {
     const GLuint buffers[] = {positions, normals,   corners,     surfaces,    frontLux,  backLux,
