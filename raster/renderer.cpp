@@ -101,12 +101,13 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
 }
 
 // A per-fragment draw's texture slots (kSurfaceFragment's uTextureSlots bits, in this order) and the texture
-// units they are bound to: base colour, emission, normal map, anisotropy, anisotropy rotation, glossiness.
-constexpr int kTextureSlots = 6;
-constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17, 18};
+// units they are bound to: base colour, emission, normal map, anisotropy, anisotropy rotation, glossiness,
+// transmission.
+constexpr int kTextureSlots = 7;
+constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17, 18, 19};
 std::array<const rdb::RasterTextureRef*, kTextureSlots> textureSlots(const rdb::RasterMaterial& m) {
   return {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
-          &m.anisotropyRotationTexture, &m.glossinessTexture};
+          &m.anisotropyRotationTexture, &m.glossinessTexture, &m.transmissionTexture};
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -310,6 +311,7 @@ struct SurfaceDraw {
   bool mask = false;
   bool blend = false;
   bool twoSided = false;  // both faces drawn (two-sided or glass); else the back faces are culled
+  bool glass = false;     // glass: drawn in the glass pass, over the image of the rest
   uint32_t reflector = rdb::RasterTextureRef::kNone;  // RasterRdb::planarReflectors' index of its meshes
   uint32_t cubeReflector = rdb::RasterTextureRef::kNone;  // RasterRdb::cubeReflectors' index of its mesh
   vec3 centreM{0.0f};              // blended: the mesh's bounding-box centre, sorted by its view depth
@@ -616,16 +618,20 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
-  // The anisotropy and glossiness slots' units lie above the 16 that OpenGL 4.5 guarantees.
-  if ((variant & kVariantTextures) && (variant & (kVariantAnisotropy | kVariantGlossinessTexture))) {
-    const GLuint highest =
-        (variant & kVariantGlossinessTexture) ? kTextureSlotUnits[5] : kTextureSlotUnits[4];
+  // The anisotropy, glossiness and transmission slots' units lie above the 16 that OpenGL 4.5 guarantees.
+  if (perFragment && (variant & kVariantTextures)) {
+    const char* what = (variant & kVariantGlass)                ? "transmission"
+                       : (variant & kVariantGlossinessTexture) ? "glossiness"
+                       : (variant & kVariantAnisotropy)        ? "anisotropy"
+                                                               : nullptr;
+    const GLuint highest = (variant & kVariantGlass)                ? kTextureSlotUnits[6]
+                           : (variant & kVariantGlossinessTexture) ? kTextureSlotUnits[5]
+                                                                   : kTextureSlotUnits[4];
     GLint units = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
-    if (units <= GLint(highest)) {
+    if (what) glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+    if (what && units <= GLint(highest)) {
       throw std::runtime_error("the OpenGL driver has " + std::to_string(units) + " fragment texture units; " +
-                               ((variant & kVariantGlossinessTexture) ? "glossiness" : "anisotropy") +
-                               " textures need " + std::to_string(highest + 1));
+                               what + " textures need " + std::to_string(highest + 1));
     }
   }
   const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kAoAmbientCommon + shaders::kSceneCommon +
@@ -637,9 +643,9 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
            ? std::string(shaders::kSceneCommon) +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
                  shaders::kLightTextureLookup + ((variant & kVariantPlanarReflection) ? shaders::kMirrorBlurUpsample : "") +
-                 shaders::kSurfaceFragment
+                 ((variant & kVariantGlass) ? shaders::kGlassBehind : "") + shaders::kSurfaceFragment
            : std::string((variant & (kVariantIbl | kVariantDiffuseByAngle)) ? shaders::kSceneCommon : "") +
-                 shaders::kLightTextureLookup +
+                 shaders::kLightTextureLookup + ((variant & kVariantGlass) ? shaders::kGlassBehind : "") +
                  shaders::kSceneFragment);
   const GLuint p = compileProgram(
       name, defines, {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
@@ -978,6 +984,7 @@ void Renderer::uploadDraws() {
         d.material = material;
         d.mask = mode == rdb::RasterAlphaMode::kMask;
         d.twoSided = twoSided;
+        d.glass = maxComponent(r.materials[material].transmission) > 0.0f;
         d.reflector = reflector;
         d.cubeReflector = cube;
         for (const rdb::RasterMesh& m : r.meshes) {
@@ -1775,7 +1782,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       const SceneProgram* program = nullptr;
       if (nearDeferred) glNamedFramebufferDrawBuffers(gpu_->floatFbo, 3, kWithNearRecords);
       for (const SurfaceDraw& d : gpu_->surfaceDraws) {
-        if (d.blend) continue;
+        if (d.blend || d.glass) continue;
         if (mirrorPass && d.reflector == mirrorPass->reflector) continue;  // the mirror itself, on the near plane
         if (cubePass && d.cubeReflector == cubePass->reflector) continue;  // the reflector itself, around the eye
         const uint32_t want = opaqueSurfaceVariant | (d.mask ? kVariantAlphaMask : 0u);
@@ -1812,7 +1819,9 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
       drawNearLamps(clipFromWorld, eye, viewDir, view.orthographic, v.goniometric, widthPx, heightPx);
       bindScene();
     }
-    if ((variant & kVariantGlass) && gpu_->perVertexIndexCount > 0) {
+    const bool surfaceGlass = std::any_of(gpu_->surfaceDraws.begin(), gpu_->surfaceDraws.end(),
+                                          [](const SurfaceDraw& d) { return d.glass; });
+    if ((variant & kVariantGlass) && (gpu_->perVertexIndexCount > 0 || surfaceGlass)) {
       // The glass over a copy of that image, which it shows through itself times T(θ) (kSceneFragment). The
       // nearest pane wins where panes overlap (its depth hides the farther one's): what lies behind a pane
       // is seen through that pane alone.
@@ -1829,9 +1838,23 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
                          0, 0, w, h, 1);
       glBindTextureUnit(4, gpu_->behindColor);
       if (variant & kVariantFrosted) prepareFrostedGlass();
-      const SceneProgram& p = use(variant);
-      glUniform1i(p.glassPass, 1);
-      drawVisibleChunks();
+      if (gpu_->perVertexIndexCount > 0) {
+        const SceneProgram& p = use(variant);
+        glUniform1i(p.glassPass, 1);
+        drawVisibleChunks();
+      }
+      // The textured panes (per fragment), with the glass's own variant: no planar or cube reflector is glass.
+      const uint32_t glassVariant =
+          (surfaceVariant & ~uint32_t(kVariantPlanarReflection | kVariantCubeReflection | kVariantAmbientOcclusion)) |
+          (variant & (kVariantGlass | kVariantFrosted));
+      for (const SurfaceDraw& d : gpu_->surfaceDraws) {
+        if (!d.glass) continue;
+        const SceneProgram& p = use(glassVariant | (d.mask ? kVariantAlphaMask : 0u));
+        bindTextures(p, d);
+        setFaceCulling(!d.twoSided);
+        draw(d.firstIndex, d.indexCount);
+      }
+      setFaceCulling(false);
     }
     if (v.alphaBlend) {
       // Blended surfaces, after everything else, back to front by their meshes' centres' view depth, without

@@ -76,23 +76,17 @@ struct TextureTable {
 // or frosted, drawn as a thin pane in its own pass (RasterMaterial::transmission).
 bool engineGlass(const sdb::Material& m) { return maxComponent(m.effective().transmission) > 0.0f; }
 
-// The textures the engine reads are those of materials that are not glass (glass is shaded per vertex, in
-// its own pass).
-bool readsTextures(const sdb::Material& m) {
-  return !engineGlass(m);
-}
-
-// Anisotropic to the engine: an anisotropic material (sdb::Material::isAnisotropic) whose textures the engine
-// reads (not glass), that has an analytic lobe (not measured) and reflects something.
+// Anisotropic to the engine: an anisotropic material (sdb::Material::isAnisotropic) that is not glass, has
+// an analytic lobe (not measured) and reflects something.
 bool engineAnisotropic(const sdb::Material& m) {
-  return m.isAnisotropic() && readsTextures(m) && !m.isMeasured() &&
+  return m.isAnisotropic() && !engineGlass(m) && !m.isMeasured() &&
          maxComponent(glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f))) > 0.0f;
 }
 
-// Whether the engine reads m's glossiness texture: a material whose textures it reads (not glass), with an
-// analytic lobe (not measured) that reflects something (otherwise the width it sets shows nowhere).
+// Whether the engine reads m's glossiness texture: a material that is not glass, with an analytic lobe (not
+// measured) that reflects something (otherwise the width it sets shows nowhere).
 bool engineGlossinessTextured(const sdb::Material& m) {
-  return m.reflectionGlossinessTexture && readsTextures(m) && !m.isMeasured() &&
+  return m.reflectionGlossinessTexture && !engineGlass(m) && !m.isMeasured() &&
          maxComponent(glm::clamp(m.reflectionAt(1.0f), Rgb(0.0f), Rgb(1.0f))) > 0.0f;
 }
 
@@ -157,6 +151,12 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   r.emissionDisplay = m.emissionDisplay;
   if (engineGlass(m)) {
     r.transmission = glm::clamp(m.transmissionColor, Rgb(0.0f), Rgb(1.0f));
+    if (m.transmissionTexture) {
+      // The diffuse input after the reflection's share only, (1 − r′) d: the texel's (1 − t) is the
+      // transmission's share (sdb::applyEnergyRule per texel).
+      r.transmissionTexture = lowerTextureRef(m.transmissionTexture, false, table);
+      r.diffuse = sdb::applyEnergyRule(m.diffuseColor, m.reflectionAt(1.0f), Rgb(0.0f)).diffuse;
+    }
     const float alphaT = m.transmissionGlossiness * m.transmissionGlossiness;
     r.transmissionAlpha = alphaT < sdb::kSmoothAlpha ? 0.0f : alphaT;
     r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
@@ -164,7 +164,7 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
   } else if (m.reflectionModel == sdb::ReflectionModel::kUniform) {
     r.reflection = glm::clamp(m.reflectionColor, Rgb(0.0f), Rgb(1.0f));
   }
-  if (readsTextures(m)) {
+  {
     r.baseColorTexture = lowerTextureRef(m.diffuseTexture, true, table);
     r.reflectionTinted = m.reflectionTextureSrgb && m.reflectionTexture && m.diffuseTexture &&
                          m.reflectionTexture.texture == m.diffuseTexture.texture &&
@@ -194,7 +194,8 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
         r.alphaMode = RasterAlphaMode::kMask;
         break;
       case sdb::AlphaMode::kBlend:
-        r.alphaMode = RasterAlphaMode::kBlend;
+        // Glass lets light through by its transmittance alone: a pane's coverage is whole.
+        r.alphaMode = engineGlass(m) ? RasterAlphaMode::kOpaque : RasterAlphaMode::kBlend;
         break;
     }
     r.alphaCutoff = std::clamp(m.alphaCutoff, 0.0f, 1.0f);
@@ -226,7 +227,8 @@ bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
   return same(a.baseColorTexture, b.baseColorTexture) && same(a.emissionTexture, b.emissionTexture) &&
          same(a.normalTexture, b.normalTexture) && same(a.anisotropyTexture, b.anisotropyTexture) &&
          same(a.anisotropyRotationTexture, b.anisotropyRotationTexture) &&
-         same(a.glossinessTexture, b.glossinessTexture) && a.anisotropic == b.anisotropic &&
+         same(a.glossinessTexture, b.glossinessTexture) &&
+         same(a.transmissionTexture, b.transmissionTexture) && a.anisotropic == b.anisotropic &&
          a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike &&
          a.cubeMapOnCurved == b.cubeMapOnCurved && a.cubeMapAlways == b.cubeMapAlways;
 }
@@ -288,9 +290,8 @@ struct AttributeNeeds {
 
 AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
   AttributeNeeds n;
-  if (!readsTextures(m)) return n;
   const bool anisotropic = engineAnisotropic(m);
-  for (const sdb::TextureRef* ref : {&m.diffuseTexture, &m.emissionTexture, &m.bumpTexture}) {
+  for (const sdb::TextureRef* ref : {&m.diffuseTexture, &m.emissionTexture, &m.bumpTexture, &m.transmissionTexture}) {
     if (*ref) n.uv[std::clamp(ref->texCoord, 0, 1)] = true;
   }
   if (anisotropic) {
@@ -1077,7 +1078,7 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     v.glossinessTextures |= bool(m.glossinessTexture);
     for (const RasterTextureRef* t :
          {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
-          &m.anisotropyRotationTexture, &m.glossinessTexture})
+          &m.anisotropyRotationTexture, &m.glossinessTexture, &m.transmissionTexture})
       v.uv1 |= bool(*t) && t->texCoord == 1;
     v.vertexColors |= mesh.hasColors;
     v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;

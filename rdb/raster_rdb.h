@@ -94,6 +94,11 @@ struct RasterMaterial {
   // (F0 A + F90 B)) by the split sum's table at α (F0 = specular, F90 = environmentF90), and shows what lies
   // behind it blurred by the lobe's width (raster/renderer.h). transmission is 0 for other materials.
   Rgb transmission{0.0f};  // transmissionColor, [0,1]
+  // Glass's transmission texture (sdb::Material::transmissionTexture; linear, red): multiplies `transmission`
+  // per pixel. With it, `diffuse` is the diffuse input after the reflection's share only, (1 − r′) d, and the
+  // engine takes the texel's transmission share: diffuse · (1 − transmission · red). Glass with a texture is
+  // shaded per fragment.
+  RasterTextureRef transmissionTexture;
   float transmissionAlpha = 0.0f;  // GGX α = transmission glossiness², [0, 1]; 0 (below kSmoothAlpha): clear
   // reflectionColor, [0,1], of clear glass and of uniform reflection (glTF metals, sdb/gltf_import.cpp); 0 for
   // other (Fresnel) reflection. The light-map modes show an opaque uniform reflector as a rough one:
@@ -168,7 +173,7 @@ struct RasterMaterial {
 
   bool hasTexture() const {
     return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture) || bool(anisotropyTexture) ||
-           bool(anisotropyRotationTexture) || bool(glossinessTexture);
+           bool(anisotropyRotationTexture) || bool(glossinessTexture) || bool(transmissionTexture);
   }
   bool hasReflectionFog() const { return reflectionFogDistanceM < std::numeric_limits<float>::infinity(); }
 

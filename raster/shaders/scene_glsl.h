@@ -391,6 +391,30 @@ vec3 flyEnvironmentSpecularFogged(Material m, vec3 n, vec3 toEye, vec3 fogCdM2, 
 #endif
 #endif
 
+#ifdef FLY_GLASS
+// The transmittance towards the eye of glass of transmission colour t seen at cos θ (either face): clear,
+// the energy rule's T(θ) = t · (1 − clamp(r · F(θ))), F Schlick's (sdb::Material::effectiveAt); frosted
+// (GGX α = m.emission.w > 0), the baker's thin-surface lobe (raytracer/bsdf.h), f = t (1 − R(ωo·h)) D G2 /
+// (4 cos θo cos θi) about the straight-through direction, which passes ∫ f cos θi dωi = t ((A + B) −
+// (F0 A + F90 B)) towards θo: the split sum's table at α (R's F0 and F90 as flyReflectAt's).
+vec3 flyGlassTransmittance(Material m, vec3 t, float cosTheta) {
+  float c = clamp(cosTheta, 0.0, 1.0);
+#ifdef FLY_FROSTED
+  if (m.emission.w > 0.0) {
+    vec2 ab = textureLod(uSplitSum, vec2(c, sqrt(m.emission.w)), 0.0).rg;
+    return t * max(vec3(ab.x + ab.y) - (m.specular.rgb * ab.x + m.environment.rgb * ab.y), vec3(0.0));
+  }
+#endif
+  float f = 1.0;
+  if (m.transmission.w >= 0.0) {
+    float x = 1.0 - c;
+    float x2 = x * x;
+    f = m.transmission.w + (1.0 - m.transmission.w) * x2 * x2 * x;
+  }
+  return t * (vec3(1.0) - clamp(m.reflection.rgb * f, 0.0, 1.0));
+}
+#endif
+
 #if defined(FLY_IBL) && defined(FLY_LIGHT_MAP)
 // Specular occlusion of a light-mapped surface (docs/environment-light.md): the share of the environment's
 // light that reaches it, Y(E_baked) / Y(E_env(n)) clamped to [0, 1] — E_baked the light map's irradiance
@@ -632,33 +656,17 @@ void main() {
   vAmbientLuminance = flyAmbientLuminance;
 #endif
 #ifdef FLY_GLASS
-  // The energy rule's transmittance at the angle the pane is seen (sdb::Material::effectiveAt): T(θ) =
-  // t · (1 − clamp(r · F(θ))), F Schlick's, from either face.
+  // The transmittance at the angle the pane is seen (flyGlassTransmittance).
   vGlass = 0u;
   vTransmittance = vec3(0.0);
 #ifdef FLY_FROSTED
   vAlphaT = -1.0;
 #endif
   if (max(m.transmission.r, max(m.transmission.g, m.transmission.b)) > 0.0) {
-    float f = 1.0;
-    if (m.transmission.w >= 0.0) {
-      float x = 1.0 - clamp(abs(dot(n, toEye)), 0.0, 1.0);
-      float x2 = x * x;
-      f = m.transmission.w + (1.0 - m.transmission.w) * x2 * x2 * x;
-    }
-    vTransmittance = m.transmission.rgb * (vec3(1.0) - clamp(m.reflection.rgb * f, 0.0, 1.0));
+    vTransmittance = flyGlassTransmittance(m, m.transmission.rgb, abs(dot(n, toEye)));
     vGlass = 1u;
 #ifdef FLY_FROSTED
-    float alphaT = m.emission.w;
-    if (alphaT > 0.0) {
-      // The baker's thin-surface lobe (raytracer/bsdf.h), f = t (1 − R(ωo·h)) D G2 / (4 cos θo cos θi) about
-      // the straight-through direction, reflects ∫ f cos θi dωi = t ((A + B) − (F0 A + F90 B)) towards θo:
-      // the split sum's table at α (R's F0 and F90 as flyReflectAt's).
-      vec2 ab = textureLod(uSplitSum, vec2(clamp(abs(dot(n, toEye)), 0.0, 1.0), sqrt(alphaT)), 0.0).rg;
-      vTransmittance = m.transmission.rgb *
-                       max(vec3(ab.x + ab.y) - (m.specular.rgb * ab.x + m.environment.rgb * ab.y), vec3(0.0));
-      vAlphaT = alphaT;
-    }
+    if (m.emission.w > 0.0) vAlphaT = m.emission.w;
 #endif
   }
 #endif
@@ -762,26 +770,11 @@ vec3 flyOctDecode(uint word) {
 }
 )GLSL";
 
-// The back of a one-sided surface never reaches these stages: the renderer culls it (glTF's doubleSided:
-// false), so what lies behind it shows.
-inline constexpr const char* kSceneFragment = R"GLSL(
-in vec3 vLuminance;
-#ifdef FLY_SSAO
-in vec3 vAmbientLuminance;
-#endif
-#ifdef FLY_SUN_GLASS
-in vec3 vSunLuminance;
-in vec3 vPositionM;
-#endif
-layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
-#ifdef FLY_GLASS
-in vec3 vTransmittance;
-flat in uint vGlass;
-uniform int uGlassPass;                         // 0: all but the glass; 1: the glass alone
+// What lies behind a pane, for the glass pass of both scene programs (kSceneFragment, kSurfaceFragment): the
+// first pass's image, and for frosted glass that image blurred by the pane's lobe.
+inline constexpr const char* kGlassBehind = R"GLSL(
 layout(binding = 4) uniform usampler2D uBehind;  // the first pass's image (kLuminanceEncoding)
-#endif
 #ifdef FLY_FROSTED
-flat in float vAlphaT;
 layout(binding = 3) uniform sampler2D uBehindBlurred;  // uBehind decoded, with a box-filtered mip chain
 layout(binding = 1) uniform sampler2D uBehindDepth;    // the first pass's window depth
 uniform mat4 uWorldFromClip;
@@ -812,6 +805,37 @@ float flyBlurLod(float alphaT) {
   }
   return log2(max(2.0 * radiusPx, 1.0));
 }
+#endif
+// The luminance behind the pane at this pixel (cd/m²), blurred for a transmission lobe of GGX α > 0.
+vec3 flyBehind(float alphaT) {
+#ifdef FLY_FROSTED
+  if (alphaT > 0.0) {
+    return textureLod(uBehindBlurred, gl_FragCoord.xy / vec2(textureSize(uBehindBlurred, 0)), flyBlurLod(alphaT)).rgb;
+  }
+#endif
+  return flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
+}
+)GLSL";
+
+// The back of a one-sided surface never reaches these stages: the renderer culls it (glTF's doubleSided:
+// false), so what lies behind it shows.
+inline constexpr const char* kSceneFragment = R"GLSL(
+in vec3 vLuminance;
+#ifdef FLY_SSAO
+in vec3 vAmbientLuminance;
+#endif
+#ifdef FLY_SUN_GLASS
+in vec3 vSunLuminance;
+in vec3 vPositionM;
+#endif
+layout(location = 0) out uvec2 oLuminance;  // kLuminanceEncoding
+#ifdef FLY_GLASS
+in vec3 vTransmittance;
+flat in uint vGlass;
+uniform int uGlassPass;  // 0: all but the glass; 1: the glass alone
+#endif
+#ifdef FLY_FROSTED
+flat in float vAlphaT;
 #endif
 #ifdef FLY_LIGHT_TEXTURE
 in vec2 vLightMapUv;
@@ -875,13 +899,11 @@ void main() {
 #ifdef FLY_GLASS
   // Either face of a pane passes light.
   if (vGlass != 0u) {
-    vec3 behind = flyDecodeLuminance(texelFetch(uBehind, ivec2(gl_FragCoord.xy), 0).xy);
 #ifdef FLY_FROSTED
-    if (vAlphaT > 0.0) {
-      behind = textureLod(uBehindBlurred, gl_FragCoord.xy / vec2(textureSize(uBehindBlurred, 0)), flyBlurLod(vAlphaT)).rgb;
-    }
+    l += vTransmittance * flyBehind(vAlphaT);
+#else
+    l += vTransmittance * flyBehind(0.0);
 #endif
-    l += vTransmittance * behind;
   }
 #endif
   oLuminance = flyEncodeLuminance(l);
@@ -1044,14 +1066,17 @@ layout(binding = 17) uniform sampler2D uAnisotropyRotationTexture;  // red × 2�
 #ifdef FLY_GLOSSINESS_TEXTURE
 layout(binding = 18) uniform sampler2D uGlossinessTexture;  // red × the material's glossiness
 #endif
+#ifdef FLY_GLASS
+layout(binding = 19) uniform sampler2D uTransmissionTexture;  // red × the glass's transmission
+#endif
 // The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map, 3 anisotropy, 4 its
-// rotation, 5 glossiness; and per slot its affine
+// rotation, 5 glossiness, 6 transmission; and per slot its affine
 // UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z), row0.w the
 // UV set (0 or 1). Uniforms (one material per draw), so that every invocation of a 2 × 2 quad — helper
 // invocations outside the triangle too — computes the UVs whose differences pick the mip level, and the
 // samples are taken in uniform control flow, before any discard.
 uniform uint uTextureSlots;
-uniform vec4 uUvRows[12];  // per slot row0, row1, in the bits' order
+uniform vec4 uUvRows[14];  // per slot row0, row1, in the bits' order
 #endif
 #ifdef FLY_VERTEX_COLOR
 in vec4 vColor;
@@ -1272,6 +1297,17 @@ void main() {
     m.environment.w *= red * red;
   }
 #endif
+#ifdef FLY_GLASS
+  // The glass's transmission colour at the pixel; with a transmission texture the diffuse input loses the
+  // texel's transmission share (rdb::RasterMaterial::transmissionTexture).
+  vec3 glassT = m.transmission.rgb;
+#ifdef FLY_TEXTURES
+  if ((uTextureSlots & 64u) != 0u) {
+    glassT *= texture(uTransmissionTexture, flyTextureUv(uUvRows[12], uUvRows[13])).r;
+    base.rgb *= vec3(1.0) - clamp(glassT, 0.0, 1.0);
+  }
+#endif
+#endif
 #ifdef FLY_VERTEX_COLOR
   base *= vColor;
 #endif
@@ -1456,6 +1492,11 @@ void main() {
   }
 #endif
   l += emission;
+#ifdef FLY_GLASS
+  // Either face of a pane passes what lies behind it, times T(θ) at the angle it is seen.
+  vec3 glassToEye = uOrthographic != 0 ? -uViewDirWorld : normalize(uEyeM - vPositionM);
+  l += flyGlassTransmittance(m, glassT, abs(dot(normalize(vNormal), glassToEye))) * flyBehind(m.emission.w);
+#endif
 #ifdef FLY_BLEND_PASS
   float a = clamp(base.a, 0.0, 1.0);
   oBlend = vec4(l * a, a);

@@ -1061,6 +1061,67 @@ TEST(Renderer, AlphaMaskDiscardsBelowTheCutOff) {
             renderer.stats().programs.end());
 }
 
+// Glass with textures is shaded per fragment in the glass pass: the pane of ClearGlassShowsWhatLiesBehindIt…
+// (no diffuse, white Fresnel reflection at ior 1.5, transmission (0.9, 0.8, 0.7), seen head-on: F = 0.04) over
+// the left half of the light-mapped quad, with a 4 × 1 transmission texture (red 1, 1, 0, 0) and a 4 × 1 base
+// colour texture whose alpha (1, 0, 1, 1) cuts it out (MASK, cut-off 0.5), both read nearest: its first
+// quarter shows the quad times T, its second the quad unchanged (cut out), the rest nothing (t = 0 and no
+// diffuse: an opaque black pane).
+TEST(Renderer, TexturedGlassTransmitsByItsTextureAndCutsOutByItsAlpha) {
+  context();
+  QuadScene q = quadScene(false);
+  sdb::Material glass;
+  glass.name = "striped glass";
+  glass.diffuseColor = Rgb(0.0f);
+  glass.reflectionColor = Rgb(1.0f);
+  glass.reflectionModel = sdb::ReflectionModel::kFresnel;
+  glass.ior = 1.5f;
+  glass.reflectionGlossiness = 0.0f;
+  glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
+  glass.transmissionGlossiness = 0.0f;
+  glass.transmissionTexture.texture = addTexture(q.scene, 4, 1, 1, {255, 255, 0, 0});
+  glass.diffuseTexture.texture =
+      addTexture(q.scene, 4, 1, 4, {255, 255, 255, 255, 255, 255, 255, 0, 255, 255, 255, 255, 255, 255, 255, 255});
+  for (sdb::TextureRef* t : {&glass.transmissionTexture, &glass.diffuseTexture}) {
+    t->magFilter = sdb::MagFilter::kNearest;
+    t->minFilter = sdb::MinFilter::kNearest;
+  }
+  glass.alphaMode = sdb::AlphaMode::kMask;
+  glass.alphaCutoff = 0.5f;
+  const sdb::MaterialId glassId = q.scene.addMaterial(glass).id;
+  sdb::Mesh pane;
+  pane.name = "pane";
+  pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
+  pane.normals.assign(4, vec3(0, 0, 1));
+  for (const vec3& p : pane.positions) pane.uv0.push_back(vec2(p.x + 1.0f, 0.5f - p.y));
+  pane.indices = {0, 1, 2, 0, 2, 3};
+  pane.material = glassId;
+  q.scene.addNode({.name = "window", .meshes = {q.scene.addMesh(pane).id}});
+  rdb::LightMapStore store;
+  store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+  ASSERT_TRUE(r.variants.glass);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  std::vector<float> expected = expectedQuad(64, 32, luminanceOf(kFrontLux, Rgb(0.5f, 0.6f, 0.7f)), false);
+  const Rgb transmittance = Rgb(0.9f, 0.8f, 0.7f) * (1.0f - 0.04f);
+  for (uint32_t j = 8; j < 24; ++j) {  // the pane's rows (y ∈ (−0.5, 0.5)); its columns 16–31 (x ∈ (−1, 0))
+    for (uint32_t i = 16; i < 32; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        float& e = expected[(size_t(j) * 64 + i) * 3 + size_t(k)];
+        if (i < 20) e *= transmittance[k];  // u < 0.25: clear
+        else if (i >= 24) e = 0.0f;         // u > 0.5: opaque, black
+      }
+    }
+  }
+  expectImageNear(renderer.luminanceRgb(), expected, 1e-4f);
+  const std::vector<std::string>& programs = renderer.stats().programs;
+  EXPECT_NE(std::find(programs.begin(), programs.end(), "scene+lightmap+phong+glass+perfragment+textures+mask+diffusebyangle"),
+            programs.end())
+      << ::testing::PrintToString(programs);
+}
+
 // Blended surfaces are drawn back to front over what lies behind them: a wall of luminance L_b (emission, no
 // lights) behind two blended quads listed front first, A (1 m in front, emission (100, 0, 0), opacity 0.25)
 // and B (0.5 m in front, emission (0, 100, 0), opacity 0.5), show 0.25 A + 0.75 (0.5 B + 0.5 L_b) where all
