@@ -453,6 +453,33 @@ TEST(Renderer, SunlightModeAddsTheRealTimeSunToTheLightMapWithoutItsDirectPart) 
   }
 }
 
+// Clear glass: transmission (0.9, 0.8, 0.7), white Fresnel reflection at ior 1.5, no diffuse.
+sdb::Material clearGlass() {
+  sdb::Material glass;
+  glass.name = "glass";
+  glass.diffuseColor = Rgb(0.0f);
+  glass.reflectionColor = Rgb(1.0f);
+  glass.reflectionModel = sdb::ReflectionModel::kFresnel;
+  glass.ior = 1.5f;
+  glass.reflectionGlossiness = 0.0f;
+  glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
+  glass.transmissionGlossiness = 0.0f;
+  return glass;
+}
+
+// A pane over the left half of quadXY, 1 m in front of it (x ∈ [−1, 0], y ∈ [−0.5, 0.5], z = 1), with
+// uv0 = (x + 1, 0.5 − y), its front or its back towards the camera.
+sdb::Mesh leftPane(sdb::MaterialId material, bool backTowardsCamera) {
+  sdb::Mesh pane;
+  pane.name = "pane";
+  pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
+  pane.normals.assign(4, vec3(0, 0, backTowardsCamera ? -1.0f : 1.0f));
+  for (const vec3& p : pane.positions) pane.uv0.push_back(vec2(p.x + 1.0f, 0.5f - p.y));
+  pane.indices = backTowardsCamera ? std::vector<uint32_t>{0, 2, 1, 0, 3, 2} : std::vector<uint32_t>{0, 1, 2, 0, 2, 3};
+  pane.material = material;
+  return pane;
+}
+
 // Clear glass shows what lies behind it times T(θ) = t · (1 − r · F(θ)) (rdb/raster_rdb.h): a pane of
 // transmission (0.9, 0.8, 0.7), white Fresnel reflection at ior 1.5 and no diffuse over the left half of the
 // light-mapped quad, 1 m in front of it, seen head-on (orthographic: cos θ = 1, F = F0 = 0.04), with its front
@@ -461,24 +488,8 @@ TEST(Renderer, ClearGlassShowsWhatLiesBehindItTimesItsTransmittance) {
   context();
   for (bool backTowardsCamera : {false, true}) {
     QuadScene q = quadScene(false);
-    sdb::Material glass;
-    glass.name = "glass";
-    glass.diffuseColor = Rgb(0.0f);
-    glass.reflectionColor = Rgb(1.0f);
-    glass.reflectionModel = sdb::ReflectionModel::kFresnel;
-    glass.ior = 1.5f;
-    glass.reflectionGlossiness = 0.0f;
-    glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
-    glass.transmissionGlossiness = 0.0f;
-    const sdb::MaterialId glassId = q.scene.addMaterial(glass).id;
-    sdb::Mesh pane;
-    pane.name = "pane";
-    pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
-    pane.normals.assign(4, vec3(0, 0, backTowardsCamera ? -1.0f : 1.0f));
-    pane.indices = backTowardsCamera ? std::vector<uint32_t>{0, 2, 1, 0, 3, 2} : std::vector<uint32_t>{0, 1, 2, 0, 2, 3};
-    pane.material = glassId;
-    const sdb::MeshId paneMesh = q.scene.addMesh(pane).id;
-    q.scene.addNode({.name = "window", .meshes = {paneMesh}});
+    q.scene.addNode({.name = "window", .meshes = {q.scene.addMesh(leftPane(q.scene.addMaterial(clearGlass()).id,
+                                                                           backTowardsCamera)).id}});
     rdb::LightMapStore store;
     store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
     const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
@@ -1070,15 +1081,7 @@ TEST(Renderer, AlphaMaskDiscardsBelowTheCutOff) {
 TEST(Renderer, TexturedGlassTransmitsByItsTextureAndCutsOutByItsAlpha) {
   context();
   QuadScene q = quadScene(false);
-  sdb::Material glass;
-  glass.name = "striped glass";
-  glass.diffuseColor = Rgb(0.0f);
-  glass.reflectionColor = Rgb(1.0f);
-  glass.reflectionModel = sdb::ReflectionModel::kFresnel;
-  glass.ior = 1.5f;
-  glass.reflectionGlossiness = 0.0f;
-  glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
-  glass.transmissionGlossiness = 0.0f;
+  sdb::Material glass = clearGlass();
   glass.transmissionTexture.texture = addTexture(q.scene, 4, 1, 1, {255, 255, 0, 0});
   glass.diffuseTexture.texture =
       addTexture(q.scene, 4, 1, 4, {255, 255, 255, 255, 255, 255, 255, 0, 255, 255, 255, 255, 255, 255, 255, 255});
@@ -1088,15 +1091,7 @@ TEST(Renderer, TexturedGlassTransmitsByItsTextureAndCutsOutByItsAlpha) {
   }
   glass.alphaMode = sdb::AlphaMode::kMask;
   glass.alphaCutoff = 0.5f;
-  const sdb::MaterialId glassId = q.scene.addMaterial(glass).id;
-  sdb::Mesh pane;
-  pane.name = "pane";
-  pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
-  pane.normals.assign(4, vec3(0, 0, 1));
-  for (const vec3& p : pane.positions) pane.uv0.push_back(vec2(p.x + 1.0f, 0.5f - p.y));
-  pane.indices = {0, 1, 2, 0, 2, 3};
-  pane.material = glassId;
-  q.scene.addNode({.name = "window", .meshes = {q.scene.addMesh(pane).id}});
+  q.scene.addNode({.name = "window", .meshes = {q.scene.addMesh(leftPane(q.scene.addMaterial(glass).id, false)).id}});
   rdb::LightMapStore store;
   store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
   const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
