@@ -626,12 +626,12 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
   // guarantees.
   if (perFragment && (variant & kVariantTextures)) {
     const char* what = (variant & kVariantMetalnessTexture)    ? "metalness"
-                       : (variant & kVariantGlass)              ? "transmission"
+                       : (variant & kVariantGlass)             ? "transmission"
                        : (variant & kVariantGlossinessTexture) ? "glossiness"
                        : (variant & kVariantAnisotropy)        ? "anisotropy"
                                                                : nullptr;
     const GLuint highest = (variant & kVariantMetalnessTexture)    ? kTextureSlotUnits[7]
-                           : (variant & kVariantGlass)              ? kTextureSlotUnits[6]
+                           : (variant & kVariantGlass)             ? kTextureSlotUnits[6]
                            : (variant & kVariantGlossinessTexture) ? kTextureSlotUnits[5]
                                                                    : kTextureSlotUnits[4];
     GLint units = 0;

@@ -2364,10 +2364,9 @@ class Importer {
     const size_t bytes = size_t(t.bitsPerChannel / 8);
     const size_t pixels = size_t(t.width) * size_t(t.height);
     const size_t stride = size_t(t.channels) * bytes;
+    const uint8_t* first = &t.pixels[size_t(channel) * bytes];
     for (size_t p = 1; p < pixels; ++p) {
-      if (std::memcmp(&t.pixels[p * stride + size_t(channel) * bytes], &t.pixels[size_t(channel) * bytes], bytes) != 0) {
-        return false;
-      }
+      if (std::memcmp(first + p * stride, first, bytes) != 0) return false;
     }
     return true;
   }

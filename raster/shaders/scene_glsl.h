@@ -1322,7 +1322,8 @@ void main() {
   // reflection colour → mix(·, c, k), transmission × (1 − k), and the energy rule at normal incidence gives
   // the albedo (1 − R0)(1 − t)(1 − k) c.
   if ((uTextureSlots & 128u) != 0u) {
-    float k = clamp(m.reflection.w * texture(uMetalnessTexture, flyTextureUv(uUvRows[14], uUvRows[15])).r, 0.0, 1.0);
+    float red = texture(uMetalnessTexture, flyTextureUv(uUvRows[14], uUvRows[15])).r;
+    float k = clamp(m.reflection.w * red, 0.0, 1.0);
     vec3 c = clamp(base.rgb, 0.0, 1.0);
     m.specular.rgb = mix(m.specular.rgb, c, k);
     m.environment.rgb = mix(m.environment.rgb, c, k);

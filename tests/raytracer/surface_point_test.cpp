@@ -203,7 +203,9 @@ TEST(SurfacePoint, MetalnessTextureMixesAUniformReflectorOfTheBaseColour) {
         const Rgb r = r0 + (r90 - r0) * (x * x * x * x * x);
         const Rgb albedo = r + (Rgb(1.0f) - r) * (1.0f - k) * c;
         const Rgb got = bsdf.albedo(cosTheta);
-        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], albedo[ch], 1e-5f) << "k " << k << ", cos " << cosTheta;
+        for (int ch = 0; ch < 3; ++ch) {
+          EXPECT_NEAR(got[ch], albedo[ch], 1e-5f) << "k " << k << ", cos " << cosTheta;
+        }
         const vec3 wo(std::sqrt(1.0f - cosTheta * cosTheta), 0.0f, cosTheta);
         Bsdf::Sample s;
         ASSERT_TRUE(bsdf.sample(wo, 0x1.fffffep-1f, vec2(0.5f), s));
@@ -215,7 +217,8 @@ TEST(SurfacePoint, MetalnessTextureMixesAUniformReflectorOfTheBaseColour) {
       const Rgb r60 = r0 + (r90 - r0) * 0.03125f;
       const Rgb f = bsdf.eval(vec3(0, 0, 1), glm::normalize(vec3(std::sqrt(3.0f), 0.0f, 1.0f)));
       for (int ch = 0; ch < 3; ++ch) {
-        const float want = (1.0f - k) * c[ch] * (1.0f - r0[ch]) * (1.0f - r60[ch]) / ((1.0f - rBar[ch]) * kPiF);
+        const float want =
+            (1.0f - k) * c[ch] * (1.0f - r0[ch]) * (1.0f - r60[ch]) / ((1.0f - rBar[ch]) * kPiF);
         EXPECT_NEAR(f[ch], want, 1e-6f);
       }
     }
