@@ -108,6 +108,11 @@ uint64_t traceRdbFingerprint(const rdb::TraceRdb& rdb) {
       h.value(m.anisotropyRotationRad);
     }
     h.value(m.doubleSided);
+    // Only materials with metalness add it, so that the fingerprints of the others stay as they were.
+    if (m.metalnessTexture) {
+      h.value(m.metalness);
+      h.value(m.metalnessTexture.texture);
+    }
     // Only fogged materials add their fog: the fingerprints of scenes without fog stay as they were.
     if (m.hasReflectionFog()) {
       h.value(m.reflectionFogDistanceM);

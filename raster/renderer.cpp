@@ -94,7 +94,7 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
           // A display colour c as −(c + 1) (every channel ≤ −1), which flyEmission scales by the display white.
           vec4(m.emissionDisplay ? -(m.emissionCdM2 + Rgb(1.0f)) : m.emissionCdM2, m.transmissionAlpha),
           vec4(m.transmission, m.fresnelF0),
-          vec4(m.reflection, 0.0f),
+          vec4(m.reflection, m.metalness),
           vec4(m.opacity, m.alphaCutoff, m.normalScale, float(uint32_t(m.alphaMode))),
           vec4(m.environmentF90, m.ggxAlpha),
           vec4(m.anisotropyU, m.anisotropyV, m.anisotropyRotationRad, m.anisotropic ? 1.0f : 0.0f)};
@@ -102,12 +102,12 @@ GpuMaterial gpuMaterial(const rdb::RasterMaterial& m) {
 
 // A per-fragment draw's texture slots (kSurfaceFragment's uTextureSlots bits, in this order) and the texture
 // units they are bound to: base colour, emission, normal map, anisotropy, anisotropy rotation, glossiness,
-// transmission.
-constexpr int kTextureSlots = 7;
-constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17, 18, 19};
+// transmission, metalness.
+constexpr int kTextureSlots = 8;
+constexpr GLuint kTextureSlotUnits[kTextureSlots] = {5, 6, 7, 16, 17, 18, 19, 20};
 std::array<const rdb::RasterTextureRef*, kTextureSlots> textureSlots(const rdb::RasterMaterial& m) {
-  return {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
-          &m.anisotropyRotationTexture, &m.glossinessTexture, &m.transmissionTexture};
+  return {&m.baseColorTexture,          &m.emissionTexture,   &m.normalTexture,       &m.anisotropyTexture,
+          &m.anisotropyRotationTexture, &m.glossinessTexture, &m.transmissionTexture, &m.metalnessTexture};
 }
 
 mat4 projection(const View& v, float aspect) {
@@ -231,6 +231,9 @@ enum VariantBit : uint32_t {
   kVariantGlossinessTexture = 1u << 26,
   // With kVariantIbl: the specular environment is the room probe's, looked up with its box (raster/room_probe.h).
   kVariantRoomProbe = 1u << 27,
+  // Metalness textures (rdb::RasterMaterial::metalnessTexture; per-fragment surfaces): the mix with a metal of
+  // the base colour per pixel.
+  kVariantMetalnessTexture = 1u << 28,
 };
 
 // Some mesh shows the environment's specular light (its material's environmentF90 > 0, and it is no planar or
@@ -611,20 +614,24 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                    {kVariantAnisotropy, "anisotropy", "FLY_ANISOTROPY"},
                    {kVariantDiffuseByAngle, "diffusebyangle", "FLY_DIFFUSE_BY_ANGLE"},
                    {kVariantGlossinessTexture, "glossinesstexture", "FLY_GLOSSINESS_TEXTURE"},
-                   {kVariantRoomProbe, "roomprobe", "FLY_ROOM_PROBE"}};
+                   {kVariantRoomProbe, "roomprobe", "FLY_ROOM_PROBE"},
+                   {kVariantMetalnessTexture, "metalnesstexture", "FLY_METALNESS_TEXTURE"}};
   for (const auto& v : kVariants) {
     if (!(variant & v.bit)) continue;
     name += std::string("+") + v.tag;
     defines += std::string("#define ") + v.define + "\n";
   }
   const bool perFragment = variant & kVariantPerFragment;
-  // The anisotropy, glossiness and transmission slots' units lie above the 16 that OpenGL 4.5 guarantees.
+  // The anisotropy, glossiness, transmission and metalness slots' units lie above the 16 that OpenGL 4.5
+  // guarantees.
   if (perFragment && (variant & kVariantTextures)) {
-    const char* what = (variant & kVariantGlass)                ? "transmission"
+    const char* what = (variant & kVariantMetalnessTexture)    ? "metalness"
+                       : (variant & kVariantGlass)             ? "transmission"
                        : (variant & kVariantGlossinessTexture) ? "glossiness"
                        : (variant & kVariantAnisotropy)        ? "anisotropy"
                                                                : nullptr;
-    const GLuint highest = (variant & kVariantGlass)                ? kTextureSlotUnits[6]
+    const GLuint highest = (variant & kVariantMetalnessTexture)    ? kTextureSlotUnits[7]
+                           : (variant & kVariantGlass)             ? kTextureSlotUnits[6]
                            : (variant & kVariantGlossinessTexture) ? kTextureSlotUnits[5]
                                                                    : kTextureSlotUnits[4];
     GLint units = 0;
@@ -1587,6 +1594,7 @@ void Renderer::renderPass(const View& view, RenderMode mode, uint32_t widthPx, u
         ((phong || sunDirect || ibl || v.cubeReflectors) && v.textures && v.glossinessTextures
              ? kVariantGlossinessTexture
              : 0u) |
+        (v.textures && v.metalnessTextures ? kVariantMetalnessTexture : 0u) |
         (v.textures && v.uv1 ? kVariantUv1 : 0u) | (v.vertexColors ? kVariantVertexColor : 0u) |
         (v.planarReflectors ? kVariantPlanarReflection : 0u) | (v.cubeReflectors ? kVariantCubeReflection : 0u) |
         (v.reflectionFog ? kVariantReflectionFog : 0u) | (lightMaps && v.diffuseByAngle ? kVariantDiffuseByAngle : 0u);

@@ -40,13 +40,26 @@ float alphaOf(float glossiness) {
   return g * g < kSmoothAlpha ? 0.0f : g * g;
 }
 
+// R0 and R90 of m's reflection mixed with its metal (TraceMaterial::metalness), and the share 1 − m.
+struct Reflectance {
+  Rgb r0, r90;
+  float dielectric;
+};
+Reflectance reflectanceOf(const rdb::TraceMaterial& m) {
+  const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
+  const Rgb r = glm::clamp(m.reflection, 0.0f, 1.0f);
+  const float metal = std::isfinite(m.metalness) ? std::clamp(m.metalness, 0.0f, 1.0f) : 0.0f;
+  if (metal == 0.0f) return {r * (m.fresnel ? q * q : 1.0f), r, 1.0f};
+  const Rgb c = glm::clamp(m.diffuseColor, 0.0f, 1.0f);
+  return {glm::mix(r * (m.fresnel ? q * q : 1.0f), c, metal), glm::mix(r, c, metal), 1.0f - metal};
+}
+
 }  // namespace
 
 Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m) {
-  const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
-  const Rgb r = glm::clamp(m.reflection, 0.0f, 1.0f) * (m.fresnel ? q * q : 1.0f);
-  const Rgb t = (Rgb(1.0f) - r) * glm::clamp(m.transmission, 0.0f, 1.0f);
-  return glm::max(Rgb(1.0f) - r - t, Rgb(0.0f)) * glm::clamp(m.diffuseColor, 0.0f, 1.0f);
+  const Reflectance x = reflectanceOf(m);
+  const Rgb t = (Rgb(1.0f) - x.r0) * (x.dielectric * glm::clamp(m.transmission, 0.0f, 1.0f));
+  return glm::max(Rgb(1.0f) - x.r0 - t, Rgb(0.0f)) * (x.dielectric * glm::clamp(m.diffuseColor, 0.0f, 1.0f));
 }
 
 Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const MeasuredLobe* measured) {
@@ -56,7 +69,7 @@ Bsdf::Bsdf(const rdb::TraceMaterial& m, bool frontFace, float coverage, const Me
   nonDelta_ = coverage_ > 0.0f && (measured_ != nullptr || hasDiffuse_ ||
                                    (hasReflection_ && alphaR_ > 0.0f) || frostedTransmission());
   // albedoAt's sum is then 1 · (0 + diffuseKd_ · (1 − 0)) + 0: diffuseKd_ to the bit.
-  constantAlbedo_ = lambertian_ && measured_ == nullptr && reflection_ == Rgb(0.0f);
+  constantAlbedo_ = lambertian_ && measured_ == nullptr && r90_ == Rgb(0.0f);
 }
 
 void Bsdf::init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe* measured) {
@@ -64,11 +77,10 @@ void Bsdf::init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe*
     if (frontFace) measured_ = measured;
     return;
   }
-  reflection_ = glm::clamp(m.reflection, 0.0f, 1.0f);
-  transmission_ = glm::clamp(m.transmission, 0.0f, 1.0f);
-  fresnel_ = m.fresnel;
-  const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
-  f0_ = q * q;
+  const Reflectance x = reflectanceOf(m);
+  r0_ = x.r0;
+  r90_ = x.r90;
+  transmission_ = x.dielectric * glm::clamp(m.transmission, 0.0f, 1.0f);
   alphaR_ = alphaOf(m.reflectionGlossiness);
   if (alphaR_ > 0.0f && m.anisotropyU != m.anisotropyV) {
     const vec2 widths = ggxAnisotropicAlphas(alphaR_, std::clamp(m.anisotropyU, 0.0f, 1.0f),
@@ -81,18 +93,18 @@ void Bsdf::init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe*
     rotationSin_ = std::sin(rotationRad);
   }
   alphaT_ = alphaOf(m.transmissionGlossiness);
-  // F is smallest at normal incidence (F0), so T(θ) > 0 somewhere iff t (1 − r F0) > 0.
-  hasTransmission_ = maxComponent(transmission_ * (Rgb(1.0f) - reflection_ * fresnel(1.0f))) > 0.0f;
+  // R is smallest at normal incidence (R0), so T(θ) > 0 somewhere iff t (1 − R0) > 0.
+  hasTransmission_ = maxComponent(transmission_ * (Rgb(1.0f) - r0_)) > 0.0f;
   clearTransmission_ = hasTransmission_ && alphaT_ == 0.0f;
   if (!frontFace) return;
-  hasReflection_ = maxComponent(reflection_) > 0.0f && (!fresnel_ || f0_ < 1.0f);
-  // Σ F μ over the hemisphere: F̄ = 2∫₀¹ (F0 + (1 − F0)(1 − μ)⁵) μ dμ = F0 + (1 − F0)·2·B(2, 6) = F0 + (1 −
-  // F0)/21.
-  const float fBar = fresnel_ ? f0_ + (1.0f - f0_) / 21.0f : 1.0f;
+  hasReflection_ = maxComponent(r90_) > 0.0f;
+  // Σ R μ over the hemisphere: R̄ = 2∫₀¹ (R0 + (R90 − R0)(1 − μ)⁵) μ dμ = R0 + (R90 − R0)·2·B(2, 6) = R0 +
+  // (R90 − R0)/21.
+  const Rgb rBar = r0_ + (r90_ - r0_) / 21.0f;
   const Rgb diffuse = glm::clamp(m.diffuse, 0.0f, 1.0f);
   for (int c = 0; c < 3; ++c) {
-    const float atNormal = 1.0f - reflection_[c] * fresnel(1.0f);
-    const float norm = 1.0f - reflection_[c] * fBar;
+    const float atNormal = 1.0f - r0_[c];
+    const float norm = 1.0f - rBar[c];
     if (atNormal > 0.0f && norm > 0.0f && diffuse[c] > 0.0f) {
       diffuseKd_[c] = std::min(diffuse[c] / atNormal, 1.0f);
       diffuseNorm_[c] = 1.0f / norm;
@@ -111,7 +123,7 @@ float Bsdf::reflectionLobe(const vec3& wo, const vec3& wi, vec3& h, float& pdf) 
 
 Rgb Bsdf::albedoAt(float cosO) const {
   if (measured_) return coverage_ * measured_->albedo(cosO) + Rgb(1.0f - coverage_);
-  const Rgb reflected = reflection_ * fresnel(cosO);
+  const Rgb reflected = reflectance(cosO);
   Rgb a(0.0f);
   if (hasDiffuse_) a += diffuseKd_ * (Rgb(1.0f) - reflected);
   if (hasReflection_) a += reflected;
@@ -126,7 +138,7 @@ vec4 Bsdf::lobeProbabilities(float cosO) const {
     const float sum = w.x + w.y;
     return sum > 0.0f ? vec4(w.x, 0.0f, 0.0f, w.y) / sum : vec4(0.0f);
   }
-  const Rgb reflected = reflection_ * fresnel(cosO);
+  const Rgb reflected = reflectance(cosO);
   const vec4 w(hasDiffuse_ ? coverage_ * mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
                hasReflection_ ? coverage_ * mean(reflected) : 0.0f,
                hasTransmission_ ? coverage_ * mean(transmission_ * (Rgb(1.0f) - reflected)) : 0.0f,
@@ -140,8 +152,8 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
   Rgb f(0.0f);
   if (wi.z > 0.0f) {
     if (hasDiffuse_) {
-      const Rgb oneMinusRi = Rgb(1.0f) - reflection_ * fresnel(wi.z);
-      const Rgb oneMinusRo = Rgb(1.0f) - reflection_ * fresnel(wo.z);
+      const Rgb oneMinusRi = Rgb(1.0f) - reflectance(wi.z);
+      const Rgb oneMinusRo = Rgb(1.0f) - reflectance(wo.z);
       f += diffuseKd_ * diffuseNorm_ * oneMinusRi * oneMinusRo / kPiF;
     }
     if (hasReflection_ && alphaR_ > 0.0f) f += glossyReflection(wo, wi);
@@ -149,7 +161,7 @@ Rgb Bsdf::eval(const vec3& wo, const vec3& wi) const {
     vec3 h;
     float pdfUnused;
     const float g = ggxReflection(wo, vec3(wi.x, wi.y, -wi.z), alphaT_, h, pdfUnused);
-    f += transmission_ * (Rgb(1.0f) - reflection_ * fresnel(glm::dot(wo, h))) * g;
+    f += transmission_ * (Rgb(1.0f) - reflectance(glm::dot(wo, h))) * g;
   }
   return coverage_ * f;
 }
@@ -158,7 +170,7 @@ Rgb Bsdf::glossyReflection(const vec3& wo, const vec3& wi) const {
   vec3 h;
   float pdfUnused;
   const float g = reflectionLobe(wo, wi, h, pdfUnused);
-  return reflection_ * (fresnel(glm::dot(wo, h)) * g);
+  return reflectance(glm::dot(wo, h)) * g;
 }
 
 Rgb Bsdf::evalReflection(const vec3& wo, const vec3& wi) const {
@@ -210,7 +222,7 @@ bool Bsdf::sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const
     if (alphaR_ == 0.0f) {
       out.wi = vec3(-wo.x, -wo.y, wo.z);
       out.pdf = p.y;
-      out.weight = reflection_ * (coverage_ * fresnel(wo.z) / p.y);
+      out.weight = reflectance(wo.z) * (coverage_ / p.y);
       out.lobe = Lobe::kMirror;
       return true;
     }

@@ -5,14 +5,16 @@
 //   R(θ) = r·F(θ),  T(θ) = (1 − R(θ))·t,  D(θ) = (1 − R(θ) − T(θ))·d = (1 − R(θ))·(1 − t)·d,
 // r, t, d the reflection, transmission and diffuse colours; F Schlick's Fresnel term with F0 = ((ior − 1) /
 // (ior + 1))² ("fresnel" materials; Schlick, "An inexpensive BRDF model for physically-based rendering",
-// Computer Graphics Forum 13(3), 1994, eq. 24) or F ≡ 1 (uniform reflection). TraceMaterial::diffuse holds
-// D(0) (the rule at normal incidence), so the constructor recovers (1 − t)·d = diffuse / (1 − r F(0)).
+// Computer Graphics Forum 13(3), 1994, eq. 24) or F ≡ 1 (uniform reflection). R is kept per channel as
+// R(θ) = R0 + (R90 − R0)(1 − cos θ)⁵ (R0 = r F0, R90 = r), the shape that a metalness mix keeps
+// (TraceMaterial::metalness: R0, R90 mixed with the metal's colour, t and d scaled by 1 − m). In what follows
+// r F(θ) stands for R(θ). TraceMaterial::diffuse holds D(0) (the rule at normal incidence), so the
+// constructor recovers (1 − t)·d = diffuse / (1 − R0).
 //
 // Lobes, in a local frame whose +z is the surface normal on the side of ωo (the direction towards the
 // sensor; ωi towards the light):
-//   - Diffuse: f = (1 − t)d/π · (1 − r F(θi)) (1 − r F(θo)) / (1 − r F̄), F̄ = 2∫₀¹ F(μ) μ dμ = F0 + (1 −
-//   F0)/21
-//     (1 for uniform reflection). Symmetric in ωi, ωo, and its albedo for light from θi is exactly D(θi): the
+//   - Diffuse: f = (1 − t)d/π · (1 − R(θi)) (1 − R(θo)) / (1 − R̄), R̄ = 2∫₀¹ R(μ) μ dμ = R0 + (R90 −
+//     R0)/21. Symmetric in ωi, ωo, and its albedo for light from θi is exactly D(θi): the
 //     coupling of Kelemen & Szirmay-Kalos ("A microfacet based coupled specular-matte BRDF model with
 //     importance sampling", Eurographics 2001 short papers), with Schlick's F in place of the microfacet
 //     albedo.
@@ -122,8 +124,7 @@ class Bsdf {
   // Straight-through transmittance at |cos θ| = absCos: T(θ) for clear glass, 0 otherwise. The shadow rays of
   // light sampling pass clear glass with this factor.
   Rgb straightTransmittance(float absCos) const {
-    const Rgb clear =
-        clearTransmission_ ? transmission_ * (Rgb(1.0f) - reflection_ * fresnel(absCos)) : Rgb(0.0f);
+    const Rgb clear = clearTransmission_ ? transmission_ * (Rgb(1.0f) - reflectance(absCos)) : Rgb(0.0f);
     return Rgb(1.0f - coverage_) + coverage_ * clear;
   }
   // The albedo for light leaving towards ωo, cos θo = cosO (exact for the diffuse, mirror and clear lobes, an
@@ -152,7 +153,12 @@ class Bsdf {
   // The constructor's work; the constructor then keeps the flags below.
   void init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe* measured);
   Rgb albedoAt(float cosO) const;
-  float fresnel(float cosTheta) const { return fresnel_ ? schlickFresnel(cosTheta, f0_) : 1.0f; }
+  // The reflect input R(θ) = R0 + (R90 − R0)(1 − cos θ)⁵, cos θ clamped to [0, 1].
+  Rgb reflectance(float cosTheta) const {
+    const float m = 1.0f - std::clamp(cosTheta, 0.0f, 1.0f);
+    const float m2 = m * m;
+    return r0_ + (r90_ - r0_) * (m2 * m2 * m);
+  }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
   // The glossy reflection lobe's f for wi above the surface, before coverage.
   Rgb glossyReflection(const vec3& wo, const vec3& wi) const;
@@ -174,10 +180,9 @@ class Bsdf {
 
   Rgb diffuseKd_{0.0f};     // (1 − t)·d: the diffuse colour before the rule's (1 − R) factor
   Rgb diffuseNorm_{0.0f};   // 1 / (1 − r F̄), 0 where the diffuse share is 0
-  Rgb reflection_{0.0f};    // r, [0, 1]
-  Rgb transmission_{0.0f};  // t, [0, 1]
-  float f0_ = 0.0f;
-  bool fresnel_ = true;
+  Rgb r0_{0.0f};            // R0, [0, 1]
+  Rgb r90_{0.0f};           // R90 ≥ R0, [0, 1]
+  Rgb transmission_{0.0f};  // t, [0, 1] (after the metalness mix)
   float alphaR_ = 0.0f;  // GGX α of reflection, 0 = mirror
   // Anisotropic reflection (α_R > 0 and unequal widths): the GGX widths along the U and V axes
   // (ggxAnisotropicAlphas), and the rotation of U from the local +x towards +y.
@@ -199,8 +204,9 @@ class Bsdf {
 };
 
 // The diffuse albedo D(0) of the energy rule at normal incidence (sdb::applyEnergyRule, with Fresnel
-// reflection r F0) for m's diffuseColor, reflection and transmission, each clamped to [0, 1]: what
-// TraceMaterial::diffuse holds for constant colours, evaluated for a point's textured ones.
+// reflection r F0) for m's diffuseColor, reflection and transmission, each clamped to [0, 1], and its
+// metalness mix: what TraceMaterial::diffuse holds for constant colours, evaluated for a point's textured
+// ones.
 Rgb normalIncidenceDiffuse(const rdb::TraceMaterial& m);
 
 }  // namespace fly::raytracer

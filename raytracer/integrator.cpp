@@ -182,7 +182,8 @@ Integrator::Integrator(const rdb::TraceRdb& rdb, const EmbreeScene& scene, Integ
   for (const rdb::TraceMaterial& m : rdb.materials) {
     for (const rdb::TraceTextureSlot* slot :
          {&m.diffuseTexture, &m.reflectionTexture, &m.glossinessTexture, &m.transmissionTexture,
-          &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture, &m.anisotropyRotationTexture}) {
+          &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture, &m.anisotropyRotationTexture,
+          &m.metalnessTexture}) {
       if (!*slot) continue;
       if (slot->texture >= rdb.textures.size()) {
         throw std::invalid_argument("Integrator: texture " + std::to_string(slot->texture) + " of " +

@@ -146,12 +146,17 @@ PointMaterial materialAt(const rdb::TraceRdb& rdb, const rdb::TraceMaterial& m, 
         sampleTexture(rdb, m.anisotropyRotationTexture, slotUv(rdb, m.anisotropyRotationTexture, at), false);
     out.anisotropyRotationRad = 2.0f * kPiF * turns.r;
   }
+  if (m.metalnessTexture) {
+    out.metalness = std::clamp(
+        m.metalness * sampleTexture(rdb, m.metalnessTexture, slotUv(rdb, m.metalnessTexture, at), false).r, 0.0f,
+        1.0f);
+  }
   out.emissionCdM2 = emissionAt(rdb, m, at);
   out.diffuseColor = glm::clamp(diffuse, 0.0f, 1.0f);
   out.diffuse = normalIncidenceDiffuse(out);
   out.diffuseTexture = out.reflectionTexture = out.glossinessTexture = out.transmissionTexture =
       out.emissionTexture = out.normalTexture = out.anisotropyTexture = out.anisotropyRotationTexture =
-          rdb::TraceTextureSlot{};
+          out.metalnessTexture = rdb::TraceTextureSlot{};
   p.coverage = std::clamp(coverage, 0.0f, 1.0f);
   return p;
 }

@@ -186,6 +186,11 @@ RasterMaterial lowerRasterMaterial(const sdb::Material& m, uint32_t sdbMaterialI
     if (engineGlossinessTextured(m)) {
       r.glossinessTexture = lowerTextureRef(m.reflectionGlossinessTexture, false, table);
     }
+    if (m.metalnessTexture && !m.isMeasured()) {
+      r.metalnessTexture = lowerTextureRef(m.metalnessTexture, false, table);
+      r.metalness = std::clamp(m.metalnessFactor, 0.0f, 1.0f);
+      r.diffuse = glm::clamp(m.diffuseColor, Rgb(0.0f), Rgb(1.0f));
+    }
     switch (m.alphaMode) {
       case sdb::AlphaMode::kOpaque:
         r.alphaMode = RasterAlphaMode::kOpaque;
@@ -228,7 +233,8 @@ bool sameTextureLayout(const RasterMaterial& a, const RasterMaterial& b) {
          same(a.normalTexture, b.normalTexture) && same(a.anisotropyTexture, b.anisotropyTexture) &&
          same(a.anisotropyRotationTexture, b.anisotropyRotationTexture) &&
          same(a.glossinessTexture, b.glossinessTexture) &&
-         same(a.transmissionTexture, b.transmissionTexture) && a.anisotropic == b.anisotropic &&
+         same(a.transmissionTexture, b.transmissionTexture) && same(a.metalnessTexture, b.metalnessTexture) &&
+         a.anisotropic == b.anisotropic &&
          a.alphaMode == b.alphaMode && a.mirrorLike == b.mirrorLike &&
          a.cubeMapOnCurved == b.cubeMapOnCurved && a.cubeMapAlways == b.cubeMapAlways;
 }
@@ -291,7 +297,8 @@ struct AttributeNeeds {
 AttributeNeeds attributeNeeds(const sdb::Material& m, const sdb::Mesh& mesh) {
   AttributeNeeds n;
   const bool anisotropic = engineAnisotropic(m);
-  for (const sdb::TextureRef* ref : {&m.diffuseTexture, &m.emissionTexture, &m.bumpTexture, &m.transmissionTexture}) {
+  for (const sdb::TextureRef* ref :
+       {&m.diffuseTexture, &m.emissionTexture, &m.bumpTexture, &m.transmissionTexture, &m.metalnessTexture}) {
     if (*ref) n.uv[std::clamp(ref->texCoord, 0, 1)] = true;
   }
   if (anisotropic) {
@@ -1068,17 +1075,18 @@ void buildVariants(RasterRdb& rdb, const sdb::Scene& scene) {
     return maxComponent(x.transmission) > 0.0f && x.transmissionAlpha > 0.0f;
   });
   RasterVariants& v = rdb.variants;
-  v.textures = v.normalMaps = v.anisotropy = v.glossinessTextures = v.uv1 = v.vertexColors = v.alphaMask =
-      v.alphaBlend = false;
+  v.textures = v.normalMaps = v.anisotropy = v.glossinessTextures = v.metalnessTextures = v.uv1 =
+      v.vertexColors = v.alphaMask = v.alphaBlend = false;
   for (const RasterMesh& mesh : rdb.meshes) {
     const RasterMaterial& m = rdb.materials[mesh.material];
     v.textures |= m.hasTexture();
     v.normalMaps |= bool(m.normalTexture);
     v.anisotropy |= m.anisotropic;
     v.glossinessTextures |= bool(m.glossinessTexture);
+    v.metalnessTextures |= bool(m.metalnessTexture);
     for (const RasterTextureRef* t :
          {&m.baseColorTexture, &m.emissionTexture, &m.normalTexture, &m.anisotropyTexture,
-          &m.anisotropyRotationTexture, &m.glossinessTexture, &m.transmissionTexture})
+          &m.anisotropyRotationTexture, &m.glossinessTexture, &m.transmissionTexture, &m.metalnessTexture})
       v.uv1 |= bool(*t) && t->texCoord == 1;
     v.vertexColors |= mesh.hasColors;
     v.alphaMask |= m.alphaMode == RasterAlphaMode::kMask;

@@ -119,6 +119,13 @@ struct RasterMaterial {
   // α = ggxAlpha · red² (= (glossiness · red)², as the baker) in the lamps', the sun's and the environment's
   // specular terms and the anisotropic widths. Meshes of such a material are shaded per fragment.
   RasterTextureRef glossinessTexture;
+  // Metalness per pixel (sdb::Material::metalnessTexture; linear, red × metalness = k): the material mixed
+  // with a uniform reflector of the base colour c (diffuse × texel × COLOR_0): specular, environmentF90 and
+  // reflection → mix(·, c, k), transmission × (1 − k). With it, `diffuse` is the diffuse colour d before the
+  // energy rule, which the engine applies per pixel: (1 − R0)(1 − t)(1 − k) d, R0 the mixed specular, t the
+  // mixed transmission. Meshes of such a material are shaded per fragment.
+  RasterTextureRef metalnessTexture;
+  float metalness = 0.0f;  // [0, 1], the factor of metalnessTexture
   // Textures (each optional). The base colour's texel (sRGB-decoded) times COLOR_0 multiplies `diffuse` —
   // the energy rule is linear in the diffuse input, so this is the rule applied per texel
   // (sdb::applyEnergyRule) — and its alpha the coverage; the emission texel multiplies emissionCdM2; the
@@ -173,7 +180,8 @@ struct RasterMaterial {
 
   bool hasTexture() const {
     return bool(baseColorTexture) || bool(emissionTexture) || bool(normalTexture) || bool(anisotropyTexture) ||
-           bool(anisotropyRotationTexture) || bool(glossinessTexture) || bool(transmissionTexture);
+           bool(anisotropyRotationTexture) || bool(glossinessTexture) || bool(transmissionTexture) ||
+           bool(metalnessTexture);
   }
   bool hasReflectionFog() const { return reflectionFogDistanceM < std::numeric_limits<float>::infinity(); }
 
@@ -309,6 +317,7 @@ struct RasterVariants {
   bool normalMaps = false;    // some material has a normal map: RasterRdb::tangents
   bool anisotropy = false;    // some mesh's material is anisotropic (RasterMaterial::anisotropic): tangents
   bool glossinessTextures = false;  // some material reads a glossiness texture (RasterMaterial)
+  bool metalnessTextures = false;   // some material reads a metalness texture (RasterMaterial)
   bool uv1 = false;           // some texture is read with the second UV set: RasterRdb::uv1
   bool vertexColors = false;  // some mesh has COLOR_0: RasterRdb::colors
   bool alphaMask = false;     // some material is a cut-out (kMask)

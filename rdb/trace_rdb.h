@@ -79,6 +79,11 @@ struct TraceMaterial {
   float anisotropyV = 0.0f;
   float anisotropyRotationRad = 0.0f;
   float transmissionGlossiness = 0.0f;  // [0,1]
+  // Metalness m, [0,1] (sdb::Material::metalnessTexture): the point mixes the material above (weight 1 − m)
+  // and a uniform reflector of colour diffuseColor (the base colour, weight m) — reflectance R0 = (1 − m) R0'
+  // + m c and R90 = (1 − m) R90' + m c, diffuse and transmission × (1 − m), then the energy rule
+  // (raytracer/bsdf.h). `diffuse` is then the mix's D(0).
+  float metalness = 0.0f;
   Rgb emissionCdM2{0.0f};   // emitted luminance, cd/m²
   bool doubleSided = false; // emits from both faces (glTF doubleSided)
   uint32_t sdbMaterialId = 0;
@@ -100,6 +105,7 @@ struct TraceMaterial {
   float normalScale = 1.0f;              // scales the map's x and y (glTF normalTexture.scale), ≥ 0
   TraceTextureSlot anisotropyTexture;    // linear; red = anisotropyU, green = anisotropyV (replaces them)
   TraceTextureSlot anisotropyRotationTexture;  // linear; red × 2π = anisotropyRotationRad (replaces it)
+  TraceTextureSlot metalnessTexture;           // linear, first channel × metalness
 
   // Coverage = opacity × the diffuse texture's alpha × COLOR_0's alpha, used as `alpha` says.
   TraceAlpha alpha = TraceAlpha::kOpaque;
@@ -119,7 +125,7 @@ struct TraceMaterial {
   bool hasTextures() const {
     return bool(diffuseTexture) || bool(reflectionTexture) || bool(glossinessTexture) ||
            bool(transmissionTexture) || bool(emissionTexture) || bool(normalTexture) ||
-           bool(anisotropyTexture) || bool(anisotropyRotationTexture);
+           bool(anisotropyTexture) || bool(anisotropyRotationTexture) || bool(metalnessTexture);
   }
 };
 

@@ -396,6 +396,8 @@ class Builder {
       t.anisotropyTexture = slot(m.anisotropyTexture);
       t.anisotropyRotationTexture = slot(m.anisotropyRotationTexture);
     }
+    t.metalnessTexture = slot(m.metalnessTexture);
+    if (t.metalnessTexture) t.metalness = std::clamp(m.metalnessFactor, 0.0f, 1.0f);
     if (m.measuredBrdf) {
       // One table per file (materials that name it read it each), or per table where the SDB has no file.
       const std::string key = m.measuredBrdfPath.empty()

@@ -93,7 +93,8 @@ SceneFeatures computeFeatures(const Scene& scene) {
     f.anisotropicMaterials |= m.isAnisotropic();
     f.texturedMaterials |= bool(m.diffuseTexture) || bool(m.reflectionTexture) || bool(m.transmissionTexture) ||
                            bool(m.reflectionGlossinessTexture) || bool(m.anisotropyTexture) ||
-                           bool(m.anisotropyRotationTexture) || bool(m.emissionTexture) || bool(m.bumpTexture);
+                           bool(m.anisotropyRotationTexture) || bool(m.emissionTexture) || bool(m.bumpTexture) ||
+                           bool(m.metalnessTexture);
     f.bumpMaps |= bool(m.bumpTexture);
     f.vertexColors |= !mesh.colors.empty();
     f.reflectionFog |= std::isfinite(m.reflectionFogDistanceM) && maxComponent(m.reflectionColor) > 0.0f &&

@@ -10,9 +10,14 @@
 // either Fresnel (reflectionColor × Schlick(F0(ior))) or uniform (reflectionColor); its energy rule takes
 // reflection first, then transmission, then diffuse. The conversion:
 //  - reflectionGlossiness = roughness: both are the perceptual parameter whose square is the GGX width α. The
-//    green (roughness) channel of metallicRoughnessTexture becomes reflectionGlossinessTexture. Its blue
-//    channel (per-texel metalness) cannot be represented: a material is metal or dielectric as a whole, with
-//    metallic = metallicFactor × the blue channel's mean over the texture.
+//    green (roughness) channel of metallicRoughnessTexture becomes reflectionGlossinessTexture.
+//  - metalness: where the blue channel of metallicRoughnessTexture varies, the material is the dielectric
+//    below (metallic = 0) and the blue channel becomes metalnessTexture with metalnessFactor = metallicFactor:
+//    each texel m mixes it with a uniform reflector of the base colour (Material::metalnessTexture): glTF's
+//    mix at normal incidence, R0 = mix(F0_dielectric, baseColor × texel, m), exactly; towards grazing angles
+//    the dielectric's share rises as Schlick's F and the metal's stays at its colour (as a metal below).
+//    Where the blue channel is constant (or there is no texture: 1), metallic = metallicFactor × its value
+//    and the material is a dielectric or a metal as a whole:
 //  - metallic < 0.5 (dielectric): reflectionModel = Fresnel with ior from KHR_materials_ior (default 1.5);
 //    reflectionColor = min(specularColorFactor, 1) × specularFactor (KHR_materials_specular: the dielectric
 //    F0 is min(F0(ior) × specularColor, 1) × specular, so at normal incidence fly's reflectionColor × F0(ior)
@@ -62,8 +67,8 @@
 // Textures are decoded by the installed ImageDecoder (setImageDecoder; the fly program's reads PNG, JPEG,
 // WebP, HDR, EXR and TIFF through OpenImageIO) or else by tinygltf's stb_image loader (PNG and JPEG, the
 // formats glTF 2.0 §3.8.2 allows), into RGBA with 8 or 16 bits per channel. A single channel that a material
-// parameter reads (roughness = green, transmission and clear coat = red) is copied into a one-channel (grey)
-// texture of its own.
+// parameter reads (roughness = green, metalness = blue, transmission and clear coat = red) is copied into a
+// one-channel (grey) texture of its own.
 //
 // Import budget (GltfImportOptions::maxDecodedBytes, kMaxTextureDimension): every accessor, decoded meshopt
 // view and image is charged its decoded size from what the file declares (accessor counts, image headers)
@@ -365,7 +370,7 @@ TexInfo texInfo(int index, int texCoord, const tinygltf::ExtensionMap& extension
 }
 
 // Which channels of an image a material parameter reads.
-enum class Channels { kAll, kRed, kGreen };
+enum class Channels { kAll, kRed, kGreen, kBlue };
 
 // Placeholder ids used while converting: the entity's index in the importer's pending list + 1. commit()
 // replaces them with the ids the Scene gives.
@@ -1953,13 +1958,18 @@ class Importer {
     const std::vector<double>& bc = pbr.baseColorFactor;  // tinygltf checks it has 4 numbers
     const Rgb base = unitColor(bc, ppath + "/baseColorFactor", label + " baseColorFactor");
     const float alpha = unitFactor(bc[3], ppath + "/baseColorFactor", label + " baseColorFactor alpha");
-    // Per-texel metalness (the blue channel of metallicRoughnessTexture) has no place in the realistic
-    // material, which is metal or dielectric as a whole: the factor is scaled by the texture's mean metalness,
-    // so that a model whose factor stays at glTF's default 1 while the texture paints the metal (most scanned
-    // and game assets: DamagedHelmet, FlightHelmet) is a metal only where most of its surface is one.
+    // Metalness: where metallicRoughnessTexture's blue channel varies, the dielectric (metallic 0) with that
+    // channel as Material::metalnessTexture, mixed per texel; otherwise one value for the whole material, the
+    // factor times the channel's value.
+    const float metallicFactor =
+        unitFactor(pbr.metallicFactor, ppath + "/metallicFactor", label + " metallicFactor");
+    const bool metalnessTexels =
+        metallicFactor > 0.0f &&
+        !constantChannel(pbr.metallicRoughnessTexture.index, 2, label + " metallicRoughnessTexture");
     const float metallic =
-        unitFactor(pbr.metallicFactor, ppath + "/metallicFactor", label + " metallicFactor") *
-        meanChannel(pbr.metallicRoughnessTexture.index, 2, false, label + " metallicRoughnessTexture");
+        metalnessTexels ? 0.0f
+                        : metallicFactor * meanChannel(pbr.metallicRoughnessTexture.index, 2, false,
+                                                       label + " metallicRoughnessTexture");
     const float roughness =
         unitFactor(pbr.roughnessFactor, ppath + "/roughnessFactor", label + " roughnessFactor");
 
@@ -2080,6 +2090,13 @@ class Importer {
             textureRef(texInfo(t.index, t.texCoord, t.extensions), ppath + "/metallicRoughnessTexture",
                        label + " metallicRoughnessTexture", Channels::kGreen);
       }
+    }
+    if (metalnessTexels) {
+      const tinygltf::TextureInfo& t = pbr.metallicRoughnessTexture;
+      m.metalnessTexture = textureRef(texInfo(t.index, t.texCoord, t.extensions),
+                                      ppath + "/metallicRoughnessTexture", label + " metallicRoughnessTexture",
+                                      Channels::kBlue);
+      m.metalnessFactor = metallicFactor;
     }
 
     if (const tinygltf::Value* e = extension(gm, "KHR_materials_transmission")) {
@@ -2336,6 +2353,23 @@ class Importer {
     }
     return float(sum / double(pixels));
   }
+  // Whether a channel of a texture's image has one value at every pixel (true where there is no such image
+  // or channel, which meanChannel reads as 1).
+  bool constantChannel(int index, int channel, const std::string& what) {
+    if (index < 0 || size_t(index) >= model_.textures.size()) return true;
+    const int source = model_.textures[size_t(index)].source;
+    if (source < 0 || size_t(source) >= model_.images.size()) return true;
+    const Texture& t = decodedImage(size_t(source), what);
+    if (channel >= t.channels) return true;
+    const size_t bytes = size_t(t.bitsPerChannel / 8);
+    const size_t pixels = size_t(t.width) * size_t(t.height);
+    const size_t stride = size_t(t.channels) * bytes;
+    const uint8_t* first = &t.pixels[size_t(channel) * bytes];
+    for (size_t p = 1; p < pixels; ++p) {
+      if (std::memcmp(first + p * stride, first, bytes) != 0) return false;
+    }
+    return true;
+  }
   Rgb meanColour(int index, bool srgb, const std::string& what) {
     return {meanChannel(index, 0, srgb, what), meanChannel(index, 1, srgb, what),
             meanChannel(index, 2, srgb, what)};
@@ -2414,7 +2448,9 @@ class Importer {
     } else {
       // One channel of the RGBA image, as a grey texture of its own.
       Texture grey;
-      grey.name = decoded.name + (channels == Channels::kRed ? " (red)" : " (green)");
+      const int channel = channels == Channels::kRed ? 0 : channels == Channels::kGreen ? 1 : 2;
+      constexpr const char* kNames[3] = {" (red)", " (green)", " (blue)"};
+      grey.name = decoded.name + kNames[channel];
       grey.sourcePath = decoded.sourcePath;
       grey.width = decoded.width;
       grey.height = decoded.height;
@@ -2422,7 +2458,7 @@ class Importer {
       grey.bitsPerChannel = decoded.bitsPerChannel;
       const size_t bytes = size_t(decoded.bitsPerChannel / 8);
       const size_t pixelBytes = bytes * size_t(decoded.channels);
-      const size_t offset = (channels == Channels::kRed ? 0 : 1) * bytes;
+      const size_t offset = size_t(channel) * bytes;
       const size_t pixels = size_t(decoded.width) * size_t(decoded.height);
       grey.pixels.resize(pixels * bytes);
       for (size_t p = 0; p < pixels; ++p) {
@@ -2557,7 +2593,8 @@ class Importer {
     for (Material& m : materials_) {
       for (TextureRef* r :
            {&m.diffuseTexture, &m.reflectionTexture, &m.reflectionGlossinessTexture, &m.anisotropyTexture,
-            &m.anisotropyRotationTexture, &m.transmissionTexture, &m.bumpTexture, &m.emissionTexture}) {
+            &m.anisotropyRotationTexture, &m.transmissionTexture, &m.metalnessTexture, &m.bumpTexture,
+            &m.emissionTexture}) {
         if (*r) r->texture = textureIds[r->texture.value - 1];
       }
       materialIds.push_back(add(scene_.addMaterial(std::move(m))));

@@ -89,6 +89,7 @@ std::string validate(const Material& m) {
   c.check(std::isfinite(m.anisotropyRotationRad), "anisotropyRotationRad", Checker::str(m.anisotropyRotationRad),
           "the finite numbers");
   c.unit("transmissionGlossiness", m.transmissionGlossiness);
+  c.unit("metalnessFactor", m.metalnessFactor);
   c.check(m.scatteringColor.r > 0.0f && m.scatteringColor.g > 0.0f && m.scatteringColor.b > 0.0f &&
               maxComponent(m.scatteringColor) <= 1.0f,
           "scatteringColor", Checker::str(m.scatteringColor), "(0, 1] per channel");

@@ -108,6 +108,16 @@ struct Material {
   // Transmission glossiness, [0,1]: 0 = clear (sharp refraction), 1 = the widest cone (frosted). Default 0.
   float transmissionGlossiness = 0.0f;
 
+  // Metalness per texel (glTF's metallicRoughnessTexture, blue channel): with metalnessTexture, each point is
+  // the mix, by m = metalnessFactor × the texture's first channel (linear), of this material (weight 1 − m) and
+  // a metal whose uniform reflection is the base colour c = diffuseColor × diffuseTexture × COLOR_0 (weight m).
+  // Both reflections are Schlick-shaped, R(θ) = R0 + (R90 − R0)(1 − cos θ)⁵, so the mix is one too:
+  // R0 = (1 − m) R0' + m c, R90 = (1 − m) R90' + m c (R0' = reflectionColor × F0(ior), R90' = reflectionColor
+  // for Fresnel reflection; both reflectionColor for uniform), with diffuse (1 − m) × diffuse and transmission
+  // (1 − m) × transmission, and then the energy rule. Without metalnessTexture, metalnessFactor is unused.
+  TextureRef metalnessTexture;
+  float metalnessFactor = 1.0f;  // [0,1]
+
   // Absorption inside a transmissive medium (Beer–Lambert, as glTF KHR_materials_volume): white light that has
   // travelled `scatteringDistanceM` metres inside has the colour `scatteringColor`. Distance in metres, (0, ∞];
   // ∞ (default) = no absorption. Colour linear, (0,1].

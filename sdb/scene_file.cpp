@@ -993,6 +993,8 @@ class SceneFileReader {
     m.anisotropyTexture = original.anisotropyTexture;
     m.anisotropyRotationTexture = original.anisotropyRotationTexture;
     m.transmissionTexture = original.transmissionTexture;
+    m.metalnessTexture = original.metalnessTexture;
+    m.metalnessFactor = original.metalnessFactor;
     m.bumpTexture = original.bumpTexture;
     m.bumpScale = original.bumpScale;
     m.emissionLuminance = original.emissionLuminance;

@@ -37,6 +37,8 @@
 //   FLY_GLOSSINESS_TEXTURE  (with FLY_TEXTURES) glossiness textures: the GGX width per pixel
 //                     (rdb::RasterMaterial::glossinessTexture) for the lamps', the sun's and the environment's
 //                     specular terms
+//   FLY_METALNESS_TEXTURE  (with FLY_TEXTURES) metalness textures: the mix with a metal of the base colour per
+//                     pixel (rdb::RasterMaterial::metalnessTexture)
 //   FLY_UV1           a second UV set
 //   FLY_VERTEX_COLOR  COLOR_0 multiplies the base colour and the coverage
 //   FLY_ALPHA_MASK    a cut-out: fragments with coverage below the material's cut-off are discarded
@@ -64,7 +66,7 @@ struct Material {
   vec4 specular;      // rgb reflectance at normal incidence (the reflect input of the energy rule)
   vec4 emission;      // rgb cd/m², w the GGX α of transmission (frosted glass; 0: clear)
   vec4 transmission;  // rgb clear transmission colour (0: not glass), w Schlick's F0 (< 0: uniform reflection)
-  vec4 reflection;    // rgb reflection colour
+  vec4 reflection;    // rgb reflection colour, w the metalness texture's factor
   vec4 coverage;      // x opacity, y alpha cut-off, z normal scale, w alpha mode (0 opaque, 1 mask, 2 blend)
   vec4 environment;   // rgb the split sum's F90 (0: no environment reflection), w GGX α
   vec4 anisotropy;    // x U, y V (each [0, 1]), z rotation about the normal (rad), w 1: an anisotropic lobe
@@ -1069,14 +1071,17 @@ layout(binding = 18) uniform sampler2D uGlossinessTexture;  // red × the materi
 #ifdef FLY_GLASS
 layout(binding = 19) uniform sampler2D uTransmissionTexture;  // red × the glass's transmission
 #endif
+#ifdef FLY_METALNESS_TEXTURE
+layout(binding = 20) uniform sampler2D uMetalnessTexture;  // red × the material's metalness factor
+#endif
 // The draw's material's texture slots: bit 0 base colour, 1 emission, 2 normal map, 3 anisotropy, 4 its
-// rotation, 5 glossiness, 6 transmission; and per slot its affine
+// rotation, 5 glossiness, 6 transmission, 7 metalness; and per slot its affine
 // UV map (rdb::RasterTextureRef): uv' = (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z), row0.w the
 // UV set (0 or 1). Uniforms (one material per draw), so that every invocation of a 2 × 2 quad — helper
 // invocations outside the triangle too — computes the UVs whose differences pick the mip level, and the
 // samples are taken in uniform control flow, before any discard.
 uniform uint uTextureSlots;
-uniform vec4 uUvRows[14];  // per slot row0, row1, in the bits' order
+uniform vec4 uUvRows[16];  // per slot row0, row1, in the bits' order
 #endif
 #ifdef FLY_VERTEX_COLOR
 in vec4 vColor;
@@ -1304,12 +1309,32 @@ void main() {
 #ifdef FLY_TEXTURES
   if ((uTextureSlots & 64u) != 0u) {
     glassT *= texture(uTransmissionTexture, flyTextureUv(uUvRows[12], uUvRows[13])).r;
-    base.rgb *= vec3(1.0) - clamp(glassT, 0.0, 1.0);
+    if ((uTextureSlots & 128u) == 0u) base.rgb *= vec3(1.0) - clamp(glassT, 0.0, 1.0);
   }
 #endif
 #endif
 #ifdef FLY_VERTEX_COLOR
   base *= vColor;
+#endif
+#ifdef FLY_METALNESS_TEXTURE
+  // Metalness k at the pixel (rdb::RasterMaterial::metalnessTexture): the material mixed with a uniform
+  // reflector of the base colour c (base.rgb: the diffuse colour × texel × COLOR_0). R0, R90 and the
+  // reflection colour → mix(·, c, k), transmission × (1 − k), and the energy rule at normal incidence gives
+  // the albedo (1 − R0)(1 − t)(1 − k) c.
+  if ((uTextureSlots & 128u) != 0u) {
+    float red = texture(uMetalnessTexture, flyTextureUv(uUvRows[14], uUvRows[15])).r;
+    float k = clamp(m.reflection.w * red, 0.0, 1.0);
+    vec3 c = clamp(base.rgb, 0.0, 1.0);
+    m.specular.rgb = mix(m.specular.rgb, c, k);
+    m.environment.rgb = mix(m.environment.rgb, c, k);
+    m.reflection.rgb = mix(m.reflection.rgb, c, k);
+    vec3 t = vec3(0.0);
+#ifdef FLY_GLASS
+    glassT *= 1.0 - k;
+    t = clamp(glassT, 0.0, 1.0);
+#endif
+    base.rgb = c * (1.0 - k) * (vec3(1.0) - m.specular.rgb) * (vec3(1.0) - t);
+  }
 #endif
 #ifdef FLY_ALPHA_MASK
   if (base.a < m.coverage.y) discard;

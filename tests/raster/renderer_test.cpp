@@ -1117,6 +1117,79 @@ TEST(Renderer, TexturedGlassTransmitsByItsTextureAndCutsOutByItsAlpha) {
       << ::testing::PrintToString(programs);
 }
 
+// Metalness per texel (light-map mode, seen head-on): a light-mapped quad of diffuse colour d, white Fresnel
+// reflection at ior 1.5 (R0' = 0.04) and a 2 × 1 metalness texture (0, 1; nearest) shows its left half as
+// the dielectric, (1 − R0') d · E / π, and its right half as a uniform reflector of colour d, which the
+// light-map mode shows as a rough one: (0 + d) · E / π. Over the quad's left half, a glass pane (diffuse c,
+// transmission t, the same reflection) with a 4 × 1 metalness texture (0, 0, 1, 1): its glass texels pass the
+// quad times T = t (1 − R0'), its metal texels are opaque (transmission × (1 − 1) = 0) and, in this mode,
+// black (a glass's reflection is not the light-map mode's to show).
+TEST(Renderer, MetalnessTextureMixesAMetalOfTheBaseColourPerTexel) {
+  context();
+  sdb::Scene s;
+  const Rgb d(0.5f, 0.6f, 0.7f);
+  sdb::Material paint;
+  paint.diffuseColor = d;
+  paint.reflectionColor = Rgb(1.0f);
+  paint.reflectionModel = sdb::ReflectionModel::kFresnel;
+  paint.ior = 1.5f;
+  paint.reflectionGlossiness = 0.5f;
+  paint.metalnessTexture.texture = addTexture(s, 2, 1, 1, {0, 255});
+  sdb::Material glass;
+  glass.diffuseColor = Rgb(0.9f, 0.8f, 0.7f);
+  glass.reflectionColor = Rgb(1.0f);
+  glass.reflectionModel = sdb::ReflectionModel::kFresnel;
+  glass.ior = 1.5f;
+  glass.reflectionGlossiness = 0.0f;
+  glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
+  glass.transmissionGlossiness = 0.0f;
+  glass.metalnessTexture.texture = addTexture(s, 4, 1, 1, {0, 0, 255, 255});
+  for (sdb::TextureRef* t : {&paint.metalnessTexture, &glass.metalnessTexture}) {
+    t->magFilter = sdb::MagFilter::kNearest;
+    t->minFilter = sdb::MinFilter::kNearest;
+  }
+  const sdb::MeshId quad = s.addMesh(uvQuad(s.addMaterial(paint).id)).id;
+  const sdb::NodeId quadNode = s.addNode({.name = "quad", .meshes = {quad}}).id;
+  sdb::Mesh pane;
+  pane.name = "pane";
+  pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
+  pane.normals.assign(4, vec3(0, 0, 1));
+  for (const vec3& p : pane.positions) pane.uv0.push_back(vec2(p.x + 1.0f, 0.5f - p.y));
+  pane.indices = {0, 1, 2, 0, 2, 3};
+  pane.material = s.addMaterial(glass).id;
+  const sdb::MeshId paneId = s.addMesh(pane).id;
+  const sdb::NodeId paneNode = s.addNode({.name = "window", .meshes = {paneId}}).id;
+  rdb::LightMapStore store;
+  store.meshes.push_back({quadNode.value, quad.value, kFrontLux, {}});
+  store.meshes.push_back({paneNode.value, paneId.value, std::vector<Rgb>(4, Rgb(0.0f)), {}});
+  const rdb::RasterRdb r = rdb::buildRasterRdb(s, &store);
+  ASSERT_TRUE(r.variants.glass && r.variants.metalnessTextures);
+  Renderer renderer;
+  renderer.upload(r);
+  renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+  const float r0 = 0.04f;
+  const std::vector<float> dielectric = expectedQuad(64, 32, luminanceOf(kFrontLux, (1.0f - r0) * d), false);
+  const std::vector<float> metal = expectedQuad(64, 32, luminanceOf(kFrontLux, d), false);
+  const Rgb transmittance = Rgb(0.9f, 0.8f, 0.7f) * (1.0f - r0);
+  std::vector<float> expected(dielectric.size(), 0.0f);
+  for (uint32_t j = 0; j < 32; ++j) {
+    for (uint32_t i = 0; i < 64; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const size_t at = (size_t(j) * 64 + i) * 3 + size_t(k);
+        expected[at] = i < 32 ? dielectric[at] : metal[at];  // the quad: x ∈ (−1, 0) is u < 0.5
+        if (j >= 8 && j < 24 && i >= 16 && i < 32) {        // the pane
+          expected[at] = i < 24 ? dielectric[at] * transmittance[k] : 0.0f;
+        }
+      }
+    }
+  }
+  expectImageNear(renderer.luminanceRgb(), expected, 1e-4f);
+  const std::vector<std::string>& programs = renderer.stats().programs;
+  EXPECT_TRUE(std::any_of(programs.begin(), programs.end(), [](const std::string& p) {
+    return p.find("+glass") != std::string::npos && p.find("+metalnesstexture") != std::string::npos;
+  })) << ::testing::PrintToString(programs);
+}
+
 // Blended surfaces are drawn back to front over what lies behind them: a wall of luminance L_b (emission, no
 // lights) behind two blended quads listed front first, A (1 m in front, emission (100, 0, 0), opacity 0.25)
 // and B (0.5 m in front, emission (0, 100, 0), opacity 0.5), show 0.25 A + 0.75 (0.5 B + 0.5 L_b) where all

@@ -160,6 +160,73 @@ TEST(SurfacePoint, ReflectionTextureLinearOrSrgb) {
   EXPECT_GT(srgb.material.diffuse.r, linear.material.diffuse.r);  // less reflected, more left to diffuse
 }
 
+// Metalness per point: a 2 × 1 metalness texture (0, 1; nearest) on a mirror of white Fresnel reflection at
+// ior 1.5 (R0' = 0.04, R90' = 1) with base colour c mixes, by k = factor × texel, a uniform reflector of colour
+// c: R(θ) = R0 + (R90 − R0)(1 − cos θ)⁵ with R0 = (1 − k) 0.04 + k c, R90 = (1 − k) + k c, and the diffuse
+// colour (1 − k) c. The Bsdf's albedo towards θ is R(θ) + (1 − R(θ)) (1 − k) c, its mirror reflects R(θ), and
+// its diffuse lobe is f = (1 − k) c (1 − R(θi)) (1 − R(θo)) / ((1 − R̄) π), R̄ = R0 + (R90 − R0)/21; at
+// normal incidence and at 60°, on the dielectric texel and the metal one, for factors 1 and 0.5.
+TEST(SurfacePoint, MetalnessTextureMixesAUniformReflectorOfTheBaseColour) {
+  const Rgb c(0.2f, 0.5f, 0.9f);
+  rdb::TraceRdbBuilder b;
+  b.texture(2, 1, 1, {0, 255});
+  const uint32_t mat = b.material(c);
+  rdb::TraceMaterial& m = b.rdb.materials[mat];
+  m.reflection = Rgb(1.0f);
+  m.fresnel = true;
+  m.ior = 1.5f;
+  m.reflectionGlossiness = 0.0f;
+  m.metalnessTexture.texture = 0;
+  m.metalnessTexture.nearest = true;
+  b.ground(1.0f, 1, mat);
+  int checked[2] = {0, 0};
+  for (const float factor : {1.0f, 0.5f}) {
+    m.metalness = factor;
+    m.diffuse = normalIncidenceDiffuse(m);  // what lowerMaterial keeps; materialAt recomputes it per point
+    for (const vec2 bary : {vec2(0.1f, 0.2f), vec2(0.2f, 0.7f), vec2(0.7f, 0.1f), vec2(0.45f, 0.45f)}) {
+      const TrianglePoint at{0, bary};
+      const vec2 uv = interpolateUv(b.rdb, 0, at);
+      if (std::abs(uv.x - 0.5f) < 0.05f) continue;
+      const float k = uv.x < 0.5f ? 0.0f : factor;
+      ++checked[uv.x < 0.5f ? 0 : 1];
+      const PointMaterial pm = materialAt(b.rdb, m, at);
+      EXPECT_NEAR(pm.material.metalness, k, 1e-6f);
+      const Rgb r0 = (1.0f - k) * 0.04f + k * c;
+      const Rgb r90 = Rgb(1.0f - k) + k * c;
+      for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_NEAR(pm.material.diffuse[ch], (1.0f - r0[ch]) * (1.0f - k) * c[ch], 1e-6f);
+      }
+      const Bsdf bsdf(pm.material, true);
+      ASSERT_FALSE(bsdf.isLambertian());
+      for (const float cosTheta : {1.0f, 0.5f}) {
+        const float x = 1.0f - cosTheta;
+        const Rgb r = r0 + (r90 - r0) * (x * x * x * x * x);
+        const Rgb albedo = r + (Rgb(1.0f) - r) * (1.0f - k) * c;
+        const Rgb got = bsdf.albedo(cosTheta);
+        for (int ch = 0; ch < 3; ++ch) {
+          EXPECT_NEAR(got[ch], albedo[ch], 1e-5f) << "k " << k << ", cos " << cosTheta;
+        }
+        const vec3 wo(std::sqrt(1.0f - cosTheta * cosTheta), 0.0f, cosTheta);
+        Bsdf::Sample s;
+        ASSERT_TRUE(bsdf.sample(wo, 0x1.fffffep-1f, vec2(0.5f), s));
+        ASSERT_EQ(s.lobe, Bsdf::Lobe::kMirror);
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(s.weight[ch] * s.pdf, r[ch], 1e-5f);
+      }
+      // The diffuse lobe between normal incidence and 60°.
+      const Rgb rBar = r0 + (r90 - r0) / 21.0f;
+      const Rgb r60 = r0 + (r90 - r0) * 0.03125f;
+      const Rgb f = bsdf.eval(vec3(0, 0, 1), glm::normalize(vec3(std::sqrt(3.0f), 0.0f, 1.0f)));
+      for (int ch = 0; ch < 3; ++ch) {
+        const float want =
+            (1.0f - k) * c[ch] * (1.0f - r0[ch]) * (1.0f - r60[ch]) / ((1.0f - rBar[ch]) * kPiF);
+        EXPECT_NEAR(f[ch], want, 1e-6f);
+      }
+    }
+  }
+  EXPECT_GT(checked[0], 0);
+  EXPECT_GT(checked[1], 0);
+}
+
 TEST(SurfacePoint, CoverageAndShadingNormal) {
   rdb::TraceRdbBuilder b;
   b.texture(1, 1, 2, {255, 128});  // grey + alpha

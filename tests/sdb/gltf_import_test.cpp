@@ -692,11 +692,11 @@ TEST_F(GltfImport, RoughnessAndTransmissionChannelsBecomeGreyTextures) {
   EXPECT_EQ(scene_.textures().size(), 2u);  // the RGBA image itself is not used
 }
 
-// glTF's default metallicFactor 1 with the metalness painted into the texture's blue channel: the material
-// is a metal only as far as the texture's mean says (here 0.25 and 0.75 over two texels: mean 0.5 × 0.8).
-TEST_F(GltfImport, TextureMetalnessScalesTheMetallicFactor) {
+// A constant blue channel (metalness) scales the metallic factor: blue 0 leaves a dielectric, blue 191 with
+// factor 0.8 (metallic 0.6) makes a metal, and neither has a metalness texture.
+TEST_F(GltfImport, ConstantTextureMetalnessScalesTheMetallicFactor) {
   GltfBuilder b = withMaterial(json::object());
-  const int dielectric = addImageTexture(b, test::png(2, 1, {0, 128, 0, 0, 128, 0}));
+  const int dielectric = addImageTexture(b, test::png(2, 1, {0, 128, 0, 0, 64, 0}));
   b.doc["materials"][0] = {{"name", "Painted"},
                            {"pbrMetallicRoughness",
                             {{"baseColorFactor", {0.5, 0.5, 0.5, 1}},
@@ -705,21 +705,48 @@ TEST_F(GltfImport, TextureMetalnessScalesTheMetallicFactor) {
   const Material& painted = onlyMaterialOfMesh();
   EXPECT_EQ(painted.reflectionModel, ReflectionModel::kFresnel);  // a dielectric: the texture has no metal
   expectRgb(painted.diffuseColor, Rgb(0.5f));
+  EXPECT_FALSE(painted.metalnessTexture);
 
   Scene other;
   GltfBuilder c = withMaterial(json::object());
-  const int half = addImageTexture(c, test::png(2, 1, {0, 128, 64, 0, 128, 191}));
-  c.doc["materials"][0] = {{"name", "Half"},
+  const int metal = addImageTexture(c, test::png(2, 1, {0, 128, 191, 0, 64, 191}));
+  c.doc["materials"][0] = {{"name", "Metal"},
                            {"pbrMetallicRoughness",
                             {{"baseColorFactor", {0.5, 0.5, 0.5, 1}},
                              {"metallicFactor", 0.8},
-                             {"metallicRoughnessTexture", {{"index", half}}}}}};
-  c.writeGltf(dir_ / "half.gltf");
-  importGltf(other, dir_ / "half.gltf");
-  const Material& h = other.material(other.findMaterial("Half"));
-  const float metallic = 0.8f * (64.0f + 191.0f) / (2.0f * 255.0f);  // 0.4: a dielectric
-  EXPECT_EQ(h.reflectionModel, ReflectionModel::kFresnel);
+                             {"metallicRoughnessTexture", {{"index", metal}}}}}};
+  c.writeGltf(dir_ / "metal.gltf");
+  importGltf(other, dir_ / "metal.gltf");
+  const Material& h = other.material(other.findMaterial("Metal"));
+  const float metallic = 0.8f * 191.0f / 255.0f;  // 0.6: a metal
+  EXPECT_EQ(h.reflectionModel, ReflectionModel::kUniform);
   expectRgb(h.diffuseColor, Rgb(0.5f * (1.0f - metallic)));
+  EXPECT_FALSE(h.metalnessTexture);
+}
+
+// A blue channel that varies becomes the metalness texture (one channel, the blue values), with the
+// metallic factor as its factor, on the dielectric (Fresnel reflection, the whole base colour as diffuse).
+TEST_F(GltfImport, VaryingTextureMetalnessBecomesTheMetalnessTexture) {
+  GltfBuilder b = withMaterial(json::object());
+  const int half = addImageTexture(b, test::png(2, 1, {0, 128, 0, 0, 128, 255}));
+  b.doc["materials"][0] = {{"name", "Striped"},
+                           {"pbrMetallicRoughness",
+                            {{"baseColorFactor", {0.5, 0.6, 0.7, 1}},
+                             {"metallicFactor", 0.8},
+                             {"metallicRoughnessTexture", {{"index", half}}}}}};
+  import(b);
+  const Material& m = onlyMaterialOfMesh();
+  EXPECT_EQ(m.reflectionModel, ReflectionModel::kFresnel);
+  expectRgb(m.diffuseColor, Rgb(0.5f, 0.6f, 0.7f));
+  expectRgb(m.reflectionColor, Rgb(1.0f));
+  ASSERT_TRUE(m.metalnessTexture);
+  EXPECT_FLOAT_EQ(m.metalnessFactor, 0.8f);
+  const Texture& metalness = scene_.texture(m.metalnessTexture.texture);
+  EXPECT_EQ(metalness.name, "checker (blue)");
+  EXPECT_EQ(metalness.channels, 1);
+  EXPECT_EQ(metalness.pixels, (std::vector<uint8_t>{0, 255}));
+  ASSERT_TRUE(m.reflectionGlossinessTexture);  // the green channel as before
+  EXPECT_EQ(scene_.texture(m.reflectionGlossinessTexture.texture).pixels, (std::vector<uint8_t>{128, 128}));
 }
 
 // A metal reflects its base colour texture (sRGB, the same image as the diffuse slot); a dielectric's
