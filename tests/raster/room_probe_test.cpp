@@ -72,11 +72,14 @@ sdb::Material polishedMaterial() {
 
 // A polished floor (no diffuse part: it shows only what it reflects; GGX α = 0.09, F0 = 0.04) in a room
 // lit so that its walls and ceiling show `wallCdM2` (light maps of π·wall/0.5 lx on albedo 0.5), under a
-// uniform sky of `skyCdM2` — closed, or without walls and ceiling (`open`: the floor alone).
-rdb::RasterRdb floorScene(bool open, float wallCdM2, float skyCdM2) {
+// uniform sky of `skyCdM2` — closed, or without walls and ceiling (`open`: the floor alone); `planar`: the floor
+// is a planar reflector (sdb::EngineReflection::kPlanar), which shows its own mirrored image.
+rdb::RasterRdb floorScene(bool open, float wallCdM2, float skyCdM2, bool planar = false) {
   sdb::Scene scene;
   const sdb::MaterialId wallId = scene.addMaterial(wallMaterial()).id;
-  const sdb::MaterialId floorId = scene.addMaterial(polishedMaterial()).id;
+  sdb::Material polished = polishedMaterial();
+  if (planar) polished.engineReflection = sdb::EngineReflection::kPlanar;
+  const sdb::MaterialId floorId = scene.addMaterial(polished).id;
   rdb::LightMapStore store;
   if (!open) {
     const sdb::MeshId room = scene.addMesh(test::box(vec3(-2, 0, -2), vec3(2, 3, 2), wallId, true)).id;
@@ -247,6 +250,20 @@ TEST(RoomProbe, CapturedAgainOnlyWhenTheEyeMovesOrTheSceneChanges) {
   EXPECT_EQ(renderer.stats().probeCaptures, 4);
   renderer.render(test::lookAtView(kEye, vec3(0.0f), 20.0f), RenderMode::kSimple, 8, 8);
   EXPECT_EQ(renderer.stats().probeCaptures, 4);  // simple mode has none
+}
+
+// A scene whose only reflecting surfaces are planar or cube reflectors (they show their own images) builds no
+// probe and compiles no program with it.
+TEST(RoomProbe, NoneWhereOnlyPlanarReflectorsReflect) {
+  context();
+  const rdb::RasterRdb r = floorScene(false, 100.0f, 10000.0f, true);
+  ASSERT_FALSE(r.planarReflectors.empty());
+  Renderer renderer;
+  renderer.upload(r);
+  for (const RenderMode mode : {RenderMode::kLightMap, RenderMode::kSunlight})
+    renderer.render(test::lookAtView(kEye, vec3(0.0f), 20.0f), mode, 8, 8);
+  EXPECT_EQ(renderer.stats().probeCaptures, 0);
+  for (const std::string& p : renderer.stats().programs) EXPECT_EQ(p.find("+roomprobe"), std::string::npos) << p;
 }
 
 }  // namespace
