@@ -59,15 +59,15 @@ float slabTransmittance(float cosTheta, float n, float tau0) {
   return 0.5f * (slabPolarised(f.transmitted.x, tau) + slabPolarised(f.transmitted.y, tau));
 }
 
-ClearPane::ClearPane(float f0, const Rgb& transmission, const Rgb& reflection)
-    : fresnel_(f0 >= 0.0f), t_(glm::clamp(transmission, 0.0f, 1.0f)), r_(glm::clamp(reflection, 0.0f, 1.0f)) {
-  if (!fresnel_) {
-    normalT_ = t_ * (Rgb(1.0f) - r_);
-    return;
-  }
+ClearPane::ClearPane(float f0, const Rgb& transmission, const Rgb& r0, const Rgb& r90)
+    : fresnel_(f0 >= 0.0f),
+      t_(glm::clamp(transmission, 0.0f, 1.0f)),
+      r0_(glm::clamp(r0, 0.0f, 1.0f)),
+      r90_(glm::clamp(r90, 0.0f, 1.0f)) {
+  normalT_ = t_ * (Rgb(1.0f) - r0_);
+  if (!fresnel_) return;
   f0_ = std::min(f0, kMaxF0);
   n_ = indexOf(f0_);
-  normalT_ = t_ * (Rgb(1.0f) - r_ * f0_);
   for (int ch = 0; ch < 3; ++ch) {
     tau0_[ch] = slabInternalTransmittance(f0_, normalT_[ch]);
     const float s0 = slabTransmittance(1.0f, n_, tau0_[ch]);
@@ -81,12 +81,12 @@ Rgb ClearPane::at(float cosTheta) const {
   const Interface f = interfaceAt(c, n_);
   const float m = 1.0f - c;
   const float m2 = m * m;
-  const float schlick = f0_ + (1.0f - f0_) * m2 * m2 * m;
+  const Rgb reflected = glm::min(r0_ + (r90_ - r0_) * (m2 * m2 * m), Rgb(1.0f));
   Rgb t(0.0f);
   for (int ch = 0; ch < 3; ++ch) {
     const float tau = internalAt(tau0_[ch], f.cosRefracted);
     const float s = 0.5f * (slabPolarised(f.transmitted.x, tau) + slabPolarised(f.transmitted.y, tau));
-    t[ch] = std::min(scale_[ch] * s, t_[ch] * (1.0f - std::min(r_[ch] * schlick, 1.0f)));
+    t[ch] = std::min(scale_[ch] * s, t_[ch] * (1.0f - reflected[ch]));
   }
   return t;
 }

@@ -8,14 +8,15 @@
 // number of internal reflections is (Born and Wolf, "Principles of Optics"; Tregenza and Sharples,
 // "Daylighting algorithms", algorithm 2.34)
 //   T_pol = (1 − R)² τ / (1 − R² τ²),   S(θ) = (T_s + T_p) / 2.
-// A material fixes the pane's transmittance at normal incidence, T_n = t (1 − r F0) per channel (the energy
-// rule of sdb/material.h at cos θ = 1; t, r the transmission and reflection colours, F0 = ((n − 1)/(n + 1))²
-// from its ior). τ0 solves S(0) = T_n: with R0 = F0, T_n (1 − R0² τ0²) = (1 − R0)² τ0, whose positive root is
+// A material fixes the pane's transmittance at normal incidence, T_n = t (1 − R0) per channel (the energy
+// rule of sdb/material.h at cos θ = 1: t the transmission colour, R(θ) = R0 + (R90 − R0)(1 − cos θ)⁵ the
+// rule's reflect input, R0 = r F0 and R90 = r for reflection colour r, F0 = ((n − 1)/(n + 1))² from its ior;
+// a metalness mix keeps that form). τ0 solves S(0) = T_n: with R0 = F0, T_n (1 − R0² τ0²) = (1 − R0)² τ0, whose positive root is
 // τ0 = 2 T_n / ((1 − R0)² + √((1 − R0)⁴ + 4 T_n² R0²)), clamped to [0, 1]. Where T_n exceeds the lossless
 // slab's (1 − R0)/(1 + R0) (a pane with little reflection colour), τ0 = 1 and the lossless slab's shape is
 // scaled to T_n. So
-//   T(θ) = min(T_n S(θ) / S(0), t (1 − r F(θ))),
-// F Schlick's approximation with F0: never above the energy rule's one-interface transmittance at that angle,
+//   T(θ) = min(T_n S(θ) / S(0), t (1 − R(θ))),
+// never above the energy rule's one-interface transmittance at that angle (Schlick's approximation),
 // so that with the rule's reflected and diffuse shares nothing sends out more than it receives. For indices
 // of 1.2 to 2.2 (every glass) the slab lies below that bound at every angle; the bound caps it only outside
 // that range, where Schlick's F departs from Fresnel's. Uniform (non-Fresnel) reflection has no index: there
@@ -36,9 +37,13 @@ float slabTransmittance(float cosTheta, float n, float tau0);
 class ClearPane {
  public:
   ClearPane() = default;
-  // f0: Schlick's F0 = ((n − 1)/(n + 1))² of the material's ior, < 0 for uniform reflection; transmission t
-  // and reflection r: the material's colours (clamped to [0, 1]).
-  ClearPane(float f0, const Rgb& transmission, const Rgb& reflection);
+  // f0: Schlick's F0 = ((n − 1)/(n + 1))² of the material's ior, which sets the slab's index, < 0 for uniform
+  // reflection (no index: T = t (1 − R0) at every angle); t the transmission colour, R0 and R90 the energy
+  // rule's reflect input at normal and grazing incidence (each clamped to [0, 1]).
+  ClearPane(float f0, const Rgb& transmission, const Rgb& r0, const Rgb& r90);
+  // The same for a reflection colour r: R0 = r F0 and R90 = r (uniform reflection: R0 = R90 = r).
+  ClearPane(float f0, const Rgb& transmission, const Rgb& reflection)
+      : ClearPane(f0, transmission, reflection * (f0 >= 0.0f ? f0 : 1.0f), reflection) {}
 
   // T(θ) per channel at cos θ = cosTheta, from either face (|cos θ| is used); finite and in [0, 1].
   Rgb at(float cosTheta) const;
@@ -50,7 +55,8 @@ class ClearPane {
   float f0_ = 0.0f;
   float n_ = 1.0f;
   Rgb t_{0.0f};
-  Rgb r_{0.0f};
+  Rgb r0_{0.0f};
+  Rgb r90_{0.0f};
   Rgb normalT_{0.0f};
   Rgb tau0_{0.0f};
   Rgb scale_{0.0f};  // T_n / S(0)
