@@ -641,17 +641,20 @@ const Renderer::SceneProgram& Renderer::sceneProgram(uint32_t variant) {
                                what + " textures need " + std::to_string(highest + 1));
     }
   }
-  const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kAoAmbientCommon + shaders::kSceneCommon +
+  const std::string vertex = std::string(shaders::kSunGlassLookup) + shaders::kAoAmbientCommon +
+                             shaders::kGlassPane + shaders::kSceneCommon +
                              (perFragment ? shaders::kSurfaceVertex : shaders::kSceneVertex);
   const std::string fragment =
       std::string(shaders::kLuminanceEncoding) + shaders::kSunGlassLookup + shaders::kAoAmbientCommon +
       shaders::kAoAmbientLookup +
       (perFragment
-           ? std::string(shaders::kSceneCommon) +
+           ? std::string(shaders::kGlassPane) + shaders::kSceneCommon +
                  ((variant & kVariantMeasured) ? std::string(shaders::kMeasuredBrdf) + shaders::kNearLamp : "") +
                  shaders::kLightTextureLookup + ((variant & kVariantPlanarReflection) ? shaders::kMirrorBlurUpsample : "") +
                  ((variant & kVariantGlass) ? shaders::kGlassBehind : "") + shaders::kSurfaceFragment
-           : std::string((variant & (kVariantIbl | kVariantDiffuseByAngle)) ? shaders::kSceneCommon : "") +
+           : ((variant & (kVariantIbl | kVariantDiffuseByAngle))
+                  ? std::string(shaders::kGlassPane) + shaders::kSceneCommon
+                  : std::string()) +
                  shaders::kLightTextureLookup + ((variant & kVariantGlass) ? shaders::kGlassBehind : "") +
                  shaders::kSceneFragment);
   const GLuint p = compileProgram(
@@ -1969,8 +1972,9 @@ void Renderer::drawNearLamps(const mat4& clipFromWorld, const vec3& eyeM, const 
         std::to_string(rdb::kRasterGonioCSteps) + "\n" + "#define FLY_MAX_NEAR_LIGHTS " +
         std::to_string(kMaxNearLights) + "\n" + "#define FLY_ALBEDO_STEPS " +
         std::to_string(rdb::kRasterAlbedoSteps) + "\n" + "#define FLY_BRDF_BINDING 4\n#define FLY_BRDF_TABLE_UNIT 10\n";
-    const std::string source = std::string(shaders::kLuminanceEncoding) + shaders::kSceneCommon +
-                               shaders::kMeasuredBrdf + shaders::kNearLamp + shaders::kNearLampsCompute;
+    const std::string source = std::string(shaders::kLuminanceEncoding) + shaders::kGlassPane +
+                               shaders::kSceneCommon + shaders::kMeasuredBrdf + shaders::kNearLamp +
+                               shaders::kNearLampsCompute;
     p.program = compileProgram(goniometric ? "nearlamps-gonio" : "nearlamps", defines,
                                {{GL_COMPUTE_SHADER, source.c_str()}});
     p.worldFromClip = glGetUniformLocation(p.program, "uWorldFromClip");

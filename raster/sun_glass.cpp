@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "raster/shaders/scene_glsl.h"
 #include "raster/shaders/sun_glass_glsl.h"
 
 namespace fly::raster {
@@ -102,9 +103,10 @@ bool SunGlassMap::build(const vec3& sunDirWorld, uint32_t texels) {
   if (g.vertices.empty()) return false;
   if (g.built && g.builtSunDir == sunDirWorld && g.builtTexels == texels) return false;
   if (!g.program) {
-    g.program = compile_("sun-glass", "",
-                         {{GL_VERTEX_SHADER, shaders::kSunGlassMapVertex},
-                          {GL_FRAGMENT_SHADER, shaders::kSunGlassMapFragment}});
+    const std::string vertex = std::string(shaders::kGlassPane) + shaders::kSunGlassMapVertex;
+    g.program =
+        compile_("sun-glass", "",
+                 {{GL_VERTEX_SHADER, vertex.c_str()}, {GL_FRAGMENT_SHADER, shaders::kSunGlassMapFragment}});
     g.sunClipFromWorld = glGetUniformLocation(g.program, "uSunClipFromWorld");
     g.sunDir = glGetUniformLocation(g.program, "uSunDirWorld");
   }

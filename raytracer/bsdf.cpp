@@ -96,6 +96,10 @@ void Bsdf::init(const rdb::TraceMaterial& m, bool frontFace, const MeasuredLobe*
   // R is smallest at normal incidence (R0), so T(θ) > 0 somewhere iff t (1 − R0) > 0.
   hasTransmission_ = maxComponent(transmission_ * (Rgb(1.0f) - r0_)) > 0.0f;
   clearTransmission_ = hasTransmission_ && alphaT_ == 0.0f;
+  if (clearTransmission_) {
+    const float q = (std::max(m.ior, 1.0f) - 1.0f) / (std::max(m.ior, 1.0f) + 1.0f);
+    pane_ = ClearPane(m.fresnel ? q * q : -1.0f, transmission_, r0_, r90_);
+  }
   if (!frontFace) return;
   hasReflection_ = maxComponent(r90_) > 0.0f;
   // Σ R μ over the hemisphere: R̄ = 2∫₀¹ (R0 + (R90 − R0)(1 − μ)⁵) μ dμ = R0 + (R90 − R0)·2·B(2, 6) = R0 +
@@ -127,7 +131,7 @@ Rgb Bsdf::albedoAt(float cosO) const {
   Rgb a(0.0f);
   if (hasDiffuse_) a += diffuseKd_ * (Rgb(1.0f) - reflected);
   if (hasReflection_) a += reflected;
-  if (hasTransmission_) a += transmission_ * (Rgb(1.0f) - reflected);
+  if (hasTransmission_) a += transmissionAlbedo(cosO, reflected);
   return coverage_ * a + Rgb(1.0f - coverage_);
 }
 
@@ -141,7 +145,7 @@ vec4 Bsdf::lobeProbabilities(float cosO) const {
   const Rgb reflected = reflectance(cosO);
   const vec4 w(hasDiffuse_ ? coverage_ * mean(diffuseKd_ * (Rgb(1.0f) - reflected)) : 0.0f,
                hasReflection_ ? coverage_ * mean(reflected) : 0.0f,
-               hasTransmission_ ? coverage_ * mean(transmission_ * (Rgb(1.0f) - reflected)) : 0.0f,
+               hasTransmission_ ? coverage_ * mean(transmissionAlbedo(cosO, reflected)) : 0.0f,
                1.0f - coverage_);
   const float sum = w.x + w.y + w.z + w.w;
   return sum > 0.0f ? w / sum : vec4(0.0f);

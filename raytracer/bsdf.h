@@ -35,13 +35,14 @@
 //     kSmoothAlpha) stays a mirror, and frosted transmission stays isotropic.
 //   - Transmission: thin-walled, as daylighting tools model a window pane (Radiance's `glass` material:
 //     Ward, "The RADIANCE lighting simulation and rendering system", SIGGRAPH 1994): light passes straight
-//     through with no refraction offset, transmittance T(θ) = t (1 − r F(θ)) (the energy rule; for a preset
-//     glass, r = 1: t (1 − F(θ))). One interface's Fresnel term, as the SDB's rule has it, not Radiance's two
-//     interfaces with inter-reflection. Frosted glass (transmissionGlossiness g_t > 0) scatters into the GGX
-//     lobe of α = g_t² mirrored through the surface plane around the straight-through direction (the
-//     thin-surface transmission of Burley, "Extending the Disney BRDF to a BSDF with integrated subsurface
-//     scattering", SIGGRAPH 2015 course notes, §4): f = t (1 − r F(ωo·h)) D(h) G2 / (4 |cos θo| |cos θi|),
-//     h = normalize(ωo + ωi'), ωi' = ωi mirrored to ωo's side.
+//     through with no refraction offset. Clear glass transmits base/clear_pane.h's T(θ): a slab of two
+//     Fresnel faces with absorption and internal reflections, T(0) = t (1 − r F0) (the energy rule at normal
+//     incidence), never above the rule's t (1 − r F(θ)); with uniform reflection t (1 − r). Frosted glass
+//     (transmissionGlossiness g_t > 0) scatters into the GGX lobe of α = g_t² mirrored through the surface
+//     plane around the straight-through direction (the thin-surface transmission of Burley, "Extending the
+//     Disney BRDF to a BSDF with integrated subsurface scattering", SIGGRAPH 2015 course notes, §4):
+//     f = t (1 − r F(ωo·h)) D(h) G2 / (4 |cos θo| |cos θi|), h = normalize(ωo + ωi'), ωi' = ωi mirrored to
+//     ωo's side.
 //
 // Faces: the front face (or either face of a double-sided material) has every lobe; the back face of a
 // one-sided material transmits only (the rule's reflected and diffuse shares are absorbed there): a pane
@@ -60,8 +61,8 @@
 // eval(), pdf() and sample() then forward to, and the back face of a one-sided measured material is black (a
 // measured paint is opaque). The energy rule does not apply to them: a measured table carries its own balance
 // of diffuse and glossy reflection (the baker scales a table that reflects more than it receives down to an
-// albedo of 1: rdb::TraceBrdfTable::scale), and the car-paint model conserves energy by construction. Coverage
-// applies as above.
+// albedo of 1: rdb::TraceBrdfTable::scale), and the car-paint model conserves energy by construction.
+// Coverage applies as above.
 //
 // A Bsdf holds one point's colours: the integrator builds one per material, or per ray hit for materials that
 // vary over their surface (raytracer/surface_point.h: textured anisotropy and rotation included).
@@ -70,6 +71,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "base/clear_pane.h"
 #include "base/color.h"
 #include "base/math.h"
 #include "raytracer/measured_lobe.h"
@@ -121,10 +123,10 @@ class Bsdf {
   // direction below the surface from a glossy lobe's tail).
   bool sample(const vec3& wo, float uLobe, const vec2& u, Sample& out) const;
 
-  // Straight-through transmittance at |cos θ| = absCos: T(θ) for clear glass, 0 otherwise. The shadow rays of
-  // light sampling pass clear glass with this factor.
+  // Straight-through transmittance at |cos θ| = absCos: T(θ) for clear glass (base/clear_pane.h), 0
+  // otherwise. The shadow rays of light sampling pass clear glass with this factor.
   Rgb straightTransmittance(float absCos) const {
-    const Rgb clear = clearTransmission_ ? transmission_ * (Rgb(1.0f) - reflectance(absCos)) : Rgb(0.0f);
+    const Rgb clear = clearTransmission_ ? pane_.at(absCos) : Rgb(0.0f);
     return Rgb(1.0f - coverage_) + coverage_ * clear;
   }
   // The albedo for light leaving towards ωo, cos θo = cosO (exact for the diffuse, mirror and clear lobes, an
@@ -160,6 +162,11 @@ class Bsdf {
     return r0_ + (r90_ - r0_) * (m2 * m2 * m);
   }
   bool frostedTransmission() const { return hasTransmission_ && !clearTransmission_; }
+  // The transmission lobe's albedo towards cos θo, before coverage: clear glass's T(θo), or frosted glass's
+  // t (1 − r F(θo)).
+  Rgb transmissionAlbedo(float cosO, const Rgb& reflected) const {
+    return clearTransmission_ ? pane_.at(cosO) : transmission_ * (Rgb(1.0f) - reflected);
+  }
   // The glossy reflection lobe's f for wi above the surface, before coverage.
   Rgb glossyReflection(const vec3& wo, const vec3& wi) const;
   bool covered() const { return coverage_ >= 1.0f; }
@@ -196,6 +203,7 @@ class Bsdf {
   bool hasReflection_ = false;
   bool hasTransmission_ = false;
   bool clearTransmission_ = false;
+  ClearPane pane_;  // clear glass's T(θ)
   float coverage_ = 1.0f;
   const MeasuredLobe* measured_ = nullptr;  // replaces the lobes above where set
   bool lambertian_ = false;                 // isLambertian()

@@ -86,13 +86,14 @@ struct RasterMaterial {
   // sdb::Material::emissionDisplay: shown as emissionCdM2 times the exposure's white (Renderer::setDisplayWhite)
   bool emissionDisplay = false;
   // Glass (a material whose energy rule transmits at normal incidence): a thin-walled pane that shows what
-  // lies behind it. Clear glass (transmissionAlpha 0, sdb::Material::hasClearTransmission) times T(θ) =
-  // transmission · (1 − reflection · F(θ)) — the energy rule's transmittance at the angle it is seen, as the
-  // baker's shadow rays cross it (raytracer/bsdf.h) — with F Schlick's of fresnelF0, or 1 for uniform
-  // reflection (fresnelF0 < 0). Frosted glass (transmissionAlpha > 0) scatters into the baker's thin-surface
-  // GGX lobe of that α mirrored through the pane, whose albedo towards θo is transmission · ((A + B) −
-  // (F0 A + F90 B)) by the split sum's table at α (F0 = specular, F90 = environmentF90), and shows what lies
-  // behind it blurred by the lobe's width (raster/renderer.h). transmission is 0 for other materials.
+  // lies behind it. Clear glass (transmissionAlpha 0, sdb::Material::hasClearTransmission) times its T(θ) at
+  // the angle it is seen, as the baker's shadow rays cross it (raytracer/bsdf.h): base/clear_pane.h's pane of
+  // two Fresnel faces of the index that fresnelF0 gives, with T(0) = transmission · (1 − reflection · F0), or
+  // transmission · (1 − reflection) at every angle for uniform reflection (fresnelF0 < 0). Frosted glass
+  // (transmissionAlpha > 0) scatters into the baker's thin-surface GGX lobe of that α mirrored through the
+  // pane, whose albedo towards θo is transmission · ((A + B) − (F0 A + F90 B)) by the split sum's table at α
+  // (F0 = specular, F90 = environmentF90), and shows what lies behind it blurred by the lobe's width
+  // (raster/renderer.h). transmission is 0 for other materials.
   Rgb transmission{0.0f};  // transmissionColor, [0,1]
   // Glass's transmission texture (sdb::Material::transmissionTexture; linear, red): multiplies `transmission`
   // per pixel. With it, `diffuse` is the diffuse input after the reflection's share only, (1 − r′) d, and the

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "base/clear_pane.h"
 #include "sdb/material_presets.h"
 
 namespace fly::sdb {
@@ -30,6 +31,11 @@ float schlickFresnel(float cosTheta, float f0) {
 Rgb Material::reflectionAt(float cosTheta) const {
   if (reflectionModel == ReflectionModel::kUniform) return reflectionColor;
   return reflectionColor * schlickFresnel(cosTheta, fresnelF0(ior));
+}
+
+Rgb Material::clearTransmittanceAt(float cosTheta) const {
+  const float f0 = reflectionModel == ReflectionModel::kFresnel ? fresnelF0(ior) : -1.0f;
+  return ClearPane(f0, transmissionColor, reflectionColor).at(cosTheta);
 }
 
 bool Material::isMirrorLike() const {

@@ -167,12 +167,19 @@ struct Material {
     return applyEnergyRule(diffuseColor, reflectionAt(cosTheta), transmissionColor);
   }
   EffectiveComponents effective() const { return effectiveAt(1.0f); }
+  // Clear glass's transmittance for light crossing at θ from the normal, from either face
+  // (base/clear_pane.h): a pane of two Fresnel faces of index ior with absorption inside and the light's
+  // internal reflections, whose transmittance at normal incidence is the energy rule's,
+  // effective().transmission, per channel; at other angles the slab's (exact Fresnel reflectance, the longer
+  // path inside), never above the rule's effectiveAt(cos θ).transmission. With uniform reflection,
+  // effective().transmission at every angle. What the pane reflects stays reflectionAt(cos θ), one face's.
+  Rgb clearTransmittanceAt(float cosTheta) const;
   // A light source: emission in cd/m² (not a display colour).
   bool isEmissive() const { return !emissionDisplay && maxComponent(emissionLuminance) > 0.0f; }
   bool isTransmissive() const { return maxComponent(effective().transmission) > 0.0f || bool(transmissionTexture); }
   // Clear glass: transmission through a delta lobe (transmission glossiness² below kSmoothAlpha), which both
-  // engines treat as a thin-walled pane that light passes straight through, with the energy rule's
-  // transmittance at the angle it crosses (effectiveAt(cos θ).transmission).
+  // engines treat as a thin-walled pane that light passes straight through, with clearTransmittanceAt(cos θ)
+  // at the angle it crosses.
   bool hasClearTransmission() const {
     return maxComponent(effective().transmission) > 0.0f && transmissionGlossiness * transmissionGlossiness < kSmoothAlpha;
   }

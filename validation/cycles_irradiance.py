@@ -90,8 +90,9 @@ UNTEXTURED = False  # --untextured: albedo = the factor alone, every surface opa
 SUPPORTED_OVERRIDE_KEYS = {"material", "diffuse", "reflection", "transmission", "bumpScale", "emission",
                            "doubleSided", "preset"}
 # The one preset the reference reproduces: fly's clear glass, a thin pane (sdb/material.h, hasClearTransmission)
-# that reflects F(θ) as a mirror and lets 1 − F(θ) pass straight through, F Schlick's approximation of the
-# Fresnel reflectance at IOR 1.52.
+# that reflects F(θ) as a mirror, F Schlick's approximation of the Fresnel reflectance at IOR 1.52, and lets
+# T(θ) pass straight through: the lossless slab of two Fresnel faces scaled to 1 − F0 at normal incidence
+# (base/clear_pane.h; the preset's transmission and reflection colours are white).
 CLEAR_GLASS = "clear-glass"
 CLEAR_GLASS_IOR = 1.52
 
@@ -373,37 +374,48 @@ def lambertian_material(mat, gltf_mat, scene):
     for link in list(output.inputs["Surface"].links):
         links.remove(link)
     if override.get("preset") == CLEAR_GLASS:
-        # Schlick's F(θ) from |cos θ|, the same from either side of the pane, as fly's energy rule takes it
-        # (sdb/material.cpp, reflectionAt). Cycles' Fresnel node would take the back face as the inside of a
-        # solid and reflect totally beyond 41°, closing the window to the sun.
+        # F(θ) and T(θ) from |cos θ|, the same from either side of the pane, as fly takes them (sdb/material.cpp,
+        # reflectionAt and clearTransmittanceAt). Cycles' Fresnel node would take the back face as the inside of
+        # a solid and reflect totally beyond 41°, closing the window to the sun.
+        def math(op, a, b=None):
+            n = nodes.new("ShaderNodeMath")
+            n.operation = op
+            for i, x in enumerate((a, b)):
+                if isinstance(x, (int, float)):
+                    n.inputs[i].default_value = x
+                elif x is not None:
+                    links.new(x, n.inputs[i])
+            return n.outputs[0]
+
         geometry = nodes.new("ShaderNodeNewGeometry")
         dot = nodes.new("ShaderNodeVectorMath")
         dot.operation = "DOT_PRODUCT"
         links.new(geometry.outputs["Incoming"], dot.inputs[0])
         links.new(geometry.outputs["Normal"], dot.inputs[1])
-        f0 = ((CLEAR_GLASS_IOR - 1) / (CLEAR_GLASS_IOR + 1)) ** 2
-        value = dot.outputs["Value"]
-        for op, operand in (("ABSOLUTE", None), ("SUBTRACT", "one-minus"), ("POWER", 5.0), ("MULTIPLY", 1 - f0),
-                            ("ADD", f0)):
-            n = nodes.new("ShaderNodeMath")
-            n.operation = op
-            if operand == "one-minus":
-                n.inputs[0].default_value = 1.0
-                links.new(value, n.inputs[1])
-            else:
-                links.new(value, n.inputs[0])
-                if operand is not None:
-                    n.inputs[1].default_value = operand
-            value = n.outputs[0]
-        fresnel = value
+        n = CLEAR_GLASS_IOR
+        f0 = ((n - 1) / (n + 1)) ** 2
+        c = math("ABSOLUTE", dot.outputs["Value"])
+        fresnel = math("ADD", math("MULTIPLY", math("POWER", math("SUBTRACT", 1.0, c), 5.0), 1 - f0), f0)
+        # 1 − R of one face for s and p polarisation (the Fresnel equations, θt from Snell's law): 4 n c c_t /
+        # (c + n c_t)² and 4 n c c_t / (n c + c_t)²; the lossless slab passes (1 − R) / (1 + R) of each, and
+        # its mean over the two, times (1 + F0) = (1 − F0) / S(0), is the pane's T, at most 1 − F(θ).
+        ct = math("SQRT", math("SUBTRACT", 1.0, math("DIVIDE", math("SUBTRACT", 1.0, math("MULTIPLY", c, c)), n * n)))
+        k = math("MULTIPLY", math("MULTIPLY", c, ct), 4.0 * n)
+        slab = None
+        for first, second in ((c, math("MULTIPLY", ct, n)), (math("MULTIPLY", c, n), ct)):
+            s = math("ADD", first, second)
+            through = math("DIVIDE", k, math("MULTIPLY", s, s))
+            half = math("MULTIPLY", math("DIVIDE", through, math("SUBTRACT", 2.0, through)), 0.5)
+            slab = half if slab is None else math("ADD", slab, half)
+        transmittance = math("MINIMUM", math("MULTIPLY", slab, 1 + f0), math("SUBTRACT", 1.0, fresnel))
         mirror = nodes.new("ShaderNodeBsdfGlossy")
         mirror.distribution = "SHARP"
-        mirror.inputs["Color"].default_value = (1, 1, 1, 1)
+        links.new(fresnel, mirror.inputs["Color"])
         through = nodes.new("ShaderNodeBsdfTransparent")
-        pane = nodes.new("ShaderNodeMixShader")
-        links.new(fresnel, pane.inputs["Fac"])
-        links.new(through.outputs["BSDF"], pane.inputs[1])
-        links.new(mirror.outputs["BSDF"], pane.inputs[2])
+        links.new(transmittance, through.inputs["Color"])
+        pane = nodes.new("ShaderNodeAddShader")
+        links.new(through.outputs["BSDF"], pane.inputs[0])
+        links.new(mirror.outputs["BSDF"], pane.inputs[1])
         links.new(pane.outputs["Shader"], output.inputs["Surface"])
         return {"name": mat.name, "preset": CLEAR_GLASS, "doubleSided": True}
 

@@ -58,6 +58,51 @@
 
 namespace fly::raster::shaders {
 
+// Clear glass's transmittance T(θ) (base/clear_pane.h, ClearPane::at, in the same steps), prepended before
+// kSceneCommon (whose flyGlassTransmittance calls it for clear glass) and to the sun's glass map
+// (raster/sun_glass.h): t, r the transmission and reflection colours, f0 Schlick's F0 of the ior (< 0:
+// uniform reflection, T = t (1 − r)), cosTheta the cosine of the angle to the pane's normal, either face.
+// A slab of two Fresnel faces with absorption τ0 and internal reflections, T_pol = (1 − R)² τ / (1 − R² τ²),
+// τ = τ0^(1 / cos θt) (the Fresnel equations; Tregenza and Sharples, "Daylighting algorithms", algorithm
+// 2.34), scaled to the energy rule's T(0) = t (1 − r F0) and never above its t (1 − r F(θ)).
+inline constexpr const char* kGlassPane = R"GLSL(
+// One polarisation's slab transmittance, tr = 1 − R of one face, tau the internal transmittance.
+vec3 flySlabPolarised(float tr, vec3 tau) {
+  vec3 den = ((vec3(1.0) - tau) + tr * tau) * (vec3(1.0) + (1.0 - tr) * tau);
+  return tr * tr * tau / max(den, vec3(1e-30));
+}
+// (T_s + T_p) / 2 at cos θ = c for index n and τ0 per channel.
+vec3 flySlab(float c, float n, vec3 tau0) {
+  float ct = sqrt(max(1.0 - (1.0 - c * c) / (n * n), 0.0));
+  float k = 4.0 * n * c * ct;
+  float s = c + n * ct;
+  float p = n * c + ct;
+  float trS = min(k / max(s * s, 1e-30), 1.0);
+  float trP = min(k / max(p * p, 1e-30), 1.0);
+  vec3 tau = pow(tau0, vec3(1.0 / max(ct, 1e-6)));
+  return 0.5 * (flySlabPolarised(trS, tau) + flySlabPolarised(trP, tau));
+}
+vec3 flyPaneTransmittance(vec3 t, vec3 r, float f0, float cosTheta) {
+  t = clamp(t, 0.0, 1.0);
+  r = clamp(r, 0.0, 1.0);
+  if (f0 < 0.0) return t * (vec3(1.0) - r);
+  float r0 = min(f0, 0.99);
+  float q = sqrt(r0);
+  float n = (1.0 + q) / (1.0 - q);
+  vec3 normalT = t * (vec3(1.0) - r * r0);
+  // τ0 from S(0) = T_n: the positive root of T_n R0² τ0² + (1 − R0)² τ0 − T_n = 0, at most 1.
+  float b = (1.0 - r0) * (1.0 - r0);
+  vec3 tau0 = min(2.0 * normalT / (vec3(b) + sqrt(vec3(b * b) + 4.0 * normalT * normalT * r0 * r0)), vec3(1.0));
+  vec3 s0 = flySlab(1.0, n, tau0);
+  vec3 scale = mix(vec3(0.0), normalT / max(s0, vec3(1e-30)), greaterThan(s0, vec3(0.0)));
+  float c = min(abs(cosTheta), 1.0);
+  float x = 1.0 - c;
+  float x2 = x * x;
+  float schlick = r0 + (1.0 - r0) * x2 * x2 * x;
+  return min(scale * flySlab(c, n, tau0), t * (vec3(1.0) - min(r * schlick, vec3(1.0))));
+}
+)GLSL";
+
 // What the scene's vertex and fragment stages share (prepended to both): the material and light tables, the
 // view and lighting uniforms, and the modified Phong.
 inline constexpr const char* kSceneCommon = R"GLSL(
@@ -395,7 +440,7 @@ vec3 flyEnvironmentSpecularFogged(Material m, vec3 n, vec3 toEye, vec3 fogCdM2, 
 
 #ifdef FLY_GLASS
 // The transmittance towards the eye of glass of transmission colour t seen at cos θ (either face): clear,
-// the energy rule's T(θ) = t · (1 − clamp(r · F(θ))), F Schlick's (sdb::Material::effectiveAt); frosted
+// the pane's T(θ) (kGlassPane, sdb::Material::clearTransmittanceAt); frosted
 // (GGX α = m.emission.w > 0), the baker's thin-surface lobe (raytracer/bsdf.h), f = t (1 − R(ωo·h)) D G2 /
 // (4 cos θo cos θi) about the straight-through direction, which passes ∫ f cos θi dωi = t ((A + B) −
 // (F0 A + F90 B)) towards θo: the split sum's table at α (R's F0 and F90 as flyReflectAt's).
@@ -407,13 +452,7 @@ vec3 flyGlassTransmittance(Material m, vec3 t, float cosTheta) {
     return t * max(vec3(ab.x + ab.y) - (m.specular.rgb * ab.x + m.environment.rgb * ab.y), vec3(0.0));
   }
 #endif
-  float f = 1.0;
-  if (m.transmission.w >= 0.0) {
-    float x = 1.0 - c;
-    float x2 = x * x;
-    f = m.transmission.w + (1.0 - m.transmission.w) * x2 * x2 * x;
-  }
-  return t * (vec3(1.0) - clamp(m.reflection.rgb * f, 0.0, 1.0));
+  return flyPaneTransmittance(t, m.reflection.rgb, m.transmission.w, c);
 }
 #endif
 

@@ -6,7 +6,8 @@
 namespace fly::raster::shaders {
 
 // The map's pass: each clear-glass vertex (SunGlassMap's vertex buffer) with its material's T inputs; the
-// fragment writes (T(θ_sun), h), blended into the map (RGB multiplied, A the largest).
+// fragment writes (T(θ_sun), h), blended into the map (RGB multiplied, A the largest). Compiled after
+// shaders::kGlassPane (scene_glsl.h).
 inline constexpr const char* kSunGlassMapVertex = R"GLSL(
 layout(location = 0) in vec3 aPositionM;
 layout(location = 1) in vec3 aNormal;
@@ -18,15 +19,9 @@ out vec3 vTransmittance;
 out float vHeightM;
 void main() {
   gl_Position = uSunClipFromWorld * vec4(aPositionM, 1.0);
-  // The energy rule's transmittance along the sun's rays, from either face (as kSceneVertex's towards the eye):
-  // T(θ) = t · (1 − clamp(r · F(θ))), F Schlick's.
-  float f = 1.0;
-  if (aTransmission.w >= 0.0) {
-    float x = 1.0 - clamp(abs(dot(normalize(aNormal), uSunDirWorld)), 0.0, 1.0);
-    float x2 = x * x;
-    f = aTransmission.w + (1.0 - aTransmission.w) * x2 * x2 * x;
-  }
-  vTransmittance = aTransmission.rgb * (vec3(1.0) - clamp(aReflection * f, 0.0, 1.0));
+  // The pane's transmittance along the sun's rays, from either face (as kSceneVertex's towards the eye).
+  vTransmittance =
+      flyPaneTransmittance(aTransmission.rgb, aReflection, aTransmission.w, dot(normalize(aNormal), uSunDirWorld));
   vHeightM = dot(aPositionM, uSunDirWorld);
 }
 )GLSL";

@@ -468,46 +468,66 @@ sdb::Material clearGlass() {
 }
 
 // A pane over the left half of quadXY, 1 m in front of it (x ∈ [−1, 0], y ∈ [−0.5, 0.5], z = 1), with
-// uv0 = (x + 1, 0.5 − y), its front or its back towards the camera.
-sdb::Mesh leftPane(sdb::MaterialId material, bool backTowardsCamera) {
+// uv0 = (x + 1, 0.5 − y), its front or its back towards the camera. `tilted`: turned about its edge x = 0 so
+// that its normal lies 60° from +Z (its edge x = −1 at z = 1 + √3), projecting onto the same half.
+sdb::Mesh leftPane(sdb::MaterialId material, bool backTowardsCamera, bool tilted = false) {
   sdb::Mesh pane;
   pane.name = "pane";
-  pane.positions = {{-1.0f, -0.5f, 1.0f}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, 1.0f}};
-  pane.normals.assign(4, vec3(0, 0, backTowardsCamera ? -1.0f : 1.0f));
+  const float farZ = tilted ? 1.0f + std::sqrt(3.0f) : 1.0f;
+  pane.positions = {{-1.0f, -0.5f, farZ}, {0.0f, -0.5f, 1.0f}, {0.0f, 0.5f, 1.0f}, {-1.0f, 0.5f, farZ}};
+  const vec3 normal = tilted ? vec3(0.5f * std::sqrt(3.0f), 0.0f, 0.5f) : vec3(0, 0, 1);
+  pane.normals.assign(4, backTowardsCamera ? -normal : normal);
   for (const vec3& p : pane.positions) pane.uv0.push_back(vec2(p.x + 1.0f, 0.5f - p.y));
   pane.indices = backTowardsCamera ? std::vector<uint32_t>{0, 2, 1, 0, 3, 2} : std::vector<uint32_t>{0, 1, 2, 0, 2, 3};
   pane.material = material;
   return pane;
 }
 
-// Clear glass shows what lies behind it times T(θ) = t · (1 − r · F(θ)) (rdb/raster_rdb.h): a pane of
-// transmission (0.9, 0.8, 0.7), white Fresnel reflection at ior 1.5 and no diffuse over the left half of the
-// light-mapped quad, 1 m in front of it, seen head-on (orthographic: cos θ = 1, F = F0 = 0.04), with its front
-// and then its back towards the camera (either face passes light). Everything else is as without the pane.
+// Clear glass shows what lies behind it times its T(θ) (rdb/raster_rdb.h; base/clear_pane.h): the pane of
+// clearGlass() over the left half of the light-mapped quad, 1 m in front of it, with its front and then its
+// back towards the camera (either face passes light). Seen head-on (orthographic: cos θ = 1), T = t (1 − F0),
+// F0 = 0.04; tilted so that its normal lies 60° from the view (cos θ = 0.5), T is
+// sdb::Material::clearTransmittanceAt(0.5), the slab of two Fresnel faces, below the energy rule's one-face
+// t (1 − F(θ)). Everything else is as without the pane.
 TEST(Renderer, ClearGlassShowsWhatLiesBehindItTimesItsTransmittance) {
   context();
-  for (bool backTowardsCamera : {false, true}) {
-    QuadScene q = quadScene(false);
-    q.scene.addNode({.name = "window", .meshes = {q.scene.addMesh(leftPane(q.scene.addMaterial(clearGlass()).id,
-                                                                           backTowardsCamera)).id}});
-    rdb::LightMapStore store;
-    store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
-    const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
-    ASSERT_TRUE(r.variants.glass);
-    Renderer renderer;
-    renderer.upload(r);
-    renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
-    std::vector<float> expected = expectedQuad(64, 32, luminanceOf(kFrontLux, Rgb(0.5f, 0.6f, 0.7f)), false);
-    const Rgb transmittance = Rgb(0.9f, 0.8f, 0.7f) * (1.0f - 0.04f);
-    for (uint32_t j = 0; j < 32; ++j) {
-      for (uint32_t i = 0; i < 32; ++i) {  // image x < 0: behind the pane
-        for (int k = 0; k < 3; ++k) expected[(size_t(j) * 64 + i) * 3 + size_t(k)] *= transmittance[k];
+  const sdb::Material glass = clearGlass();
+  for (const bool tilted : {false, true}) {
+    for (const bool backTowardsCamera : {false, true}) {
+      QuadScene q = quadScene(false);
+      q.scene.addNode({.name = "window",
+                       .meshes = {q.scene.addMesh(leftPane(q.scene.addMaterial(glass).id, backTowardsCamera, tilted))
+                                      .id}});
+      rdb::LightMapStore store;
+      store.meshes.push_back({q.node.value, q.mesh.value, kFrontLux, {}});
+      const rdb::RasterRdb r = rdb::buildRasterRdb(q.scene, &store);
+      ASSERT_TRUE(r.variants.glass);
+      Renderer renderer;
+      renderer.upload(r);
+      renderer.render(orthoView(false), RenderMode::kLightMap, 64, 32);
+      std::vector<float> expected =
+          expectedQuad(64, 32, luminanceOf(kFrontLux, Rgb(0.5f, 0.6f, 0.7f)), false);
+      const float cosTheta = tilted ? 0.5f : 1.0f;
+      const Rgb transmittance = glass.clearTransmittanceAt(cosTheta);
+      if (tilted) {
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_LT(transmittance[k], 0.97f * glass.effectiveAt(cosTheta).transmission[k]) << k;
+        }
+      } else {
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(transmittance[k], glass.transmissionColor[k] * (1.0f - 0.04f), 1e-6f);
       }
+      for (uint32_t j = 0; j < 32; ++j) {
+        for (uint32_t i = 0; i < 32; ++i) {  // image x < 0: behind the pane
+          for (int k = 0; k < 3; ++k) expected[(size_t(j) * 64 + i) * 3 + size_t(k)] *= transmittance[k];
+        }
+      }
+      SCOPED_TRACE(tilted ? "pane at 60°" : "pane head-on");
+      expectImageNear(renderer.luminanceRgb(), expected, 1e-4f);
+      // The pane has no light map: the light-map program with the Phong fallback, and the glass pass.
+      EXPECT_EQ(renderer.stats().programs,
+                (std::vector<std::string>{"background", "scene+lightmap+phong+glass"}));
     }
-    expectImageNear(renderer.luminanceRgb(), expected, 1e-4f);
-    // The pane has no light map: the light-map program with the Phong fallback, and the glass pass.
-    EXPECT_EQ(renderer.stats().programs,
-              (std::vector<std::string>{"background", "scene+lightmap+phong+glass"}));
   }
 }
 

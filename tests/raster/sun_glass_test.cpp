@@ -1,7 +1,7 @@
 // The sun through clear glass (raster/sun_glass.h): a horizontal pane over a floor, the sun at 40° elevation.
 // With the ambient term off, the floor shows only the sun's direct term; where the sun reaches it through the
 // pane, that term is T(θ) times the unshaded floor's (the same scene without the pane), T computed here from
-// the material (rdb::RasterMaterial: T = t · (1 − r · F(θ)), F Schlick's), elsewhere it is unchanged, and a
+// the material's inputs (rdb::RasterMaterial) by base/clear_pane.h, elsewhere it is unchanged, and a
 // plate above the pane (between it and the sun) is unattenuated. The floor is drawn three ways: shaded per
 // vertex and per fragment in simple mode, and in sunlight mode over a light map that keeps the sun's direct
 // part apart (E − E_sunDirect = 0: the floor shows the real-time sun term alone; docs/mixed-lighting.md).
@@ -18,6 +18,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "../support/helsinki_daylight.h"
+#include "base/clear_pane.h"
 #include "raster/renderer.h"
 #include "raster_test_scenes.h"
 #include "rdb/light_map_store.h"
@@ -138,13 +139,13 @@ TEST(SunGlass, FloorUnderAPaneGetsTheSunTimesTAndNothingElseChanges) {
                                                   : "floor light-mapped, sunlight mode");
     const RenderMode mode = modeOf(shading);
     const rdb::RasterRdb withPane = scene(true, shading), open = scene(false, shading);
-    // T(θ) from the material's inputs (Schlick 1994): F = F0 + (1 − F0)(1 − cos θ)⁵, F0 from the IOR 1.5.
+    // T(θ) from the material's inputs: the pane of two Fresnel faces of ior 1.5 (F0 = 0.04).
     const rdb::RasterMaterial& glass = withPane.materials.back();
     ASSERT_GT(maxComponent(glass.transmission), 0.0f);
     const double f0 = std::pow((1.5 - 1.0) / (1.5 + 1.0), 2.0);
     ASSERT_NEAR(glass.fresnelF0, f0, 1e-6);
-    const double fresnel = f0 + (1.0 - f0) * std::pow(1.0 - cosTheta, 5.0);
-    const dvec3 expectedT = dvec3(kTransmission) * (1.0 - 1.0 * fresnel);
+    const dvec3 expectedT =
+        dvec3(ClearPane(glass.fresnelF0, glass.transmission, glass.reflection).at(float(cosTheta)));
 
     // The floor, seen from below the pane (no view ray crosses it).
     const uint32_t w = 160, h = 90;

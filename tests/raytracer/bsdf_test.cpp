@@ -199,20 +199,26 @@ TEST(Bsdf, MirrorAndDiffuseFollowTheEnergyRuleAtEveryAngle) {
   }
 }
 
-// Clear glass (r = t = 1): reflects F(θ), transmits 1 − F(θ) straight through, nothing else; the back face
-// of a one-sided pane only transmits.
-TEST(Bsdf, ClearGlassTransmitsOneMinusFresnelStraightThrough) {
+// Clear glass (r = t = 1): reflects F(θ) as a mirror and transmits the pane's T(θ) straight through
+// (base/clear_pane.h: 1 − F0 at normal incidence, the lossless slab's fall-off beyond, below 1 − F(θ)),
+// nothing else; the back face of a one-sided pane only transmits.
+TEST(Bsdf, ClearGlassTransmitsThePanesTransmittanceStraightThrough) {
   const float ior = 1.52f;
   const rdb::TraceMaterial glass = material(Rgb(0.0f), Rgb(1.0f), 0.0f, Rgb(1.0f), 0.0f, true, ior);
   const Bsdf front(glass, true);
   const Bsdf back(glass, false);
   EXPECT_TRUE(front.passesStraight() && back.passesStraight());
   EXPECT_FALSE(front.hasNonDelta());
+  const ClearPane pane(schlick(1.0f, ior), Rgb(1.0f), Rgb(1.0f));
+  EXPECT_NEAR(pane.at(1.0f).g, 1.0f - schlick(1.0f, ior), 1e-6f);
   for (float cosO : {1.0f, 0.6f, 0.2f}) {
     const vec3 wo = outgoing(cosO);
     const float f = schlick(cosO, ior);
-    EXPECT_NEAR(front.straightTransmittance(cosO).g, 1.0f - f, 1e-6f);
-    EXPECT_NEAR(back.straightTransmittance(cosO).g, 1.0f - f, 1e-6f);
+    const float t = pane.at(cosO).g;
+    EXPECT_LE(t, 1.0f - f + 1e-6f);
+    EXPECT_NEAR(front.straightTransmittance(cosO).g, t, 1e-6f);
+    EXPECT_NEAR(back.straightTransmittance(cosO).g, t, 1e-6f);
+    EXPECT_NEAR(front.albedo(cosO).g, f + t, 1e-6f);
     uint32_t straight = 0;
     uint32_t mirror = 0;
     const uint32_t count = 10000;
@@ -229,14 +235,15 @@ TEST(Bsdf, ClearGlassTransmitsOneMinusFresnelStraightThrough) {
         ++mirror;
         EXPECT_EQ(s.wi, vec3(-wo.x, -wo.y, wo.z));
       }
-      EXPECT_NEAR(s.weight.g, 1.0f, 1e-5f);  // each lobe chosen in proportion to its weight
+      EXPECT_NEAR(s.weight.g, f + t, 1e-5f);  // each lobe chosen in proportion to its weight
       ASSERT_TRUE(back.sample(wo, sampler.next1D(), sampler.next2D(), s));
       EXPECT_EQ(s.lobe, Bsdf::Lobe::kStraight);
-      EXPECT_NEAR(s.weight.g, 1.0f - f, 1e-5f);
+      EXPECT_NEAR(s.weight.g, t, 1e-5f);
     }
-    // Binomial: the mirror is chosen with probability F.
-    const double sigma = std::sqrt(count * f * (1.0 - f));
-    EXPECT_NEAR(mirror, count * f, 4.0 * sigma + 1.0) << cosO;
+    // Binomial: the mirror is chosen with probability F / (F + T).
+    const double p = f / (f + t);
+    const double sigma = std::sqrt(count * p * (1.0 - p));
+    EXPECT_NEAR(mirror, count * p, 4.0 * sigma + 1.0) << cosO;
     EXPECT_EQ(straight + mirror, count);
   }
 }

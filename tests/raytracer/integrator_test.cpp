@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/clear_pane.h"
 #include "base/log.h"
 #include "raytracer/sampler.h"
 #include "raytracer/warp.h"
@@ -638,18 +639,24 @@ double schlick(double cosTheta, double ior) {
   return f0 + (1.0 - f0) * std::pow(1.0 - cosTheta, 5.0);
 }
 
-// The sun at elevation e through a horizontal clear pane above a black floor: E = E_n sin e (1 − F(sin e)),
-// the pane's transmittance at the angle the light crosses it, whichever face it shows the floor (a one-sided
-// pane's back face transmits too). A uniform sky through one pane: E = 2π L ∫₀¹ (1 − F(μ)) μ dμ = π L (1 − F0
-// − (1 − F0) / 21); through two parallel double-sided panes, with the light reflected between them: E = 2π L
-// ∫₀¹ T² / (1 − R²) μ dμ, T = 1 − F(μ), R = F(μ). The sensor's own rays that pass the panes and escape must
-// add neither the sun nor the sky's light-sampled share again.
-TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
+// The transmittance of clearGlass() at |cos θ| (base/clear_pane.h: a lossless pane of two Fresnel faces).
+double paneTransmittance(double cosTheta) {
+  static const ClearPane pane(static_cast<float>(schlick(1.0, 1.52)), Rgb(1.0f), Rgb(1.0f));
+  return pane.at(static_cast<float>(cosTheta)).g;
+}
+
+// The sun at elevation e through a horizontal clear pane above a black floor: E = E_n sin e T(sin e), the
+// pane's transmittance at the angle the light crosses it, whichever face it shows the floor (a one-sided
+// pane's back face transmits too). A uniform sky through one pane: E = 2π L ∫₀¹ T(μ) μ dμ; through two
+// parallel double-sided panes, with the light reflected between them: E = 2π L ∫₀¹ T² / (1 − R²) μ dμ,
+// R = F(μ) (each pane reflects Schlick's F as a mirror). The sensor's own rays that pass the panes and escape
+// must add neither the sun nor the sky's light-sampled share again.
+TEST(Integrator, SunAndSkyPassClearGlassWithThePanesTransmittance) {
   const float elevationDeg = 50.0f;
   const Rgb normalLux(100000.0f, 90000.0f, 80000.0f);
   const Rgb sky(1000.0f, 2000.0f, 3000.0f);
   const double sinE = std::sin(degToRad(elevationDeg));
-  const auto transmittance = static_cast<float>(1.0 - schlick(sinE, 1.52));
+  const auto transmittance = static_cast<float>(paneTransmittance(sinE));
   for (const auto& [doubleSided, faceUp] :
        {std::pair{true, false}, std::pair{false, false}, std::pair{false, true}}) {
     SceneBuilder b;
@@ -673,11 +680,8 @@ TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
     for (int i = 0; i < kSteps; ++i) {
       const double mu = (i + 0.5) / kSteps;
       const double f = schlick(mu, 1.52);
-      integral += 2.0 * (panes == 1 ? 1.0 - f : (1.0 - f) * (1.0 - f) / (1.0 - f * f)) * mu / kSteps;
-    }
-    if (panes == 1) {
-      const double f0 = schlick(1.0, 1.52);
-      ASSERT_NEAR(integral, 1.0 - f0 - (1.0 - f0) / 21.0, 1e-8);
+      const double t = paneTransmittance(mu);
+      integral += 2.0 * (panes == 1 ? t : t * t / (1.0 - f * f)) * mu / kSteps;
     }
     Sensors s;
     s.add(vec3(0.0f), vec3(0, 1, 0), kPiF * sky * static_cast<float>(integral));
@@ -699,10 +703,10 @@ TEST(Integrator, SunAndSkyPassClearGlassWithFresnelTransmittance) {
 // A closed black room 4 × 3 × 4 m with a 1 m² window of clear glass (36 panes), in its ceiling (a skylight)
 // or in its wall x = 2 (1 m above the floor), under a uniform sky L. Inside, E = ∫_window L T(θ_w) max(0, n ·
 // ω) cos θ_w / r² dA over the window points whose direction ω from the sensor is above the horizon (θ_w at
-// the pane, T = 1 − F(cos θ_w)), by midpoint quadrature over the pane; on the roof, E = π L. Sky portals
-// (IntegratorSettings::skyPortals) send a quarter of the sky samples from inside through the pane instead of
-// the 1–2 % of the hemisphere it covers: both estimators are exact, and the portals' standard error inside
-// is several times smaller.
+// the pane, T its transmittance there), by midpoint quadrature over the pane; on the roof, E = π L. Sky
+// portals (IntegratorSettings::skyPortals) send a quarter of the sky samples from inside through the pane
+// instead of the 1–2 % of the hemisphere it covers: both estimators are exact, and the portals' standard
+// error inside is several times smaller.
 TEST(Integrator, SkyPortalsThroughWindowsAreExactAndLowerTheError) {
   for (const bool skylight : {true, false}) {
     SceneBuilder b;
@@ -757,7 +761,7 @@ TEST(Integrator, SkyPortalsThroughWindowsAreExactAndLowerTheError) {
           const dvec3 omega = w / std::sqrt(r2);
           if (omega.y <= 0.0) continue;
           const double cosWindow = std::abs(glm::dot(omega, windowNormal));
-          e += (1.0 - schlick(cosWindow, 1.52)) * std::max(0.0, glm::dot(dvec3(n), omega)) * cosWindow / r2;
+          e += paneTransmittance(cosWindow) * std::max(0.0, glm::dot(dvec3(n), omega)) * cosWindow / r2;
         }
       }
       return sky * static_cast<float>(e / (kSteps * kSteps));
@@ -955,7 +959,7 @@ TEST(Integrator, ContinuationsThroughPortalsFindTheGroundOutsideAndStayExact) {
           if (std::abs(land.x) <= groundHalfM && std::abs(land.z) <= groundHalfM) radiance = dvec3(groundL);
         }
         const double cosWindow = std::abs(omega.x);
-        e += radiance * ((1.0 - schlick(cosWindow, 1.52)) * cosN * cosWindow / r2);
+        e += radiance * (paneTransmittance(cosWindow) * cosN * cosWindow / r2);
       }
     }
     return Rgb(e / double(kSteps * kSteps));

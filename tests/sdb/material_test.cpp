@@ -68,6 +68,48 @@ TEST(MaterialFresnel, WhiteFresnelReflectionKeepsMostOfTheDiffuse) {
   expectNear(m.effective().diffuse, Rgb(0.0f));
 }
 
+// Clear glass transmits the energy rule's transmittance at normal incidence (scenes' glass head-on is as the
+// rule has it) and, at other angles, a pane of two Fresnel faces (base/clear_pane.h), below the rule's one
+// face; with uniform reflection the rule's value at every angle. Sum with what it reflects and its diffuse
+// share at most 1 at every angle, for every preset and random glass.
+TEST(MaterialClearGlass, NormalIncidenceIsTheEnergyRulesAndObliqueIsTheSlabs) {
+  Material glass = findMaterialPreset("clear-glass")->material;
+  glass.transmissionColor = Rgb(0.9f, 0.8f, 0.7f);
+  ASSERT_TRUE(glass.hasClearTransmission());
+  expectNear(glass.clearTransmittanceAt(1.0f), glass.effective().transmission);
+  expectNear(glass.clearTransmittanceAt(-1.0f), glass.effective().transmission);
+  for (const float c : {0.8f, 0.5f, 0.2f}) {
+    const Rgb t = glass.clearTransmittanceAt(c);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_LT(t[ch], glass.effectiveAt(c).transmission[ch]) << c << " " << ch;
+  }
+  glass.reflectionModel = ReflectionModel::kUniform;
+  glass.reflectionColor = Rgb(0.1f);
+  for (const float c : {1.0f, 0.5f, 0.0f})
+    expectNear(glass.clearTransmittanceAt(c), glass.effective().transmission);
+
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < 2000; ++i) {
+    Material m;
+    m.diffuseColor = Rgb(u(rng), u(rng), u(rng));
+    m.reflectionColor = Rgb(u(rng), u(rng), u(rng));
+    m.transmissionColor = Rgb(u(rng), u(rng), u(rng));
+    m.ior = 1.0f + 3.0f * u(rng);
+    m.transmissionGlossiness = 0.0f;
+    for (const float c : {1.0f, 0.7f, 0.3f, 0.05f, 0.0f}) {
+      const EffectiveComponents e = m.effectiveAt(c);
+      const Rgb t = m.clearTransmittanceAt(c);
+      const Rgb sum = e.reflection + t + e.diffuse;
+      for (int ch = 0; ch < 3; ++ch) {
+        ASSERT_TRUE(std::isfinite(t[ch]));
+        ASSERT_GE(t[ch], 0.0f);
+        ASSERT_LE(t[ch], e.transmission[ch] + 1e-6f) << "ior " << m.ior << ", cos θ " << c;
+        ASSERT_LE(sum[ch], 1.0f + 1e-6f);
+      }
+    }
+  }
+}
+
 TEST(MaterialValidate, NamesTheParameterOutOfRange) {
   Material m;
   EXPECT_EQ(validate(m), "");
