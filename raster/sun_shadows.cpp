@@ -108,6 +108,9 @@ struct SunShadows::Gpu {
   // Cut-out (alpha MASK) casters: seen through their holes, their caps matter to z-pass too, so a scene with
   // them always takes z-fail.
   bool maskCasters = false;
+  // Some caster lies in an open shell: the classic method draws the visibility map for such triangles that
+  // face away from the sun.
+  bool openShells = false;
   GLuint shellKept = 0;  // per shell: 1 when one of its triangles is kept
   GLuint depthTests = 0;  // the depth test's indirect draw and casters (shadow_glsl.h, binding 10)
   GLint capClipFromWorld = -1, sideClipFromWorld = -1, sideSunDir = -1;  // drawVolumes' uniforms
@@ -242,11 +245,15 @@ void SunShadows::setGeometry(const rdb::RasterRdb& r, unsigned positions) {
                 p2 = dvec3(r.positionsM[c.vertices.z]) - origin;
     signedVolume[shellOf[i]] += glm::dot(p0, glm::cross(p1, p2)) / 6.0;
   }
+  g.openShells = false;
   for (uint32_t i = 0; i < casters.size(); ++i) {
     const uint32_t s = shellOf[i];
     casters[i].edges.w = s;
-    if (closed[s] && signedVolume[s] != 0.0)
+    if (closed[s] && signedVolume[s] != 0.0) {
       casters[i].vertices.w |= signedVolume[s] > 0.0 ? kClosedOut : kClosedIn;
+    } else {
+      g.openShells = true;
+    }
   }
   g.shellCount = shells;
   storeEmpty(g.shellKept, size_t(shells) * sizeof(uint32_t));
@@ -307,6 +314,9 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   glNamedBufferSubData(g.commands, 0, sizeof initial, &initial);
   if (g.casterCount == 0) return true;  // nothing casts (glass, blended surfaces only): no volumes
   const bool prune = settings.mode == SunShadowMode::kVisibilityMap;
+  // The classic method keeps every triangle that faces the sun; of those that face away, an open shell's need
+  // the sun to reach their backs, which the visibility map decides (shadow_glsl.h, flyKeep).
+  const bool mapped = prune || g.openShells;
   // The sun's image plane and the orthographic view fitted to the casters' bounds, square texels.
   const vec3 z = glm::normalize(sunDirWorld);
   const vec3 x =
@@ -340,7 +350,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   glDispatchCompute((std::max({g.casterCount, g.edgeCount, g.shellCount}) + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-  if (prune) {
+  if (mapped) {
     if (!g.visibilityProgram) {
       const std::string common = shaders::kShadowCommon;
       g.visibilityProgram = compile_("shadow-visibility", common,
@@ -499,6 +509,7 @@ bool SunShadows::build(const vec3& sunDirWorld, const SunShadowSettings& setting
   glUniform1ui(loc("uCapCapacity"), capCapacity);
   glUniform3fv(loc("uSunDirWorld"), 1, &z[0]);
   glUniform1i(loc("uPrune"), prune ? 1 : 0);
+  glUniform1i(loc("uMapped"), mapped ? 1 : 0);
   glDispatchCompute((g.casterCount + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   g.stamp("keep");

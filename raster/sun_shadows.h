@@ -45,7 +45,8 @@
 // superset: the shadow is the same). Open shells keep only their own kept triangles: where a large open
 // receiver is partly hidden from the sun (a ground under boxes), the rim of its hidden part adds silhouette
 // edges that the classic method does not have. The classic method (SunShadowMode::kSunFacing) keeps every
-// triangle that faces the sun, for comparison.
+// triangle that faces the sun, and of those facing away a closed shell's that face in and an open shell's that
+// the map keeps (its back lit through a gap: a one-sided ceiling under a roof).
 //
 // Silhouettes. The kept triangles, each turned to face the sun, are counted per undirected edge (equal
 // positions welded): +1 where one runs along the edge one way, −1 the other way. Edges with a non-zero count
@@ -87,7 +88,8 @@ enum class SunShadowMode {
   // Shadow volumes of the triangles the sun sees (FLY §3's pruning) and those the depth test keeps: fewer,
   // but rebuilt more slowly, and a triangle seen only through a sub-texel gap can be missed.
   kVisibilityMap,
-  // Shadow volumes of every triangle facing the sun (the classic method): exact, the default.
+  // Shadow volumes of every triangle facing the sun (the classic method), and of the open shells' triangles
+  // facing away those the visibility map keeps: the default.
   kSunFacing,
 };
 

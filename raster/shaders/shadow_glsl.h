@@ -339,6 +339,7 @@ uniform uint uCasterCount;
 uniform uint uCapCapacity;  // indices in the caps buffer: 3 × casters
 uniform vec3 uSunDirWorld;  // unit, towards the sun
 uniform int uPrune;         // 1: visibility map; 0: every triangle the sun can see (the classic method)
+uniform int uMapped;        // 1: the visibility map's states are set (always with uPrune)
 layout(std430, binding = 2) readonly buffer State { uint state[]; };
 layout(std430, binding = 3) buffer EdgeCounts { int edgeCount[]; };
 layout(std430, binding = 4) writeonly buffer Caps { uint capIndices[]; };
@@ -356,8 +357,10 @@ bool flyKeep(uint i, out bool facing) {
   // sun sees blocks it as the baker's surfaces do), one of a closed shell only from outside the shell.
   uint closure = (c.vertices.w >> 3u) & 3u;
   bool seeable = closure == 0u || (closure == 1u) == facing;
-  // The classic method: every triangle the sun can see the way it faces (a closed shell's terminator).
-  if (uPrune == 0) return seeable;
+  // The classic method: every triangle facing the sun (a closed shell's terminator), and of those facing away
+  // the ones the sun can see from behind: a closed shell's that faces in, an open shell's that the map keeps
+  // (seen, or kept by the depth test: the sun reaches its back through a gap).
+  if (uPrune == 0) return seeable && (facing || closure != 0u || uMapped == 0 || flyKept(state[i]));
   // A closed shell that casts at all casts with every triangle that faces the way the sun can see it: its
   // silhouette is then the shell's terminator, not the edge of what the map happened to show.
   // One facing the way its closed shell hides it shows in the map only where it meets a seeable one at the
