@@ -19,7 +19,7 @@
 //              (what the application and the driver cost the CPU; excludes the fence waits).
 //   GPU        a separate pipelined loop (≥ 0.5 s) with a GL_TIME_ELAPSED query around the render call
 //              ("scene") and one around the toneMap call ("tone"); the mean over its frames. Only where the
-//              queries are meaningful: not on Mesa's llvmpipe/softpipe (BUILD-NOTES.md), where "-" is
+//              queries are meaningful: not on Mesa's llvmpipe/softpipe, where "-" is
 //              printed.
 //   finish     latency: glFinish after every frame, wall-clock per frame (≥ 0.5 s, ≥ 3 frames); the way the
 //              first version of this benchmark timed frames, kept for comparison.

@@ -1,4 +1,4 @@
-// An OpenGL 4.5 core context behind one interface, two ways (BUILD-NOTES.md "OpenGL without a display"):
+// An OpenGL 4.5 core context behind one interface, two ways (docs/architecture.md):
 // headless through EGL with no display server (device platform, falling back to Mesa's surfaceless platform;
 // rendering goes into framebuffer objects) and a GLFW window for interactive use. Functions are loaded
 // through libepoxy; GL debug messages (KHR_debug) go to the log (base/log.h).

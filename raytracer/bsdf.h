@@ -1,7 +1,7 @@
 // The scattering function of a TraceMaterial (the SDB's realistic material): Lambertian diffuse, specular or
 // glossy reflection, and thin-walled transmission, with the SDB's energy rule evaluated at the actual angle.
 //
-// Energy rule (sdb/material.h, reference 002), per channel, for light arriving at θ from the normal:
+// Energy rule (sdb/material.h), per channel, for light arriving at θ from the normal:
 //   R(θ) = r·F(θ),  T(θ) = (1 − R(θ))·t,  D(θ) = (1 − R(θ) − T(θ))·d = (1 − R(θ))·(1 − t)·d,
 // r, t, d the reflection, transmission and diffuse colours; F Schlick's Fresnel term with F0 = ((ior − 1) /
 // (ior + 1))² ("fresnel" materials; Schlick, "An inexpensive BRDF model for physically-based rendering",

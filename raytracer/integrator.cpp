@@ -50,8 +50,8 @@ constexpr uint32_t kPatchGroupBase = (1u << 19) + 29;
 constexpr uint32_t kFogGroupBase = (1u << 19) + (1u << 18) + 27;
 
 // Reflection fog's share t(d) = min(d / D, 1) at reflected distance distM (∞ for a ray that meets nothing)
-// for fog distance fogDistanceM D (finite): linear, reaching the fog colour at D (reference 002, "Reflection
-// Fog": "at a certain distance, the color of the reflection becomes equal to the specified reflection fog
+// for fog distance fogDistanceM D (finite): linear, reaching the fog colour at D (HOOPS Luminate's realistic material,
+// "Reflection Fog": "at a certain distance, the color of the reflection becomes equal to the specified reflection fog
 // color").
 float fogFraction(float distM, float fogDistanceM) {
   return std::min(distM / fogDistanceM, 1.0f);

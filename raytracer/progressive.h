@@ -55,8 +55,8 @@ inline constexpr size_t kMinPointsToPool = 64;
 // it takes no more samples, so that later passes spend their time where the error is (a bake's sunlit ground
 // is settled long before the rooms it lights). Its points count towards the 95th percentile of the stopping
 // rule as they are. Decided per group, from all its points, not per point: stopping points one by one on
-// their own noisy error estimates would stop those whose error happens to be underestimated (an experiment of
-// session 3 reported errors 2.4× too small on shadow edges that way).
+// their own noisy error estimates would stop those whose error happens to be underestimated (on shadow edges
+// such per-point stopping reported errors 2.4× too small).
 inline constexpr double kSettledPercentile = 0.99;
 
 // Sample allocation by error (EstimateSettings::allocationFraction > 0): after a pass, a point skips the next

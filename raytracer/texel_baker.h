@@ -1,4 +1,4 @@
-// The light-texture baker (issue 4, "Light textures"): the irradiance (lux, RGB) averaged over every texel's
+// The light-texture baker: the irradiance (lux, RGB) averaged over every texel's
 // footprint on its mesh, for the TraceRdb's light textures (rdb::TraceLightTexture), as points of the same
 // progressive run as the vertex light maps (raytracer/baker.h), then dilated into the padding and made
 // consistent across chart seams.

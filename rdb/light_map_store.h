@@ -12,7 +12,7 @@
 
 namespace fly::rdb {
 
-// A mesh's light texture (issue 4): irradiance per texel of its light-map atlas. UV convention as in
+// A mesh's light texture: irradiance per texel of its light-map atlas. UV convention as in
 // rdb/lightmap_uv.h: texel (i, j) covers u ∈ [i/width, (i+1)/width), v ∈ [j/height, (j+1)/height); row j = 0
 // (v = 0) is the top row of the baked EXR file and the first row here.
 struct MeshLightTexture {

@@ -1,4 +1,4 @@
-// Light-map UVs for meshes that ask for a light texture and have no TEXCOORD_1 (issue 4, "Light textures"):
+// Light-map UVs for meshes that ask for a light texture and have no TEXCOORD_1 (docs/scene-format.md, "Light textures"):
 // the triangles are cut into near-planar charts, each chart is projected onto its plane (so a planar chart
 // keeps the requested texel density exactly), turned to its minimum-area rectangle and packed with padding
 // into one atlas.

@@ -145,7 +145,7 @@ struct TraceMesh {
   uint32_t lightTexture = kNoLightTexture;  // index into TraceRdb::lightTextures, or none
 };
 
-// A mesh's light texture (issue 4): per-texel irradiance over a light-map atlas, baked next to the vertex
+// A mesh's light texture: per-texel irradiance over a light-map atlas, baked next to the vertex
 // light maps. The UV convention is rdb/lightmap_uv.h's: texel (i, j) covers u ∈ [i/width, (i+1)/width),
 // v ∈ [j/height, (j+1)/height), row j = 0 at v = 0 is the first (top) row of the image file.
 struct TraceLightTexture {

@@ -1,4 +1,4 @@
-// The physical "realistic material" (reference 002, HOOPS Luminate's realistic material): Lambertian diffuse,
+// The physical "realistic material" (HOOPS Luminate's realistic material): Lambertian diffuse,
 // reflection and transmission colours with an energy rule that keeps their sum ≤ 1, Fresnel or uniform
 // reflection, glossy and anisotropic lobes, absorption inside transmissive media, reflection fog, a bump map,
 // emission in cd/m², and optionally a measured (MERL table) or fitted (car paint) BRDF.
@@ -16,7 +16,7 @@
 
 namespace fly::sdb {
 
-// How the reflection amount varies with the angle of incidence (reference 002, "Reflection").
+// How the reflection amount varies with the angle of incidence (the realistic material, "Reflection").
 enum class ReflectionModel {
   kFresnel,  // Schlick's approximation, F0 from `ior`, multiplied by the reflection colour
   kUniform,  // the reflection colour at every angle
@@ -38,7 +38,7 @@ struct EffectiveComponents {
   Rgb transmission{0.0f};
 };
 
-// The energy rule of reference 002, applied per channel after clamping each input to [0,1]:
+// The realistic material's energy rule, applied per channel after clamping each input to [0,1]:
 //   reflect' = reflect;  transmission' = (1 − reflect')·transmission;  diffuse' = (1 − reflect' − transmission')·diffuse.
 // Textured materials apply it per texel with the same function.
 EffectiveComponents applyEnergyRule(const Rgb& diffuse, const Rgb& reflection, const Rgb& transmission);
@@ -95,7 +95,7 @@ struct Material {
   TextureRef reflectionGlossinessTexture;  // linear, red channel; multiplies reflectionGlossiness
 
   // Anisotropy in U and V (tangent and bitangent directions), each in [0,1]: the larger, the wider the
-  // reflection along that direction (reference 002). Equal values (the default 0,0) = isotropic.
+  // reflection along that direction (the realistic material). Equal values (the default 0,0) = isotropic.
   float anisotropyU = 0.0f;
   float anisotropyV = 0.0f;
   float anisotropyRotationRad = 0.0f;        // rotation of the anisotropy basis about the normal, radians
@@ -157,7 +157,7 @@ struct Material {
   std::optional<CarPaintBrdf> carPaint;
 
   // The reflect input of the energy rule for light arriving at angle θ from the normal: with Fresnel
-  // reflection the amount is reflectionColor × F(θ) (reference 002: "the reflection amount is still
+  // reflection the amount is reflectionColor × F(θ) (the realistic material: "the reflection amount is still
   // post-multiplied by the user-given reflection color"), with uniform reflection reflectionColor. So a white
   // Fresnel reflection (glass, plastic, paint) takes F0 ≈ 4 % at normal incidence, not all of the energy.
   Rgb reflectionAt(float cosTheta) const;

@@ -1310,7 +1310,7 @@ TEST(Renderer, ExposureOrOperatorChangesReRunOnlyTheToneMapPass) {
   for (const ToneMapSettings& t : settings) {
     renderer.toneMap(t);
     images.push_back(renderer.srgb8());
-    // The GPU pass computes what the CPU functions compute (contract A), to 8-bit rounding.
+    // The GPU pass computes what the CPU functions compute, to 8-bit rounding.
     int worst = 0;
     for (size_t i = 0; i < lum.size(); i += 3) {
       const Rgb display = fly::toneMap(Rgb(lum[i], lum[i + 1], lum[i + 2]), t);

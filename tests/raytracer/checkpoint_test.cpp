@@ -1,6 +1,5 @@
 // Checkpoints of the progressive driver and the baker: an estimate continued from any saved state ends
-// bit-identical to one that never stopped (issue 4: "the result equals an uninterrupted bake with the same
-// total samples"), and a damaged checkpoint is refused with a message naming the file.
+// bit-identical to one that never stopped (an uninterrupted bake with the same total samples), and a damaged checkpoint is refused with a message naming the file.
 #include <gtest/gtest.h>
 
 #include <cmath>
