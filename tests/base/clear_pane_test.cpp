@@ -1,6 +1,7 @@
-// Clear glass's transmittance (base/clear_pane.h): against the slab of two Fresnel faces written out here in
-// double precision, at its extremes (grazing incidence, indices near 1 and high, no transmission, full
-// transmission) finite and within the energy rule's bounds, and equal to the rule at normal incidence.
+// Clear glass's transmittance (base/clear_pane.h): against the slab of two Fresnel faces written out
+// independently (tests/support/slab_reference.h, double precision), at its extremes (grazing incidence,
+// indices near 1 and high, no transmission, full transmission) finite and within the energy rule's bounds,
+// and equal to the rule at normal incidence.
 #include "base/clear_pane.h"
 
 #include <gtest/gtest.h>
@@ -9,39 +10,16 @@
 #include <string>
 
 #include "base/math.h"
+#include "../support/slab_reference.h"
 
 namespace fly {
 namespace {
 
+using test::bisectedTau0;
+using test::slab;
+
 double schlick(double c, double f0) {
   return f0 + (1.0 - f0) * std::pow(1.0 - c, 5.0);
-}
-
-// The slab of index n whose internal transmittance at normal incidence is tau0, at cos θ = c > 0: per
-// polarisation the Fresnel reflectance R of one face (θt from Snell's law), τ = τ0^(1 / cos θt), T = (1 − R)²
-// τ / (1 − R² τ²); the mean of s and p.
-double slab(double c, double n, double tau0) {
-  const double sinT = std::sqrt(1.0 - c * c) / n;
-  const double cosT = std::sqrt(1.0 - sinT * sinT);
-  const double rs = (c - n * cosT) / (c + n * cosT);
-  const double rp = (n * c - cosT) / (n * c + cosT);
-  const double tau = std::pow(tau0, 1.0 / cosT);
-  double t = 0.0;
-  for (const double r : {rs * rs, rp * rp})
-    t += 0.5 * (1.0 - r) * (1.0 - r) * tau / (1.0 - r * r * tau * tau);
-  return t;
-}
-
-// τ0 with slab(1, n, τ0) = normalT, by bisection; 1 where even the lossless slab transmits less.
-double bisectedTau0(double n, double normalT) {
-  if (slab(1.0, n, 1.0) <= normalT) return 1.0;
-  double lo = 0.0;
-  double hi = 1.0;
-  for (int i = 0; i < 60; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (slab(1.0, n, mid) < normalT ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
 }
 
 float f0Of(double n) {

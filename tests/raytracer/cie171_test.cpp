@@ -21,6 +21,7 @@
 
 #include "raytracer/integrator.h"
 #include "rdb/trace_rdb_builder.h"
+#include "../support/slab_reference.h"
 
 namespace fly::raytracer {
 namespace {
@@ -252,33 +253,11 @@ constexpr double kGlassIor = 1.526;
 double glassF0() {
   return std::pow((kGlassIor - 1.0) / (kGlassIor + 1.0), 2.0);
 }
-// A slab of index n whose internal transmittance at normal incidence is tau0, at cos θ = c: per polarisation
-// the Fresnel reflectance R of one face (the Fresnel equations, θt from Snell's law), τ = τ0^(1 / cos θt),
-// T = (1 − R)² τ / (1 − R² τ²); the mean of s and p (Born and Wolf, "Principles of Optics").
-double slab(double c, double n, double tau0) {
-  const double sinT = std::sqrt(1.0 - c * c) / n;
-  const double cosT = std::sqrt(1.0 - sinT * sinT);
-  const double rs = (c - n * cosT) / (c + n * cosT);
-  const double rp = (n * c - cosT) / (n * c + cosT);
-  const double tau = std::pow(tau0, 1.0 / cosT);
-  double t = 0.0;
-  for (const double r : {rs * rs, rp * rp})
-    t += 0.5 * (1.0 - r) * (1.0 - r) * tau / (1.0 - r * r * tau * tau);
-  return t;
-}
 // fly's pane at cos θ = c: the slab whose transmittance at normal incidence is CIE 171's T(0), τ0 by
 // bisection (slab(1, n, τ0) increases with τ0).
 double paneTransmittance(double c) {
-  static const double tau0 = [] {
-    double lo = 0.0;
-    double hi = 1.0;
-    for (int i = 0; i < 60; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (slab(1.0, kGlassIor, mid) < cieClearGlassTransmittance(1.0) ? lo : hi) = mid;
-    }
-    return 0.5 * (lo + hi);
-  }();
-  return slab(c, kGlassIor, tau0);
+  static const double tau0 = test::bisectedTau0(kGlassIor, cieClearGlassTransmittance(1.0));
+  return test::slab(c, kGlassIor, tau0);
 }
 // Double-sided clear glass whose normal transmittance is CIE 171's 0.8788; returns its index.
 uint32_t addCieGlass(rdb::TraceRdbBuilder& b) {
